@@ -60,6 +60,7 @@ ${entries}};
 std::span<const dhr::vk::SpirvModule> ${target}_modules() { return kModules; }
 ")
   add_library(${target} STATIC ${cpp} ${headers})
-  target_include_directories(${target} PUBLIC ${gen_dir})
+  # shader_interface.h (bindings, push constants) is shared with the C++ that drives the shaders.
+  target_include_directories(${target} PUBLIC ${gen_dir} ${PROJECT_SOURCE_DIR}/shaders)
   target_link_libraries(${target} PUBLIC dhr_vk)
 endfunction()

@@ -2,7 +2,7 @@
 function(dhr_apply_warnings target)
   target_compile_options(${target} INTERFACE
     -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wcast-align -Woverloaded-virtual
-    -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+    -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
   if(DHR_WERROR)
     target_compile_options(${target} INTERFACE -Werror)
   endif()

@@ -36,6 +36,8 @@ struct ContextOptions {
   std::vector<std::string> extra_device_extensions;
 };
 
+// Flags: what is enabled on the context's device. Sizes/alignments: the device's properties (filled
+// whenever it has the ray-tracing extensions, enabled or not).
 struct RayTracingSupport {
   bool acceleration_structure = false;
   bool ray_tracing_pipeline = false;
@@ -58,8 +60,13 @@ struct DeviceInfo {
   bool is_cpu = false;       // VK_PHYSICAL_DEVICE_TYPE_CPU (lavapipe)
   float timestamp_period_ns = 0.0f;
   bool timestamps_supported = false;
+  uint32_t timestamp_valid_bits = 0;  // of the context's queue family (0: no timestamps)
   RayTracingSupport ray_tracing;
 };
+
+// Validation errors seen by every Context of this process so far, including those reported while a
+// Context is destroyed (leaked handles), which its own validation_error_count() can no longer show.
+uint32_t process_validation_error_count();
 
 // Lets an external owner (the OpenXR runtime) create the instance and the device. Each hook
 // receives the create info the context built (extensions, layers, feature chain) and returns
@@ -107,9 +114,15 @@ class Context {
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
 
   // Records and submits one command buffer on the queue and waits for it (setup/readback path).
+  // Thread-safe with respect to itself and submit().
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
+  // vkQueueSubmit2 on the context's queue under the same lock as submit_and_wait (the queue needs
+  // external synchronization); per-frame code uses this instead of calling vkQueueSubmit2 directly.
+  VkResult submit(const VkSubmitInfo2& info, VkFence fence) const;
 
+  // Index of the first memory type in type_bits having all of flags; throws std::runtime_error if none.
   uint32_t find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags flags) const;
+  const VkPhysicalDeviceMemoryProperties& memory_properties() const;
 
   // One-line JSON object describing the device: name, driver, api version, ray tracing support.
   std::string describe_json() const;

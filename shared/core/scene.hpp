@@ -1,0 +1,181 @@
+// Scenes: glTF 2.0 (.gltf / .glb) loaded into a flattened, world-space triangle scene with materials,
+// base-colour images (RGBA8) and punctual lights. Plain structs only: tinygltf stays inside the .cpp
+// files. Units are metres, +Y up (glTF). See docs/scenes.md for the supported features and limits.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dhr {
+
+// The shadow mask carries one bit per light; more lights than this cannot be traced.
+inline constexpr std::uint32_t kMaxSceneLights = 32;
+// The project's own scene, relative to the repository root (used when no scene is given).
+inline constexpr const char* kDefaultScenePath = "assets/scenes/default_room.gltf";
+
+struct SceneBounds {
+  glm::vec3 min{std::numeric_limits<float>::max()};
+  glm::vec3 max{std::numeric_limits<float>::lowest()};
+
+  bool empty() const { return min.x > max.x || min.y > max.y || min.z > max.z; }
+  void extend(const glm::vec3& p);
+  void extend(const SceneBounds& other);
+  glm::vec3 center() const;  // (0,0,0) when empty
+  glm::vec3 size() const;    // (0,0,0) when empty
+  float diagonal() const;    // 0 when empty
+};
+
+// A decoded base-colour image: width * height * 4 bytes, rows top to bottom, sRGB-encoded RGBA8.
+struct SceneImage {
+  std::string name;  // the glTF image name, else its uri (data URIs shortened), else "image<N>"
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::vector<std::uint8_t> rgba8;
+};
+
+enum class TextureWrap : std::uint8_t { kRepeat, kClampToEdge, kMirroredRepeat };
+enum class AlphaMode : std::uint8_t { kOpaque, kMask, kBlend };
+
+// KHR_texture_transform of the base-colour texture: uv' = offset + R(rotation) * (scale * uv).
+struct UvTransform {
+  glm::vec2 offset{0.0f};
+  float rotation = 0.0f;  // radians, counter-clockwise in UV space as the extension defines it
+  glm::vec2 scale{1.0f};
+  bool present = false;  // the material had the extension
+  glm::vec2 apply(const glm::vec2& uv) const;
+};
+
+struct SceneMaterial {
+  std::string name;
+  glm::vec4 base_color_factor{1.0f};   // linear RGBA, multiplies the image
+  std::int32_t base_color_image = -1;  // index into Scene::images; -1: none (missing image -> -1, warned)
+  TextureWrap wrap_s = TextureWrap::kRepeat;
+  TextureWrap wrap_t = TextureWrap::kRepeat;
+  // Informational: the loader already applied it to SceneMesh::texcoords.
+  UvTransform base_color_uv_transform;
+  bool double_sided = false;
+  AlphaMode alpha_mode = AlphaMode::kOpaque;
+  float alpha_cutoff = 0.5f;
+};
+
+// One instance of one glTF mesh primitive, as a triangle list in world space.
+struct SceneMesh {
+  std::string name;            // "<mesh name or mesh<N>>/<primitive index>"
+  std::uint32_t material = 0;  // index into Scene::materials (always valid)
+  std::uint32_t geometry = 0;  // equal for instances of the same glTF mesh primitive
+  std::uint32_t node = 0;      // the glTF node that instances it
+  // World transform of that node (double). Instances with the same `geometry` share local-space data:
+  // local = inverse(T_world_local) * world, indices identical; enough to build one BLAS per geometry.
+  glm::dmat4 T_world_local{1.0};
+  std::vector<glm::vec3> positions;    // world space
+  std::vector<glm::vec3> normals;      // world space, unit length, one per position
+  std::vector<glm::vec2> texcoords;    // empty, or one per position (uv transform applied)
+  std::vector<std::uint32_t> indices;  // triangle list, counter-clockwise front faces in world space
+
+  std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct SceneLight {
+  enum class Type : std::uint8_t { kPoint, kSpot, kDirectional };
+  Type type = Type::kPoint;
+  std::string name;
+  glm::vec3 position{0.0f};                // world space (point, spot)
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, unit: where the light travels (spot, directional)
+  glm::vec3 color{1.0f};                   // linear RGB
+  float intensity = 1.0f;                  // candela (point, spot) or lux (directional), as glTF
+  float range = 0.0f;                      // metres; 0 = infinite
+  float inner_cone = 0.0f;                 // radians (spot)
+  float outer_cone = 0.78539816f;          // radians (spot), > inner_cone, <= pi/2
+  bool is_default = false;                 // made by make_default_light_rig, not by the file or the user
+};
+
+// Counts of what the loader changed or skipped (each also produces a warning when non-zero).
+struct SceneStats {
+  std::uint32_t point_primitives_skipped = 0;
+  std::uint32_t line_primitives_skipped = 0;
+  std::uint32_t strips_converted = 0;
+  std::uint32_t fans_converted = 0;
+  std::uint32_t meshes_with_generated_normals = 0;  // flat normals computed (no NORMAL attribute)
+  std::uint64_t normals_renormalized = 0;           // non-unit normals in the file
+  std::uint64_t normals_repaired = 0;               // zero / non-finite normals replaced
+  std::uint32_t lights_dropped = 0;                 // beyond kMaxSceneLights
+};
+
+struct Scene {
+  std::string source;  // the file it came from
+  std::vector<SceneMesh> meshes;
+  std::vector<SceneMaterial> materials;
+  std::vector<SceneImage> images;
+  std::vector<SceneLight> lights;  // at most kMaxSceneLights
+  bool default_lights = false;     // lights came from make_default_light_rig
+  SceneBounds bounds;              // of all triangle vertices (world space)
+  std::uint64_t triangle_count = 0;
+  std::uint64_t vertex_count = 0;
+  SceneStats stats;
+  std::vector<std::string> warnings;  // human-readable; capped (the last entry says how many were cut)
+};
+
+// Guards so that an absurd or hostile file cannot exhaust memory. Defaults are generous but bounded.
+struct SceneLoadOptions {
+  std::uint64_t max_file_bytes = 1ull << 30;   // each file read: .gltf/.glb, each .bin, each image
+  std::uint64_t max_triangles = 32'000'000;    // after instancing
+  std::uint64_t max_vertices = 64'000'000;     // after instancing (and after flat-normal unwelding)
+  std::uint32_t max_image_dimension = 16384;   // width or height of a decoded image
+  std::uint64_t max_image_bytes = 1ull << 30;  // all decoded RGBA8 images together
+  bool decode_images = true;                   // false: materials keep only their colour factor
+  bool default_lights_when_none = true;        // no lights in the file -> make_default_light_rig
+};
+
+struct SceneLoadResult {
+  std::optional<Scene> scene;
+  std::string error;  // "<file>: <problem>" when there is no scene
+
+  bool ok() const { return scene.has_value(); }
+  explicit operator bool() const { return ok(); }
+};
+
+// Loads the default scene (or scene 0) of a .gltf or .glb file. Never throws; bad input gives an error.
+SceneLoadResult load_scene(const std::string& path, const SceneLoadOptions& options = {});
+
+// Same from memory (.gltf JSON text or .glb bytes); external files resolve against base_dir and
+// `name` stands for the file in messages.
+SceneLoadResult load_scene_from_memory(const void* data, std::size_t size, const std::string& base_dir,
+                                       const std::string& name, const SceneLoadOptions& options = {});
+
+// Three lights derived from the bounding box (documented in docs/scenes.md): a warm key point light
+// high and in front, a cooler, dimmer fill point light on the other side, and a directional "sun".
+// Every light is flagged is_default. An empty box is treated as a 2 m cube around the origin.
+std::vector<SceneLight> make_default_light_rig(const SceneBounds& bounds);
+
+// Light spec strings, for command lines and configs (numbers in metres, linear RGB, glTF units):
+//   point:x,y,z:r,g,b:intensity[:range]
+//   spot:x,y,z:dx,dy,dz:r,g,b:intensity:inner_deg,outer_deg[:range]
+//   dir:dx,dy,dz:r,g,b:intensity             ("directional" is accepted for "dir")
+// The direction is where the light travels; it is normalized.
+std::optional<SceneLight> parse_light_spec(std::string_view spec, std::string* out_error);
+// Several specs separated by ';' (empty entries ignored). Fails when any fails or when > kMaxSceneLights.
+std::optional<std::vector<SceneLight>> parse_light_specs(std::string_view specs, std::string* out_error);
+// The spec string for a light (round-trips through parse_light_spec, up to float printing).
+std::string format_light_spec(const SceneLight& light);
+
+// Error message when the light is unusable (non-finite, negative colour or intensity, bad cone...).
+std::optional<std::string> validate_light(const SceneLight& light);
+
+// Replaces the scene's lights (e.g. with parsed specs). Error (scene unchanged) when a light is invalid
+// or there are more than kMaxSceneLights.
+std::optional<std::string> set_scene_lights(Scene& scene, std::vector<SceneLight> lights);
+
+const char* light_type_name(SceneLight::Type type);  // "point", "spot", "dir"
+
+// One line for logs: triangles, meshes, materials, images, lights, bounds.
+std::string scene_summary(const Scene& scene);
+
+}  // namespace dhr
