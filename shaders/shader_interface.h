@@ -37,9 +37,192 @@ struct SmokeHit {
   uint custom_index;  // gl_InstanceCustomIndexEXT
 };
 
+// ---- server visibility tracer (server/vulkan_tracer*.cpp, shaders/server/) ----
+// Everything is in the scene-relative frame (world minus the scene's bounding-box centre, in double).
+DHR_CONST uint kVisBindingTlas = 0;         // accelerationStructureEXT
+DHR_CONST uint kVisBindingLights = 1;       // PackedLight[] (light_eval.h), scene-relative
+DHR_CONST uint kVisBindingMeshes = 2;       // VisMesh[], indexed by gl_InstanceCustomIndexEXT
+DHR_CONST uint kVisBindingPositions = 3;    // float[] x, y, z per vertex, all meshes (VisMesh::vertex_offset)
+DHR_CONST uint kVisBindingNormals = 4;      // float[] x, y, z per vertex (unit or zero)
+DHR_CONST uint kVisBindingIndices = 5;      // uint[] 3 per triangle in the scene's order, mesh-local vertices
+DHR_CONST uint kVisBindingPermutation = 6;  // uint[] BLAS primitive -> original triangle (spatial sort)
+DHR_CONST uint kVisBindingMasks = 7;        // uint[width * height]: one 32-bit light mask per pixel
+DHR_CONST uint kVisBindingCounters = 8;     // uint[kVisCounterSlots * kVisCounterStride]
+
+// Statistics counters; each pixel adds to slot (x % kVisCounterSlots) so atomics rarely collide.
+DHR_CONST uint kVisCounterPrimary = 0;
+DHR_CONST uint kVisCounterBackground = 1;
+DHR_CONST uint kVisCounterShadow = 2;
+DHR_CONST uint kVisCounterSkippedBackfacing = 3;
+DHR_CONST uint kVisCounterSkippedOutOfRange = 4;
+DHR_CONST uint kVisCounterStride = 8;  // counters per slot (5 used)
+DHR_CONST uint kVisCounterSlots = 64;
+
+// Shadow rays (same numbers as server/ray_offset.hpp and the Embree backend; vulkan_tracer.cpp checks them):
+// origins move off the surface by kVisRayOffsetIntScale ULPs per unit normal, or by
+// kVisRayOffsetFloatScale per unit normal where |coordinate| < kVisRayOffsetOriginThreshold; point and
+// spot shadow rays stop at kVisShadowTfarScale of the distance so geometry at the light does not occlude it.
+DHR_CONST float kVisRayOffsetOriginThreshold = 1.0f / 32.0f;
+DHR_CONST float kVisRayOffsetFloatScale = 1.0f / 65536.0f;
+DHR_CONST float kVisRayOffsetIntScale = 256.0f;
+DHR_CONST float kVisShadowTfarScale = 1.0f - 1e-5f;
+
+// VisPushConstants::flags
+DHR_CONST uint kVisSkipBackfacing = 1u;
+DHR_CONST uint kVisSkipOutOfRange = 2u;
+// VisMesh::flags
+DHR_CONST uint kVisMeshDoubleSided = 1u;
+
+struct VisMesh {
+  uint vertex_offset;       // first vertex in positions / normals
+  uint index_offset;        // first element in indices (3 per triangle)
+  uint permutation_offset;  // first element in permutation (one per triangle)
+  uint flags;               // kVisMesh*
+};
+
+// Primary ray of pixel (x, y): direction = normalize(tx * axis_x + ty * axis_y - axis_z) with
+// tx = tan_left + (x + 0.5) * tan_step_x, ty = tan_up - (y + 0.5) * tan_step_y (Camera::eye_ray).
+struct VisPushConstants {
+  float eye_x;  // eye position, scene-relative
+  float eye_y;
+  float eye_z;
+  float tan_left;
+  float axis_x_x;  // the eye's +X axis in the world (rotation only)
+  float axis_x_y;
+  float axis_x_z;
+  float tan_up;
+  float axis_y_x;  // the eye's +Y axis
+  float axis_y_y;
+  float axis_y_z;
+  float tan_step_x;
+  float axis_z_x;  // the eye's +Z axis (backward)
+  float axis_z_y;
+  float axis_z_z;
+  float tan_step_y;
+  uint width;
+  uint height;
+  uint light_count;
+  uint active_lights;  // bit i: light i not culled for this view
+  uint flags;          // kVisSkip*
+};
+
+
+// ---- client (xrclient/render): G-buffer, prediction (warp) and shading passes ----
+// G-buffer (graphics): one combined image sampler per material (base colour, sRGB texels -> linear).
+DHR_CONST uint kClientGBufferBindingBaseColor = 0;
+DHR_CONST uint kClientMaterialDoubleSided = 1u;  // ClientGBufferPush::flags: no culling, back faces flip N
+DHR_CONST uint kClientMaterialAlphaMask = 2u;    // discard where alpha < alpha_cutoff
+
+struct ClientGBufferPush {
+  float view_proj[16];  // projection * rotation-only view (eye at the origin), column-major
+  float translation_x;  // mesh origin - eye position, computed in double on the CPU
+  float translation_y;
+  float translation_z;
+  uint flags;           // kClientMaterial*
+  float base_color_r;   // linear base colour factor
+  float base_color_g;
+  float base_color_b;
+  float base_color_a;
+  float alpha_cutoff;
+  uint pad0;
+  uint pad1;
+  uint pad2;
+};
+
+// Prediction (compute, 8x8 groups): per display pixel, the light mask looked up in the old buffer.
+DHR_CONST uint kClientWarpGroupSize = 8u;
+DHR_CONST uint kClientPredictionBindingDepth = 0;       // sampler2D: G-buffer depth (reversed-Z)
+DHR_CONST uint kClientPredictionBindingVisibility = 1;  // storage buffer uint[]: packed masks, little endian
+DHR_CONST uint kClientPredictionBindingRowValid = 2;    // storage buffer uint[]: bit r%32 of word r/32 = row r valid
+DHR_CONST uint kClientPredictionBindingMask = 3;        // r32ui image: predicted mask
+DHR_CONST uint kClientPredictionBindingStatus = 4;      // r32ui image: kClientStatus*
+DHR_CONST uint kClientPredictionBindingMotion = 5;      // rg32f image: lookup - lookup without motion (debug)
+DHR_CONST uint kClientPredictionBindingCounters = 6;    // storage buffer uint[kClientStatusCount]
+
+// Per-pixel outcome of the prediction; every status but kKnown is "unknown" and takes all light bits.
+DHR_CONST uint kClientStatusKnown = 0u;       // fetched from the old buffer
+DHR_CONST uint kClientStatusBackground = 1u;  // no surface (depth == 0)
+DHR_CONST uint kClientStatusBehind = 2u;      // at or behind the old eye plane
+DHR_CONST uint kClientStatusOutside = 3u;     // outside the old (guard-banded) buffer
+DHR_CONST uint kClientStatusMissingRow = 4u;  // the old buffer's row did not arrive
+DHR_CONST uint kClientStatusNoData = 5u;      // no visibility buffer at all yet
+DHR_CONST uint kClientStatusCount = 6u;
+
+DHR_CONST uint kClientPredictionHasVisibility = 1u;
+DHR_CONST uint kClientPredictionHasRowValidity = 2u;
+DHR_CONST uint kClientPredictionWriteMotion = 4u;
+
+// The pixel (i, j) of the new camera with depth-buffer value d is, in the old eye's space,
+//   p_old = (near_plane / d) * (ray0 + (i + 0.5) * ray_dx + (j + 0.5) * ray_dy) + trans
+// (ray0/ray_dx/ray_dy: R_old^T R_new applied to the new camera's tangent-plane point (tx, ty, -1) and its
+// per-pixel steps), and lands at px = old_px_scale * p_old.x / -p_old.z + old_px_offset (same for y).
+struct ClientPredictionPush {
+  float ray0[3];
+  float ray_dx[3];
+  float ray_dy[3];
+  float trans[3];        // R_old^T * (eye_new - eye_old)
+  float ident_px_scale;  // lookup without any pose change (motion vectors only):
+  float ident_px_offset; //   px = ident_px_scale * (i + 0.5) + ident_px_offset
+  float ident_py_scale;
+  float ident_py_offset;
+  float old_px_scale;
+  float old_px_offset;
+  float old_py_scale;
+  float old_py_offset;
+  float near_plane;      // depth = near_plane / distance along the view axis
+  float min_depth;       // old-eye depth at or below this: behind
+  uint width;            // display (G-buffer) size
+  uint height;
+  uint old_width;        // old buffer size (guard band included); 1x1 without visibility
+  uint old_height;
+  uint mask_bits;        // 8, 16 or 32
+  uint unknown_mask;     // mask for unknown pixels: all light bits
+  uint flags;            // kClientPrediction*
+};
+
+// Shading (compute, 8x8 groups).
+DHR_CONST uint kClientShadingBindingDepth = 0;   // sampler2D
+DHR_CONST uint kClientShadingBindingNormal = 1;  // sampler2D (RGBA16F world-space normal)
+DHR_CONST uint kClientShadingBindingAlbedo = 2;  // sampler2D (RGBA8 linear albedo)
+DHR_CONST uint kClientShadingBindingMask = 3;    // r32ui image (predicted mask)
+DHR_CONST uint kClientShadingBindingStatus = 4;  // r32ui image (kClientStatus*)
+DHR_CONST uint kClientShadingBindingMotion = 5;  // rg32f image (debug view only)
+DHR_CONST uint kClientShadingBindingLights = 6;  // storage buffer PackedLight[] (eye-relative positions)
+DHR_CONST uint kClientShadingBindingOutput = 7;  // rgba8 image (sRGB-encoded bytes in a UNORM image)
+
+DHR_CONST uint kClientViewShaded = 0u;         // the shading equation, exposure, tonemap, sRGB
+DHR_CONST uint kClientViewLightVisibility = 1u;  // light debug_light: white lit, black shadowed, red unknown
+DHR_CONST uint kClientViewUnknown = 2u;        // shaded, unknown surface pixels tinted magenta
+DHR_CONST uint kClientViewAlbedo = 3u;
+DHR_CONST uint kClientViewNormal = 4u;         // world normal * 0.5 + 0.5
+DHR_CONST uint kClientViewMotion = 5u;         // motion vectors: red/green = +x/+y pixels (scaled)
+
+// The surface point of pixel (i, j) with depth-buffer value d, relative to the eye in world axes:
+//   p = (near_plane / d) * (ray0 + (i + 0.5) * ray_dx + (j + 0.5) * ray_dy)
+struct ClientShadingPush {
+  float ray0[3];         // R_new * (left, up, -1)
+  float ray_dx[3];       // R_new * (tangent width / width, 0, 0)
+  float ray_dy[3];       // R_new * (0, -tangent height / height, 0)
+  float near_plane;
+  float exposure;        // linear scale before the tonemap
+  float background_r;    // display-referred background colour (before sRGB encoding)
+  float background_g;
+  float background_b;
+  uint width;
+  uint height;
+  uint light_count;
+  uint view_mode;        // kClientView*
+  uint debug_light;      // light index for kClientViewLightVisibility
+};
+
 #ifdef __cplusplus
 static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the GLSL layout");
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
+static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientPredictionPush) == 116, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientShadingPush) == 76, "push constants must match the GLSL layout");
+static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
+static_assert(sizeof(VisPushConstants) == 84, "push constants must match the GLSL layout");
 }  // namespace dhr::shader
 #endif
 

@@ -55,7 +55,7 @@ std::string ray_tracing_error(const DeviceProbe& probe) {
 
 }  // namespace
 
-void FeatureChain::link(bool with_ray_tracing, bool with_ray_query) {
+void FeatureChain::link(bool with_ray_tracing, bool with_ray_query, bool split_vulkan12) {
   core.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
   v11.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES;
   v12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
@@ -63,9 +63,23 @@ void FeatureChain::link(bool with_ray_tracing, bool with_ray_query) {
   acceleration_structure.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
   ray_tracing_pipeline.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR;
   ray_query.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR;
+  buffer_device_address.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES;
+  timeline_semaphore.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES;
+  scalar_block_layout.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES;
+  descriptor_indexing.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES;
+  host_query_reset.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES;
   core.pNext = &v11;
-  v11.pNext = &v12;
-  v12.pNext = &v13;
+  if (split_vulkan12) {
+    v11.pNext = &buffer_device_address;
+    buffer_device_address.pNext = &timeline_semaphore;
+    timeline_semaphore.pNext = &scalar_block_layout;
+    scalar_block_layout.pNext = &descriptor_indexing;
+    descriptor_indexing.pNext = &host_query_reset;
+    host_query_reset.pNext = &v13;
+  } else {
+    v11.pNext = &v12;
+    v12.pNext = &v13;
+  }
   v13.pNext = nullptr;
   void** tail = &v13.pNext;
   if (with_ray_tracing) {
@@ -224,7 +238,9 @@ void plan_device(const DeviceProbe& probe, bool enable_ray_tracing,
   const bool enable_ray_query = enable_ray_tracing && probe.ray_query;
   const FeatureChain& s = probe.supported;
   FeatureChain& e = out_plan.enabled;
-  e.link(enable_ray_tracing, enable_ray_query);
+  // The 1.2 features go in as individual structs on every path (see FeatureChain): an OpenXR runtime that
+  // creates the device may add its own TimelineSemaphoreFeatures, which must not meet Vulkan12Features.
+  e.link(enable_ray_tracing, enable_ray_query, /*split_vulkan12=*/true);
 
   // Optional features: enabled where supported, so later passes may use them without a new context.
   e.core.features.shaderInt64 = s.core.features.shaderInt64;
@@ -233,18 +249,19 @@ void plan_device(const DeviceProbe& probe, bool enable_ray_tracing,
   e.core.features.shaderStorageImageReadWithoutFormat = s.core.features.shaderStorageImageReadWithoutFormat;
   e.core.features.shaderStorageImageWriteWithoutFormat = s.core.features.shaderStorageImageWriteWithoutFormat;
   e.v11.shaderDrawParameters = s.v11.shaderDrawParameters;
-  e.v12.descriptorIndexing = s.v12.descriptorIndexing;
-  e.v12.runtimeDescriptorArray = s.v12.runtimeDescriptorArray;
-  e.v12.descriptorBindingPartiallyBound = s.v12.descriptorBindingPartiallyBound;
-  e.v12.descriptorBindingVariableDescriptorCount = s.v12.descriptorBindingVariableDescriptorCount;
-  e.v12.shaderSampledImageArrayNonUniformIndexing = s.v12.shaderSampledImageArrayNonUniformIndexing;
-  e.v12.shaderStorageBufferArrayNonUniformIndexing = s.v12.shaderStorageBufferArrayNonUniformIndexing;
-  e.v12.hostQueryReset = s.v12.hostQueryReset;
+  // (Vulkan12Features::descriptorIndexing only reports that the set below is supported; it has no struct
+  // of its own to enable.)
+  e.descriptor_indexing.runtimeDescriptorArray = s.v12.runtimeDescriptorArray;
+  e.descriptor_indexing.descriptorBindingPartiallyBound = s.v12.descriptorBindingPartiallyBound;
+  e.descriptor_indexing.descriptorBindingVariableDescriptorCount = s.v12.descriptorBindingVariableDescriptorCount;
+  e.descriptor_indexing.shaderSampledImageArrayNonUniformIndexing = s.v12.shaderSampledImageArrayNonUniformIndexing;
+  e.descriptor_indexing.shaderStorageBufferArrayNonUniformIndexing = s.v12.shaderStorageBufferArrayNonUniformIndexing;
+  e.host_query_reset.hostQueryReset = s.v12.hostQueryReset;
   e.v13.maintenance4 = s.v13.maintenance4;
   // Required (checked by probe_physical_device).
-  e.v12.bufferDeviceAddress = VK_TRUE;
-  e.v12.timelineSemaphore = VK_TRUE;
-  e.v12.scalarBlockLayout = VK_TRUE;
+  e.buffer_device_address.bufferDeviceAddress = VK_TRUE;
+  e.timeline_semaphore.timelineSemaphore = VK_TRUE;
+  e.scalar_block_layout.scalarBlockLayout = VK_TRUE;
   e.v13.synchronization2 = VK_TRUE;
   e.v13.dynamicRendering = VK_TRUE;
 

@@ -20,14 +20,24 @@ struct FeatureChain {
   VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration_structure{};
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR ray_tracing_pipeline{};
   VkPhysicalDeviceRayQueryFeaturesKHR ray_query{};
+  // The Vulkan 1.2 features as their individual (promoted extension) structs, chained instead of v12
+  // when split_vulkan12: an OpenXR runtime (Monado) appends its own TimelineSemaphoreFeatures unless that
+  // struct type is already in the chain, and next to VkPhysicalDeviceVulkan12Features that is invalid
+  // (VUID-VkDeviceCreateInfo-pNext-02830).
+  VkPhysicalDeviceBufferDeviceAddressFeatures buffer_device_address{};
+  VkPhysicalDeviceTimelineSemaphoreFeatures timeline_semaphore{};
+  VkPhysicalDeviceScalarBlockLayoutFeatures scalar_block_layout{};
+  VkPhysicalDeviceDescriptorIndexingFeatures descriptor_indexing{};
+  VkPhysicalDeviceHostQueryResetFeatures host_query_reset{};
 
   FeatureChain() = default;
   FeatureChain(const FeatureChain&) = delete;
   FeatureChain& operator=(const FeatureChain&) = delete;
 
-  // Sets sType on every struct and chains 1.1/1.2/1.3 always, the ray-tracing structs on request
-  // (a struct of an extension the device lacks must not be chained).
-  void link(bool with_ray_tracing, bool with_ray_query);
+  // Sets sType on every struct and chains 1.1/1.2/1.3 always (1.2 as the individual structs when
+  // split_vulkan12), the ray-tracing structs on request (a struct of an extension the device lacks must
+  // not be chained).
+  void link(bool with_ray_tracing, bool with_ray_query, bool split_vulkan12 = false);
 };
 
 // What one physical device offers, and why it cannot be used (if it cannot).

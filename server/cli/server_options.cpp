@@ -1,0 +1,142 @@
+#include "server_options.hpp"
+
+#include "core/scene.hpp"
+#include "core/visibility.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#ifndef DHR_SOURCE_DIR
+#define DHR_SOURCE_DIR ""
+#endif
+
+namespace dhr::server::cli {
+namespace {
+
+bool parse_uint(const std::string& text, uint32_t& out) {
+  if (text.empty() || text.size() > 9) return false;
+  uint32_t v = 0;
+  for (char c : text) {
+    if (c < '0' || c > '9') return false;
+    v = v * 10 + static_cast<uint32_t>(c - '0');
+  }
+  out = v;
+  return true;
+}
+
+}  // namespace
+
+GuardBand effective_guard_band(const ServerOptions& options) {
+  if (options.guard) return *options.guard;
+  return scale_guard_band(GuardBand{64, 36}, Extent{1920, 1080}, options.eye_size);
+}
+
+std::optional<Extent> parse_extent(const std::string& text, uint32_t min_value) {
+  const size_t x = text.find_first_of("xX");
+  if (x == std::string::npos) return std::nullopt;
+  Extent e;
+  if (!parse_uint(text.substr(0, x), e.width) || !parse_uint(text.substr(x + 1), e.height)) return std::nullopt;
+  if (e.width < min_value || e.height < min_value) return std::nullopt;
+  if (e.width > kMaxBufferDimension || e.height > kMaxBufferDimension) return std::nullopt;
+  return e;
+}
+
+std::string default_scene_path(const char* argv0) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path rel(kDefaultScenePath);
+  const std::string source_dir = DHR_SOURCE_DIR;
+  if (!source_dir.empty() && fs::exists(fs::path(source_dir) / rel, ec)) return (fs::path(source_dir) / rel).string();
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec && argv0) exe = fs::absolute(argv0, ec);
+  if (!exe.empty()) {
+    for (const fs::path& base : {exe.parent_path().parent_path(), exe.parent_path(),
+                                 exe.parent_path().parent_path().parent_path()}) {
+      if (fs::exists(base / rel, ec)) return (base / rel).string();
+    }
+  }
+  return rel.string();
+}
+
+std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& out) {
+  CLI::App app{"dhr-server: ray-traced per-pixel, per-light shadow visibility for DHR-XR clients.\n"
+               "Modes: --check (load and validate a scene), --snapshot DIR (trace camera bookmarks to PNGs).\n"
+               "Serving clients over UDP arrives with the transport.",
+               "dhr-server"};
+  std::string backend = "auto", eye_size = "640x480", guard, device = "auto";
+  bool no_skip = false, check_flag = false;
+  app.add_option("--scene", out.scene_path, "glTF 2.0 scene (.gltf/.glb); default: the project's default room")
+      ->type_name("FILE");
+  auto* check = app.add_flag("--check", check_flag, "load and validate the scene, print one JSON line, exit 0 (usable) or 2");
+  auto* snapshot = app.add_option("--snapshot", out.snapshot_dir,
+                                  "trace the left eye of every camera bookmark; write PNGs into DIR")
+                     ->type_name("DIR");
+  check->excludes(snapshot);
+  app.add_option("--backend", backend, "tracer backend: auto (Vulkan on a ray-tracing GPU, else Embree), embree, vulkan")
+      ->capture_default_str();
+  app.add_option("--eye-size", eye_size, "displayed size per eye, WxH")->capture_default_str()->type_name("WxH");
+  app.add_option("--guard", guard, "guard band in pixels, WxH (default: 64x36 at 1920x1080, scaled to the eye size)")
+      ->type_name("WxH");
+  app.add_option("--camera", out.cameras,
+                 "camera x,y,z:tx,ty,tz (repeatable); default: <scene>.cameras.json beside the scene")
+      ->type_name("CAMERA");
+  app.add_option("--fov-deg", out.fov_deg, "horizontal field of view of the displayed region, degrees")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 170.0));
+  app.add_option("--lights", out.lights,
+                 "replace the scene's lights, ';'-separated: point:x,y,z:r,g,b:I[:range] | "
+                 "spot:x,y,z:dx,dy,dz:r,g,b:I:inner_deg,outer_deg[:range] | dir:dx,dy,dz:r,g,b:I")
+      ->type_name("SPEC");
+  app.add_option("--threads", out.tracer.threads, "CPU tracer threads (0 = all cores)")->capture_default_str();
+  app.add_option("--repeat", out.repeat, "traces per bookmark; the report gives the median trace time")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1000u));
+  app.add_flag("--no-skip", no_skip, "trace every shadow ray (no N.L / range skipping, no light culling)");
+  app.add_option("--vk-device", device, "Vulkan device: auto, gpu, lavapipe")->capture_default_str();
+  app.add_flag("--vk-validation", out.tracer.vk_validation, "enable the Khronos validation layer (vulkan backend)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help (code 0) or the error
+    return code == 0 ? 0 : 2;
+  }
+  auto fail = [](const std::string& message) {
+    std::fprintf(stderr, "dhr-server: %s\n", message.c_str());
+    return 2;
+  };
+  try {
+    out.backend = parse_tracer_backend(backend);
+  } catch (const std::exception& e) {
+    return fail(std::string("--backend: ") + e.what());
+  }
+  if (device != "auto" && device != "gpu" && device != "lavapipe" && device != "cpu")
+    return fail("--vk-device: expected auto, gpu or lavapipe, got '" + device + "'");
+  out.tracer.vk_device = device;
+  if (auto e = parse_extent(eye_size, 1)) {
+    out.eye_size = *e;
+  } else {
+    return fail("--eye-size: expected WxH with 1 <= W,H <= " + std::to_string(kMaxBufferDimension) + ", got '" +
+                eye_size + "'");
+  }
+  if (!guard.empty()) {
+    auto g = parse_extent(guard, 0);
+    if (!g) return fail("--guard: expected WxH in pixels, got '" + guard + "'");
+    out.guard = GuardBand{g->width, g->height};
+    if (out.eye_size.width + g->width > kMaxBufferDimension || out.eye_size.height + g->height > kMaxBufferDimension)
+      return fail("--guard: eye size plus guard band exceeds " + std::to_string(kMaxBufferDimension) + " pixels");
+  }
+  if (no_skip) out.tracer.skip = SkipOptions::none();
+  if (check_flag) out.mode = Mode::kCheck;
+  if (*snapshot) {
+    out.mode = Mode::kSnapshot;
+    if (out.snapshot_dir.empty()) return fail("--snapshot: the output directory must not be empty");
+  }
+  if (out.scene_path.empty()) out.scene_path = default_scene_path(argc > 0 ? argv[0] : nullptr);
+  return std::nullopt;
+}
+
+}  // namespace dhr::server::cli

@@ -1,0 +1,43 @@
+// dhr-server's command line: what to do (check, snapshot; serving arrives with the transport issue) and
+// with which settings. Parsing is separate from running so new modes only add a field and a branch.
+#pragma once
+#include "core/projection.hpp"
+#include "visibility_tracer.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dhr::server::cli {
+
+enum class Mode { kNone, kCheck, kSnapshot };
+
+struct ServerOptions {
+  Mode mode = Mode::kNone;
+  std::string scene_path;    // resolved default when not given
+  std::string snapshot_dir;
+  TracerBackend backend = TracerBackend::kAuto;
+  TracerOptions tracer;
+  Extent eye_size{640, 480};
+  std::optional<GuardBand> guard;       // explicit pixels; default: 64x36 at 1920x1080, scaled
+  std::vector<std::string> cameras;     // "x,y,z:tx,ty,tz"; empty: the scene's bookmark file
+  double fov_deg = 90.0;                // horizontal, of the displayed region
+  std::string lights;                   // light specs (see parse_light_specs); empty: the scene's
+  uint32_t repeat = 1;                  // traces per bookmark (the report gives the median time)
+};
+
+// The guard band in effect for the options (explicit, or the reference band scaled to the eye size).
+GuardBand effective_guard_band(const ServerOptions& options);
+
+// "640x480" -> Extent. std::nullopt unless both are integers in [min, kMaxBufferDimension].
+std::optional<Extent> parse_extent(const std::string& text, uint32_t min_value);
+
+// The default scene: <source dir>/assets/scenes/default_room.gltf, else relative to the executable
+// (<exe dir>/../assets/... or <exe dir>/assets/...), else the repository-relative path itself.
+std::string default_scene_path(const char* argv0);
+
+// Parses argv. Returns the exit code to use right away (0 after --help, 2 after an error, with the
+// message already printed) or std::nullopt to go on with out_options.
+std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& out_options);
+
+}  // namespace dhr::server::cli

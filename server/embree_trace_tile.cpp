@@ -1,0 +1,230 @@
+#include "embree_trace_tile.hpp"
+
+#include "ray_offset.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <array>
+#include <limits>
+#include <optional>
+
+namespace dhr::server::detail {
+namespace {
+
+constexpr uint32_t kBlock = 4;  // primary packets cover 4x4 pixels
+constexpr uint32_t kBlockPixels = kBlock * kBlock;
+// Point/spot shadow rays stop this fraction short of the light, so geometry exactly at the light (a
+// bulb's surface through the light's centre) does not count as an occluder of its own light.
+constexpr float kShadowTfarScale = 1.0f - 1e-5f;
+
+glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y) {
+  const glm::dvec3 d = frame.world_from_eye * frame.camera->eye_ray(x + 0.5, y + 0.5);
+  return glm::vec3(glm::normalize(d));
+}
+
+void init_ray(RTCRay& ray, const glm::vec3& origin, const glm::vec3& dir, float tfar) {
+  ray = RTCRay{};
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = dir.x;
+  ray.dir_y = dir.y;
+  ray.dir_z = dir.z;
+  ray.tnear = 0.0f;
+  ray.tfar = tfar;
+  ray.mask = 0xFFFFFFFFu;
+}
+
+// The occlusion ray for one pixel-light pair: from the offset surface point toward the light.
+void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const LightSample& sample, RTCRay& out) {
+  // Leave from the side of the surface the light is on (the geometric normal, not the shading normal).
+  const glm::vec3 n = glm::dot(hit.geometric_normal, sample.l) >= 0.0f ? hit.geometric_normal : -hit.geometric_normal;
+  const glm::vec3 origin = offset_ray_origin(hit.position, n);
+  if (light_eval::light_is_directional(light)) {
+    init_ray(out, origin, sample.l, std::numeric_limits<float>::infinity());
+    return;
+  }
+  const glm::vec3 d = glm::vec3(light.position_type) - origin;
+  const float dist = glm::length(d);
+  if (!(dist > 0.0f)) {
+    init_ray(out, origin, sample.l, 0.0f);  // at the light: nothing can be in between
+    return;
+  }
+  init_ray(out, origin, d / dist, dist * kShadowTfarScale);
+}
+
+// Primary rays of one 4x4 block; lanes outside the image stay std::nullopt and are not counted.
+void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint32_t x1, uint32_t y1,
+                         std::array<std::optional<SurfaceHit>, kBlockPixels>& out_hits, TraceStats& stats) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  const EmbreeScene& scene = *frame.scene;
+  if (!frame.primary_packets) {
+    for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
+      const uint32_t x = bx + lane % kBlock, y = by + lane / kBlock;
+      out_hits[lane].reset();
+      if (x >= x1 || y >= y1) continue;
+      ++stats.primary_rays;
+      out_hits[lane] = scene.intersect(frame.eye, primary_direction(frame, x, y));
+    }
+    return;
+  }
+  alignas(64) int valid[kBlockPixels];
+  alignas(64) RTCRayHit16 rh;
+  std::array<glm::vec3, kBlockPixels> dirs{};
+  for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
+    const uint32_t x = bx + lane % kBlock, y = by + lane / kBlock;
+    const bool inside = x < x1 && y < y1;
+    valid[lane] = inside ? -1 : 0;
+    dirs[lane] = inside ? primary_direction(frame, x, y) : glm::vec3(0.0f, 0.0f, -1.0f);
+    rh.ray.org_x[lane] = frame.eye.x;
+    rh.ray.org_y[lane] = frame.eye.y;
+    rh.ray.org_z[lane] = frame.eye.z;
+    rh.ray.dir_x[lane] = dirs[lane].x;
+    rh.ray.dir_y[lane] = dirs[lane].y;
+    rh.ray.dir_z[lane] = dirs[lane].z;
+    rh.ray.tnear[lane] = 0.0f;
+    rh.ray.tfar[lane] = std::numeric_limits<float>::infinity();
+    rh.ray.time[lane] = 0.0f;
+    rh.ray.mask[lane] = 0xFFFFFFFFu;
+    rh.ray.id[lane] = lane;
+    rh.ray.flags[lane] = 0;
+    rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+    if (inside) ++stats.primary_rays;
+  }
+  rtcIntersect16(valid, scene.handle(), &context, &rh);
+  for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
+    out_hits[lane].reset();
+    if (!valid[lane] || rh.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
+    out_hits[lane] = scene.surface(rh.hit.geomID[lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane], dirs[lane]);
+  }
+}
+
+// Runs the queued occlusion rays in the configured way; afterwards tfar < 0 marks an occluded ray.
+void trace_shadow_rays(const FrameSetup& frame, TileScratch& scratch) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  std::vector<RTCRay>& rays = scratch.rays;
+  if (rays.empty()) return;
+  switch (frame.shadow_query) {
+    case ShadowQuery::kSingle:
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+      for (RTCRay& ray : rays) rtcOccluded1(frame.scene->handle(), &context, &ray);
+      return;
+    case ShadowQuery::kStream:
+      // Runs of rays from neighbouring pixels toward one light: coherent, Embree packs them itself.
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      rtcOccluded1M(frame.scene->handle(), &context, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRay));
+      return;
+    case ShadowQuery::kPackets: {
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      alignas(64) RTCRay16 packet;
+      alignas(64) int valid[kBlockPixels];
+      for (size_t begin = 0; begin < rays.size();) {
+        // A run: same light, same 4x4 block (at most 16 rays).
+        const uint32_t light = scratch.pending[begin].light, block = scratch.pending[begin].slot / kBlockPixels;
+        size_t end = begin;
+        while (end < rays.size() && end - begin < kBlockPixels && scratch.pending[end].light == light &&
+               scratch.pending[end].slot / kBlockPixels == block)
+          ++end;
+        for (uint32_t i = 0; i < kBlockPixels; ++i) {
+          const bool on = begin + i < end;
+          const RTCRay& r = rays[on ? begin + i : begin];
+          valid[i] = on ? -1 : 0;
+          packet.org_x[i] = r.org_x;
+          packet.org_y[i] = r.org_y;
+          packet.org_z[i] = r.org_z;
+          packet.dir_x[i] = r.dir_x;
+          packet.dir_y[i] = r.dir_y;
+          packet.dir_z[i] = r.dir_z;
+          packet.tnear[i] = r.tnear;
+          packet.tfar[i] = r.tfar;
+          packet.time[i] = 0.0f;
+          packet.mask[i] = r.mask;
+          packet.id[i] = i;
+          packet.flags[i] = 0;
+        }
+        rtcOccluded16(valid, frame.scene->handle(), &context, &packet);
+        for (size_t i = begin; i < end; ++i) rays[i].tfar = packet.tfar[i - begin];
+        begin = end;
+      }
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
+                TraceStats& stats, TileScratch& scratch) {
+  const uint32_t blocks_x = (x1 - x0 + kBlock - 1) / kBlock, blocks_y = (y1 - y0 + kBlock - 1) / kBlock;
+  const uint32_t slots = blocks_x * blocks_y * kBlockPixels;  // slot = block * 16 + lane
+  auto slot_pixel = [&](uint32_t slot, uint32_t& x, uint32_t& y) {
+    const uint32_t block = slot / kBlockPixels, lane = slot % kBlockPixels;
+    x = x0 + (block % blocks_x) * kBlock + lane % kBlock;
+    y = y0 + (block / blocks_x) * kBlock + lane / kBlock;
+    return x < x1 && y < y1;
+  };
+
+  // 1. Primary rays, block by block.
+  scratch.hits.resize(slots);
+  std::array<std::optional<SurfaceHit>, kBlockPixels> block_hits;
+  for (uint32_t b = 0; b < blocks_x * blocks_y; ++b) {
+    trace_primary_block(frame, x0 + (b % blocks_x) * kBlock, y0 + (b / blocks_x) * kBlock, x1, y1, block_hits, stats);
+    std::copy(block_hits.begin(), block_hits.end(), scratch.hits.begin() + b * kBlockPixels);
+  }
+  uint64_t hit_pixels = 0;
+  for (uint32_t slot = 0; slot < slots; ++slot) {
+    uint32_t x, y;
+    if (!slot_pixel(slot, x, y)) continue;
+    if (scratch.hits[slot]) {
+      ++hit_pixels;
+    } else {
+      ++stats.background_pixels;
+    }
+  }
+  stats.skipped_culled_light += hit_pixels * frame.culled_lights;
+
+  // 2. Per pixel-light pair: skip (counted by reason) or queue an occlusion ray. Light-major, then block by
+  // block: runs of up to 16 neighbouring rays toward the same light, which packets and streams bundle.
+  scratch.rays.clear();
+  scratch.pending.clear();
+  for (uint32_t li : frame.active_lights) {
+    const PackedLight& light = frame.lights[li];
+    for (uint32_t slot = 0; slot < slots; ++slot) {
+      if (!scratch.hits[slot]) continue;
+      const SurfaceHit& hit = *scratch.hits[slot];
+      const LightSample sample = sample_light(light, hit.position, hit.shading_normal);
+      if (sample.test == LightTest::kOutOfRange && frame.skip.out_of_range) {
+        ++stats.skipped_out_of_range;
+        continue;
+      }
+      if (sample.test == LightTest::kBackfacing && frame.skip.backfacing) {
+        ++stats.skipped_backfacing;
+        continue;
+      }
+      scratch.rays.emplace_back();
+      make_shadow_ray(light, hit, sample, scratch.rays.back());
+      scratch.pending.push_back({slot, li, sample.test == LightTest::kContributes});
+    }
+  }
+  stats.shadow_rays += scratch.rays.size();
+
+  // 3. Occlusion queries (terminate on the first hit).
+  trace_shadow_rays(frame, scratch);
+
+  // 4. Bit = the light contributes and its ray reached it. Background pixels get 0.
+  scratch.masks.assign(slots, 0u);
+  for (size_t r = 0; r < scratch.rays.size(); ++r) {
+    const bool reached = scratch.rays[r].tfar >= 0.0f;  // Embree sets tfar = -inf when occluded
+    if (reached && scratch.pending[r].contributes) scratch.masks[scratch.pending[r].slot] |= 1u << scratch.pending[r].light;
+  }
+  for (uint32_t slot = 0; slot < slots; ++slot) {
+    uint32_t x, y;
+    if (slot_pixel(slot, x, y)) out.set(x, y, scratch.masks[slot]);
+  }
+}
+
+}  // namespace dhr::server::detail

@@ -1,0 +1,84 @@
+// The server's visibility tracer: for one eye's guard-banded camera, one bit per light per pixel,
+// 1 = the light reaches the pixel's surface point (unoccluded, facing it, in range and cone).
+// Two backends behind this interface: Vulkan ray tracing (GPUs; lavapipe for tests) and Embree (CPUs,
+// also the reference). Both produce identical bits except at silhouettes / shadow boundaries.
+#pragma once
+#include "core/projection.hpp"
+#include "core/scene.hpp"
+#include "core/visibility.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace dhr::server {
+
+enum class TracerBackend { kAuto, kEmbree, kVulkan };
+// "auto" | "embree" | "vulkan"; throws std::invalid_argument otherwise.
+TracerBackend parse_tracer_backend(const std::string& text);
+const char* tracer_backend_name(TracerBackend backend);
+
+// Every skip is switchable so tests can compare against the exhaustive path (identical bits).
+struct SkipOptions {
+  bool backfacing = true;    // no shadow ray when N.L <= 0 (bit is 0 either way)
+  bool out_of_range = true;  // no shadow ray beyond the light's range or outside a spot cone
+  bool cull_lights = true;   // lights whose range cannot reach the view frustum: no rays at all
+  static SkipOptions none() { return SkipOptions{false, false, false}; }
+};
+
+struct TracerOptions {
+  SkipOptions skip;
+  uint32_t threads = 0;  // CPU backends: 0 = all cores
+  // Vulkan backend: device preference "auto" | "gpu" | "lavapipe"; validation layer on/off.
+  std::string vk_device = "auto";
+  bool vk_validation = false;
+};
+
+// What building the acceleration structures cost.
+struct AccelStats {
+  double build_ms = 0.0;
+  uint64_t bytes = 0;        // acceleration-structure memory (after compaction where applicable)
+  uint64_t triangles = 0;
+  uint32_t blas_count = 0;   // Vulkan: one per geometry; Embree: geometries in the scene
+  uint32_t instance_count = 0;
+};
+
+struct TraceStats {
+  uint64_t pixels = 0;
+  uint64_t background_pixels = 0;      // primary ray missed: no shadow rays
+  uint64_t primary_rays = 0;
+  uint64_t shadow_rays = 0;            // traced
+  uint64_t skipped_backfacing = 0;     // pixel-light pairs with N.L <= 0
+  uint64_t skipped_out_of_range = 0;   // beyond range / outside spot cone
+  uint64_t skipped_culled_light = 0;   // pixel-light pairs of lights culled for this view
+  uint32_t lights_culled = 0;
+  double trace_ms = 0.0;               // wall time of the whole trace call (host)
+  double gpu_ms = -1.0;                // GPU timestamp time (Vulkan), -1 when not measured
+};
+
+class VisibilityTracer {
+ public:
+  virtual ~VisibilityTracer() = default;
+  virtual TracerBackend backend() const = 0;
+  // Device and driver, e.g. "Embree 3.13.5, 2 threads" or "llvmpipe (LLVM 15.0.6, 256 bits), Mesa 25.0.7".
+  virtual std::string device_description() const = 0;
+  virtual const AccelStats& accel_stats() const = 0;
+  virtual uint32_t light_count() const = 0;
+
+  // Traces one eye. `out` is (re)sized to camera.extent with the scene's light count.
+  // Throws std::invalid_argument for an unusable camera (see validate_camera). The Embree backend allows
+  // concurrent calls (e.g. both eyes at once); the tracer's state is read-only while tracing.
+  virtual void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) = 0;
+};
+
+// The name of a real (non-CPU) GPU whose Vulkan driver offers ray tracing, or std::nullopt (no driver,
+// only lavapipe, no ray tracing). Creates and drops a Vulkan context: call once, not per frame.
+std::optional<std::string> find_ray_tracing_gpu();
+
+// Builds the acceleration structures for `scene` and returns a ready tracer. kAuto picks Vulkan on a
+// GPU with ray tracing, Embree otherwise. Throws std::runtime_error with a one-line reason on failure.
+std::unique_ptr<VisibilityTracer> create_tracer(TracerBackend backend, const Scene& scene,
+                                                const TracerOptions& options = {});
+
+}  // namespace dhr::server

@@ -1,0 +1,71 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "shader_interface.h"
+#include "light_eval.h"
+#include "client/display_encode.h"
+
+// Shading: I = albedo / pi * sum_i k_i * saturate(N.L_i) * E_i, with k_i the predicted mask bit and the
+// light math of light_eval.h (the server's notion of "contributes"). Positions are eye-relative (world axes):
+// the surface point from depth, the lights packed relative to the eye in double on the CPU.
+// Output: exposure -> ACES approximation -> sRGB encoding, stored as bytes in an RGBA8_UNORM image.
+layout(local_size_x = kClientWarpGroupSize, local_size_y = kClientWarpGroupSize) in;
+
+layout(set = 0, binding = kClientShadingBindingDepth) uniform sampler2D depth_texture;
+layout(set = 0, binding = kClientShadingBindingNormal) uniform sampler2D normal_texture;
+layout(set = 0, binding = kClientShadingBindingAlbedo) uniform sampler2D albedo_texture;
+layout(set = 0, binding = kClientShadingBindingMask, r32ui) uniform readonly uimage2D mask_image;
+layout(set = 0, binding = kClientShadingBindingStatus, r32ui) uniform readonly uimage2D status_image;
+layout(set = 0, binding = kClientShadingBindingMotion, rg32f) uniform readonly image2D motion_image;
+layout(set = 0, binding = kClientShadingBindingLights, std430) readonly buffer Lights { PackedLight lights[]; };
+layout(set = 0, binding = kClientShadingBindingOutput, rgba8) uniform writeonly image2D output_image;
+layout(push_constant, std430) uniform Push { ClientShadingPush pc; };
+
+const float kInvPi = 0.31830988618379067;
+
+vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
+
+void main() {
+  const uvec2 id = gl_GlobalInvocationID.xy;
+  if (id.x >= pc.width || id.y >= pc.height) return;
+  const ivec2 pixel = ivec2(id);
+
+  const float d = texelFetch(depth_texture, pixel, 0).r;
+  const vec2 centre = vec2(id) + 0.5;
+  const vec3 p = (pc.near_plane / d) * (v3(pc.ray0) + centre.x * v3(pc.ray_dx) + centre.y * v3(pc.ray_dy));
+  const vec3 n = normalize(texelFetch(normal_texture, pixel, 0).xyz);
+  const vec3 albedo = texelFetch(albedo_texture, pixel, 0).rgb;
+  const uint mask = imageLoad(mask_image, pixel).x;
+
+  vec3 sum = vec3(0.0);
+  for (uint i = 0u; i < pc.light_count; ++i) {
+    if (((mask >> i) & 1u) == 0u) continue;  // shadowed: skipped when no invocation needs the light
+    vec3 l;
+    float dist;
+    if (light_test(lights[i], p, n, l, dist) != kLightContributes) continue;
+    sum += light_irradiance(lights[i], l, dist) * light_cosine(n, l);
+  }
+  const vec3 radiance = albedo * kInvPi * sum;
+  vec3 display = encode_radiance(radiance, pc.exposure);
+
+  if (pc.view_mode != kClientViewShaded) {
+    const uint status = imageLoad(status_image, pixel).x;
+    if (pc.view_mode == kClientViewLightVisibility) {
+      display = status != kClientStatusKnown ? vec3(1.0, 0.0, 0.0)
+                                             : vec3(((mask >> pc.debug_light) & 1u) != 0u ? 0.9 : 0.1);
+    } else if (pc.view_mode == kClientViewUnknown) {
+      if (status != kClientStatusKnown) display = mix(display, vec3(1.0, 0.0, 1.0), 0.6);
+    } else if (pc.view_mode == kClientViewAlbedo) {
+      display = vec3(srgb_encode(albedo.x), srgb_encode(albedo.y), srgb_encode(albedo.z));
+    } else if (pc.view_mode == kClientViewNormal) {
+      display = n * 0.5 + 0.5;
+    } else if (pc.view_mode == kClientViewMotion) {
+      const vec2 motion = imageLoad(motion_image, pixel).xy;
+      display = vec3(clamp(vec2(0.5) + motion / 32.0, 0.0, 1.0), 0.5);
+    }
+  }
+  if (!(d > 0.0)) {
+    const vec3 background = vec3(pc.background_r, pc.background_g, pc.background_b);
+    display = vec3(srgb_encode(background.x), srgb_encode(background.y), srgb_encode(background.z));
+  }
+  imageStore(output_image, pixel, vec4(display, 1.0));
+}

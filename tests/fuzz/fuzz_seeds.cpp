@@ -1,0 +1,261 @@
+// Seed inputs for the fuzz targets, made with the project's own encoders (so they follow the current
+// wire format without committed binary files). Scene seeds are in fuzz_seeds_scene.cpp.
+#include "core/codec.hpp"
+#include "core/pose_trace.hpp"
+#include "core/protocol.hpp"
+#include "core/visibility_synthetic.hpp"
+#include "fuzz_layouts.hpp"
+#include "fuzz_support.hpp"
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <cstring>
+
+namespace dhr::fuzz {
+
+std::vector<Seed> scene_seeds();  // fuzz_seeds_scene.cpp
+
+namespace {
+
+View test_view(double yaw) {
+  View v;
+  v.pose.position = {0.5, 1.6, -0.25};
+  v.pose.orientation = glm::angleAxis(yaw, glm::dvec3(0.0, 1.0, 0.0));
+  v.fov = Fov{-0.8f, 0.75f, 0.7f, -0.72f};
+  return v;
+}
+
+Bytes datagram(uint64_t token, const Message& message) { return encode_datagram(Datagram{token, 9, message}); }
+
+std::vector<Seed> datagram_seeds() {
+  std::vector<Seed> out;
+  Hello hello;
+  hello.client_nonce = 0x1122334455667788ull;
+  hello.eye_width = 1920;
+  hello.eye_height = 1080;
+  hello.guard_x = 32;
+  hello.guard_y = 18;
+  hello.light_count_wanted = 3;
+  hello.scene_id = "living_room";
+  out.push_back({"hello", datagram(0, hello)});
+  Welcome welcome;
+  welcome.client_nonce = hello.client_nonce;
+  welcome.scene_hash = 0xABCDEF;
+  welcome.light_count = 12;
+  welcome.mask_bits = MaskWidth::k16;
+  welcome.buffer_width = 1984;
+  welcome.buffer_height = 1116;
+  welcome.guard_x = 32;
+  welcome.guard_y = 18;
+  out.push_back({"welcome", datagram(77, welcome)});
+  PoseUpdate pose;
+  pose.frame_number = 1234;
+  pose.display_time_ns = 5'000'000'000;
+  pose.views = {test_view(0.3), test_view(0.31)};
+  out.push_back({"pose_update", datagram(77, pose)});
+  const VisibilityBuffer vis = make_room_visibility(64, 32, 3, 1);
+  EncodeOptions options;
+  options.max_payload = 200;
+  const auto shards = make_visibility_shards(vis, 1234, Eye::kRight, test_view(0.3), options);
+  if (!shards.empty()) {
+    out.push_back({"shard_first", datagram(77, shards.front())});
+    out.push_back({"shard_last", datagram(77, shards.back())});
+  }
+  Heartbeat beat;
+  beat.send_time_ns = 1'000'000;
+  beat.echo_time_ns = 900'000;
+  beat.echo_delay_ns = 1'000;
+  beat.newest_frame = 1233;
+  beat.datagrams_sent = 10;
+  out.push_back({"heartbeat", datagram(77, beat)});
+  out.push_back({"bye", datagram(77, Bye{ByeReason::kTimeout})});
+  out.push_back({"bye_to_hello", datagram(0, Bye{ByeReason::kVersionMismatch})});
+  Bytes other_version = datagram(0, hello);
+  if (other_version.size() > 4) other_version[4] = 2;
+  out.push_back({"hello_version2", other_version});
+  return out;
+}
+
+struct TestBuffer {
+  const char* name;
+  VisibilityBuffer buffer;
+};
+
+std::vector<TestBuffer> small_buffers() {
+  return {{"room8", make_room_visibility(64, 32, 3, 7)},
+          {"stripes16", make_stripe_visibility(48, 20, 12, 9)},
+          {"random32", make_random_visibility(16, 8, 20, 3)},
+          {"uniform8", make_uniform_visibility(40, 10, 5, 0x15)}};
+}
+
+uint8_t mask_mode(MaskWidth w) { return w == MaskWidth::k8 ? 0 : w == MaskWidth::k16 ? 1 : 2; }
+
+std::vector<Seed> shard_payload_seeds() {
+  std::vector<Seed> out;
+  for (const TestBuffer& t : small_buffers()) {
+    EncodeOptions options;
+    options.max_payload = 160;
+    std::vector<EncodedShard> shards;
+    if (!encode_visibility(t.buffer, options, shards)) continue;
+    for (size_t i = 0; i < shards.size() && i < 3; ++i) {
+      ShardPayloadParams p;
+      p.mode = mask_mode(t.buffer.mask_bits);
+      p.width = t.buffer.width;
+      p.height = t.buffer.height;
+      p.first_pixel = shards[i].first_pixel;
+      p.pixel_count = shards[i].pixel_count;
+      Bytes b;
+      p.write(b);
+      put_bytes(b, shards[i].payload);
+      out.push_back({std::string(t.name) + "_" + std::to_string(i), std::move(b)});
+    }
+  }
+  return out;
+}
+
+std::vector<Seed> codec_roundtrip_seeds() {
+  std::vector<Seed> out;
+  auto add = [&](const char* name, CodecRoundTripParams p, const Bytes& fill) {
+    Bytes b;
+    p.write(b);
+    put_bytes(b, fill);
+    out.push_back({name, std::move(b)});
+  };
+  CodecRoundTripParams p;
+  p.light_count = 3;
+  p.width = 120;
+  p.height = 40;
+  p.max_payload = static_cast<uint16_t>(kMaxShardPayload);
+  p.uniform_min_bytes = 8192;
+  // Runs: 2000 dark, 37 of mask 5, 300 of mask 7, 1 of mask 1 (u16 length - 1, then one mask byte).
+  add("runs8", p, {0xCF, 0x07, 0x00, 36, 0, 5, 0x2B, 0x01, 7, 0, 0, 1});
+  p.light_count = 12;
+  p.max_payload = 200;
+  p.row_aligned = true;
+  add("runs16_aligned", p, {0x0F, 0x00, 0x34, 0x12, 0x00, 0x00, 0xFF, 0x0F, 0x03, 0x00, 0x01, 0x00});
+  p.light_count = 20;
+  p.fill = CodecRoundTripParams::kCyclic;
+  p.max_payload = 64;
+  p.uniform_min_bytes = 32;
+  Bytes noise;
+  Prng rng(5);
+  for (int i = 0; i < 61; ++i) noise.push_back(static_cast<uint8_t>(rng.next()));
+  add("cyclic32", p, noise);
+  p.light_count = 2;
+  p.fill = CodecRoundTripParams::kSparse;
+  p.row_aligned = false;
+  p.max_payload = 1000;
+  add("sparse8", p, {200, 3, 17, 1, 250, 2});
+  p.width = 1;
+  p.height = 1;
+  add("tiny", p, {});
+  return out;
+}
+
+std::vector<Seed> reassembler_seeds() {
+  std::vector<Seed> out;
+  ReassemblerParams p;
+  p.width = 64;
+  p.height = 24;
+  p.light_count = 3;
+  p.frames_in_flight = 3;
+  p.max_payload = 200;
+  auto real = [](Bytes& b, uint8_t frame, uint8_t eye, uint16_t index) {
+    put_u8(b, static_cast<uint8_t>(ReassemblerOp::kGenuine));
+    put_u8(b, frame);
+    put_u8(b, eye);
+    put_u16(b, index);
+  };
+  {  // frame 1 in order, frame 2 with shard 1 lost, frame 3 of the right eye backwards, a late frame 1 shard
+    Bytes b;
+    p.write(b);
+    for (uint16_t i = 0; i < 12; ++i) real(b, 1, 0, i);
+    for (uint16_t i = 0; i < 12; ++i)
+      if (i != 1) real(b, 2, 0, i);
+    for (uint16_t i = 12; i-- > 0;) real(b, 3, 1, i);
+    real(b, 1, 0, 4);
+    out.push_back({"in_order_loss_reverse", std::move(b)});
+  }
+  {  // more frames than slots, then a duplicate, a reset, and forged shards
+    Bytes b;
+    p.frames_in_flight = 2;
+    p.write(b);
+    for (uint8_t f = 1; f <= 6; ++f) real(b, f, 0, 0);
+    for (uint16_t i = 0; i < 12; ++i) real(b, 5, 0, i);
+    put_u8(b, static_cast<uint8_t>(ReassemblerOp::kControl) | (1 << 2));  // re-insert the previous shard
+    put_u8(b, static_cast<uint8_t>(ReassemblerOp::kForged));
+    // flags, frame, eye, donor shard (u16), view, index (u16), first (u32), count (u32), then flags & 8:
+    // the donor's payload with byte (u16) xor (u8); else a payload of (u16) bytes. See forged_shard().
+    put_bytes(b, Bytes{0x08, 7, 0, 2, 0, 9, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 5, 0, 0x40});
+    put_u8(b, static_cast<uint8_t>(ReassemblerOp::kForged));
+    put_bytes(b, Bytes{0x00, 8, 1, 0, 0, 5, 0, 0, 0, 0, 0, 0, 15, 0, 0, 0, 6, 0, 0, 16, 0, 0, 0, 5});
+    put_u8(b, static_cast<uint8_t>(ReassemblerOp::kControl));  // reset
+    for (uint16_t i = 0; i < 12; ++i) real(b, 2, 1, i);
+    out.push_back({"slots_dup_forged_reset", std::move(b)});
+  }
+  {  // a newest-requested limit, 16-bit masks, small shards
+    Bytes b;
+    p.light_count = 9;
+    p.max_payload = 64;
+    p.limit_frames = true;
+    p.newest_requested = 4;
+    p.write(b);
+    for (uint8_t f = 3; f <= 5; ++f)
+      for (uint16_t i = 0; i < 40; ++i) real(b, f, f & 1, i);
+    out.push_back({"limit_16bit", std::move(b)});
+  }
+  return out;
+}
+
+Bytes text(const std::string& s) { return Bytes(s.begin(), s.end()); }
+
+std::vector<Seed> pose_trace_seeds() {
+  std::vector<Seed> out;
+  PoseTrace trace;
+  trace.comments.push_back("seed trace");
+  for (int i = 0; i < 4; ++i) {
+    TraceSample s;
+    s.time = 0.011 * i;
+    s.head.position = {0.01 * i, 1.6, -0.02 * i};
+    s.head.orientation = glm::angleAxis(0.05 * i, glm::dvec3(0.0, 1.0, 0.0));
+    s.eye[0] = s.head;
+    s.eye[1] = s.head;
+    s.eye[0].position.x -= 0.0315;
+    s.eye[1].position.x += 0.0315;
+    s.fov[0] = Fov{-0.8f, 0.75f, 0.7f, -0.72f};
+    s.fov[1] = Fov{-0.75f, 0.8f, 0.7f, -0.72f};
+    trace.samples.push_back(s);
+  }
+  out.push_back({"canonical_head.csv", text(format_canonical_trace(trace))});
+  trace.has_eye_poses = true;
+  trace.has_fov = true;
+  out.push_back({"canonical_eyes_fov.csv", text(format_canonical_trace(trace))});
+  out.push_back({"gul_raw.csv", text("timestamp,x,y,z,qx,qy,qz,qw\n"
+                                     "637139238387771648, 0.0053, 0.0704, 0.0825, 0.0538, 0.0061, -0.0192, 0.9983\n"
+                                     "637139238388383989, 0.0061, 0.0697, 0.0820, 0.0558, 0.0037, -0.0179, 0.9983\n"
+                                     "637139238388994000, 0.0062, 0.0696, 0.0821, 0.0560, 0.0036, -0.0178, 0.9")});
+  out.push_back({"gul_interp.csv", text("timestamp,x,y,z,qx,qy,qz,qw,roll,pitch,yaw\n"
+                                        "0.0,0.0053,0.0704,0.0825,0.0538,0.0061,-0.0192,0.9983,-2.25,6.15,0.82\n"
+                                        "5000000.0,0.0054,0.0703,0.0825,0.0540,0.0059,-0.0191,0.9983,-2.24,6.17,0.80\n")});
+  out.push_back({"nasrabadi.csv", text("0,0.076362,-0.0043327,-0.034734,0.99647,-0.01394,0.15188,0.9883\n"
+                                       "0.018,0.077247,-0.0054199,-0.036663,0.99632,-0.016464,0.15353,0.98801\n")});
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> seed_targets() {
+  return {"datagram", "shard_payload", "codec_roundtrip", "reassembler", "scene", "pose_trace"};
+}
+
+std::vector<Seed> seeds_for(const std::string& target) {
+  if (target == "datagram") return datagram_seeds();
+  if (target == "shard_payload") return shard_payload_seeds();
+  if (target == "codec_roundtrip") return codec_roundtrip_seeds();
+  if (target == "reassembler") return reassembler_seeds();
+  if (target == "scene") return scene_seeds();
+  if (target == "pose_trace") return pose_trace_seeds();
+  return {};
+}
+
+}  // namespace dhr::fuzz

@@ -1,0 +1,80 @@
+// Backend names and create_tracer. The test environment hides every Vulkan driver (CMakeLists.txt).
+#include "embree_tracer.hpp"
+#include "test_scenes.hpp"
+#include "visibility_tracer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <stdexcept>
+
+namespace dhr::server {
+namespace {
+
+TEST(TracerFactory, ParsesAndNamesBackends) {
+  for (TracerBackend b : {TracerBackend::kAuto, TracerBackend::kEmbree, TracerBackend::kVulkan})
+    EXPECT_EQ(parse_tracer_backend(tracer_backend_name(b)), b);
+  EXPECT_THROW(parse_tracer_backend("optix"), std::invalid_argument);
+  EXPECT_THROW(parse_tracer_backend(""), std::invalid_argument);
+  EXPECT_THROW(parse_tracer_backend("Embree"), std::invalid_argument);
+}
+
+Scene small_scene() {
+  Scene scene = test::make_empty_scene();
+  test::add_grid(scene, {-1, 0, 1}, {2, 0, 0}, {0, 0, -2}, 1, test::kSingleSided);
+  scene.lights = {test::point_light({0.0f, 1.0f, 0.0f}, 1.0f)};
+  test::finalize(scene);
+  return scene;
+}
+
+TEST(TracerFactory, EmbreeOnRequest) {
+  auto tracer = create_tracer(TracerBackend::kEmbree, small_scene());
+  ASSERT_NE(tracer, nullptr);
+  EXPECT_EQ(tracer->backend(), TracerBackend::kEmbree);
+  EXPECT_EQ(tracer->light_count(), 1u);
+}
+
+TEST(TracerFactory, AutoWithoutAGpuIsEmbree) {
+  EXPECT_FALSE(find_ray_tracing_gpu().has_value());
+  auto tracer = create_tracer(TracerBackend::kAuto, small_scene());
+  EXPECT_EQ(tracer->backend(), TracerBackend::kEmbree);
+}
+
+TEST(TracerFactory, VulkanWithoutADriverFailsWithAReason) {
+  try {
+    create_tracer(TracerBackend::kVulkan, small_scene());
+    FAIL() << "expected an error: the test environment has no Vulkan driver";
+  } catch (const std::runtime_error& e) {
+    EXPECT_FALSE(std::string(e.what()).empty());
+  }
+}
+
+TEST(TracerFactory, TooManyLightsIsAnError) {
+  Scene scene = small_scene();
+  scene.lights.assign(kMaxLights + 1, test::point_light({0.0f, 1.0f, 0.0f}, 1.0f));
+  EXPECT_THROW(create_tracer(TracerBackend::kEmbree, scene), std::runtime_error);
+}
+
+TEST(TracerFactory, BadGeometryIsAnErrorNotACrash) {
+  Scene scene = small_scene();
+  scene.meshes[0].indices[2] = 999;
+  EXPECT_THROW(create_tracer(TracerBackend::kEmbree, scene), std::runtime_error);
+  scene = small_scene();
+  scene.meshes[0].positions[1].y = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(create_tracer(TracerBackend::kEmbree, scene), std::runtime_error);
+}
+
+TEST(TracerFactory, EmptySceneTracesToBackground) {
+  Scene scene = test::make_empty_scene();
+  scene.lights = {test::point_light({0.0f, 1.0f, 0.0f}, 1.0f)};
+  test::finalize(scene);
+  auto tracer = create_tracer(TracerBackend::kEmbree, scene);
+  VisibilityBuffer vis;
+  TraceStats stats;
+  tracer->trace(test::look_camera({0.0, 0.0, 1.0}, {0.0, 0.0, 0.0}, 8, 8), vis, stats);
+  EXPECT_EQ(stats.background_pixels, 64u);
+  EXPECT_EQ(stats.shadow_rays, 0u);
+}
+
+}  // namespace
+}  // namespace dhr::server

@@ -1,0 +1,233 @@
+// Shading pass: the output equals a CPU evaluation of I = albedo/pi * sum k_i saturate(N.L_i) E_i (with the
+// shared light_eval.h math and display encoding) within 1/255 per channel; debug views select what they say.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "client/display_encode.h"
+#include "client_test_helpers.hpp"
+#include "core/lighting.hpp"
+#include "core/visibility_synthetic.hpp"
+#include "render/client_scene.hpp"
+#include "render/gbuffer_pass.hpp"
+#include "render/prediction_pass.hpp"
+#include "render/render_camera.hpp"
+#include "render/shading_pass.hpp"
+#include "vulkan_test_fixture.hpp"
+
+namespace dhr::render {
+namespace {
+
+using ClientShadingTest = vk::test::VulkanTest;
+
+constexpr Extent kExtent{96, 72};
+constexpr GuardBand kGuard{8, 6};
+constexpr double kNear = kDefaultNearPlane;
+
+// A floor and a back wall with different albedos, lit by a point, a spot and a directional light.
+Scene lit_room() {
+  Scene scene;
+  scene.materials.push_back(test::colour_material({0.8f, 0.7f, 0.6f, 1.0f}));
+  scene.materials.push_back(test::colour_material({0.3f, 0.5f, 0.9f, 1.0f}));
+  scene.meshes.push_back(test::quad_mesh({-4, 0, 1}, {4, 0, 1}, {4, 0, -6}, {-4, 0, -6}, 0));
+  scene.meshes.push_back(test::quad_mesh({-4, 0, -6}, {4, 0, -6}, {4, 4, -6}, {-4, 4, -6}, 1));
+  SceneLight point;
+  point.type = SceneLight::Type::kPoint;
+  point.position = {-0.5f, 2.5f, -2.5f};
+  point.color = {1.0f, 0.9f, 0.8f};
+  point.intensity = 8.0f;
+  point.range = 7.0f;
+  SceneLight spot;
+  spot.type = SceneLight::Type::kSpot;
+  spot.position = {1.5f, 2.0f, -0.5f};
+  spot.direction = glm::normalize(glm::vec3(-1.5f, -2.0f, -3.0f));
+  spot.color = {0.6f, 0.8f, 1.0f};
+  spot.intensity = 15.0f;
+  spot.inner_cone = 0.25f;
+  spot.outer_cone = 0.5f;
+  SceneLight sun;
+  sun.type = SceneLight::Type::kDirectional;
+  sun.direction = glm::normalize(glm::vec3(-0.3f, -1.0f, -0.5f));
+  sun.color = {1.0f, 0.95f, 0.9f};
+  sun.intensity = 1.5f;
+  scene.lights = {point, spot, sun};
+  test::finish_scene(scene);
+  return scene;
+}
+
+View room_view() {
+  View view;
+  view.pose = test::look_at({0.2, 1.5, 1.5}, {0.0, 0.8, -4.0});
+  view.fov = test::fov_from_tangents(0.7, 0.55);
+  return view;
+}
+
+struct ShadingRig {
+  ShadingRig(vk::Context& ctx, const Scene& scene)
+      : gpu_scene(ctx, scene),
+        gbuffer_pass(ctx, gpu_scene),
+        prediction_pass(ctx),
+        shading_pass(ctx),
+        gbuffer(GBuffer::create(ctx, kExtent)),
+        prediction(PredictionTargets::create(ctx, kExtent, false)),
+        output(create_shading_output(ctx, kExtent)) {}
+
+  void run(vk::Context& ctx, const View& view, const VisibilityInput& vis, const ShadingSettings& settings) {
+    const Camera camera = display_camera(view, kExtent);
+    ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+      gbuffer_pass.record(cmd, gbuffer, camera, kNear);
+      prediction_pass.record(cmd, 0, gbuffer.depth, camera, kNear, vis, prediction);
+      shading_pass.record(cmd, 0, gbuffer, prediction, camera, kNear, gpu_scene.lights(), settings, output);
+    });
+  }
+
+  ClientScene gpu_scene;
+  GBufferPass gbuffer_pass;
+  PredictionPass prediction_pass;
+  ShadingPass shading_pass;
+  GBuffer gbuffer;
+  PredictionTargets prediction;
+  vk::Image output;
+};
+
+uint8_t to_byte(float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+TEST_F(ClientShadingTest, MatchesTheCpuShadingEquation) {
+  const Scene scene = lit_room();
+  const View view = room_view();
+  const Camera camera = display_camera(view, kExtent);
+  const Camera traced = Camera::with_guard_band(view, kExtent, kGuard);
+  const VisibilityBuffer vis = make_random_visibility(traced.extent.width, traced.extent.height, 3, 42);
+  ShadingRig rig(ctx(), scene);
+  ShadingSettings settings;
+  settings.exposure = 1.3f;
+  rig.run(ctx(), view, VisibilityInput{&vis, traced, {}, 0}, settings);
+
+  const std::vector<float> depth = test::read_pixels<float>(ctx(), rig.gbuffer.depth);
+  const std::vector<float> normal = test::read_normals(ctx(), rig.gbuffer.normal);
+  const std::vector<uint8_t> albedo = test::read_pixels<uint8_t>(ctx(), rig.gbuffer.albedo, 4);
+  const std::vector<uint32_t> mask = test::read_pixels<uint32_t>(ctx(), rig.prediction.mask);
+  const std::vector<uint8_t> out = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  const std::vector<PackedLight> lights = pack_lights(scene.lights, camera.T_world_eye.position);
+
+  size_t surface = 0, lit = 0, worst = 0;
+  for (uint32_t j = 0; j < kExtent.height; ++j) {
+    for (uint32_t i = 0; i < kExtent.width; ++i) {
+      const size_t p = size_t{j} * kExtent.width + i;
+      glm::vec3 expected;
+      if (depth[p] == 0.0f) {
+        expected = glm::vec3(display_encode::srgb_encode(settings.background.r),
+                             display_encode::srgb_encode(settings.background.g),
+                             display_encode::srgb_encode(settings.background.b));
+      } else {
+        ++surface;
+        const glm::vec3 pos(eye_to_world_rotation(camera) * eye_point_from_depth(camera, kNear, i + 0.5, j + 0.5,
+                                                                                  depth[p]));
+        const glm::vec3 n = glm::normalize(glm::vec3(normal[p * 4], normal[p * 4 + 1], normal[p * 4 + 2]));
+        glm::vec3 sum(0.0f);
+        for (size_t l = 0; l < lights.size(); ++l) {
+          if (((mask[p] >> l) & 1u) == 0) continue;
+          sum += light_contribution(lights[l], sample_light(lights[l], pos, n), n);
+        }
+        const glm::vec3 a(albedo[p * 4] / 255.0f, albedo[p * 4 + 1] / 255.0f, albedo[p * 4 + 2] / 255.0f);
+        const glm::vec3 radiance = a * 0.31830988618f * sum;
+        if (radiance.r + radiance.g + radiance.b > 0.01f) ++lit;
+        expected = display_encode::encode_radiance(radiance, settings.exposure);
+      }
+      for (int c = 0; c < 3; ++c) {
+        const int diff = std::abs(static_cast<int>(out[p * 4 + c]) - static_cast<int>(to_byte(expected[c])));
+        worst = std::max(worst, static_cast<size_t>(diff));
+        ASSERT_LE(diff, 1) << "pixel " << i << "," << j << " channel " << c;
+      }
+      ASSERT_EQ(out[p * 4 + 3], 255);
+    }
+  }
+  EXPECT_GT(surface, kExtent.width * kExtent.height / 2);
+  EXPECT_GT(lit, surface / 4) << "the test scene should be mostly lit";
+  EXPECT_LE(worst, 1u);
+}
+
+TEST_F(ClientShadingTest, ShadowedPixelsGetNoLight) {
+  const Scene scene = lit_room();
+  const View view = room_view();
+  const Camera traced = Camera::with_guard_band(view, kExtent, kGuard);
+  const VisibilityBuffer dark = make_uniform_visibility(traced.extent.width, traced.extent.height, 3, 0);
+  ShadingRig rig(ctx(), scene);
+  rig.run(ctx(), view, VisibilityInput{&dark, traced, {}, 0}, ShadingSettings{});
+  const std::vector<float> depth = test::read_pixels<float>(ctx(), rig.gbuffer.depth);
+  const std::vector<uint8_t> out = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  for (size_t p = 0; p < depth.size(); ++p) {
+    if (depth[p] == 0.0f) continue;
+    ASSERT_EQ(out[p * 4] + out[p * 4 + 1] + out[p * 4 + 2], 0) << p;
+  }
+}
+
+TEST_F(ClientShadingTest, DebugViews) {
+  const Scene scene = lit_room();
+  const View view = room_view();
+  const Camera traced = Camera::with_guard_band(view, kExtent, kGuard);
+  const VisibilityBuffer vis = make_stripe_visibility(traced.extent.width, traced.extent.height, 3, 8);
+  ShadingRig rig(ctx(), scene);
+  const std::vector<float> depth = [&] {
+    rig.run(ctx(), view, VisibilityInput{}, ShadingSettings{});
+    return test::read_pixels<float>(ctx(), rig.gbuffer.depth);
+  }();
+
+  // Per-light visibility: white where the light's bit is set, black where not.
+  ShadingSettings settings;
+  settings.view = ShadingView::kLightVisibility;
+  settings.debug_light = 1;
+  rig.run(ctx(), view, VisibilityInput{&vis, traced, {}, 0}, settings);
+  std::vector<uint32_t> mask = test::read_pixels<uint32_t>(ctx(), rig.prediction.mask);
+  std::vector<uint8_t> out = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  for (size_t p = 0; p < depth.size(); ++p) {
+    if (depth[p] == 0.0f) continue;
+    const bool bit = ((mask[p] >> 1) & 1u) != 0;
+    ASSERT_EQ(out[p * 4], bit ? 230 : 26) << p;
+    ASSERT_EQ(out[p * 4 + 1], out[p * 4]);
+  }
+
+  // Unknown pixels (no visibility yet): tinted magenta.
+  settings.view = ShadingView::kUnknown;
+  rig.run(ctx(), view, VisibilityInput{}, settings);
+  out = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  for (size_t p = 0; p < depth.size(); ++p) {
+    if (depth[p] == 0.0f) continue;
+    ASSERT_GE(out[p * 4], 153) << p;
+    ASSERT_GE(out[p * 4 + 2], 153) << p;
+    ASSERT_LT(out[p * 4 + 1], 103) << p;
+  }
+
+  // Albedo: the sRGB encoding of the G-buffer's linear albedo.
+  settings.view = ShadingView::kAlbedo;
+  rig.run(ctx(), view, VisibilityInput{}, settings);
+  out = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  const std::vector<uint8_t> albedo = test::read_pixels<uint8_t>(ctx(), rig.gbuffer.albedo, 4);
+  for (size_t p = 0; p < depth.size(); ++p) {
+    if (depth[p] == 0.0f) continue;
+    const float expected = display_encode::srgb_encode(albedo[p * 4] / 255.0f);
+    ASSERT_LE(std::abs(static_cast<int>(out[p * 4]) - static_cast<int>(to_byte(expected))), 1) << p;
+  }
+}
+
+TEST_F(ClientShadingTest, MismatchedSizesAreRejected) {
+  const Scene scene = lit_room();
+  ShadingRig rig(ctx(), scene);
+  vk::Image small = create_shading_output(ctx(), Extent{32, 32});
+  const Camera camera = display_camera(room_view(), kExtent);
+  EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    rig.shading_pass.record(cmd, 0, rig.gbuffer, rig.prediction, camera, kNear, rig.gpu_scene.lights(),
+                            ShadingSettings{}, small);
+  }),
+               std::invalid_argument);
+  EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    rig.shading_pass.record(cmd, 1, rig.gbuffer, rig.prediction, camera, kNear, rig.gpu_scene.lights(),
+                            ShadingSettings{}, rig.output);
+  }),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dhr::render

@@ -1,0 +1,463 @@
+// The Vulkan visibility tracer against the Embree reference (lavapipe, validation layer on, zero errors):
+// real scenes from their camera bookmarks, hand-made scenes for culling / double-sided / mirrored instances,
+// skipping that changes no bit, statistics, mask widths, far-from-origin precision, bad input.
+#include "camera_bookmarks.hpp"
+#include "embree_tracer.hpp"
+#include "test_scenes.hpp"
+#include "vulkan_tracer.hpp"
+#include "vulkan_tracer_internal.hpp"
+
+#include "vk/context.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+
+namespace dhr::server {
+namespace {
+
+using test::add_grid;
+using test::finalize;
+
+// Validation on for every tracer; the process-wide count also catches errors while a context is destroyed.
+class VulkanTracerTest : public ::testing::Test {
+ protected:
+  void SetUp() override { errors_before_ = vk::process_validation_error_count(); }
+  void TearDown() override {
+    EXPECT_EQ(vk::process_validation_error_count() - errors_before_, 0u) << "Vulkan validation errors (see log)";
+  }
+  static TracerOptions vk_options(SkipOptions skip = {}) {
+    TracerOptions o;
+    o.skip = skip;
+    o.vk_validation = true;
+    return o;
+  }
+  static TracerOptions embree_options() {
+    TracerOptions o;
+    o.threads = 2;
+    return o;
+  }
+  uint32_t errors_before_ = 0;
+};
+
+// Left-eye cameras of a scene's bookmarks (90 degrees, the paper's guard band scaled to the size).
+std::vector<Camera> bookmark_cameras(const std::string& scene_path, Extent eye) {
+  std::string error;
+  auto bookmarks = load_camera_bookmarks(camera_bookmarks_path(scene_path), &error);
+  EXPECT_TRUE(bookmarks) << error;
+  std::vector<Camera> cameras;
+  if (!bookmarks) return cameras;
+  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
+  for (const CameraBookmark& b : *bookmarks) {
+    const View view{left_eye_pose(look_at_pose(b).value()), symmetric_fov(90.0, eye)};
+    cameras.push_back(Camera::with_guard_band(view, eye, guard));
+  }
+  return cameras;
+}
+
+// The reference's primary hit per pixel (same rays as the Embree tracer's).
+struct PixelHit {
+  bool hit = false;
+  uint32_t mesh = 0;
+  double depth = 0.0;
+};
+
+std::vector<PixelHit> reference_hits(const EmbreeTracer& embree, const Camera& camera) {
+  const EmbreeScene& scene = embree.embree_scene();
+  const glm::vec3 eye = scene.to_relative(camera.T_world_eye.position);
+  const glm::dmat3 R = glm::mat3_cast(glm::normalize(camera.T_world_eye.orientation));
+  std::vector<PixelHit> hits(size_t{camera.extent.width} * camera.extent.height);
+  for (uint32_t y = 0; y < camera.extent.height; ++y) {
+    for (uint32_t x = 0; x < camera.extent.width; ++x) {
+      const glm::vec3 dir(glm::normalize(R * camera.eye_ray(x + 0.5, y + 0.5)));
+      const auto hit = scene.intersect(eye, dir);
+      PixelHit& h = hits[size_t{y} * camera.extent.width + x];
+      if (!hit) continue;
+      h.hit = true;
+      h.mesh = hit->mesh;
+      h.depth = glm::length(glm::dvec3(hit->position) - glm::dvec3(eye));
+    }
+  }
+  return hits;
+}
+
+// Differing pixel-light bits, and those not explained by a silhouette or a shadow boundary within one
+// pixel. A silhouette pixel differs from a 4-neighbour in hit/miss, mesh, or depth (> 2% jump); a bit is
+// at a shadow boundary when the reference has the other value of that bit in the 3x3 neighbourhood.
+struct Agreement {
+  uint64_t bits = 0;
+  uint64_t differing = 0;
+  uint64_t unexplained = 0;
+  uint64_t differing_pixels = 0;
+  std::string first_unexplained;
+  double rate() const { return bits ? double(differing) / double(bits) : 0.0; }
+};
+
+Agreement compare(const VisibilityBuffer& ref, const VisibilityBuffer& got, const std::vector<PixelHit>& hits) {
+  Agreement a;
+  const int w = int(ref.width), h = int(ref.height);
+  a.bits = uint64_t(ref.pixel_count()) * ref.light_count;
+  auto at = [&](int x, int y) -> const PixelHit& { return hits[size_t(y) * size_t(w) + size_t(x)]; };
+  std::vector<uint8_t> edge(ref.pixel_count(), 0);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const PixelHit& p = at(x, y);
+      const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= w || ny[k] >= h) continue;
+        const PixelHit& q = at(nx[k], ny[k]);
+        if (p.hit != q.hit || (p.hit && (p.mesh != q.mesh || std::abs(p.depth - q.depth) >
+                                                                  0.02 * std::min(p.depth, q.depth))))
+          edge[size_t(y) * size_t(w) + size_t(x)] = 1;
+      }
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const uint32_t diff = ref.get(uint32_t(x), uint32_t(y)) ^ got.get(uint32_t(x), uint32_t(y));
+      if (!diff) continue;
+      ++a.differing_pixels;
+      a.differing += uint64_t(std::popcount(diff));
+      bool near_edge = false;
+      uint32_t boundary_bits = 0;  // bits that change somewhere in the reference's 3x3 neighbourhood
+      const uint32_t centre = ref.get(uint32_t(x), uint32_t(y));
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+          near_edge = near_edge || edge[size_t(qy) * size_t(w) + size_t(qx)];
+          boundary_bits |= centre ^ ref.get(uint32_t(qx), uint32_t(qy));
+        }
+      }
+      if (near_edge) continue;
+      const uint32_t unexplained = diff & ~boundary_bits;
+      if (!unexplained) continue;
+      a.unexplained += uint64_t(std::popcount(unexplained));
+      if (a.first_unexplained.empty()) {
+        char text[128];
+        std::snprintf(text, sizeof text, "pixel (%d, %d): reference 0x%x, vulkan 0x%x", x, y, centre,
+                      got.get(uint32_t(x), uint32_t(y)));
+        a.first_unexplained = text;
+      }
+    }
+  }
+  return a;
+}
+
+// Traces every camera with both backends; expects < 0.1% differing bits and none unexplained.
+void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,
+                      const TracerOptions& embree_options, const VulkanTracerConfig& config = {}) {
+  EmbreeTracer embree(scene, embree_options);
+  VulkanTracer vulkan(scene, vk_options, config);
+  uint64_t bits = 0, differing = 0;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    VisibilityBuffer ref, got;
+    TraceStats ref_stats, got_stats;
+    embree.trace(cameras[c], ref, ref_stats);
+    vulkan.trace(cameras[c], got, got_stats);
+    ASSERT_EQ(got.width, ref.width);
+    ASSERT_EQ(got.height, ref.height);
+    ASSERT_EQ(got.mask_bits, ref.mask_bits);
+    const Agreement a = compare(ref, got, reference_hits(embree, cameras[c]));
+    std::printf("[ agreement ] camera %zu %ux%u, %u lights: %llu of %llu bits differ (%.4f%%), %llu pixels, "
+                "%llu unexplained; vulkan %.1f ms (gpu %.1f ms), embree %.1f ms\n",
+                c, ref.width, ref.height, ref.light_count, static_cast<unsigned long long>(a.differing),
+                static_cast<unsigned long long>(a.bits), 100.0 * a.rate(),
+                static_cast<unsigned long long>(a.differing_pixels), static_cast<unsigned long long>(a.unexplained),
+                got_stats.trace_ms, got_stats.gpu_ms, ref_stats.trace_ms);
+    EXPECT_EQ(a.unexplained, 0u) << "camera " << c << ": first at " << a.first_unexplained;
+    EXPECT_LT(a.rate(), 0.001) << "camera " << c;
+    // Statistics: one primary ray per pixel; every hit pixel-light pair traced or skipped for a reason.
+    EXPECT_EQ(got_stats.pixels, ref_stats.pixels);
+    EXPECT_EQ(got_stats.primary_rays, got_stats.pixels);
+    EXPECT_EQ(got_stats.lights_culled, ref_stats.lights_culled);
+    const uint64_t hit = got_stats.pixels - got_stats.background_pixels;
+    EXPECT_EQ(got_stats.shadow_rays + got_stats.skipped_backfacing + got_stats.skipped_out_of_range +
+                  got_stats.skipped_culled_light,
+              hit * scene.lights.size());
+    EXPECT_NEAR(double(got_stats.background_pixels), double(ref_stats.background_pixels), 0.01 * got_stats.pixels);
+    EXPECT_NEAR(double(got_stats.shadow_rays), double(ref_stats.shadow_rays),
+                0.01 * double(ref_stats.shadow_rays) + 4.0);
+    EXPECT_GT(got_stats.trace_ms, 0.0);
+    bits += a.bits;
+    differing += a.differing;
+  }
+  EXPECT_EQ(vulkan.validation_error_count(), 0u);
+  if (bits) std::printf("[ agreement ] all cameras: %.4f%% of bits differ\n", 100.0 * double(differing) / double(bits));
+}
+
+Scene load(const std::string& path) {
+  SceneLoadResult loaded = load_scene(path);
+  EXPECT_TRUE(loaded) << loaded.error;
+  return loaded ? std::move(*loaded.scene) : Scene{};
+}
+
+TEST_F(VulkanTracerTest, AgreesWithEmbreeOnTheDefaultRoom) {
+  const std::string path = test::source_path(kDefaultScenePath);
+  const Scene scene = load(path);
+  const auto cameras = bookmark_cameras(path, {160, 120});
+  ASSERT_FALSE(cameras.empty());
+  expect_agreement(scene, cameras, vk_options(), embree_options());
+}
+
+TEST_F(VulkanTracerTest, AgreesWithEmbreeOnTheLivingRoom) {
+  const std::string path = test::shared_data_path("scenes/living_room.glb");
+  if (path.empty()) GTEST_SKIP() << "../shared/data not present: living_room.glb comparison skipped";
+  const Scene scene = load(path);
+  const auto cameras = bookmark_cameras(path, {96, 72});
+  ASSERT_EQ(cameras.size(), 5u);
+  expect_agreement(scene, cameras, vk_options(), embree_options());
+}
+
+TEST_F(VulkanTracerTest, FlattenedUnsortedBuildAgreesToo) {
+  const std::string path = test::source_path(kDefaultScenePath);
+  const Scene scene = load(path);
+  const auto cameras = bookmark_cameras(path, {96, 72});
+  VulkanTracerConfig config;
+  config.instanced = false;
+  config.morton_sort = false;
+  config.compact = false;
+  expect_agreement(scene, cameras, vk_options(), embree_options(), config);
+}
+
+TEST_F(VulkanTracerTest, SkippingChangesNoBit) {
+  const std::string path = test::source_path(kDefaultScenePath);
+  const Scene scene = load(path);
+  VulkanTracer skipping(scene, vk_options());
+  VulkanTracer exhaustive(scene, vk_options(SkipOptions::none()));
+  for (const Camera& camera : bookmark_cameras(path, {128, 96})) {
+    VisibilityBuffer a, b;
+    TraceStats sa, sb;
+    skipping.trace(camera, a, sa);
+    exhaustive.trace(camera, b, sb);
+    EXPECT_TRUE(a == b);
+    const uint64_t hit = sa.pixels - sa.background_pixels;
+    EXPECT_EQ(sb.background_pixels, sa.background_pixels);
+    EXPECT_EQ(sb.shadow_rays, hit * scene.lights.size());
+    EXPECT_EQ(sb.skipped_backfacing + sb.skipped_out_of_range + sb.skipped_culled_light, 0u);
+    EXPECT_LE(sa.shadow_rays, sb.shadow_rays);
+    EXPECT_GT(sa.skipped_backfacing, 0u);
+  }
+}
+
+// Single-sided quads seen from the back vanish for primary rays but still cast shadows; double-sided ones
+// are seen from both sides; mirrored and plain instances of one geometry share a BLAS; lights are culled.
+Scene make_instanced_scene() {
+  Scene scene = test::make_empty_scene();
+  add_grid(scene, {-6, 0, 6}, {12, 0, 0}, {0, 0, -12}, 6, test::kSingleSided);  // floor, facing up
+  // One 1x1 quad geometry (local: x, y in [0, 1], facing +z), instanced four times.
+  SceneMesh quad;
+  quad.geometry = 100;
+  quad.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  quad.normals.assign(4, glm::vec3(0, 0, 1));
+  quad.indices = {0, 1, 2, 0, 2, 3};
+  auto place = [&](const glm::dmat4& T, uint32_t material, const char* name) {
+    SceneMesh m = quad;
+    m.name = name;
+    m.material = material;
+    m.T_world_local = T;
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(T)));
+    for (size_t v = 0; v < m.positions.size(); ++v) {
+      m.positions[v] = glm::vec3(T * glm::dvec4(glm::dvec3(quad.positions[v]), 1.0));
+      m.normals[v] = glm::vec3(glm::normalize(normal_matrix * glm::dvec3(quad.normals[v])));
+    }
+    if (glm::determinant(glm::dmat3(T)) < 0.0)  // the loader keeps world-space CCW fronts
+      for (size_t t = 0; t < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
+    scene.meshes.push_back(m);
+  };
+  const glm::dmat4 I(1.0);
+  // Side by side along x (no overlaps): x in [-3.3, -2.3], [-1.8, -0.8], [0.2, 1.2], [1.8, 2.8], [2.3, 3.3].
+  place(glm::translate(I, {-3.3, 0.5, 0.0}), test::kSingleSided, "front");  // faces the camera (+z)
+  place(glm::rotate(glm::translate(I, {-0.8, 0.5, 0.0}), glm::pi<double>(), {0, 1, 0}), test::kSingleSided,
+        "back");  // shows its back: invisible to primary rays, still casts a shadow
+  place(glm::rotate(glm::translate(I, {1.2, 0.5, 0.0}), glm::pi<double>(), {0, 1, 0}), test::kDoubleSided,
+        "double_back");
+  place(glm::scale(glm::translate(I, {2.8, 0.5, 0.0}), {-1.0, 1.0, 1.0}), test::kSingleSided, "mirrored");
+  place(glm::scale(glm::translate(I, {3.3, 0.5, -1.0}), {-1.0, 1.5, 1.0}), test::kSingleSided, "mirrored_2");
+  scene.lights = {test::point_light({0.0f, 3.0f, 3.0f}, 20.0f), test::directional_light({0.3f, -1.0f, -0.4f}),
+                  test::spot_light({-1.0f, 2.5f, -2.0f}, {0.2f, -1.0f, 0.5f}, 15.0f, 35.0f, 8.0f),
+                  test::point_light({0.0f, 1.0f, 30.0f}, 5.0f, 1.0f)};  // behind the camera: culled
+  finalize(scene);
+  return scene;
+}
+
+TEST_F(VulkanTracerTest, InstancesMirroringAndDoubleSidedFacesMatchEmbree) {
+  const Scene scene = make_instanced_scene();
+  const std::vector<Camera> cameras = {test::look_camera({0.0, 2.0, 5.0}, {0.0, 0.5, 0.0}, 160, 120, 70.0),
+                                       test::look_camera({1.0, 1.5, -4.0}, {0.0, 0.5, 0.0}, 160, 120, 70.0)};
+  for (const bool instanced : {true, false}) {
+    VulkanTracerConfig config;
+    config.instanced = instanced;
+    {
+      VulkanTracer tracer(scene, vk_options(), config);
+      EXPECT_EQ(tracer.accel_stats().instance_count, scene.meshes.size());
+      // Instanced: floor, the shared quad (plain), the shared quad (mirrored).
+      EXPECT_EQ(tracer.accel_stats().blas_count, instanced ? 3u : scene.meshes.size());
+      EXPECT_EQ(tracer.accel_stats().triangles, scene.triangle_count);
+      EXPECT_GT(tracer.accel_stats().bytes, 0u);
+    }
+    expect_agreement(scene, cameras, vk_options(), embree_options(), config);
+  }
+  VulkanTracer tracer(scene, vk_options());
+  VisibilityBuffer vis;
+  TraceStats stats;
+  tracer.trace(cameras[0], vis, stats);
+  EXPECT_EQ(stats.lights_culled, 1u);
+}
+
+TEST_F(VulkanTracerTest, MaskWidthsFollowTheLightCount) {
+  const std::string path = test::source_path(kDefaultScenePath);
+  Scene scene = load(path);
+  ASSERT_FALSE(scene.lights.empty());
+  const Camera camera = bookmark_cameras(path, {64, 48}).at(0);
+  const std::vector<SceneLight> base = scene.lights;
+  for (const uint32_t count : {9u, 17u, 32u}) {
+    std::vector<SceneLight> lights;
+    for (uint32_t i = 0; i < count; ++i) {
+      SceneLight l = base[i % base.size()];
+      l.position += glm::vec3(0.05f * float(i), 0.0f, -0.03f * float(i));
+      lights.push_back(l);
+    }
+    ASSERT_FALSE(set_scene_lights(scene, lights));
+    expect_agreement(scene, {camera}, vk_options(), embree_options());
+  }
+}
+
+TEST_F(VulkanTracerTest, PreciseFarFromTheWorldOrigin) {
+  const std::string path = test::source_path(kDefaultScenePath);
+  Scene scene = load(path);
+  const glm::dvec3 offset(25000.0, 120.0, -40000.0);
+  for (SceneMesh& m : scene.meshes) {
+    for (glm::vec3& p : m.positions) p = glm::vec3(glm::dvec3(p) + offset);
+    m.T_world_local = glm::translate(glm::dmat4(1.0), offset) * m.T_world_local;
+  }
+  for (SceneLight& l : scene.lights) l.position = glm::vec3(glm::dvec3(l.position) + offset);
+  finalize(scene);
+  std::vector<Camera> cameras = bookmark_cameras(path, {96, 72});
+  for (Camera& c : cameras) c.T_world_eye.position += offset;
+  expect_agreement(scene, cameras, vk_options(), embree_options());
+}
+
+// A tilted, subdivided floor lit from 1-15 degrees above it, with nothing that could shadow it: every bit
+// of every floor pixel must be 1 (no self-shadowing acne), near the origin and 3 km away. The far floor's
+// vertices carry the offset themselves (identity node transform), so BLAS coordinates must be re-centred.
+TEST_F(VulkanTracerTest, NoAcneAtGrazingLight) {
+  const glm::dquat tilt = glm::angleAxis(glm::radians(23.0), glm::normalize(glm::dvec3(1.0, 0.3, 0.6)));
+  for (const glm::dvec3& offset : {glm::dvec3(0.0, 1.3, 0.0), glm::dvec3(3000.0, 40.0, -2000.0)}) {
+    auto to_world = [&](const glm::dvec3& p) { return glm::vec3(offset + tilt * p); };
+    auto dir_to_world = [&](const glm::dvec3& d) { return glm::vec3(tilt * d); };
+    Scene scene = test::make_empty_scene();
+    add_grid(scene, to_world({-10, 0, 10}), dir_to_world({20, 0, 0}), dir_to_world({0, 0, -20}), 16,
+             test::kSingleSided);
+    for (int i = 0; i < 4; ++i) {
+      const double e = glm::radians(std::array<double, 4>{1.0, 2.0, 5.0, 15.0}[size_t(i)]);
+      const double a = glm::radians(20.0 + 90.0 * i);
+      scene.lights.push_back(test::directional_light(
+          glm::normalize(dir_to_world({-std::cos(e) * std::cos(a), -std::sin(e), -std::cos(e) * std::sin(a)}))));
+    }
+    SceneLight low = test::point_light(to_world({50.0, 0.9, 3.0}), 100.0f);
+    scene.lights.push_back(low);
+    finalize(scene);
+    const Camera camera = test::look_camera(glm::dvec3(to_world({0.0, 3.0, 0.5})),
+                                            glm::dvec3(to_world({0.0, 0.0, -1.5})), 96, 72, 100.0);
+    VulkanTracer tracer(scene, vk_options());
+    VisibilityBuffer vis;
+    TraceStats stats;
+    tracer.trace(camera, vis, stats);
+    EXPECT_LT(stats.background_pixels, stats.pixels / 10);
+    uint64_t unlit = 0;
+    for (size_t i = 0; i < vis.pixel_count(); ++i)
+      if (vis.mask_at(i) != 0) unlit += uint64_t(std::popcount(vis.light_bits() & ~vis.mask_at(i)));
+    EXPECT_EQ(unlit, 0u) << "offset " << offset.x;
+    EXPECT_EQ(stats.shadow_rays, (stats.pixels - stats.background_pixels) * scene.lights.size());
+  }
+}
+
+TEST_F(VulkanTracerTest, EmptySceneAndBadInput) {
+  Scene empty = test::make_empty_scene();
+  empty.lights = {test::point_light({0, 1, 0}, 1.0f)};
+  finalize(empty);
+  VulkanTracer tracer(empty, vk_options());
+  EXPECT_EQ(tracer.backend(), TracerBackend::kVulkan);
+  EXPECT_FALSE(tracer.device_description().empty());
+  const Camera camera = test::look_camera({0, 0, 3}, {0, 0, 0}, 32, 24);
+  VisibilityBuffer vis;
+  TraceStats stats;
+  tracer.trace(camera, vis, stats);
+  EXPECT_EQ(stats.background_pixels, stats.pixels);
+  EXPECT_EQ(stats.primary_rays, stats.pixels);
+  EXPECT_EQ(vis.width, 32u);
+  EXPECT_TRUE(std::all_of(vis.data.begin(), vis.data.end(), [](uint8_t b) { return b == 0; }));
+
+  Camera bad = camera;
+  bad.extent = {0, 24};
+  EXPECT_THROW(tracer.trace(bad, vis, stats), std::invalid_argument);
+
+  Scene too_many = empty;
+  too_many.lights.assign(kMaxLights + 1, test::point_light({0, 1, 0}, 1.0f));
+  EXPECT_THROW(VulkanTracer(too_many, vk_options()), std::runtime_error);
+
+  Scene broken = empty;
+  add_grid(broken, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1, test::kSingleSided);
+  broken.meshes.back().indices[2] = 99;
+  EXPECT_THROW(VulkanTracer(broken, vk_options()), std::runtime_error);
+
+  TracerOptions bad_device = vk_options();
+  bad_device.vk_device = "quantum";
+  EXPECT_THROW(VulkanTracer(empty, bad_device), std::runtime_error);
+}
+
+TEST(VulkanTracerPlan, MortonOrderIsADeterministicSpatialPermutation) {
+  // A 32x32 grid's triangles in shuffled order: the Morton order must visit them with short steps.
+  Scene scene = test::make_empty_scene();
+  add_grid(scene, {0, 0, 0}, {32, 0, 0}, {0, 32, 0}, 32, test::kSingleSided);
+  SceneMesh& mesh = scene.meshes[0];
+  std::vector<uint32_t> tris(mesh.triangle_count());
+  for (uint32_t t = 0; t < tris.size(); ++t) tris[t] = t;
+  std::mt19937 rng(7);
+  std::shuffle(tris.begin(), tris.end(), rng);
+  std::vector<uint32_t> shuffled;
+  for (uint32_t t : tris) shuffled.insert(shuffled.end(), &mesh.indices[3 * t], &mesh.indices[3 * t] + 3);
+  std::vector<float> xyz;
+  for (const glm::vec3& p : mesh.positions) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+
+  const std::vector<uint32_t> order = detail::morton_triangle_order(xyz, shuffled);
+  EXPECT_EQ(order, detail::morton_triangle_order(xyz, shuffled));
+  std::vector<uint32_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (uint32_t i = 0; i < sorted.size(); ++i) ASSERT_EQ(sorted[i], i);
+  auto centroid = [&](uint32_t t) {
+    return (mesh.positions[shuffled[3 * t]] + mesh.positions[shuffled[3 * t + 1]] +
+            mesh.positions[shuffled[3 * t + 2]]) / 3.0f;
+  };
+  double sorted_path = 0.0, shuffled_path = 0.0;
+  for (size_t i = 1; i < order.size(); ++i) {
+    sorted_path += double(glm::length(centroid(order[i]) - centroid(order[i - 1])));
+    shuffled_path += double(glm::length(centroid(uint32_t(i)) - centroid(uint32_t(i - 1))));
+  }
+  EXPECT_LT(sorted_path, 2.0 * double(order.size()));  // ~1 cell per step
+  EXPECT_LT(sorted_path * 5.0, shuffled_path);
+
+  // The plan maps every BLAS primitive back to the original triangle.
+  mesh.indices = shuffled;
+  finalize(scene);
+  const detail::ScenePlan plan = detail::plan_gpu_scene(scene, VulkanTracerConfig{});
+  ASSERT_EQ(plan.blases.size(), 1u);
+  const detail::BlasPlan& blas = plan.blases[0];
+  for (uint32_t p = 0; p < tris.size(); ++p) {
+    const uint32_t original = plan.permutation[blas.permutation_offset + p];
+    for (uint32_t k = 0; k < 3; ++k) ASSERT_EQ(blas.indices[3 * p + k], shuffled[3 * original + k]);
+  }
+}
+
+}  // namespace
+}  // namespace dhr::server

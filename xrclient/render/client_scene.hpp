@@ -1,0 +1,77 @@
+// A Scene uploaded for rasterization: concatenated vertex streams (position, normal, uv) and indices,
+// per-mesh draw ranges, materials, base-colour textures (sRGB RGBA8 + samplers), all in dhr_vk RAII owners.
+// Positions are stored relative to their mesh's origin (the centre of its bounds, in double), so the
+// G-buffer pass can add a per-draw (origin - eye) offset and never handle world coordinates on the GPU.
+#pragma once
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <string>
+#include <vector>
+
+#include "core/scene.hpp"
+#include "vk/buffer.hpp"
+#include "vk/handle.hpp"
+#include "vk/image.hpp"
+
+namespace dhr::vk {
+class Context;
+}
+
+namespace dhr::render {
+
+struct ClientMesh {
+  std::string name;
+  uint32_t first_index = 0;  // into ClientScene::indices()
+  uint32_t index_count = 0;
+  int32_t vertex_offset = 0;  // added to each index
+  uint32_t material = 0;      // into ClientScene::materials()
+  glm::dvec3 origin{0.0};     // world; the mesh's positions are uploaded relative to it
+  double radius = 0.0;        // bounding sphere around origin (frustum culling)
+};
+
+struct ClientMaterial {
+  glm::vec4 base_color_factor{1.0f};  // linear RGBA
+  uint32_t texture = 0;               // into ClientScene::textures(); 0: 1x1 white (untextured)
+  uint32_t sampler = 0;               // into ClientScene::samplers()
+  bool double_sided = false;
+  bool alpha_mask = false;  // glTF alphaMode MASK (BLEND is drawn opaque)
+  float alpha_cutoff = 0.5f;
+};
+
+class ClientScene {
+ public:
+  // Blocks while uploading. Throws std::invalid_argument for an inconsistent Scene (a mesh whose normals
+  // or texcoords do not match its positions, a bad material or index), dhr::vk::VulkanError on failure.
+  ClientScene(const vk::Context& context, const Scene& scene);
+
+  // VERTEX_BUFFER: vec3 positions (mesh-relative), vec3 world normals, vec2 uvs; INDEX_BUFFER: uint32.
+  // Null buffers when the scene has no triangles.
+  const vk::Buffer& positions() const { return positions_; }
+  const vk::Buffer& normals() const { return normals_; }
+  const vk::Buffer& texcoords() const { return texcoords_; }
+  const vk::Buffer& indices() const { return indices_; }
+
+  const std::vector<ClientMesh>& meshes() const { return meshes_; }
+  const std::vector<ClientMaterial>& materials() const { return materials_; }
+  const std::vector<vk::Image>& textures() const { return textures_; }  // R8G8B8A8_SRGB, SHADER_READ_ONLY
+  const std::vector<vk::Sampler>& samplers() const { return samplers_; }
+  const std::vector<SceneLight>& lights() const { return lights_; }
+  const SceneBounds& bounds() const { return bounds_; }
+  uint64_t triangle_count() const { return triangle_count_; }
+
+ private:
+  vk::Buffer positions_;
+  vk::Buffer normals_;
+  vk::Buffer texcoords_;
+  vk::Buffer indices_;
+  std::vector<ClientMesh> meshes_;
+  std::vector<ClientMaterial> materials_;
+  std::vector<vk::Image> textures_;
+  std::vector<vk::Sampler> samplers_;
+  std::vector<SceneLight> lights_;
+  SceneBounds bounds_;
+  uint64_t triangle_count_ = 0;
+};
+
+}  // namespace dhr::render

@@ -1,0 +1,93 @@
+#include "render/eye_pipeline.hpp"
+
+#include <stdexcept>
+
+#include "render/client_scene.hpp"
+#include "vk/check.hpp"
+#include "vk/context.hpp"
+
+namespace dhr::render {
+namespace {
+
+enum Timestamp : uint32_t { kStart = 0, kAfterGBuffer, kAfterPrediction, kAfterShading, kTimestampCount };
+
+uint32_t checked_slots(const EyePipelineOptions& options) {
+  if (options.frames_in_flight == 0) throw std::invalid_argument("EyePipeline needs frames_in_flight >= 1");
+  return options.frames_in_flight;
+}
+
+}  // namespace
+
+EyePipeline::EyePipeline(const vk::Context& context, const ClientScene& scene, Extent extent,
+                         const EyePipelineOptions& options)
+    : context_(&context),
+      scene_(&scene),
+      extent_(extent),
+      options_(options),
+      gbuffer_pass_(context, scene),
+      prediction_pass_(context, checked_slots(options)),
+      shading_pass_(context, checked_slots(options)) {
+  if (extent.width == 0 || extent.height == 0) throw std::invalid_argument("EyePipeline: zero extent");
+  create_images();
+  slots_.resize(options.frames_in_flight);
+  for (Slot& s : slots_) s.timestamps = vk::TimestampQueries(context, kTimestampCount);
+}
+
+EyePipeline::~EyePipeline() = default;
+
+void EyePipeline::create_images() {
+  gbuffer_ = GBuffer::create(*context_, extent_);
+  prediction_ = PredictionTargets::create(*context_, extent_, options_.motion_vectors);
+  output_ = create_shading_output(*context_, extent_);
+}
+
+void EyePipeline::resize(Extent extent) {
+  if (extent == extent_) return;
+  if (extent.width == 0 || extent.height == 0) throw std::invalid_argument("EyePipeline::resize: zero extent");
+  DHR_VK_CHECK(vkDeviceWaitIdle(context_->device()));
+  extent_ = extent;
+  create_images();
+}
+
+void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& view,
+                         const VisibilityInput& visibility) {
+  if (slot_index >= slots_.size()) throw std::invalid_argument("EyePipeline::record: slot out of range");
+  Slot& slot = slots_[slot_index];
+  const Camera camera = display_camera(view, extent_);
+  const double near_plane = options_.near_plane;
+
+  slot.timestamps.reset(cmd);
+  slot.timestamps.write(cmd, kStart);
+  slot.draws = gbuffer_pass_.record(cmd, gbuffer_, camera, near_plane);
+  slot.timestamps.write(cmd, kAfterGBuffer);
+  slot.visibility_used = prediction_pass_.record(cmd, slot_index, gbuffer_.depth, camera, near_plane, visibility,
+                                                 prediction_) &&
+                         visibility.buffer != nullptr;
+  slot.timestamps.write(cmd, kAfterPrediction);
+  shading_pass_.record(cmd, slot_index, gbuffer_, prediction_, camera, near_plane, scene_->lights(),
+                       options_.shading, output_);
+  slot.timestamps.write(cmd, kAfterShading);
+  slot.recorded = true;
+}
+
+EyeStats EyePipeline::read_stats(uint32_t slot_index) const {
+  if (slot_index >= slots_.size()) throw std::invalid_argument("EyePipeline::read_stats: slot out of range");
+  const Slot& slot = slots_[slot_index];
+  EyeStats stats;
+  stats.extent = extent_;
+  if (!slot.recorded) return stats;
+  stats.draws = slot.draws;
+  stats.visibility_used = slot.visibility_used;
+  stats.warp = prediction_pass_.read_counts(slot_index);
+  const std::vector<double> ns = slot.timestamps.read_ns();
+  if (ns.size() == kTimestampCount) {
+    stats.gpu.valid = true;
+    stats.gpu.gbuffer_ms = (ns[kAfterGBuffer] - ns[kStart]) * 1e-6;
+    stats.gpu.prediction_ms = (ns[kAfterPrediction] - ns[kAfterGBuffer]) * 1e-6;
+    stats.gpu.shading_ms = (ns[kAfterShading] - ns[kAfterPrediction]) * 1e-6;
+    stats.gpu.total_ms = (ns[kAfterShading] - ns[kStart]) * 1e-6;
+  }
+  return stats;
+}
+
+}  // namespace dhr::render

@@ -1,0 +1,235 @@
+#include "render/prediction_pass.hpp"
+
+#include <algorithm>
+#include <array>
+#include <glm/gtc/quaternion.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "core/log.hpp"
+#include "dhr_shaders_client.hpp"
+#include "render/pass_util.hpp"
+#include "render/render_camera.hpp"
+#include "shader_interface.h"
+#include "vk/barriers.hpp"
+#include "vk/check.hpp"
+#include "vk/context.hpp"
+#include "vk/pipeline.hpp"
+
+namespace dhr::render {
+namespace {
+
+using namespace dhr::shader;  // binding numbers and flags shared with the GLSL
+
+constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+constexpr VkDeviceSize kRowWords = kMaxBufferDimension / 32;
+
+// The per-status counts use subgroupAdd in compute shaders (Vulkan 1.1 subgroup arithmetic).
+void require_subgroup_arithmetic(const vk::Context& context) {
+  VkPhysicalDeviceSubgroupProperties subgroup{};
+  subgroup.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
+  VkPhysicalDeviceProperties2 properties{};
+  properties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+  properties.pNext = &subgroup;
+  vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
+  constexpr VkSubgroupFeatureFlags kNeeded = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+  if ((subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) == 0 ||
+      (subgroup.supportedOperations & kNeeded) != kNeeded || subgroup.subgroupSize > 128) {
+    throw std::runtime_error("prediction pass: the Vulkan device '" + context.info().name +
+                             "' lacks subgroup arithmetic in compute shaders");
+  }
+}
+
+void copy3(const glm::dvec3& v, float* out) {
+  out[0] = static_cast<float>(v.x);
+  out[1] = static_cast<float>(v.y);
+  out[2] = static_cast<float>(v.z);
+}
+
+// Push constants, computed in double: everything is relative to the new eye, so only small numbers reach
+// the GPU. `traced` is null without a usable visibility buffer.
+ClientPredictionPush make_push(const Camera& display, const Camera* traced, double near_plane) {
+  ClientPredictionPush push{};
+  const Camera& old_camera = traced != nullptr ? *traced : display;
+  const glm::dmat3 r_old_t = glm::transpose(eye_to_world_rotation(old_camera));
+  const glm::dmat3 m = r_old_t * eye_to_world_rotation(display);  // new eye space -> old eye space
+  const Tangents& nt = display.tangents;
+  const double dx = nt.width() / display.extent.width;
+  const double dy = -nt.height() / display.extent.height;
+  copy3(m * glm::dvec3(nt.left, nt.up, -1.0), push.ray0);
+  copy3(m * glm::dvec3(dx, 0.0, 0.0), push.ray_dx);
+  copy3(m * glm::dvec3(0.0, dy, 0.0), push.ray_dy);
+  copy3(r_old_t * (display.T_world_eye.position - old_camera.T_world_eye.position), push.trans);
+  const Tangents& ot = old_camera.tangents;
+  const double sx = old_camera.extent.width / ot.width();
+  const double sy = old_camera.extent.height / ot.height();
+  const double ox = -ot.left * sx, oy = ot.up * sy;
+  push.old_px_scale = static_cast<float>(sx);
+  push.old_px_offset = static_cast<float>(ox);
+  push.old_py_scale = static_cast<float>(-sy);
+  push.old_py_offset = static_cast<float>(oy);
+  // Where pixel centre c would land with the new pose equal to the old one (motion = lookup - this).
+  push.ident_px_scale = static_cast<float>(sx * dx);
+  push.ident_px_offset = static_cast<float>(sx * nt.left + ox);
+  push.ident_py_scale = static_cast<float>(-sy * dy);
+  push.ident_py_offset = static_cast<float>(-sy * nt.up + oy);
+  push.near_plane = static_cast<float>(near_plane);
+  push.min_depth = static_cast<float>(kPredictionMinDepth);
+  push.width = display.extent.width;
+  push.height = display.extent.height;
+  // Without visibility the (clamped) lookups read the 4-byte placeholder buffer's first word.
+  push.old_width = traced != nullptr ? traced->extent.width : 1u;
+  push.old_height = traced != nullptr ? traced->extent.height : 1u;
+  push.mask_bits = 32u;
+  push.unknown_mask = 0xFFFFFFFFu;
+  return push;
+}
+
+}  // namespace
+
+PredictionTargets PredictionTargets::create(const vk::Context& context, Extent extent, bool motion_vectors) {
+  constexpr VkImageUsageFlags kUsage =
+      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  PredictionTargets t;
+  t.mask = vk::Image(context, extent.width, extent.height, VK_FORMAT_R32_UINT, kUsage);
+  t.status = vk::Image(context, extent.width, extent.height, VK_FORMAT_R32_UINT, kUsage);
+  const Extent motion = motion_vectors ? extent : Extent{1, 1};
+  t.motion = vk::Image(context, motion.width, motion.height, VK_FORMAT_R32G32_SFLOAT, kUsage);
+  return t;
+}
+
+PredictionPass::PredictionPass(const vk::Context& context, uint32_t slots) : context_(&context) {
+  if (slots == 0) throw std::invalid_argument("PredictionPass needs at least one slot");
+  require_subgroup_arithmetic(context);
+  const VkDevice device = context.device();
+  sampler_ = create_nearest_sampler(device);
+  constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
+  const std::array<VkDescriptorSetLayoutBinding, 7> bindings = {{
+      {kClientPredictionBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, nullptr},
+      {kClientPredictionBindingVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
+      {kClientPredictionBindingRowValid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
+      {kClientPredictionBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
+      {kClientPredictionBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
+      {kClientPredictionBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
+      {kClientPredictionBindingCounters, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
+  }};
+  set_layout_ = vk::create_descriptor_set_layout(device, bindings);
+  const VkPushConstantRange push{kCompute, 0, sizeof(ClientPredictionPush)};
+  const VkDescriptorSetLayout set_layout = set_layout_.get();
+  layout_ = vk::create_pipeline_layout(device, std::span(&set_layout, 1), std::span(&push, 1));
+  pipeline_ = vk::create_compute_pipeline(device, layout_.get(),
+                                          vk::find_spirv(dhr_shaders_client_modules(), "prediction.comp"));
+  const std::array<VkDescriptorPoolSize, 3> sizes = {{
+      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, slots},
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * slots},
+      {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 3 * slots},
+  }};
+  pool_ = vk::create_descriptor_pool(device, slots, sizes);
+  slots_.resize(slots);
+  for (Slot& s : slots_) {
+    s.visibility = vk::Buffer(context, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    s.rows = vk::Buffer(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    s.counters = vk::Buffer(context, kWarpStatusCount * 4,
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, kHost);
+    s.set = vk::allocate_descriptor_set(device, pool_.get(), set_layout_.get());
+  }
+}
+
+void PredictionPass::upload(Slot& slot, const VisibilityInput& visibility) {
+  const VisibilityBuffer& buffer = *visibility.buffer;
+  if (visibility.key != 0 && visibility.key == slot.key) return;
+  const VkDeviceSize bytes = (buffer.size_bytes() + 3) / 4 * 4;
+  if (bytes > slot.visibility.size()) {
+    slot.visibility = vk::Buffer(*context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+  }
+  slot.visibility.write(buffer.data.data(), buffer.data.size());
+  slot.key = visibility.key;
+}
+
+bool PredictionPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image& depth, const Camera& display,
+                            double near_plane, const VisibilityInput& visibility, PredictionTargets& targets) {
+  if (slot_index >= slots_.size()) throw std::invalid_argument("prediction pass: slot out of range");
+  const Extent extent = targets.extent();
+  if (!(display.extent == extent) || depth.width() != extent.width || depth.height() != extent.height) {
+    throw std::invalid_argument("prediction pass: display camera, depth and targets differ in size");
+  }
+  Slot& slot = slots_[slot_index];
+
+  bool usable = visibility.buffer != nullptr;
+  if (usable) {
+    if (auto err = validate_visibility_input(visibility.traced, *visibility.buffer, visibility.row_valid)) {
+      log::warn("prediction pass: ignoring the visibility input (%s)", err->c_str());
+      usable = false;
+    }
+  }
+  ClientPredictionPush push = make_push(display, usable ? &visibility.traced : nullptr, near_plane);
+  push.flags = targets.has_motion() ? kClientPredictionWriteMotion : 0u;
+  if (usable) {
+    push.unknown_mask = unknown_mask(visibility.buffer);
+    push.mask_bits = static_cast<uint32_t>(visibility.buffer->mask_bits);
+    upload(slot, visibility);
+    push.flags |= kClientPredictionHasVisibility;
+    if (!visibility.row_valid.empty()) {
+      std::array<uint32_t, kRowWords> words{};
+      for (size_t r = 0; r < visibility.row_valid.size(); ++r) {
+        if (visibility.row_valid[r] != 0) words[r / 32] |= 1u << (r % 32);
+      }
+      slot.rows.write(words.data(), words.size() * 4);
+      push.flags |= kClientPredictionHasRowValidity;
+    }
+  }
+
+  const VkDevice device = context_->device();
+  vk::write_image_descriptor(device, slot.set, kClientPredictionBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                             depth.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, sampler_.get());
+  vk::write_buffer_descriptor(device, slot.set, kClientPredictionBindingVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                              slot.visibility.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientPredictionBindingRowValid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                              slot.rows.handle());
+  vk::write_image_descriptor(device, slot.set, kClientPredictionBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                             targets.mask.view(), VK_IMAGE_LAYOUT_GENERAL);
+  vk::write_image_descriptor(device, slot.set, kClientPredictionBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                             targets.status.view(), VK_IMAGE_LAYOUT_GENERAL);
+  vk::write_image_descriptor(device, slot.set, kClientPredictionBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                             targets.motion.view(), VK_IMAGE_LAYOUT_GENERAL);
+  vk::write_buffer_descriptor(device, slot.set, kClientPredictionBindingCounters, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                              slot.counters.handle());
+
+  ensure_layout(cmd, depth, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  constexpr VkPipelineStageFlags2 kCs = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+  discard_to_layout(cmd, targets.mask, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  discard_to_layout(cmd, targets.status, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  if (targets.has_motion()) {
+    discard_to_layout(cmd, targets.motion, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  } else {
+    ensure_layout(cmd, targets.motion, VK_IMAGE_LAYOUT_GENERAL);
+  }
+  // The counters start at zero; earlier readers (the host, after the previous use) are done by contract.
+  vkCmdFillBuffer(cmd, slot.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, kCs,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &slot.set, 0, nullptr);
+  vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatch(cmd, (extent.width + kClientWarpGroupSize - 1) / kClientWarpGroupSize,
+                (extent.height + kClientWarpGroupSize - 1) / kClientWarpGroupSize, 1);
+
+  // Results feed the shading pass, transfers (readback, debug copies) and the host (counters).
+  vk::memory_barrier(cmd, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                     kCs | VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT |
+                         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+  return usable || visibility.buffer == nullptr;
+}
+
+WarpCounts PredictionPass::read_counts(uint32_t slot_index) const {
+  if (slot_index >= slots_.size()) throw std::invalid_argument("prediction pass: slot out of range");
+  std::array<uint32_t, kWarpStatusCount> raw{};
+  slots_[slot_index].counters.read(raw.data(), raw.size() * 4);
+  WarpCounts counts;
+  for (size_t i = 0; i < raw.size(); ++i) counts.by_status[i] = raw[i];
+  return counts;
+}
+
+}  // namespace dhr::render

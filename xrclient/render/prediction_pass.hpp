@@ -1,0 +1,83 @@
+// Prediction (warp) pass, compute, one eye: for every display pixel, the light mask of the newest visibility
+// buffer looked up where the pixel's surface point lands in the old guard-banded camera it was traced for.
+// The decision rule and its CPU reference: warp_reference.hpp. Outputs, all display-sized:
+//   mask   R32_UINT   predicted light mask (all light bits where unknown)
+//   status R32_UINT   WarpStatus per pixel (kClientStatus* in shader_interface.h)
+//   motion R32G32_SFLOAT (optional, debug) old-buffer lookup minus the lookup without any pose change, px
+// plus per-status pixel counts (WarpCounts) gathered with one atomic per workgroup and status.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/projection.hpp"
+#include "core/visibility.hpp"
+#include "render/warp_reference.hpp"
+#include "vk/buffer.hpp"
+#include "vk/handle.hpp"
+#include "vk/image.hpp"
+
+namespace dhr::vk {
+class Context;
+}
+
+namespace dhr::render {
+
+struct PredictionTargets {
+  vk::Image mask;    // STORAGE | SAMPLED | TRANSFER_SRC
+  vk::Image status;  // STORAGE | SAMPLED | TRANSFER_SRC
+  vk::Image motion;  // display-sized with motion vectors on, else a 1x1 placeholder
+
+  static PredictionTargets create(const vk::Context& context, Extent extent, bool motion_vectors);
+  Extent extent() const { return Extent{mask.width(), mask.height()}; }
+  bool has_motion() const { return motion.width() == mask.width() && motion.height() == mask.height(); }
+};
+
+// The newest visibility of one eye, as the prediction pass consumes it.
+struct VisibilityInput {
+  const VisibilityBuffer* buffer = nullptr;  // null: nothing received yet (every surface pixel unknown)
+  Camera traced;                             // the guard-banded camera it was traced for (extent = buffer size)
+  std::span<const uint8_t> row_valid;        // empty: every row arrived; else one entry per row, 0 = missing
+  uint64_t key = 0;  // non-zero: identifies the contents; a slot already holding this key skips the upload
+};
+
+class PredictionPass {
+ public:
+  // `slots`: host-written resources (visibility upload, row validity, counters, descriptor set) exist once
+  // per slot so that several frames can be in flight.
+  explicit PredictionPass(const vk::Context& context, uint32_t slots = 1);
+
+  // Writes the visibility into the slot's buffers (the GPU must have finished the slot's previous use)
+  // and records the pass. `depth` (the G-buffer depth rendered with `display`) must be in
+  // SHADER_READ_ONLY_OPTIMAL, as GBufferPass leaves it; the targets end in GENERAL with their writes visible
+  // to later shaders and transfers. An unusable visibility input is logged and treated as no data; the
+  // return value is false then. Throws std::invalid_argument for mismatched sizes or a bad slot.
+  bool record(VkCommandBuffer cmd, uint32_t slot, vk::Image& depth, const Camera& display, double near_plane,
+              const VisibilityInput& visibility, PredictionTargets& targets);
+
+  // The counts of the slot's last recorded pass; call after its submission completed.
+  WarpCounts read_counts(uint32_t slot) const;
+  uint32_t slots() const { return static_cast<uint32_t>(slots_.size()); }
+
+ private:
+  struct Slot {
+    vk::Buffer visibility;  // host-visible storage buffer, grown on demand
+    vk::Buffer rows;        // host-visible row-validity bitmask
+    vk::Buffer counters;    // host-visible WarpCounts (uint32 per status)
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    uint64_t key = 0;
+  };
+  void upload(Slot& slot, const VisibilityInput& visibility);
+
+  const vk::Context* context_;
+  vk::Sampler sampler_;
+  vk::DescriptorSetLayout set_layout_;
+  vk::PipelineLayout layout_;
+  vk::Pipeline pipeline_;
+  vk::DescriptorPool pool_;
+  std::vector<Slot> slots_;
+};
+
+}  // namespace dhr::render

@@ -1,0 +1,149 @@
+#include "render/shading_pass.hpp"
+
+#include <algorithm>
+#include <array>
+#include <stdexcept>
+
+#include "core/lighting.hpp"
+#include "dhr_shaders_client.hpp"
+#include "render/gbuffer_pass.hpp"
+#include "render/pass_util.hpp"
+#include "render/prediction_pass.hpp"
+#include "render/render_camera.hpp"
+#include "shader_interface.h"
+#include "vk/barriers.hpp"
+#include "vk/check.hpp"
+#include "vk/context.hpp"
+#include "vk/pipeline.hpp"
+
+namespace dhr::render {
+namespace {
+
+using namespace dhr::shader;  // binding numbers and flags shared with the GLSL
+
+constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+
+bool same_extent(const vk::Image& image, const Extent& extent) {
+  return image.width() == extent.width && image.height() == extent.height;
+}
+
+}  // namespace
+
+vk::Image create_shading_output(const vk::Context& context, Extent extent) {
+  return vk::Image(context, extent.width, extent.height, kShadingOutputFormat,
+                   VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+}
+
+ShadingPass::ShadingPass(const vk::Context& context, uint32_t slots) : context_(&context) {
+  if (slots == 0) throw std::invalid_argument("ShadingPass needs at least one slot");
+  const VkDevice device = context.device();
+  sampler_ = create_nearest_sampler(device);
+  constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
+  const std::array<VkDescriptorSetLayoutBinding, 8> bindings = {{
+      {kClientShadingBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, nullptr},
+      {kClientShadingBindingNormal, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, nullptr},
+      {kClientShadingBindingAlbedo, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, nullptr},
+      {kClientShadingBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
+      {kClientShadingBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
+      {kClientShadingBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
+      {kClientShadingBindingLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
+      {kClientShadingBindingOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
+  }};
+  set_layout_ = vk::create_descriptor_set_layout(device, bindings);
+  const VkPushConstantRange push{kCompute, 0, sizeof(ClientShadingPush)};
+  const VkDescriptorSetLayout set_layout = set_layout_.get();
+  layout_ = vk::create_pipeline_layout(device, std::span(&set_layout, 1), std::span(&push, 1));
+  pipeline_ = vk::create_compute_pipeline(device, layout_.get(),
+                                          vk::find_spirv(dhr_shaders_client_modules(), "shading.comp"));
+  const std::array<VkDescriptorPoolSize, 3> sizes = {{
+      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3 * slots},
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slots},
+      {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4 * slots},
+  }};
+  pool_ = vk::create_descriptor_pool(device, slots, sizes);
+  slots_.resize(slots);
+  for (Slot& s : slots_) {
+    s.lights = vk::Buffer(context, kMaxSceneLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    s.set = vk::allocate_descriptor_set(device, pool_.get(), set_layout_.get());
+  }
+}
+
+void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuffer, PredictionTargets& prediction,
+                         const Camera& display, double near_plane, std::span<const SceneLight> lights,
+                         const ShadingSettings& settings, vk::Image& output) {
+  if (slot_index >= slots_.size()) throw std::invalid_argument("shading pass: slot out of range");
+  if (lights.size() > kMaxSceneLights) throw std::invalid_argument("shading pass: more than 32 lights");
+  const Extent extent = display.extent;
+  if (!same_extent(gbuffer.depth, extent) || !same_extent(prediction.mask, extent) || !same_extent(output, extent)) {
+    throw std::invalid_argument("shading pass: display camera, G-buffer, prediction and output differ in size");
+  }
+  Slot& slot = slots_[slot_index];
+
+  // Eye-relative light positions, subtracted in double.
+  const std::vector<PackedLight> packed =
+      pack_lights(std::vector<SceneLight>(lights.begin(), lights.end()), display.T_world_eye.position);
+  if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
+
+  const VkDevice device = context_->device();
+  constexpr VkImageLayout kRead = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingDepth, kSampled, gbuffer.depth.view(), kRead,
+                             sampler_.get());
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingNormal, kSampled, gbuffer.normal.view(), kRead,
+                             sampler_.get());
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingAlbedo, kSampled, gbuffer.albedo.view(), kRead,
+                             sampler_.get());
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingMask, kStorage, prediction.mask.view(),
+                             VK_IMAGE_LAYOUT_GENERAL);
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingStatus, kStorage, prediction.status.view(),
+                             VK_IMAGE_LAYOUT_GENERAL);
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingMotion, kStorage, prediction.motion.view(),
+                             VK_IMAGE_LAYOUT_GENERAL);
+  vk::write_buffer_descriptor(device, slot.set, kClientShadingBindingLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                              slot.lights.handle());
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingOutput, kStorage, output.view(),
+                             VK_IMAGE_LAYOUT_GENERAL);
+
+  for (vk::Image* image : {&gbuffer.depth, &gbuffer.normal, &gbuffer.albedo}) ensure_layout(cmd, *image, kRead);
+  for (vk::Image* image : {&prediction.mask, &prediction.status, &prediction.motion}) {
+    ensure_layout(cmd, *image, VK_IMAGE_LAYOUT_GENERAL);
+  }
+  discard_to_layout(cmd, output, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+
+  ClientShadingPush push{};
+  // Eye-relative rays in world axes, in double: p = (near / d) * (ray0 + (i + 0.5) ray_dx + (j + 0.5) ray_dy).
+  const glm::dmat3 r = eye_to_world_rotation(display);
+  const Tangents& t = display.tangents;
+  const glm::dvec3 rays[3] = {r * glm::dvec3(t.left, t.up, -1.0), r * glm::dvec3(t.width() / extent.width, 0.0, 0.0),
+                              r * glm::dvec3(0.0, -t.height() / extent.height, 0.0)};
+  float* const outs[3] = {push.ray0, push.ray_dx, push.ray_dy};
+  for (int k = 0; k < 3; ++k) {
+    outs[k][0] = static_cast<float>(rays[k].x);
+    outs[k][1] = static_cast<float>(rays[k].y);
+    outs[k][2] = static_cast<float>(rays[k].z);
+  }
+  push.near_plane = static_cast<float>(near_plane);
+  push.exposure = settings.exposure;
+  push.background_r = settings.background.r;
+  push.background_g = settings.background.g;
+  push.background_b = settings.background.b;
+  push.width = extent.width;
+  push.height = extent.height;
+  push.light_count = static_cast<uint32_t>(packed.size());
+  push.view_mode = static_cast<uint32_t>(settings.view);
+  push.debug_light = std::min(settings.debug_light, 31u);
+
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &slot.set, 0, nullptr);
+  vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatch(cmd, (extent.width + kClientWarpGroupSize - 1) / kClientWarpGroupSize,
+                (extent.height + kClientWarpGroupSize - 1) / kClientWarpGroupSize, 1);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+                         VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                     VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+}  // namespace dhr::render

@@ -1,0 +1,82 @@
+// Shading pass, compute, one eye:
+//   I = albedo / pi * sum_i k_i * saturate(dot(N, L_i)) * E_i
+// over the scene's point, spot and directional lights (shaders/light_eval.h, the same "contributes" test as
+// the server), k_i = bit i of the predicted mask. Display encoding (shaders/client/display_encode.h):
+// exposure, ACES filmic approximation, sRGB transfer function; written as bytes to an R8G8B8A8_UNORM storage
+// image. Those bytes are sRGB-encoded: copy them (vkCmdCopyImage, not a blit) into an _SRGB swapchain image,
+// or into a _UNORM one, and they display as computed. Debug views (ShadingView) replace the shaded colour.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <span>
+#include <vector>
+
+#include "core/projection.hpp"
+#include "core/scene.hpp"
+#include "vk/buffer.hpp"
+#include "vk/handle.hpp"
+#include "vk/image.hpp"
+
+namespace dhr::vk {
+class Context;
+}
+
+namespace dhr::render {
+
+struct GBuffer;
+struct PredictionTargets;
+
+inline constexpr VkFormat kShadingOutputFormat = VK_FORMAT_R8G8B8A8_UNORM;
+
+// Values equal shader_interface.h's kClientView* constants.
+enum class ShadingView : uint32_t {
+  kShaded = 0,
+  kLightVisibility = 1,  // ShadingSettings::debug_light: white lit, black shadowed, red unknown
+  kUnknown = 2,          // shaded, unknown surface pixels tinted magenta
+  kAlbedo = 3,
+  kNormal = 4,
+  kMotion = 5,           // needs prediction motion vectors
+};
+
+struct ShadingSettings {
+  float exposure = 1.0f;  // linear scale of the radiance before the tonemap
+  ShadingView view = ShadingView::kShaded;
+  uint32_t debug_light = 0;
+  glm::vec3 background{0.02f, 0.02f, 0.025f};  // display-referred linear colour where there is no surface
+};
+
+// R8G8B8A8_UNORM, usage STORAGE | SAMPLED | TRANSFER_SRC.
+vk::Image create_shading_output(const vk::Context& context, Extent extent);
+
+class ShadingPass {
+ public:
+  explicit ShadingPass(const vk::Context& context, uint32_t slots = 1);
+
+  // Writes the lights (packed relative to the eye, in double) into the slot's buffer (the GPU must have
+  // finished the slot's previous use) and records the pass. The G-buffer must be in SHADER_READ_ONLY_OPTIMAL
+  // and the prediction targets in GENERAL (as their passes leave them); `output` ends in GENERAL with its
+  // writes visible to later shaders and transfers. Throws std::invalid_argument for mismatched sizes,
+  // more than kMaxSceneLights lights or a bad slot.
+  void record(VkCommandBuffer cmd, uint32_t slot, GBuffer& gbuffer, PredictionTargets& prediction,
+              const Camera& display, double near_plane, std::span<const SceneLight> lights,
+              const ShadingSettings& settings, vk::Image& output);
+
+  uint32_t slots() const { return static_cast<uint32_t>(slots_.size()); }
+
+ private:
+  struct Slot {
+    vk::Buffer lights;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+  };
+  const vk::Context* context_;
+  vk::Sampler sampler_;
+  vk::DescriptorSetLayout set_layout_;
+  vk::PipelineLayout layout_;
+  vk::Pipeline pipeline_;
+  vk::DescriptorPool pool_;
+  std::vector<Slot> slots_;
+};
+
+}  // namespace dhr::render
