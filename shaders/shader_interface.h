@@ -106,7 +106,6 @@ struct VisPushConstants {
   uint flags;          // kVisSkip*
 };
 
-
 // ---- client (xrclient/render): G-buffer, prediction (warp) and shading passes ----
 // G-buffer (graphics): one combined image sampler per material (base colour, sRGB texels -> linear).
 DHR_CONST uint kClientGBufferBindingBaseColor = 0;
@@ -197,8 +196,11 @@ DHR_CONST uint kClientViewAlbedo = 3u;
 DHR_CONST uint kClientViewNormal = 4u;         // world normal * 0.5 + 0.5
 DHR_CONST uint kClientViewMotion = 5u;         // motion vectors: red/green = +x/+y pixels (scaled)
 
+DHR_CONST uint kClientShadingSwapRedBlue = 1u;  // store (b, g, r): bytes for a B8G8R8A8 swapchain copy
+
 // The surface point of pixel (i, j) with depth-buffer value d, relative to the eye in world axes:
 //   p = (near_plane / d) * (ray0 + (i + 0.5) * ray_dx + (j + 0.5) * ray_dy)
+
 struct ClientShadingPush {
   float ray0[3];         // R_new * (left, up, -1)
   float ray_dx[3];       // R_new * (tangent width / width, 0, 0)
@@ -213,6 +215,7 @@ struct ClientShadingPush {
   uint light_count;
   uint view_mode;        // kClientView*
   uint debug_light;      // light index for kClientViewLightVisibility
+  uint flags;            // kClientShading*
 };
 
 #ifdef __cplusplus
@@ -220,7 +223,7 @@ static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the G
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientPredictionPush) == 116, "push constants must match the GLSL layout");
-static_assert(sizeof(ClientShadingPush) == 76, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
 static_assert(sizeof(VisPushConstants) == 84, "push constants must match the GLSL layout");
 }  // namespace dhr::shader

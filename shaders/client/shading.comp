@@ -67,5 +67,6 @@ void main() {
     const vec3 background = vec3(pc.background_r, pc.background_g, pc.background_b);
     display = vec3(srgb_encode(background.x), srgb_encode(background.y), srgb_encode(background.z));
   }
+  if ((pc.flags & kClientShadingSwapRedBlue) != 0u) display = display.bgr;
   imageStore(output_image, pixel, vec4(display, 1.0));
 }

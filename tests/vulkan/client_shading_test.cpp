@@ -200,6 +200,20 @@ TEST_F(ClientShadingTest, DebugViews) {
     ASSERT_LT(out[p * 4 + 1], 103) << p;
   }
 
+  // Red and blue swapped for BGRA swapchains: the same bytes in the other order.
+  settings.view = ShadingView::kShaded;
+  rig.run(ctx(), view, VisibilityInput{&vis, traced, {}, 0}, settings);
+  const std::vector<uint8_t> rgba = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  settings.swap_red_blue = true;
+  rig.run(ctx(), view, VisibilityInput{&vis, traced, {}, 0}, settings);
+  const std::vector<uint8_t> bgra = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  for (size_t p = 0; p < depth.size(); ++p) {
+    ASSERT_EQ(bgra[p * 4], rgba[p * 4 + 2]);
+    ASSERT_EQ(bgra[p * 4 + 1], rgba[p * 4 + 1]);
+    ASSERT_EQ(bgra[p * 4 + 2], rgba[p * 4]);
+  }
+  settings.swap_red_blue = false;
+
   // Albedo: the sRGB encoding of the G-buffer's linear albedo.
   settings.view = ShadingView::kAlbedo;
   rig.run(ctx(), view, VisibilityInput{}, settings);

@@ -265,6 +265,13 @@ TEST_F(ClientWarpTest, UnusableVisibilityIsIgnoredNotFatal) {
   const VisibilityBuffer vis = make_random_visibility(traced.extent.width, traced.extent.height, 3, 1);
   const std::vector<uint8_t> rows(5, 1);
   EXPECT_TRUE(validate_visibility_input(traced, vis, rows).has_value());
+  VisibilityBuffer huge;  // filled by hand, bypassing VisibilityBuffer::create's limits
+  huge.width = 104;
+  huge.height = kMaxBufferDimension + 8;
+  huge.data.resize(huge.size_bytes());
+  Camera tall = traced;
+  tall.extent.height = huge.height;
+  EXPECT_TRUE(validate_visibility_input(tall, huge, {}).has_value());
   WarpInput in;
   in.depth = values;
   in.display = display_camera(now, kExtent);

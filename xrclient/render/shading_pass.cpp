@@ -134,6 +134,7 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
   push.light_count = static_cast<uint32_t>(packed.size());
   push.view_mode = static_cast<uint32_t>(settings.view);
   push.debug_light = std::min(settings.debug_light, 31u);
+  push.flags = settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u;
 
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &slot.set, 0, nullptr);

@@ -4,7 +4,7 @@
 // the server), k_i = bit i of the predicted mask. Display encoding (shaders/client/display_encode.h):
 // exposure, ACES filmic approximation, sRGB transfer function; written as bytes to an R8G8B8A8_UNORM storage
 // image. Those bytes are sRGB-encoded: copy them (vkCmdCopyImage, not a blit) into an _SRGB swapchain image,
-// or into a _UNORM one, and they display as computed. Debug views (ShadingView) replace the shaded colour.
+// or into a _UNORM one, and they display as computed (B8G8R8A8 swapchains: ShadingSettings::swap_red_blue). Debug views (ShadingView) replace the shaded colour.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -45,6 +45,9 @@ struct ShadingSettings {
   ShadingView view = ShadingView::kShaded;
   uint32_t debug_light = 0;
   glm::vec3 background{0.02f, 0.02f, 0.025f};  // display-referred linear colour where there is no surface
+  // Store the bytes as B, G, R: for a raw copy into a B8G8R8A8 swapchain image (the output stays an
+  // R8G8B8A8_UNORM image; PNGs of it then show red and blue swapped).
+  bool swap_red_blue = false;
 };
 
 // R8G8B8A8_UNORM, usage STORAGE | SAMPLED | TRANSFER_SRC.

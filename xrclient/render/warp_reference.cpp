@@ -53,6 +53,11 @@ std::optional<std::string> validate_visibility_input(const Camera& traced, const
            " but its traced camera is " + std::to_string(traced.extent.width) + "x" +
            std::to_string(traced.extent.height);
   }
+  if (visibility.width == 0 || visibility.height == 0 || visibility.width > kMaxBufferDimension ||
+      visibility.height > kMaxBufferDimension) {
+    return "visibility buffer size " + std::to_string(visibility.width) + "x" + std::to_string(visibility.height) +
+           " is empty or exceeds " + std::to_string(kMaxBufferDimension);
+  }
   if (visibility.light_count > kMaxLights) return "visibility buffer has more than 32 lights";
   if (!mask_width_from_bits(static_cast<uint32_t>(visibility.mask_bits))) return "visibility buffer mask width";
   if (visibility.data.size() != visibility.size_bytes()) {
