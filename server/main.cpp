@@ -1,6 +1,7 @@
-// dhr-server: loads a scene and traces per-eye light visibility. Modes: --check, --snapshot DIR.
-// Serving clients over UDP (--port) arrives with the transport issue as one more Mode and run_* function.
+// dhr-server: loads a scene and traces per-eye light visibility. Modes: --check, --snapshot DIR, and
+// --port P (serve clients over UDP).
 #include "check_command.hpp"
+#include "serve_command.hpp"
 #include "server_options.hpp"
 #include "snapshot_command.hpp"
 
@@ -15,11 +16,11 @@ int main(int argc, char** argv) {
     switch (options.mode) {
       case Mode::kCheck: return run_check(options);
       case Mode::kSnapshot: return run_snapshot(options);
+      case Mode::kServe: return run_serve_command(options);
       case Mode::kNone: break;
     }
     std::fprintf(stderr,
-                 "dhr-server: nothing to do: give --check or --snapshot DIR (serving clients arrives with the "
-                 "transport; see --help)\n");
+                 "dhr-server: nothing to do: give --check, --snapshot DIR or --port P (see --help)\n");
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dhr-server: %s\n", e.what());

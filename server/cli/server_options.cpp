@@ -2,6 +2,7 @@
 
 #include "core/scene.hpp"
 #include "core/visibility.hpp"
+#include "net/impairment_cli.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -34,6 +35,12 @@ GuardBand effective_guard_band(const ServerOptions& options) {
   return scale_guard_band(GuardBand{64, 36}, Extent{1920, 1080}, options.eye_size);
 }
 
+std::optional<uint16_t> parse_port(const std::string& text) {
+  uint32_t v = 0;
+  if (!parse_uint(text, v) || v > 65535) return std::nullopt;
+  return static_cast<uint16_t>(v);
+}
+
 std::optional<Extent> parse_extent(const std::string& text, uint32_t min_value) {
   const size_t x = text.find_first_of("xX");
   if (x == std::string::npos) return std::nullopt;
@@ -63,10 +70,11 @@ std::string default_scene_path(const char* argv0) {
 
 std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& out) {
   CLI::App app{"dhr-server: ray-traced per-pixel, per-light shadow visibility for DHR-XR clients.\n"
-               "Modes: --check (load and validate a scene), --snapshot DIR (trace camera bookmarks to PNGs).\n"
-               "Serving clients over UDP arrives with the transport.",
+               "Modes: --check (load and validate a scene), --snapshot DIR (trace camera bookmarks to PNGs),\n"
+               "--port P (serve clients over UDP until SIGINT/SIGTERM or --max-seconds; the client's Hello\n"
+               "chooses eye size, guard band and light count; a JSON line of statistics on exit).",
                "dhr-server"};
-  std::string backend = "auto", eye_size = "640x480", guard, device = "auto";
+  std::string backend = "auto", eye_size = "640x480", guard, device = "auto", port;
   bool no_skip = false, check_flag = false;
   app.add_option("--scene", out.scene_path, "glTF 2.0 scene (.gltf/.glb); default: the project's default room")
       ->type_name("FILE");
@@ -74,7 +82,11 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   auto* snapshot = app.add_option("--snapshot", out.snapshot_dir,
                                   "trace the left eye of every camera bookmark; write PNGs into DIR")
                      ->type_name("DIR");
+  auto* serve = app.add_option("--port", port, "serve clients over UDP on this port (0: any free port, named on stderr)")
+                  ->type_name("PORT");
   check->excludes(snapshot);
+  check->excludes(serve);
+  snapshot->excludes(serve);
   app.add_option("--backend", backend, "tracer backend: auto (Vulkan on a ray-tracing GPU, else Embree), embree, vulkan")
       ->capture_default_str();
   app.add_option("--eye-size", eye_size, "displayed size per eye, WxH")->capture_default_str()->type_name("WxH");
@@ -97,6 +109,42 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   app.add_flag("--no-skip", no_skip, "trace every shadow ray (no N.L / range skipping, no light culling)");
   app.add_option("--vk-device", device, "Vulkan device: auto, gpu, lavapipe")->capture_default_str();
   app.add_flag("--vk-validation", out.tracer.vk_validation, "enable the Khronos validation layer (vulkan backend)");
+  const char* kServeGroup = "Serving (--port)";
+  app.add_option("--bind", out.bind_address, "address to bind: 0.0.0.0 (all IPv4), 127.0.0.1, :: (IPv6 and IPv4)")
+      ->capture_default_str()
+      ->type_name("ADDR")
+      ->group(kServeGroup);
+  app.add_option("--max-seconds", out.max_seconds, "stop by itself after this many seconds (0: run until a signal)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e7))
+      ->type_name("S")
+      ->group(kServeGroup);
+  app.add_option("--max-sessions", out.max_sessions, "clients served at once; further Hellos get Bye(bad hello)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1024u))
+      ->group(kServeGroup);
+  app.add_option("--session-timeout-ms", out.session_timeout_ms, "a session silent this long is closed (Bye timeout)")
+      ->capture_default_str()
+      ->check(CLI::Range(100u, 3600000u))
+      ->group(kServeGroup);
+  app.add_option("--heartbeat-ms", out.heartbeat_ms, "heartbeat interval")
+      ->capture_default_str()
+      ->check(CLI::Range(10u, 60000u))
+      ->group(kServeGroup);
+  bool trace_identical = false;
+  app.add_flag("--trace-identical-poses", trace_identical,
+               "trace every pose, even one identical to the last traced (default: skip, refresh once a second)")
+      ->group(kServeGroup);
+  app.add_flag("--predict", out.predict,
+               "trace the views predicted for when the result is displayed (constant velocity from the "
+               "client's last poses) instead of the poses as sent")
+      ->group(kServeGroup);
+  app.add_option("--predict-horizon-ms", out.predict_horizon_ms,
+                 "with --predict: fixed prediction horizon past the pose's display time (default: round trip "
+                 "+ time on the server)")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->group(kServeGroup);
+  net::add_impairment_options(app, out.impairment);
 
   try {
     app.parse(argc, argv);
@@ -130,6 +178,14 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       return fail("--guard: eye size plus guard band exceeds " + std::to_string(kMaxBufferDimension) + " pixels");
   }
   if (no_skip) out.tracer.skip = SkipOptions::none();
+  out.skip_identical_pose = !trace_identical;
+  if (*serve) {
+    const auto p = parse_port(port);
+    if (!p) return fail("--port: expected an integer 0..65535, got '" + port + "'");
+    out.port = *p;
+    out.mode = Mode::kServe;
+    if (out.bind_address.empty()) return fail("--bind: the address must not be empty");
+  }
   if (check_flag) out.mode = Mode::kCheck;
   if (*snapshot) {
     out.mode = Mode::kSnapshot;

@@ -1,16 +1,18 @@
-// dhr-server's command line: what to do (check, snapshot; serving arrives with the transport issue) and
-// with which settings. Parsing is separate from running so new modes only add a field and a branch.
+// dhr-server's command line: what to do (check, snapshot, serve clients over UDP) and with which
+// settings. Parsing is separate from running so new modes only add a field and a branch.
 #pragma once
 #include "core/projection.hpp"
+#include "net/impairment.hpp"
 #include "visibility_tracer.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace dhr::server::cli {
 
-enum class Mode { kNone, kCheck, kSnapshot };
+enum class Mode { kNone, kCheck, kSnapshot, kServe };
 
 struct ServerOptions {
   Mode mode = Mode::kNone;
@@ -24,10 +26,24 @@ struct ServerOptions {
   double fov_deg = 90.0;                // horizontal, of the displayed region
   std::string lights;                   // light specs (see parse_light_specs); empty: the scene's
   uint32_t repeat = 1;                  // traces per bookmark (the report gives the median time)
+  // Serving (--port): the client chooses eye size, guard band and light count in its Hello.
+  uint16_t port = 0;                    // 0: ephemeral
+  std::string bind_address = "0.0.0.0";
+  double max_seconds = 0.0;             // > 0: stop after this long
+  uint32_t max_sessions = 8;
+  uint32_t session_timeout_ms = 5000;
+  uint32_t heartbeat_ms = 1000;
+  bool skip_identical_pose = true;
+  bool predict = false;                 // server-side pose prediction
+  double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
+  net::ImpairmentParams impairment;     // on everything the server sends
 };
 
 // The guard band in effect for the options (explicit, or the reference band scaled to the eye size).
 GuardBand effective_guard_band(const ServerOptions& options);
+
+// "4000" -> 4000. std::nullopt unless a decimal integer in [0, 65535].
+std::optional<uint16_t> parse_port(const std::string& text);
 
 // "640x480" -> Extent. std::nullopt unless both are integers in [min, kMaxBufferDimension].
 std::optional<Extent> parse_extent(const std::string& text, uint32_t min_value);

@@ -56,7 +56,8 @@ DecodeError validate_view(const RawView& raw, View& out) {
     if (!std::isfinite(x)) return DecodeError::kNonFinite;
   Pose pose;
   pose.position = glm::dvec3(raw.p[0], raw.p[1], raw.p[2]);
-  pose.orientation = glm::dquat(raw.q[3], raw.q[0], raw.q[1], raw.q[2]);
+  pose.orientation = glm::dquat(static_cast<double>(raw.q[3]), static_cast<double>(raw.q[0]),
+                                static_cast<double>(raw.q[1]), static_cast<double>(raw.q[2]));
   if (validate_pose(pose)) return DecodeError::kBadPose;
   const glm::dquat& q = pose.orientation;
   const double norm2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;

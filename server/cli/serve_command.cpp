@@ -1,0 +1,60 @@
+#include "serve_command.hpp"
+
+#include "scene_setup.hpp"
+#include "session/scene_hash.hpp"
+#include "session/serve.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace dhr::server::cli {
+namespace {
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "dhr-server: %s\n", message.c_str());
+  return 2;
+}
+
+}  // namespace
+
+int run_serve_command(const ServerOptions& options) {
+  std::string error;
+  std::optional<Scene> scene = load_server_scene(options, &error);
+  if (!scene) return fail(error);
+  std::unique_ptr<VisibilityTracer> tracer;
+  try {
+    tracer = create_tracer(options.backend, *scene, options.tracer);
+  } catch (const std::exception& e) {
+    return fail(std::string("cannot create the tracer: ") + e.what());
+  }
+
+  ServeOptions serve;
+  serve.bind_address = options.bind_address;
+  serve.port = options.port;
+  serve.max_seconds = options.max_seconds;
+  serve.impairment = options.impairment;
+  ServiceConfig& config = serve.service;
+  config.scene_id = std::filesystem::path(options.scene_path).stem().string();
+  config.scene_hash = scene_content_hash(*scene);
+  config.max_sessions = options.max_sessions;
+  config.session_timeout_ns = int64_t{options.session_timeout_ms} * net::kNsPerMs;
+  config.heartbeat_interval_ns = int64_t{options.heartbeat_ms} * net::kNsPerMs;
+  config.skip_identical_pose = options.skip_identical_pose;
+  config.token_seed = 0;  // std::random_device
+  config.predict = options.predict;
+  if (options.predict_horizon_ms >= 0.0)
+    config.predict_horizon_ns = static_cast<int64_t>(options.predict_horizon_ms * static_cast<double>(net::kNsPerMs));
+
+  std::fprintf(stderr, "serving scene '%s' (%s, hash %016llx, %u lights) with %s (%s)%s%s\n",
+               config.scene_id.c_str(), options.scene_path.c_str(), static_cast<unsigned long long>(config.scene_hash),
+               tracer->light_count(), tracer_backend_name(tracer->backend()), tracer->device_description().c_str(),
+               options.impairment.active() ? ", impairment on send: " : "",
+               options.impairment.active() ? options.impairment.describe().c_str() : "");
+  try {
+    return run_serve(serve, *tracer);
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+}
+
+}  // namespace dhr::server::cli

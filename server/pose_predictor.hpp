@@ -1,0 +1,61 @@
+// Server-side pose prediction: the server traces each eye for the pose it predicts at the time the result
+// will be displayed, extrapolated from the client's recent poses. Model: constant linear velocity and
+// constant angular velocity (about a world-frame axis) per eye, estimated from the two newest poses.
+// The horizon (target time - newest pose's time) is capped at max_horizon_ns and reported; a prediction
+// that is non-finite or implausible (speed or angular speed above the limits) falls back to the newest
+// real pose, and so does a history of fewer than two poses. Deterministic; not thread-safe.
+#pragma once
+#include "core/pose.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+
+namespace dhr::server {
+
+struct PosePredictorConfig {
+  int64_t max_horizon_ns = 100'000'000;  // 100 ms: the horizon is clamped to [0, this]
+  size_t history = 16;                   // poses kept (for the frame-period estimate); >= 2
+  double max_speed_mps = 5.0;            // faster eye motion is treated as a glitch (fall back)
+  double max_angular_speed_rps = 12.6;   // ~720 deg/s, above the fastest head turns measured in XR
+  // Poses closer in time than this are too close for a velocity estimate (clock jitter dominates).
+  int64_t min_interval_ns = 1'000'000;
+};
+
+struct PredictedViews {
+  std::array<View, 2> views{};
+  int64_t horizon_ns = 0;  // the horizon actually used (after the cap); 0 on fallback
+  bool fell_back = true;   // true: views are the newest real poses (or default views with no history)
+  bool capped = false;     // the requested horizon exceeded max_horizon_ns
+};
+
+class PosePredictor {
+ public:
+  explicit PosePredictor(const PosePredictorConfig& config = {});
+
+  // Adds the client's views for a display time. Poses must come in display-time order: a sample that is
+  // not newer than the newest one, or whose poses or FOVs are invalid (non-finite, zero quaternion), is
+  // ignored and false returned.
+  bool add(int64_t display_time_ns, const std::array<View, 2>& views);
+
+  // The views predicted for target_time_ns. FOVs are the newest ones.
+  PredictedViews predict(int64_t target_time_ns) const;
+
+  // Median interval between the poses held (0 with fewer than two): the client's frame period.
+  int64_t frame_period_ns() const;
+  size_t size() const { return samples_.size(); }
+  int64_t newest_time_ns() const { return samples_.empty() ? 0 : samples_.back().time_ns; }
+  void reset() { samples_.clear(); }
+  const PosePredictorConfig& config() const { return config_; }
+
+ private:
+  struct Sample {
+    int64_t time_ns = 0;
+    std::array<View, 2> views{};
+  };
+  PosePredictorConfig config_;
+  std::deque<Sample> samples_;
+};
+
+}  // namespace dhr::server

@@ -1,0 +1,146 @@
+#include "session/serve.hpp"
+
+#include "net/endpoints.hpp"
+#include "net/impaired_sender.hpp"
+#include "session/service_stats_json.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <thread>
+
+namespace dhr::server {
+namespace {
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int signal_number) { g_stop_signal = signal_number; }
+
+// Installs SIGINT / SIGTERM handlers for its lifetime; a second signal while stopping is harmless (the
+// loop is already on its way out).
+class StopSignals {
+ public:
+  explicit StopSignals(bool install) : installed_(install) {
+    g_stop_signal = 0;
+    if (!installed_) return;
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &old_int_);
+    sigaction(SIGTERM, &action, &old_term_);
+  }
+  ~StopSignals() {
+    if (!installed_) return;
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  bool installed_;
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+const char* reason_text(ByeReason reason) { return to_string(reason); }
+
+void print_progress(const ServiceStats& s, const ServiceStats& previous, double seconds) {
+  const double frames_per_s = static_cast<double>(s.frames_traced - previous.frames_traced) / seconds;
+  const double mbit_per_s = static_cast<double>(s.bytes_sent - previous.bytes_sent) * 8.0 / 1e6 / seconds;
+  const uint64_t eyes = 2 * (s.frames_traced - previous.frames_traced);
+  const double trace_ms_per_eye = eyes ? (s.trace_ms - previous.trace_ms) / static_cast<double>(eyes) : 0.0;
+  std::fprintf(stderr,
+               "serve: %llu sessions, %.1f frames/s, %.2f Mbit/s, trace %.2f ms/eye, %llu poses skipped, "
+               "%llu datagrams rejected\n",
+               static_cast<unsigned long long>(s.sessions_active), frames_per_s, mbit_per_s, trace_ms_per_eye,
+               static_cast<unsigned long long>(s.poses_skipped_identical + s.poses_superseded),
+               static_cast<unsigned long long>(s.datagrams_rejected));
+}
+
+}  // namespace
+
+int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
+  if (const std::string problem = options.impairment.validate(); !problem.empty())
+    throw std::runtime_error("impairment: " + problem);
+  net::SteadyClock clock;
+  net::ServerEndpoint endpoint;
+  std::unique_ptr<net::ImpairedSender> impaired;
+  if (options.impairment.active()) impaired = std::make_unique<net::ImpairedSender>(endpoint, options.impairment);
+  net::DatagramSender& sender = impaired ? static_cast<net::DatagramSender&>(*impaired) : endpoint;
+
+  VisibilityService service(tracer, options.service, sender, clock);
+  service.set_session_observer([](const VisibilityService::SessionInfo& s, bool opened, ByeReason reason) {
+    if (opened) {
+      std::fprintf(stderr, "session %016llx opened: %s, %ux%u per eye (guard %u,%u), %u lights\n",
+                   static_cast<unsigned long long>(s.token), s.peer.to_string().c_str(), s.welcome.buffer_width,
+                   s.welcome.buffer_height, s.welcome.guard_x, s.welcome.guard_y, s.welcome.light_count);
+    } else {
+      std::fprintf(stderr, "session %016llx closed: %s, %s, newest frame traced %llu\n",
+                   static_cast<unsigned long long>(s.token), s.peer.to_string().c_str(), reason_text(reason),
+                   static_cast<unsigned long long>(s.newest_frame_traced));
+    }
+  });
+
+  StopSignals signals(options.handle_signals);
+  net::ServerEndpointConfig endpoint_config;
+  endpoint_config.bind_address = options.bind_address;
+  endpoint_config.port = options.port;
+  endpoint_config.max_datagram_size = kMaxDatagramSize;
+  endpoint.start(endpoint_config, [&service](const net::ReceivedDatagram& d) { service.on_datagram(d.bytes, d.from); });
+  std::fprintf(stderr, "listening on %s\n", endpoint.local_address().to_string().c_str());
+  std::fflush(stderr);
+
+  std::atomic<bool> stopping{false};
+  std::thread worker([&] {
+    while (!stopping.load(std::memory_order_acquire)) {
+      if (service.wait_for_pending(100 * net::kNsPerMs)) service.process_pending();
+    }
+  });
+
+  const int64_t start_ns = clock.now_ns();
+  const int64_t limit_ns = options.max_seconds > 0.0 ? static_cast<int64_t>(options.max_seconds * 1e9) : 0;
+  int64_t last_report_ns = start_ns;
+  ServiceStats reported = service.stats();
+  while (g_stop_signal == 0) {
+    const int64_t now = clock.now_ns();
+    if (limit_ns > 0 && now - start_ns >= limit_ns) break;
+    service.tick();
+    if (now - last_report_ns >= net::kNsPerSecond) {
+      const ServiceStats s = service.stats();
+      if (s.datagrams_received != reported.datagrams_received || s.sessions_active != reported.sessions_active)
+        print_progress(s, reported, static_cast<double>(now - last_report_ns) / 1e9);
+      reported = s;
+      last_report_ns = now;
+    }
+    std::this_thread::sleep_for(std::chrono::nanoseconds(std::max<int64_t>(options.tick_interval_ns, net::kNsPerMs)));
+  }
+  if (g_stop_signal != 0) std::fprintf(stderr, "serve: signal %d, shutting down\n", static_cast<int>(g_stop_signal));
+
+  stopping.store(true, std::memory_order_release);
+  service.interrupt_wait();
+  worker.join();
+  service.close_all(ByeReason::kShutdown);
+  // Let the Byes out: the impairment holds them for its delay, and the socket discards what is still
+  // queued when it stops.
+  if (impaired) impaired->wait_idle(2 * net::kNsPerSecond);
+  const uint64_t handed = impaired ? impaired->stats().forwarded : service.stats().datagrams_sent;
+  for (int i = 0; i < 100; ++i) {
+    const net::UdpCounters c = endpoint.counters();
+    if (c.datagrams_sent + c.send_errors >= handed) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  endpoint.stop();
+  impaired.reset();
+
+  const std::string line = to_json(service.stats()).dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  std::printf("%s\n", line.c_str());
+  std::fflush(stdout);
+  return 0;
+}
+
+}  // namespace dhr::server

@@ -1,0 +1,77 @@
+// Internal to the session layer (visibility_service*.cpp): a session's state and a unit of trace work.
+#pragma once
+#include "net/clock_sync.hpp"
+#include "pose_predictor.hpp"
+#include "session/visibility_service.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <optional>
+
+namespace dhr::server {
+
+struct VisibilityService::Session {
+  uint64_t token = 0;
+  net::PeerAddress peer;
+  Hello hello;
+  Welcome welcome;
+  int64_t last_receive_ns = 0;
+  int64_t last_heartbeat_sent_ns = 0;
+  int64_t last_echo_ns = 0;
+  bool echoed = false;
+  // Poses: the newest received frame number and the pose waiting to be traced.
+  bool have_frame = false;
+  uint64_t newest_frame_received = 0;
+  std::optional<PoseUpdate> pending;
+  int64_t pending_receive_ns = 0;
+  PosePredictor predictor;        // used with ServiceConfig::predict
+  int64_t last_process_ns = 0;    // the last trace-and-send of both eyes (service clock)
+  // The last pose handed to the tracer (identical-pose skip).
+  bool have_traced = false;
+  std::array<View, 2> traced_views{};
+  int64_t last_trace_ns = 0;
+  uint64_t newest_frame_traced = 0;
+  // The client's newest Heartbeat (echoed back) and the offset estimate from its echoes of ours.
+  bool have_peer_heartbeat = false;
+  int64_t peer_heartbeat_send_ns = 0;
+  int64_t peer_heartbeat_receive_ns = 0;
+  net::ClockOffsetEstimator offset;
+  // Counters for our Heartbeats. Atomics: the worker sends shards without the service lock.
+  std::atomic<uint32_t> next_sequence{0};
+  std::atomic<uint64_t> datagrams_sent{0};
+  std::atomic<uint64_t> frames_done{0};
+  std::atomic<bool> open{true};
+  uint64_t datagrams_received = 0;
+  uint64_t datagrams_rejected = 0;
+  uint64_t frames_dropped = 0;
+
+  SessionInfo info() const { return SessionInfo{token, peer, welcome, newest_frame_traced}; }
+};
+
+struct VisibilityService::Work {
+  std::shared_ptr<Session> session;
+  PoseUpdate pose;
+  std::array<View, 2> views{};  // traced: the pose's views, or the predicted ones
+};
+
+namespace session_detail {
+
+inline bool same_view(const View& a, const View& b) {
+  return a.pose.position == b.pose.position && a.pose.orientation == b.pose.orientation &&
+         a.fov.angle_left == b.fov.angle_left && a.fov.angle_right == b.fov.angle_right &&
+         a.fov.angle_up == b.fov.angle_up && a.fov.angle_down == b.fov.angle_down;
+}
+
+inline double elapsed_ms(int64_t start_ns) { return static_cast<double>(net::steady_now_ns() - start_ns) / 1e6; }
+
+inline uint32_t clamp_u32(uint64_t v) { return v > 0xFFFFFFFFu ? 0xFFFFFFFFu : static_cast<uint32_t>(v); }
+
+inline uint16_t clamp_ms_u16(int64_t ns) {
+  const int64_t ms = std::clamp<int64_t>(ns / net::kNsPerMs, 1, 0xFFFF);
+  return static_cast<uint16_t>(ms);
+}
+
+
+}  // namespace session_detail
+}  // namespace dhr::server

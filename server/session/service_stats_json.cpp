@@ -1,0 +1,46 @@
+#include "session/service_stats_json.hpp"
+
+namespace dhr::server {
+
+nlohmann::ordered_json to_json(const ServiceStats& s) {
+  nlohmann::ordered_json decode = nlohmann::ordered_json::object();
+  for (size_t i = 1; i < kDecodeErrorCount; ++i)
+    if (s.decode_errors.counts[i] != 0) decode[to_string(static_cast<DecodeError>(i))] = s.decode_errors.counts[i];
+  return {{"datagrams_received", s.datagrams_received},
+          {"datagrams_rejected", s.datagrams_rejected},
+          {"decode_errors", decode},
+          {"wrong_version", s.wrong_version},
+          {"unknown_token", s.unknown_token},
+          {"wrong_peer", s.wrong_peer},
+          {"unexpected_type", s.unexpected_type},
+          {"hellos", s.hellos},
+          {"hellos_repeated", s.hellos_repeated},
+          {"hellos_rejected", s.hellos_rejected},
+          {"sessions_opened", s.sessions_opened},
+          {"sessions_closed", s.sessions_closed},
+          {"sessions_timed_out", s.sessions_timed_out},
+          {"sessions_closed_by_peer", s.sessions_closed_by_peer},
+          {"sessions_replaced", s.sessions_replaced},
+          {"sessions_active", s.sessions_active},
+          {"poses_received", s.poses_received},
+          {"poses_stale", s.poses_stale},
+          {"poses_superseded", s.poses_superseded},
+          {"poses_skipped_identical", s.poses_skipped_identical},
+          {"frames_traced", s.frames_traced},
+          {"trace_errors", s.trace_errors},
+          {"shards_sent", s.shards_sent},
+          {"datagrams_sent", s.datagrams_sent},
+          {"bytes_sent", s.bytes_sent},
+          {"send_failures", s.send_failures},
+          {"heartbeats_received", s.heartbeats_received},
+          {"heartbeats_sent", s.heartbeats_sent},
+          {"byes_sent", s.byes_sent},
+          {"replies_suppressed", s.replies_suppressed},
+          {"frames_predicted", s.frames_predicted},
+          {"prediction_fallbacks", s.prediction_fallbacks},
+          {"prediction_horizon_ms", s.prediction_horizon_ms},
+          {"trace_ms", s.trace_ms},
+          {"encode_ms", s.encode_ms}};
+}
+
+}  // namespace dhr::server

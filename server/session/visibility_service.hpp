@@ -1,0 +1,211 @@
+// VisibilityService: the server's session layer, transport-agnostic (docs/protocol.md "Handshake and
+// session", docs/server.md "Serving clients"). Datagrams come in through on_datagram() with their sender's
+// address; replies and visibility shards go out through a net::DatagramSender (a ServerEndpoint, an
+// ImpairedSender, or a SimulatedLink in tests and dhr-eval); time comes from a net::Clock (VirtualClock in
+// tests), so the whole service runs deterministically without sockets or threads.
+//
+// Threads: on_datagram() on the socket thread, process_pending() on one worker thread (it traces), tick()
+// on either. One mutex guards the session table; it is held briefly and never while tracing or encoding.
+// Memory is bounded whatever arrives: at most max_sessions sessions, one pending pose each, no queues.
+#pragma once
+#include "core/codec.hpp"
+#include "core/projection.hpp"
+#include "core/protocol.hpp"
+#include "net/clock.hpp"
+#include "net/peer_address.hpp"
+#include "net/udp_socket.hpp"
+#include "pose_predictor.hpp"
+#include "visibility_tracer.hpp"
+
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace dhr::server {
+
+struct ServiceConfig {
+  std::string scene_id;     // Hello's scene id must be empty, this, or a path/file name with this stem
+  uint64_t scene_hash = 0;  // sent in Welcome (see scene_content_hash)
+  uint32_t max_sessions = 8;
+  int64_t session_timeout_ns = 5 * net::kNsPerSecond;
+  int64_t heartbeat_interval_ns = net::kNsPerSecond;
+  EncodeOptions encode;
+  // A pose bit-identical (both eyes) to the last traced one is not traced again, except once every
+  // identical_refresh_ns (so a lost shard of a still scene is repaired); 0 = never refresh.
+  bool skip_identical_pose = true;
+  int64_t identical_refresh_ns = net::kNsPerSecond;
+  // Server-side pose prediction (server/pose_predictor.hpp), off by default: each eye is traced for the
+  // views predicted at the pose's display time + the horizon. predict_horizon_ns < 0: automatic, the
+  // session's round trip (from Heartbeat echoes) + how long the pose waited here + the session's last
+  // trace-and-send time (service clock); >= 0: that fixed horizon. Shards carry the predicted views.
+  bool predict = false;
+  int64_t predict_horizon_ns = -1;
+  PosePredictorConfig predictor;
+  // Unsolicited replies (Bye to an unknown token, a rejected Hello, another version's Hello) are
+  // limited to this many per second over all peers: no reflection flood toward a spoofed source.
+  uint32_t max_unsolicited_replies_per_second = 20;
+  // Token source; seeded for tests. 0: std::random_device.
+  uint64_t token_seed = 0;
+};
+
+struct ServiceStats {
+  // Everything that arrived, and why datagrams were dropped.
+  uint64_t datagrams_received = 0;
+  uint64_t datagrams_rejected = 0;  // every drop below (decode errors, unknown token, wrong peer, ...)
+  DecodeErrorCounts decode_errors;  // per DecodeError code (kWrongVersion included)
+  uint64_t wrong_version = 0;       // DHR datagrams of another protocol version
+  uint64_t unknown_token = 0;       // well-formed, token of no session
+  uint64_t wrong_peer = 0;          // known token, from an address other than the session's Hello
+  uint64_t unexpected_type = 0;     // Welcome / VisibilityShard sent to the server
+  // Handshake and sessions.
+  uint64_t hellos = 0;              // well-formed Hellos
+  uint64_t hellos_repeated = 0;     // same address and nonce: the same Welcome again
+  uint64_t hellos_rejected = 0;     // answered Bye(bad hello / unknown scene), server full included
+  uint64_t sessions_opened = 0;
+  uint64_t sessions_closed = 0;     // all causes below
+  uint64_t sessions_timed_out = 0;
+  uint64_t sessions_closed_by_peer = 0;  // client's Bye
+  uint64_t sessions_replaced = 0;   // a new Hello (other nonce) from the same address
+  uint64_t sessions_active = 0;
+  // Poses and frames.
+  uint64_t poses_received = 0;
+  uint64_t poses_stale = 0;              // frame number not newer than the newest received
+  uint64_t poses_superseded = 0;         // replaced by a newer pose before being traced
+  uint64_t poses_skipped_identical = 0;  // identical to the last traced pose
+  uint64_t frames_traced = 0;            // (session, frame) pairs traced and sent (both eyes)
+  uint64_t trace_errors = 0;             // tracer threw or encoding failed (frame not sent)
+  uint64_t shards_sent = 0;
+  uint64_t bytes_sent = 0;               // every datagram the service sent, headers included
+  uint64_t datagrams_sent = 0;
+  uint64_t send_failures = 0;            // the sender refused a datagram
+  uint64_t heartbeats_received = 0;
+  uint64_t heartbeats_sent = 0;
+  uint64_t byes_sent = 0;
+  uint64_t replies_suppressed = 0;       // unsolicited replies over the rate limit
+  uint64_t frames_predicted = 0;         // traced for predicted views (ServiceConfig::predict)
+  uint64_t prediction_fallbacks = 0;     // the predictor fell back to the pose as sent
+  double prediction_horizon_ms = 0.0;    // sum of the horizons used
+  double trace_ms = 0.0;                 // sums over all eyes traced (tracer wall time)
+  double encode_ms = 0.0;                // sums: light-count repacking, codec, datagram encoding and send
+};
+
+class VisibilityService {
+ public:
+  // `tracer`, `sender` and `clock` must outlive the service. Throws std::invalid_argument for an
+  // unusable config (zero sessions, timeouts or intervals).
+  VisibilityService(VisibilityTracer& tracer, const ServiceConfig& config, net::DatagramSender& sender,
+                    const net::Clock& clock);
+  ~VisibilityService();
+  VisibilityService(const VisibilityService&) = delete;
+  VisibilityService& operator=(const VisibilityService&) = delete;
+
+  // Decodes and validates one datagram and acts on it: Hello -> Welcome or Bye, PoseUpdate -> the
+  // session's pending pose (frame numbers not newer than the newest received are ignored), Heartbeat ->
+  // echoed at once (clock-offset sample for the client), Bye -> the session ends. Never throws, never
+  // traces.
+  void on_datagram(std::span<const uint8_t> bytes, const net::PeerAddress& from);
+
+  // For every session with a pending pose: traces both eyes of the newest pose, encodes and sends all
+  // shards to the session's peer. Returns the number of (session, frame) pairs traced. One caller at a
+  // time (calls are serialized internally). Never throws (tracer errors are counted).
+  size_t process_pending();
+
+  // Timeouts (Bye(timeout) once, session dropped) and a heartbeat to each session every interval.
+  void tick();
+
+  // Bye(shutdown) to every session; all sessions are dropped. Later datagrams are handled as usual.
+  void close_all(ByeReason reason = ByeReason::kShutdown);
+
+  // Blocks until some session has a pending pose, interrupt_wait() was called, or the timeout passes
+  // (real time; for the serving worker thread). True when work is pending.
+  bool wait_for_pending(int64_t timeout_ns);
+  void interrupt_wait();
+
+  ServiceStats stats() const;  // thread-safe snapshot
+  size_t session_count() const;
+  const ServiceConfig& config() const { return config_; }
+
+  // What a session was granted (for logs and tests); empty when the token is unknown.
+  struct SessionInfo {
+    uint64_t token = 0;
+    net::PeerAddress peer;
+    Welcome welcome;
+    uint64_t newest_frame_traced = 0;
+  };
+  std::vector<SessionInfo> sessions() const;
+
+  // Session opened / closed notifications (serve's log lines). Called with no lock held, on the thread
+  // that caused the event.
+  using SessionEvent = std::function<void(const SessionInfo& session, bool opened, ByeReason reason)>;
+  void set_session_observer(SessionEvent observer);
+
+ private:
+  struct Session;
+  struct Work;
+
+  void handle_hello(const Hello& hello, uint32_t sequence, const net::PeerAddress& from);
+  void handle_session_message(const Datagram& datagram, const net::PeerAddress& from);
+  bool reject_hello(const Hello& hello, std::string& out_reason, ByeReason& out_bye) const;
+  Welcome make_welcome(const Hello& hello) const;
+  uint64_t new_token();
+  bool allow_unsolicited_reply(int64_t now_ns);
+
+  // Encodes into a stack buffer and sends; returns the bytes sent (0 when refused). Any thread.
+  size_t send_message(Session* session, uint64_t token, const Message& message, const net::PeerAddress& to);
+  Heartbeat make_heartbeat(Session& session, int64_t now_ns) const;
+  void close_session(std::map<uint64_t, std::shared_ptr<Session>>::iterator it, bool send_bye, ByeReason reason,
+                     std::vector<std::pair<SessionInfo, ByeReason>>& closed);
+  void notify(const std::vector<std::pair<SessionInfo, ByeReason>>& closed, const SessionInfo* opened);
+  bool trace_and_send(const Work& work);
+
+  VisibilityTracer& tracer_;
+  const ServiceConfig config_;
+  net::DatagramSender& sender_;
+  const net::Clock& clock_;
+  const uint32_t scene_light_count_;
+
+  mutable std::mutex mutex_;  // sessions_, stats_, rng_, reply budget
+  std::condition_variable work_ready_;
+  bool interrupted_ = false;
+  std::map<uint64_t, std::shared_ptr<Session>> sessions_;  // by token
+  ServiceStats stats_;
+  std::mt19937_64 rng_;
+  int64_t reply_window_start_ns_ = 0;
+  uint32_t replies_in_window_ = 0;
+  SessionEvent observer_;
+  std::array<int64_t, kDecodeErrorCount> last_logged_ns_{};  // rate limit of drop log lines, per code
+
+  // Send counters: the worker sends shards without mutex_.
+  std::atomic<uint64_t> datagrams_sent_{0};
+  std::atomic<uint64_t> bytes_sent_{0};
+  std::atomic<uint64_t> send_failures_{0};
+  std::atomic<uint64_t> shards_sent_{0};
+  std::atomic<uint32_t> unsolicited_sequence_{0};
+
+  std::mutex trace_mutex_;  // serializes process_pending (scratch buffers below)
+  VisibilityBuffer traced_;
+  VisibilityBuffer reduced_;
+};
+
+// Keeps bits [0, light_count) of every mask of `in` (light_count <= in.light_count), in the narrowest
+// mask width for that count: tracing all of the scene's lights and sending the first N.
+void restrict_lights(const VisibilityBuffer& in, uint32_t light_count, VisibilityBuffer& out);
+
+// Whether a Hello's scene id names the served scene: empty, equal, or a path / file name whose stem
+// (directories and extension removed) equals scene_id.
+bool scene_id_matches(const std::string& requested, const std::string& scene_id);
+
+// The camera traced for one eye of a session: the view widened by the negotiated guard band (per side,
+// so the traced size is eye + 2 * guard).
+Camera session_camera(const View& view, uint32_t eye_width, uint32_t eye_height, uint32_t guard_x, uint32_t guard_y);
+
+}  // namespace dhr::server

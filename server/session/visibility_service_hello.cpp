@@ -1,0 +1,120 @@
+// VisibilityService: the handshake (Hello -> Welcome or Bye) and scene id matching.
+#include "session/service_session.hpp"
+
+#include "core/log.hpp"
+
+namespace dhr::server {
+
+using namespace session_detail;
+
+bool scene_id_matches(const std::string& requested, const std::string& scene_id) {
+  if (requested.empty() || requested == scene_id) return true;
+  std::string stem = requested;
+  if (const size_t slash = stem.find_last_of("/\\"); slash != std::string::npos) stem = stem.substr(slash + 1);
+  if (const size_t dot = stem.find_last_of('.'); dot != std::string::npos && dot > 0) stem = stem.substr(0, dot);
+  return !stem.empty() && stem == scene_id;
+}
+
+uint64_t VisibilityService::new_token() {
+  for (;;) {
+    const uint64_t token = rng_();
+    if (token != 0 && !sessions_.count(token)) return token;
+  }
+}
+
+bool VisibilityService::reject_hello(const Hello& hello, std::string& out_reason, ByeReason& out_bye) const {
+  out_bye = ByeReason::kBadHello;
+  if (!(hello.capabilities & kCapabilityLz4RowShards)) {
+    out_reason = "the client lacks the LZ4 shard codec";
+    return true;
+  }
+  const auto size_ok = [](uint32_t eye, uint32_t guard) { return eye >= 1 && eye + 2 * guard <= kMaxBufferDimension; };
+  if (!size_ok(hello.eye_width, hello.guard_x) || !size_ok(hello.eye_height, hello.guard_y)) {
+    out_reason = "eye size plus guard band out of range";
+    return true;
+  }
+  if (hello.light_count_wanted > kMaxLights) {
+    out_reason = "more than 32 lights wanted";
+    return true;
+  }
+  if (!scene_id_matches(hello.scene_id, config_.scene_id)) {
+    out_bye = ByeReason::kUnknownScene;
+    out_reason = "scene '" + hello.scene_id + "' is not served (serving '" + config_.scene_id + "')";
+    return true;
+  }
+  return false;
+}
+
+Welcome VisibilityService::make_welcome(const Hello& hello) const {
+  Welcome w;
+  w.client_nonce = hello.client_nonce;
+  w.capabilities = kCapabilityLz4RowShards;
+  w.scene_hash = config_.scene_hash;
+  const uint32_t wanted = hello.light_count_wanted == 0 ? scene_light_count_ : hello.light_count_wanted;
+  w.light_count = static_cast<uint8_t>(std::min(wanted, scene_light_count_));
+  w.mask_bits = mask_width_for_light_count(w.light_count);
+  w.buffer_width = static_cast<uint16_t>(hello.eye_width + 2u * hello.guard_x);
+  w.buffer_height = static_cast<uint16_t>(hello.eye_height + 2u * hello.guard_y);
+  w.guard_x = hello.guard_x;
+  w.guard_y = hello.guard_y;
+  w.heartbeat_interval_ms = clamp_ms_u16(config_.heartbeat_interval_ns);
+  w.session_timeout_ms = static_cast<uint32_t>(
+      std::clamp<int64_t>(config_.session_timeout_ns / net::kNsPerMs, 1, 0xFFFFFFFFll));
+  return w;
+}
+
+void VisibilityService::handle_hello(const Hello& hello, uint32_t /*sequence*/, const net::PeerAddress& from) {
+  std::vector<std::pair<SessionInfo, ByeReason>> closed;
+  std::optional<SessionInfo> opened;
+  {
+    std::lock_guard lock(mutex_);
+    const int64_t now = clock_.now_ns();
+    ++stats_.datagrams_received;
+    ++stats_.hellos;
+    for (auto it = sessions_.begin(); it != sessions_.end(); ++it) {
+      Session& s = *it->second;
+      if (s.peer != from) continue;
+      if (s.hello.client_nonce == hello.client_nonce) {  // idempotent: the same Welcome again
+        ++stats_.hellos_repeated;
+        ++s.datagrams_received;
+        s.last_receive_ns = now;
+        send_message(&s, s.token, s.welcome, from);
+        return;
+      }
+      ++stats_.sessions_replaced;  // the client started over from the same socket
+      close_session(it, false, ByeReason::kNormal, closed);
+      break;
+    }
+    std::string reason;
+    ByeReason bye = ByeReason::kBadHello;
+    bool rejected = reject_hello(hello, reason, bye);
+    if (!rejected && sessions_.size() >= config_.max_sessions) {
+      rejected = true;
+      reason = "server full (" + std::to_string(config_.max_sessions) + " sessions)";
+    }
+    if (rejected) {
+      ++stats_.hellos_rejected;
+      if (allow_unsolicited_reply(now)) {  // the log follows the reply budget: a flood logs little
+        log::info("rejected Hello from %s: %s", from.to_string().c_str(), reason.c_str());
+        if (send_message(nullptr, 0, Bye{bye}, from)) ++stats_.byes_sent;
+      }
+    } else {
+      auto session = std::make_shared<Session>();
+      session->token = new_token();
+      session->peer = from;
+      session->hello = hello;
+      session->welcome = make_welcome(hello);
+      if (config_.predict) session->predictor = PosePredictor(config_.predictor);
+      session->last_receive_ns = now;
+      session->last_heartbeat_sent_ns = now;
+      session->datagrams_received = 1;
+      sessions_.emplace(session->token, session);
+      ++stats_.sessions_opened;
+      send_message(session.get(), session->token, session->welcome, from);
+      opened = session->info();
+    }
+  }
+  notify(closed, opened ? &*opened : nullptr);
+}
+
+}  // namespace dhr::server

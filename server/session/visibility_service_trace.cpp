@@ -1,0 +1,125 @@
+// VisibilityService: tracing pending poses (optionally predicted), encoding and sending the shards.
+#include "session/service_session.hpp"
+
+#include "core/log.hpp"
+
+namespace dhr::server {
+
+using namespace session_detail;
+
+Camera session_camera(const View& view, uint32_t eye_width, uint32_t eye_height, uint32_t guard_x, uint32_t guard_y) {
+  // GuardBand counts both sides together; the protocol's guard is per side.
+  return Camera::with_guard_band(view, Extent{eye_width, eye_height}, GuardBand{2 * guard_x, 2 * guard_y});
+}
+
+void restrict_lights(const VisibilityBuffer& in, uint32_t light_count, VisibilityBuffer& out) {
+  light_count = std::min(light_count, in.light_count);
+  if (out.width != in.width || out.height != in.height || out.light_count != light_count)
+    out = VisibilityBuffer::create(in.width, in.height, light_count);
+  const uint32_t keep = out.light_bits();
+  const size_t n = in.pixel_count();
+  for (size_t i = 0; i < n; ++i) out.set_mask_at(i, in.mask_at(i) & keep);
+}
+
+size_t VisibilityService::process_pending() {
+  std::lock_guard trace_lock(trace_mutex_);
+  std::vector<Work> work;
+  {
+    std::lock_guard lock(mutex_);
+    const int64_t now = clock_.now_ns();
+    for (auto& [token, s] : sessions_) {
+      if (!s->pending) continue;
+      PoseUpdate pose = *s->pending;
+      s->pending.reset();
+      const bool identical = s->have_traced && same_view(pose.views[0], s->traced_views[0]) &&
+                             same_view(pose.views[1], s->traced_views[1]);
+      const bool refresh_due = config_.identical_refresh_ns > 0 && now - s->last_trace_ns >= config_.identical_refresh_ns;
+      if (config_.skip_identical_pose && identical && !refresh_due) {
+        ++stats_.poses_skipped_identical;
+        ++s->frames_dropped;
+        continue;
+      }
+      s->have_traced = true;
+      s->traced_views = pose.views;
+      s->last_trace_ns = now;
+      Work w{s, pose, pose.views};
+      if (config_.predict) {
+        const int64_t horizon = config_.predict_horizon_ns >= 0
+                                    ? config_.predict_horizon_ns
+                                    : s->offset.rtt_ns() + (now - s->pending_receive_ns) + s->last_process_ns;
+        const PredictedViews predicted = s->predictor.predict(pose.display_time_ns + horizon);
+        w.views = predicted.views;
+        ++stats_.frames_predicted;
+        if (predicted.fell_back) ++stats_.prediction_fallbacks;
+        stats_.prediction_horizon_ms += static_cast<double>(predicted.horizon_ns) / 1e6;
+      }
+      work.push_back(std::move(w));
+    }
+  }
+  size_t traced = 0;
+  for (const Work& w : work) {
+    try {
+      traced += trace_and_send(w) ? 1 : 0;
+    } catch (const std::exception& e) {  // bad_alloc: the frame is lost, the service goes on
+      log::error("session %016llx: %s", static_cast<unsigned long long>(w.session->token), e.what());
+      std::lock_guard lock(mutex_);
+      ++stats_.trace_errors;
+    }
+  }
+  return traced;
+}
+
+bool VisibilityService::trace_and_send(const Work& work) {
+  Session& s = *work.session;
+  const Hello& hello = s.hello;
+  const uint32_t light_count = s.welcome.light_count;
+  double trace_ms = 0.0, encode_ms = 0.0;
+  uint64_t shards = 0;
+  bool ok = true;
+  const int64_t start_ns = clock_.now_ns();
+  for (int e = 0; e < 2 && ok; ++e) {
+    const View& view = work.views[e];
+    const Camera camera = session_camera(view, hello.eye_width, hello.eye_height, hello.guard_x, hello.guard_y);
+    TraceStats trace_stats;
+    try {
+      tracer_.trace(camera, traced_, trace_stats);
+    } catch (const std::exception& ex) {
+      log::warn("session %016llx frame %llu: trace failed: %s", static_cast<unsigned long long>(s.token),
+                static_cast<unsigned long long>(work.pose.frame_number), ex.what());
+      ok = false;
+      break;
+    }
+    trace_ms += trace_stats.trace_ms;
+    const int64_t encode_start = net::steady_now_ns();
+    const VisibilityBuffer* buffer = &traced_;
+    if (light_count < traced_.light_count) {
+      restrict_lights(traced_, light_count, reduced_);
+      buffer = &reduced_;
+    }
+    const std::vector<VisibilityShard> encoded =
+        make_visibility_shards(*buffer, work.pose.frame_number, static_cast<Eye>(e), view, config_.encode);
+    if (encoded.empty()) {
+      ok = false;
+      break;
+    }
+    if (!s.open.load(std::memory_order_acquire)) return false;  // closed while tracing: nothing to send
+    for (const VisibilityShard& shard : encoded)
+      if (send_message(&s, s.token, shard, s.peer) > 0) ++shards;
+    encode_ms += elapsed_ms(encode_start);
+  }
+  shards_sent_.fetch_add(shards, std::memory_order_relaxed);
+  std::lock_guard lock(mutex_);
+  stats_.trace_ms += trace_ms;
+  stats_.encode_ms += encode_ms;
+  if (!ok) {
+    ++stats_.trace_errors;
+    return false;
+  }
+  ++stats_.frames_traced;
+  s.last_process_ns = std::max<int64_t>(clock_.now_ns() - start_ns, 0);
+  s.frames_done.fetch_add(1, std::memory_order_relaxed);
+  s.newest_frame_traced = std::max(s.newest_frame_traced, work.pose.frame_number);
+  return true;
+}
+
+}  // namespace dhr::server

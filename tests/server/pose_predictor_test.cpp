@@ -1,0 +1,152 @@
+// Server-side pose prediction (server/pose_predictor.hpp): exact on constant linear and angular velocity,
+// horizon cap, fallbacks on short history, implausible motion and bad input.
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "pose_predictor.hpp"
+
+namespace dhr::server {
+namespace {
+
+constexpr int64_t kMs = 1'000'000;
+constexpr int64_t kFrame = 11'111'111;  // 90 Hz
+
+const glm::dvec3 kVelocity{0.3, -0.1, 0.25};            // m/s
+const glm::dvec3 kAxis = glm::normalize(glm::dvec3(0.2, 1.0, -0.1));
+constexpr double kAngularSpeed = 1.5;                   // rad/s
+const glm::dvec3 kEyeOffset{0.0315, 0.0, 0.0};
+
+// Eye `eye` at time t (ns) of a motion with constant linear and angular velocity.
+Pose moving_pose(int64_t t, int eye) {
+  const double s = static_cast<double>(t) * 1e-9;
+  Pose pose;
+  pose.position = glm::dvec3(1.0, 1.6, -2.0) + (eye == 0 ? -kEyeOffset : kEyeOffset) + kVelocity * s;
+  pose.orientation = glm::angleAxis(kAngularSpeed * s, kAxis) * glm::angleAxis(0.3, glm::dvec3(0.0, 1.0, 0.0));
+  return pose;
+}
+
+std::array<View, 2> moving_views(int64_t t) {
+  std::array<View, 2> views{};
+  for (int eye = 0; eye < 2; ++eye) views[eye].pose = moving_pose(t, eye);
+  return views;
+}
+
+void expect_pose_near(const Pose& actual, const Pose& expected, double tolerance) {
+  EXPECT_NEAR(glm::length(actual.position - expected.position), 0.0, tolerance);
+  EXPECT_NEAR(std::abs(glm::dot(actual.orientation, expected.orientation)), 1.0, tolerance);
+}
+
+TEST(PosePredictorTest, ExactOnConstantLinearAndAngularVelocity) {
+  PosePredictor predictor;
+  for (int i = 0; i < 5; ++i) EXPECT_TRUE(predictor.add(i * kFrame, moving_views(i * kFrame)));
+  const int64_t last = 4 * kFrame;
+  for (const int64_t horizon : {int64_t{0}, 11 * kMs, 50 * kMs, 100 * kMs}) {
+    const PredictedViews p = predictor.predict(last + horizon);
+    EXPECT_FALSE(p.fell_back);
+    EXPECT_FALSE(p.capped);
+    EXPECT_EQ(p.horizon_ns, horizon);
+    for (int eye = 0; eye < 2; ++eye) expect_pose_near(p.views[eye].pose, moving_pose(last + horizon, eye), 1e-9);
+  }
+  EXPECT_EQ(predictor.frame_period_ns(), kFrame);
+}
+
+TEST(PosePredictorTest, HorizonIsCappedAndReported) {
+  PosePredictorConfig config;
+  config.max_horizon_ns = 30 * kMs;
+  PosePredictor predictor(config);
+  predictor.add(0, moving_views(0));
+  predictor.add(kFrame, moving_views(kFrame));
+  const PredictedViews p = predictor.predict(kFrame + 500 * kMs);
+  EXPECT_FALSE(p.fell_back);
+  EXPECT_TRUE(p.capped);
+  EXPECT_EQ(p.horizon_ns, 30 * kMs);
+  expect_pose_near(p.views[1].pose, moving_pose(kFrame + 30 * kMs, 1), 1e-9);
+}
+
+TEST(PosePredictorTest, TargetInThePastGivesTheNewestPose) {
+  PosePredictor predictor;
+  predictor.add(0, moving_views(0));
+  predictor.add(kFrame, moving_views(kFrame));
+  const PredictedViews p = predictor.predict(kFrame / 2);
+  EXPECT_FALSE(p.fell_back);
+  EXPECT_EQ(p.horizon_ns, 0);
+  // Bit-exact, so that a zero horizon traces exactly what the client sent.
+  EXPECT_EQ(p.views[0].pose.position, moving_pose(kFrame, 0).position);
+  EXPECT_EQ(p.views[0].pose.orientation, moving_pose(kFrame, 0).orientation);
+}
+
+TEST(PosePredictorTest, ShortHistoryFallsBackToTheNewestPose) {
+  PosePredictor predictor;
+  EXPECT_TRUE(predictor.predict(0).fell_back);
+  predictor.add(5 * kFrame, moving_views(5 * kFrame));
+  const PredictedViews p = predictor.predict(5 * kFrame + 20 * kMs);
+  EXPECT_TRUE(p.fell_back);
+  EXPECT_EQ(p.horizon_ns, 0);
+  expect_pose_near(p.views[0].pose, moving_pose(5 * kFrame, 0), 1e-12);
+  EXPECT_EQ(predictor.frame_period_ns(), 0);
+}
+
+TEST(PosePredictorTest, ImplausibleMotionFallsBack) {
+  PosePredictor predictor;
+  predictor.add(0, moving_views(0));
+  std::array<View, 2> jumped = moving_views(kFrame);
+  jumped[1].pose.position.x += 2.0;  // 2 m in 11 ms: a tracking glitch, not a head
+  predictor.add(kFrame, jumped);
+  PredictedViews p = predictor.predict(kFrame + 50 * kMs);
+  EXPECT_TRUE(p.fell_back);
+  expect_pose_near(p.views[1].pose, jumped[1].pose, 1e-12);
+  expect_pose_near(p.views[0].pose, jumped[0].pose, 1e-12);  // both eyes fall back together
+
+  PosePredictor spinning;
+  std::array<View, 2> a = moving_views(0), b = moving_views(kFrame);
+  for (View& v : b) v.pose.orientation = glm::angleAxis(0.5, glm::dvec3(0.0, 1.0, 0.0)) * v.pose.orientation;
+  spinning.add(0, a);
+  spinning.add(kFrame, b);  // 0.5 rad in 11 ms = 45 rad/s
+  p = spinning.predict(kFrame + 50 * kMs);
+  EXPECT_TRUE(p.fell_back);
+}
+
+TEST(PosePredictorTest, NonFiniteAndOutOfOrderInputIsIgnored) {
+  PosePredictor predictor;
+  EXPECT_TRUE(predictor.add(0, moving_views(0)));
+  EXPECT_TRUE(predictor.add(kFrame, moving_views(kFrame)));
+  std::array<View, 2> bad = moving_views(2 * kFrame);
+  bad[0].pose.position.y = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(predictor.add(2 * kFrame, bad));
+  bad = moving_views(2 * kFrame);
+  bad[1].pose.orientation = glm::dquat(0.0, 0.0, 0.0, 0.0);
+  EXPECT_FALSE(predictor.add(2 * kFrame, bad));
+  bad = moving_views(2 * kFrame);
+  bad[1].fov.angle_left = std::numeric_limits<float>::infinity();
+  EXPECT_FALSE(predictor.add(2 * kFrame, bad));
+  EXPECT_FALSE(predictor.add(kFrame, moving_views(kFrame)));      // not newer
+  EXPECT_FALSE(predictor.add(kFrame / 2, moving_views(kFrame)));  // older
+  EXPECT_EQ(predictor.size(), 2u);
+  const PredictedViews p = predictor.predict(kFrame + 40 * kMs);
+  EXPECT_FALSE(p.fell_back);
+  for (int eye = 0; eye < 2; ++eye) expect_pose_near(p.views[eye].pose, moving_pose(kFrame + 40 * kMs, eye), 1e-9);
+}
+
+TEST(PosePredictorTest, HistoryIsBoundedAndConfigIsChecked) {
+  PosePredictorConfig config;
+  config.history = 3;
+  PosePredictor predictor(config);
+  for (int i = 0; i < 10; ++i) predictor.add(i * kFrame, moving_views(i * kFrame));
+  EXPECT_EQ(predictor.size(), 3u);
+  EXPECT_EQ(predictor.newest_time_ns(), 9 * kFrame);
+  config.history = 1;
+  EXPECT_THROW(PosePredictor{config}, std::invalid_argument);
+  config = PosePredictorConfig{};
+  config.max_horizon_ns = -1;
+  EXPECT_THROW(PosePredictor{config}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dhr::server

@@ -1,0 +1,238 @@
+// dhr-server --port: starts, names its port, answers a real Hello over loopback UDP, stops on
+// --max-seconds or SIGTERM with Bye(shutdown) and a JSON stats line; bad serving options exit 2.
+#include "core/protocol.hpp"
+#include "net/udp_socket.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace dhr::server {
+namespace {
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// dhr-server with stdout and stderr captured in files.
+class ServerProcess {
+ public:
+  explicit ServerProcess(const std::vector<std::string>& args) {
+    const auto dir = std::filesystem::temp_directory_path();
+    const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter_++);
+    out_path_ = dir / ("dhr_serve_out_" + tag);
+    err_path_ = dir / ("dhr_serve_err_" + tag);
+    std::vector<std::string> argv_storage{DHR_SERVER_EXE};
+    argv_storage.insert(argv_storage.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : argv_storage) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, out_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 2, err_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (posix_spawn(&pid_, DHR_SERVER_EXE, &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  ~ServerProcess() {
+    if (pid_ > 0 && !exited_) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+    std::filesystem::remove(out_path_);
+    std::filesystem::remove(err_path_);
+  }
+
+  bool started() const { return pid_ > 0; }
+  // The port from "listening on ADDR:PORT", or 0 when the line did not appear in time / the process ended.
+  uint16_t wait_for_port(std::chrono::seconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      const std::string err = read_file(err_path_);
+      const size_t at = err.find("listening on ");
+      const size_t eol = at == std::string::npos ? at : err.find('\n', at);
+      if (eol != std::string::npos) {
+        const std::string addr = err.substr(at + 13, eol - at - 13);
+        return static_cast<uint16_t>(std::stoi(addr.substr(addr.rfind(':') + 1)));
+      }
+      if (poll_exit()) return 0;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return 0;
+  }
+  int wait_exit(std::chrono::seconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (!poll_exit() && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return exited_ ? exit_code_ : -1;
+  }
+  void signal(int sig) { ::kill(pid_, sig); }
+  std::string out() const { return read_file(out_path_); }
+  std::string err() const { return read_file(err_path_); }
+
+ private:
+  bool poll_exit() {
+    if (exited_) return true;
+    int status = 0;
+    if (::waitpid(pid_, &status, WNOHANG) != pid_) return false;
+    exited_ = true;
+    exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return true;
+  }
+
+  static inline int counter_ = 0;
+  pid_t pid_ = -1;
+  bool exited_ = false;
+  int exit_code_ = -1;
+  std::filesystem::path out_path_, err_path_;
+};
+
+// A bare UDP client collecting decoded datagrams.
+struct Client {
+  net::UdpSocket socket;
+  std::mutex mutex;
+  std::vector<Datagram> received;
+
+  Client() {
+    socket.open(net::UdpSocketConfig{}, [this](const net::ReceivedDatagram& d) {
+      Datagram dg;
+      if (decode_datagram(d.bytes, dg) != DecodeError::kNone) return;
+      std::lock_guard lock(mutex);
+      received.push_back(dg);
+    });
+  }
+  template <class T>
+  std::optional<std::pair<uint64_t, T>> wait_for(std::chrono::seconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      {
+        std::lock_guard lock(mutex);
+        for (const Datagram& d : received)
+          if (const auto* m = std::get_if<T>(&d.message)) return std::make_pair(d.session_token, *m);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return std::nullopt;
+  }
+};
+
+Hello small_hello() {
+  Hello h;
+  h.client_nonce = 0x1234;
+  h.eye_width = 32;
+  h.eye_height = 24;
+  h.guard_x = 2;
+  h.guard_y = 2;
+  return h;
+}
+
+nlohmann::json last_json_line(const std::string& out) {
+  std::stringstream ss(out);
+  std::string line, last;
+  while (std::getline(ss, line))
+    if (!line.empty()) last = line;
+  return nlohmann::json::parse(last);
+}
+
+TEST(ServeCli, ServesAHelloAndStopsAfterMaxSeconds) {
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "3"});
+  ASSERT_TRUE(server.started());
+  const uint16_t port = server.wait_for_port(std::chrono::seconds(60));
+  ASSERT_NE(port, 0) << server.err();
+  Client client;
+  const std::vector<uint8_t> hello = encode_datagram(Datagram{0, 0, small_hello()});
+  ASSERT_TRUE(client.socket.send_to(hello, net::PeerAddress::loopback_ipv4(port)));
+  const auto welcome = client.wait_for<Welcome>(std::chrono::seconds(5));
+  ASSERT_TRUE(welcome) << server.err();
+  EXPECT_NE(welcome->first, 0u);
+  EXPECT_EQ(welcome->second.client_nonce, 0x1234u);
+  EXPECT_EQ(welcome->second.buffer_width, 36);
+  EXPECT_EQ(welcome->second.buffer_height, 28);
+  EXPECT_GT(welcome->second.light_count, 0);
+  EXPECT_NE(welcome->second.scene_hash, 0u);
+  ASSERT_EQ(server.wait_exit(std::chrono::seconds(30)), 0) << server.err();
+  const auto bye = client.wait_for<Bye>(std::chrono::seconds(2));
+  ASSERT_TRUE(bye);
+  EXPECT_EQ(bye->second.reason, ByeReason::kShutdown);
+  EXPECT_EQ(bye->first, welcome->first);
+  const nlohmann::json stats = last_json_line(server.out());
+  EXPECT_EQ(stats.at("hellos").get<int>(), 1);
+  EXPECT_EQ(stats.at("sessions_opened").get<int>(), 1);
+  EXPECT_EQ(stats.at("sessions_closed").get<int>(), 1);
+  EXPECT_NE(server.err().find("session "), std::string::npos);
+}
+
+TEST(ServeCli, ImpairedSendsStillDeliverTheFinalBye) {
+  // 40 ms delay on everything sent: the Welcome arrives late, and shutdown waits for the held Bye.
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "2", "--net-delay", "40"});
+  ASSERT_TRUE(server.started());
+  const uint16_t port = server.wait_for_port(std::chrono::seconds(60));
+  ASSERT_NE(port, 0) << server.err();
+  Client client;
+  ASSERT_TRUE(client.socket.send_to(encode_datagram(Datagram{0, 0, small_hello()}), net::PeerAddress::loopback_ipv4(port)));
+  ASSERT_TRUE(client.wait_for<Welcome>(std::chrono::seconds(5))) << server.err();
+  ASSERT_EQ(server.wait_exit(std::chrono::seconds(30)), 0) << server.err();
+  const auto bye = client.wait_for<Bye>(std::chrono::seconds(2));
+  ASSERT_TRUE(bye) << server.err();
+  EXPECT_EQ(bye->second.reason, ByeReason::kShutdown);
+  EXPECT_NE(server.err().find("impairment on send: delay=40"), std::string::npos) << server.err();
+}
+
+TEST(ServeCli, HelpDescribesServing) {
+  ServerProcess server({"--help"});
+  ASSERT_EQ(server.wait_exit(std::chrono::seconds(30)), 0);
+  for (const char* option : {"--port", "--bind", "--max-seconds", "--max-sessions", "--net-delay", "--net-loss"})
+    EXPECT_NE(server.out().find(option), std::string::npos) << option;
+}
+
+TEST(ServeCli, SigtermStopsCleanly) {
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1"});
+  ASSERT_TRUE(server.started());
+  ASSERT_NE(server.wait_for_port(std::chrono::seconds(60)), 0) << server.err();
+  server.signal(SIGTERM);
+  ASSERT_EQ(server.wait_exit(std::chrono::seconds(30)), 0) << server.err();
+  const nlohmann::json stats = last_json_line(server.out());
+  EXPECT_EQ(stats.at("sessions_opened").get<int>(), 0);
+  EXPECT_TRUE(stats.contains("datagrams_received"));
+}
+
+TEST(ServeCli, BadServingOptionsExitTwo) {
+  struct Case {
+    std::vector<std::string> args;
+    std::string expected;  // in stderr
+  };
+  const std::vector<Case> cases = {
+      {{"--port", "70000"}, "--port: expected an integer 0..65535, got '70000'"},
+      {{"--port", "abc"}, "--port: expected an integer 0..65535, got 'abc'"},
+      {{"--port", "0", "--net-loss", "2"}, "--net-loss"},
+      {{"--port", "0", "--check"}, "--check"},
+      {{"--port", "0", "--max-sessions", "0"}, "--max-sessions"},
+      {{"--port", "0", "--bind", "not-an-address"}, "not-an-address"},
+  };
+  for (const Case& c : cases) {
+    ServerProcess server(c.args);
+    ASSERT_TRUE(server.started());
+    EXPECT_EQ(server.wait_exit(std::chrono::seconds(60)), 2) << c.args.back() << ": " << server.err();
+    EXPECT_NE(server.err().find(c.expected), std::string::npos) << server.err();
+    EXPECT_TRUE(server.out().empty()) << server.out();
+  }
+}
+
+}  // namespace
+}  // namespace dhr::server

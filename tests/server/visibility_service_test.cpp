@@ -1,0 +1,198 @@
+// VisibilityService over a SimulatedLink and a VirtualClock, with the real Embree tracer on the default
+// room: handshake, sessions, pose handling, exact reassembly, fewer lights, prediction.
+#include "service_test_rig.hpp"
+
+namespace dhr::server {
+namespace {
+
+using namespace test_rig;
+
+TEST_F(VisibilityServiceTest, HandshakeGivesTheNegotiatedSession) {
+  Welcome w;
+  const uint64_t token = connect(peer(1), 77, &w);
+  EXPECT_NE(token, 0u);
+  EXPECT_EQ(w.client_nonce, 77u);
+  EXPECT_EQ(w.buffer_width, kEyeW + 2 * kGuardX);
+  EXPECT_EQ(w.buffer_height, kEyeH + 2 * kGuardY);
+  EXPECT_EQ(w.guard_x, kGuardX);
+  EXPECT_EQ(w.guard_y, kGuardY);
+  const uint32_t lights = shared_scene().tracer->light_count();
+  ASSERT_GE(lights, 2u);
+  EXPECT_EQ(w.light_count, lights);
+  EXPECT_EQ(w.mask_bits, mask_width_for_light_count(lights));
+  EXPECT_EQ(w.scene_hash, config_.scene_hash);
+  EXPECT_EQ(w.heartbeat_interval_ms, 1000);
+  EXPECT_EQ(w.session_timeout_ms, 5000u);
+  EXPECT_EQ(w.capabilities, kCapabilityLz4RowShards);
+  EXPECT_EQ(service_->session_count(), 1u);
+  // A repeated Hello (same address and nonce) gets the same Welcome, no new session.
+  EXPECT_EQ(connect(peer(1), 77), token);
+  EXPECT_EQ(service_->session_count(), 1u);
+  const ServiceStats s = service_->stats();
+  EXPECT_EQ(s.hellos, 2u);
+  EXPECT_EQ(s.hellos_repeated, 1u);
+  EXPECT_EQ(s.sessions_opened, 1u);
+  // A new nonce from the same address replaces the session.
+  const uint64_t token2 = connect(peer(1), 78);
+  EXPECT_NE(token2, token);
+  EXPECT_EQ(service_->session_count(), 1u);
+  EXPECT_EQ(service_->stats().sessions_replaced, 1u);
+}
+
+TEST_F(VisibilityServiceTest, SceneHashIsDeterministicAndContentSensitive) {
+  Scene copy = shared_scene().scene;
+  EXPECT_EQ(scene_content_hash(copy), config_.scene_hash);
+  copy.lights[0].intensity *= 2.0f;
+  EXPECT_NE(scene_content_hash(copy), config_.scene_hash);
+}
+
+TEST_F(VisibilityServiceTest, TwoSessionsGetDistinctTokensAndTheirOwnFrames) {
+  Welcome wa, wb;
+  const uint64_t a = connect(peer(1), 1, &wa);
+  const uint64_t b = connect(peer(2), 1, &wb);  // same nonce, other address: another session
+  ASSERT_NE(a, 0u);
+  ASSERT_NE(b, 0u);
+  EXPECT_NE(a, b);
+  EXPECT_EQ(service_->session_count(), 2u);
+  const auto va = send_pose(a, peer(1), 10, bookmark_views(0));
+  const auto vb = send_pose(b, peer(2), 3, bookmark_views(1));
+  EXPECT_EQ(service_->process_pending(), 2u);
+  auto sent = drain();
+  ASSERT_EQ(sent.size(), 2u);
+  for (const Datagram& d : sent[peer(1)]) EXPECT_EQ(d.session_token, a);
+  for (const Datagram& d : sent[peer(2)]) EXPECT_EQ(d.session_token, b);
+  std::array<View, 2> traced_views;
+  const auto got_a = reassemble(wa, shards_of(sent[peer(1)]), 10, &traced_views);
+  EXPECT_EQ(got_a[0], trace_directly(va[0]));
+  EXPECT_EQ(got_a[1], trace_directly(va[1]));
+  EXPECT_EQ(traced_views[0].pose.position, va[0].pose.position);  // the client warps from what was traced
+  EXPECT_EQ(traced_views[1].pose.orientation, va[1].pose.orientation);
+  const auto got_b = reassemble(wb, shards_of(sent[peer(2)]), 3);
+  EXPECT_EQ(got_b[0], trace_directly(vb[0]));
+  EXPECT_EQ(got_b[1], trace_directly(vb[1]));
+  EXPECT_NE(got_a[0], got_b[0]);
+  const ServiceStats s = service_->stats();
+  EXPECT_EQ(s.frames_traced, 2u);
+  EXPECT_EQ(s.shards_sent, shards_of(sent[peer(1)]).size() + shards_of(sent[peer(2)]).size());
+  EXPECT_GT(s.bytes_sent, 0u);
+  EXPECT_EQ(s.datagrams_rejected, 0u);
+}
+
+TEST_F(VisibilityServiceTest, StaleDuplicateAndSupersededPosesAreNotTraced) {
+  Welcome w;
+  const uint64_t t = connect(peer(1), 5, &w);
+  send_pose(t, peer(1), 5, bookmark_views(0));
+  send_pose(t, peer(1), 5, bookmark_views(1));  // duplicate frame number
+  send_pose(t, peer(1), 3, bookmark_views(1));  // older
+  send_pose(t, peer(1), 6, bookmark_views(1));  // supersedes 5 before it was traced
+  const auto v7 = send_pose(t, peer(1), 7, bookmark_views(2));
+  EXPECT_EQ(service_->process_pending(), 1u);
+  EXPECT_EQ(service_->process_pending(), 0u);  // nothing left
+  const auto shards = shards_of(drain()[peer(1)]);
+  for (const VisibilityShard& s : shards) EXPECT_EQ(s.frame_number, 7u);
+  const auto got = reassemble(w, shards, 7);
+  EXPECT_EQ(got[0], trace_directly(v7[0]));
+  send_pose(t, peer(1), 7, bookmark_views(0));  // already traced
+  EXPECT_EQ(service_->process_pending(), 0u);
+  const ServiceStats s = service_->stats();
+  EXPECT_EQ(s.poses_received, 6u);
+  EXPECT_EQ(s.poses_stale, 3u);
+  EXPECT_EQ(s.poses_superseded, 2u);
+  EXPECT_EQ(s.frames_traced, 1u);
+  ASSERT_EQ(service_->sessions().size(), 1u);
+  EXPECT_EQ(service_->sessions()[0].newest_frame_traced, 7u);
+}
+
+TEST_F(VisibilityServiceTest, IdenticalPoseIsSkippedUntilTheRefreshInterval) {
+  Welcome w;
+  const uint64_t t = connect(peer(1), 9, &w);
+  const auto views = bookmark_views(0);
+  send_pose(t, peer(1), 1, views);
+  EXPECT_EQ(service_->process_pending(), 1u);
+  const auto first = reassemble(w, shards_of(drain()[peer(1)]), 1);
+  send_pose(t, peer(1), 2, views);
+  EXPECT_EQ(service_->process_pending(), 0u);
+  EXPECT_TRUE(shards_of(drain()[peer(1)]).empty());
+  EXPECT_EQ(service_->stats().poses_skipped_identical, 1u);
+  // A different pose is traced; so is the same pose once the refresh interval has passed.
+  send_pose(t, peer(1), 3, bookmark_views(0, 0.05));
+  EXPECT_EQ(service_->process_pending(), 1u);
+  send_pose(t, peer(1), 4, bookmark_views(0, 0.05));
+  EXPECT_EQ(service_->process_pending(), 0u);
+  clock_.advance_ns(config_.identical_refresh_ns);
+  send_pose(t, peer(1), 5, bookmark_views(0, 0.05));
+  EXPECT_EQ(service_->process_pending(), 1u);
+  EXPECT_EQ(service_->stats().poses_skipped_identical, 2u);
+  drain();
+
+  // Skip off: the identical pose is traced again, with the same bits.
+  config_.skip_identical_pose = false;
+  make_service();
+  const uint64_t t2 = connect(peer(1), 10, &w);
+  send_pose(t2, peer(1), 1, views);
+  EXPECT_EQ(service_->process_pending(), 1u);
+  const auto again1 = reassemble(w, shards_of(drain()[peer(1)]), 1);
+  send_pose(t2, peer(1), 2, views);
+  EXPECT_EQ(service_->process_pending(), 1u);
+  const auto again2 = reassemble(w, shards_of(drain()[peer(1)]), 2);
+  EXPECT_EQ(again1[0], first[0]);
+  EXPECT_EQ(again2[0], first[0]);
+  EXPECT_EQ(again2[1], first[1]);
+  EXPECT_EQ(service_->stats().poses_skipped_identical, 0u);
+}
+
+TEST_F(VisibilityServiceTest, FewerLightsKeepTheFirstBits) {
+  Welcome w;
+  const uint64_t t = connect(peer(1), 3, &w, 1);
+  ASSERT_EQ(w.light_count, 1u);
+  EXPECT_EQ(w.mask_bits, MaskWidth::k8);
+  const auto views = send_pose(t, peer(1), 1, bookmark_views(0));
+  EXPECT_EQ(service_->process_pending(), 1u);
+  const auto got = reassemble(w, shards_of(drain()[peer(1)]), 1);
+  const VisibilityBuffer all = trace_directly(views[0]);
+  ASSERT_EQ(got[0].pixel_count(), all.pixel_count());
+  EXPECT_EQ(got[0].light_count, 1u);
+  size_t lit = 0;
+  for (size_t i = 0; i < all.pixel_count(); ++i) {
+    ASSERT_EQ(got[0].mask_at(i), all.mask_at(i) & 1u) << i;
+    lit += got[0].mask_at(i);
+  }
+  EXPECT_GT(lit, 0u);  // the test means something: light 0 reaches part of the view
+  // Wanting more lights than the scene has gives all of them.
+  Welcome w2;
+  connect(peer(2), 4, &w2, 32);
+  EXPECT_EQ(w2.light_count, shared_scene().tracer->light_count());
+}
+
+TEST_F(VisibilityServiceTest, PredictionTracesTheExtrapolatedViews) {
+  config_.predict = true;
+  config_.predict_horizon_ns = 20'000'000;
+  make_service();
+  Welcome w;
+  const uint64_t t = connect(peer(1), 1, &w);
+  const auto v1 = send_pose(t, peer(1), 1, bookmark_views(0, 0.0));
+  EXPECT_EQ(service_->process_pending(), 1u);
+  drain();
+  const auto v2 = send_pose(t, peer(1), 2, bookmark_views(0, 0.02));
+  EXPECT_EQ(service_->process_pending(), 1u);
+  std::array<View, 2> traced_views;
+  const auto got = reassemble(w, shards_of(drain()[peer(1)]), 2, &traced_views);
+  PosePredictor reference(config_.predictor);
+  reference.add(11'000'000, v1);
+  reference.add(22'000'000, v2);
+  const PredictedViews expected = reference.predict(22'000'000 + config_.predict_horizon_ns);
+  ASSERT_FALSE(expected.fell_back);
+  // Moving along +x: the traced eye is ahead of the last pose sent, exactly where the predictor says.
+  EXPECT_GT(traced_views[0].pose.position.x, v2[0].pose.position.x + 0.01);
+  for (int e = 0; e < 2; ++e) {
+    EXPECT_EQ(traced_views[e].pose.position, expected.views[e].pose.position);
+    EXPECT_NEAR(glm::dot(traced_views[e].pose.orientation, expected.views[e].pose.orientation), 1.0, 1e-6);
+    EXPECT_EQ(got[e], trace_directly(expected.views[e]));
+  }
+  const ServiceStats s = service_->stats();
+  EXPECT_EQ(s.frames_predicted, 2u);
+  EXPECT_EQ(s.prediction_fallbacks, 1u);  // one pose is no velocity
+  EXPECT_NEAR(s.prediction_horizon_ms, 20.0, 1e-9);
+}
+}  // namespace
+}  // namespace dhr::server
