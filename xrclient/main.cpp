@@ -1,20 +1,16 @@
-// dhr-xrclient: the DHR-XR headset client. For now only the smoke mode, which proves the
-// OpenXR + Vulkan path end to end (see docs/xr-runtimes.md).
-#include <CLI/CLI.hpp>
-
+// dhr-xrclient: the DHR-XR headset client (docs/client.md). Options: app/client_options.hpp; the runs:
+// app/offscreen_run.cpp, app/openxr_run.cpp; --smoke: smoke.cpp.
 #include <cstdio>
 #include <exception>
-#include <string>
 
-#include "core/log.hpp"
+#include "app/client_options.hpp"
+#include "app/run_modes.hpp"
 #include "exit_signal.hpp"
 #include "smoke.hpp"
 
 namespace {
 
-constexpr int kExitError = 1;        // setup failed: no runtime, no HMD, session refused, no device
-constexpr int kExitUsage = 2;        // nothing to do
-constexpr int kExitNotClean = 3;     // the session ended, but not cleanly (timeout, loss, frame error)
+constexpr int kExitSmokeNotClean = 3;  // the smoke session ended, but not cleanly
 
 int run_smoke_mode(const dhr::SmokeOptions& options) {
   const dhr::SmokeReport report = dhr::run_smoke(options);
@@ -23,7 +19,7 @@ int run_smoke_mode(const dhr::SmokeOptions& options) {
   std::fflush(stdout);
   if (report.exit != "clean") {
     std::fprintf(stderr, "error: smoke session did not end cleanly (exit: %s)\n", report.exit.c_str());
-    return kExitNotClean;
+    return kExitSmokeNotClean;
   }
   return 0;
 }
@@ -31,43 +27,20 @@ int run_smoke_mode(const dhr::SmokeOptions& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"DHR-XR headset client"};
-  bool smoke = false;
-  dhr::SmokeOptions smoke_options;
-  std::string vk_device = "auto";
-  std::string swapchain_encoding = "srgb";
-  app.add_flag("--smoke", smoke,
-               "Run a smoke session: clear both eyes for --frames frames, print one JSON line");
-  app.add_option("--frames", smoke_options.frames, "Frames to run in --smoke mode")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  app.add_option("--timeout", smoke_options.timeout_s,
-                 "Wall-clock cap in seconds for the frame phase of --smoke")
-      ->capture_default_str()
-      ->check(CLI::Range(0.1, 3600.0));
-  app.add_option("--vk-device", vk_device, "Vulkan device: auto | gpu | lavapipe")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "gpu", "lavapipe", "cpu"}));
-  app.add_option("--swapchain-format", swapchain_encoding,
-                 "Preferred swapchain colour encoding: srgb | unorm")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"srgb", "unorm"}));
-  CLI11_PARSE(app, argc, argv);
-
-  if (!smoke) {
-    std::fprintf(stderr, "error: nothing to do: pass --smoke (see --help)\n");
-    return kExitUsage;
+  dhr::client::ClientOptions options;
+  int exit_code = 0;
+  if (dhr::client::parse_client_options(argc, argv, options, &exit_code) == dhr::client::ParseOutcome::kExit) {
+    return exit_code;
   }
   try {
-    smoke_options.device = dhr::vk::parse_device_preference(vk_device);
-    smoke_options.color_encoding =
-        swapchain_encoding == "unorm" ? dhr::xr::ColorEncoding::kUnorm : dhr::xr::ColorEncoding::kSrgb;
     dhr::install_exit_signal_handlers();
-    return run_smoke_mode(smoke_options);
+    if (options.smoke) return run_smoke_mode(options.smoke_options);
+    if (!options.offscreen.empty()) return dhr::client::run_offscreen(options);
+    return dhr::client::run_openxr(options);
   } catch (const std::exception& e) {
     // One line, last on stderr: the loader and the runtime may have printed their own before.
     std::fflush(stdout);
     std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitError;
+    return dhr::client::kExitError;
   }
 }

@@ -2,6 +2,9 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <cstdint>
+#include <span>
+
 #include "vk/barriers.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
@@ -10,6 +13,31 @@ namespace dhr::render {
 
 // Nearest-neighbour, clamp-to-edge sampler for texelFetch-style reads of G-buffer images.
 vk::Sampler create_nearest_sampler(VkDevice device);
+
+// One binding of a compute pass's descriptor set (one descriptor, compute stage).
+struct ComputeBinding {
+  uint32_t binding;
+  VkDescriptorType type;
+};
+
+// The fixed objects of a client compute pass: a nearest sampler, its descriptor set layout, a pipeline layout
+// with one push-constant range, the compute pipeline of one client shader, and a pool sized for `slots`
+// descriptor sets of that layout.
+struct ComputePassCore {
+  vk::Sampler sampler;
+  vk::DescriptorSetLayout set_layout;
+  vk::PipelineLayout layout;
+  vk::Pipeline pipeline;
+  vk::DescriptorPool pool;
+
+  // `shader`: the module's name in dhr_shaders_client (e.g. "shading.comp"). Throws on Vulkan errors.
+  static ComputePassCore create(VkDevice device, std::span<const ComputeBinding> bindings, uint32_t push_size,
+                                const char* shader, uint32_t slots);
+  VkDescriptorSet allocate_set(VkDevice device) const;
+  // Binds the pipeline and `set`, pushes the constants and dispatches group_size x group_size groups over extent.
+  void dispatch(VkCommandBuffer cmd, VkDescriptorSet set, const void* push, uint32_t push_size, uint32_t width,
+                uint32_t height, uint32_t group_size) const;
+};
 
 // Moves an image that is about to be fully overwritten into `layout`, discarding its contents (old layout
 // UNDEFINED) but still waiting for every earlier use of it (previous frames' readers).

@@ -102,36 +102,23 @@ PredictionPass::PredictionPass(const vk::Context& context, uint32_t slots) : con
   if (slots == 0) throw std::invalid_argument("PredictionPass needs at least one slot");
   require_subgroup_arithmetic(context);
   const VkDevice device = context.device();
-  sampler_ = create_nearest_sampler(device);
-  constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
-  const std::array<VkDescriptorSetLayoutBinding, 7> bindings = {{
-      {kClientPredictionBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, nullptr},
-      {kClientPredictionBindingVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
-      {kClientPredictionBindingRowValid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
-      {kClientPredictionBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
-      {kClientPredictionBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
-      {kClientPredictionBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
-      {kClientPredictionBindingCounters, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
+  const std::array<ComputeBinding, 7> bindings = {{
+      {kClientPredictionBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+      {kClientPredictionBindingVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {kClientPredictionBindingRowValid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {kClientPredictionBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {kClientPredictionBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {kClientPredictionBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {kClientPredictionBindingCounters, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
   }};
-  set_layout_ = vk::create_descriptor_set_layout(device, bindings);
-  const VkPushConstantRange push{kCompute, 0, sizeof(ClientPredictionPush)};
-  const VkDescriptorSetLayout set_layout = set_layout_.get();
-  layout_ = vk::create_pipeline_layout(device, std::span(&set_layout, 1), std::span(&push, 1));
-  pipeline_ = vk::create_compute_pipeline(device, layout_.get(),
-                                          vk::find_spirv(dhr_shaders_client_modules(), "prediction.comp"));
-  const std::array<VkDescriptorPoolSize, 3> sizes = {{
-      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, slots},
-      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * slots},
-      {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 3 * slots},
-  }};
-  pool_ = vk::create_descriptor_pool(device, slots, sizes);
+  core_ = ComputePassCore::create(device, bindings, sizeof(ClientPredictionPush), "prediction.comp", slots);
   slots_.resize(slots);
   for (Slot& s : slots_) {
     s.visibility = vk::Buffer(context, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.rows = vk::Buffer(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.counters = vk::Buffer(context, kWarpStatusCount * 4,
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, kHost);
-    s.set = vk::allocate_descriptor_set(device, pool_.get(), set_layout_.get());
+    s.set = core_.allocate_set(device);
   }
 }
 
@@ -181,7 +168,7 @@ bool PredictionPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image&
 
   const VkDevice device = context_->device();
   vk::write_image_descriptor(device, slot.set, kClientPredictionBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                             depth.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, sampler_.get());
+                             depth.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, core_.sampler.get());
   vk::write_buffer_descriptor(device, slot.set, kClientPredictionBindingVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                               slot.visibility.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientPredictionBindingRowValid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
@@ -209,11 +196,7 @@ bool PredictionPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image&
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, kCs,
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &slot.set, 0, nullptr);
-  vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatch(cmd, (extent.width + kClientWarpGroupSize - 1) / kClientWarpGroupSize,
-                (extent.height + kClientWarpGroupSize - 1) / kClientWarpGroupSize, 1);
+  core_.dispatch(cmd, slot.set, &push, sizeof(push), extent.width, extent.height, kClientWarpGroupSize);
 
   // Results feed the shading pass, transfers (readback, debug copies) and the host (counters).
   vk::memory_barrier(cmd, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

@@ -15,6 +15,7 @@
 #include "core/projection.hpp"
 #include "core/visibility.hpp"
 #include "render/warp_reference.hpp"
+#include "render/pass_util.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
@@ -72,11 +73,7 @@ class PredictionPass {
   void upload(Slot& slot, const VisibilityInput& visibility);
 
   const vk::Context* context_;
-  vk::Sampler sampler_;
-  vk::DescriptorSetLayout set_layout_;
-  vk::PipelineLayout layout_;
-  vk::Pipeline pipeline_;
-  vk::DescriptorPool pool_;
+  ComputePassCore core_;
   std::vector<Slot> slots_;
 };
 

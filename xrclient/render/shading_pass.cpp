@@ -37,34 +37,21 @@ vk::Image create_shading_output(const vk::Context& context, Extent extent) {
 ShadingPass::ShadingPass(const vk::Context& context, uint32_t slots) : context_(&context) {
   if (slots == 0) throw std::invalid_argument("ShadingPass needs at least one slot");
   const VkDevice device = context.device();
-  sampler_ = create_nearest_sampler(device);
-  constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
-  const std::array<VkDescriptorSetLayoutBinding, 8> bindings = {{
-      {kClientShadingBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, nullptr},
-      {kClientShadingBindingNormal, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, nullptr},
-      {kClientShadingBindingAlbedo, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, nullptr},
-      {kClientShadingBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
-      {kClientShadingBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
-      {kClientShadingBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
-      {kClientShadingBindingLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
-      {kClientShadingBindingOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr},
+  const std::array<ComputeBinding, 8> bindings = {{
+      {kClientShadingBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+      {kClientShadingBindingNormal, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+      {kClientShadingBindingAlbedo, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+      {kClientShadingBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {kClientShadingBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {kClientShadingBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {kClientShadingBindingLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {kClientShadingBindingOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
   }};
-  set_layout_ = vk::create_descriptor_set_layout(device, bindings);
-  const VkPushConstantRange push{kCompute, 0, sizeof(ClientShadingPush)};
-  const VkDescriptorSetLayout set_layout = set_layout_.get();
-  layout_ = vk::create_pipeline_layout(device, std::span(&set_layout, 1), std::span(&push, 1));
-  pipeline_ = vk::create_compute_pipeline(device, layout_.get(),
-                                          vk::find_spirv(dhr_shaders_client_modules(), "shading.comp"));
-  const std::array<VkDescriptorPoolSize, 3> sizes = {{
-      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3 * slots},
-      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slots},
-      {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4 * slots},
-  }};
-  pool_ = vk::create_descriptor_pool(device, slots, sizes);
+  core_ = ComputePassCore::create(device, bindings, sizeof(ClientShadingPush), "shading.comp", slots);
   slots_.resize(slots);
   for (Slot& s : slots_) {
     s.lights = vk::Buffer(context, kMaxSceneLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
-    s.set = vk::allocate_descriptor_set(device, pool_.get(), set_layout_.get());
+    s.set = core_.allocate_set(device);
   }
 }
 
@@ -89,11 +76,11 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
   vk::write_image_descriptor(device, slot.set, kClientShadingBindingDepth, kSampled, gbuffer.depth.view(), kRead,
-                             sampler_.get());
+                             core_.sampler.get());
   vk::write_image_descriptor(device, slot.set, kClientShadingBindingNormal, kSampled, gbuffer.normal.view(), kRead,
-                             sampler_.get());
+                             core_.sampler.get());
   vk::write_image_descriptor(device, slot.set, kClientShadingBindingAlbedo, kSampled, gbuffer.albedo.view(), kRead,
-                             sampler_.get());
+                             core_.sampler.get());
   vk::write_image_descriptor(device, slot.set, kClientShadingBindingMask, kStorage, prediction.mask.view(),
                              VK_IMAGE_LAYOUT_GENERAL);
   vk::write_image_descriptor(device, slot.set, kClientShadingBindingStatus, kStorage, prediction.status.view(),
@@ -136,11 +123,7 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
   push.debug_light = std::min(settings.debug_light, 31u);
   push.flags = settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u;
 
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &slot.set, 0, nullptr);
-  vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatch(cmd, (extent.width + kClientWarpGroupSize - 1) / kClientWarpGroupSize,
-                (extent.height + kClientWarpGroupSize - 1) / kClientWarpGroupSize, 1);
+  core_.dispatch(cmd, slot.set, &push, sizeof(push), extent.width, extent.height, kClientWarpGroupSize);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
                          VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,

@@ -15,6 +15,7 @@
 
 #include "core/projection.hpp"
 #include "core/scene.hpp"
+#include "render/pass_util.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
@@ -74,11 +75,7 @@ class ShadingPass {
     VkDescriptorSet set = VK_NULL_HANDLE;
   };
   const vk::Context* context_;
-  vk::Sampler sampler_;
-  vk::DescriptorSetLayout set_layout_;
-  vk::PipelineLayout layout_;
-  vk::Pipeline pipeline_;
-  vk::DescriptorPool pool_;
+  ComputePassCore core_;
   std::vector<Slot> slots_;
 };
 

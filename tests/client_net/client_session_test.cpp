@@ -1,0 +1,211 @@
+// VisibilityClient session: handshake, nonce matching, Hello retry and give-up, refusals, restarts on
+// timeout and Bye(unknown session), heartbeats, and which poses are sent.
+#include "client_harness.hpp"
+
+#include <set>
+#include <stdexcept>
+
+namespace dhr::client::test {
+namespace {
+
+TEST(ClientSession, HelloCarriesTheConfigAndWelcomeWithItsNonceConnects) {
+  Harness h;
+  EXPECT_FALSE(h.client.connected());
+  h.client.tick();
+  h.run_for(kMs);
+  const auto hellos = h.received<Hello>();
+  ASSERT_EQ(hellos.size(), 1u);
+  EXPECT_NE(hellos[0].client_nonce, 0u);
+  EXPECT_EQ(hellos[0].eye_width, kEyeW);
+  EXPECT_EQ(hellos[0].eye_height, kEyeH);
+  EXPECT_EQ(hellos[0].guard_x, kGuard);
+  EXPECT_EQ(hellos[0].guard_y, kGuard);
+  EXPECT_EQ(hellos[0].light_count_wanted, kLights);
+  EXPECT_EQ(h.from_client[0].datagram.session_token, 0u);
+
+  // A Welcome answering another Hello (other nonce) is ignored.
+  h.server_send(h.welcome_for(hellos[0].client_nonce + 1));
+  h.run_for(kMs);
+  EXPECT_FALSE(h.client.connected());
+  EXPECT_EQ(h.client.stats().welcomes_ignored, 1u);
+
+  const Welcome welcome = h.welcome_for(hellos[0].client_nonce);
+  h.server_send(welcome);
+  h.run_for(kMs);
+  ASSERT_TRUE(h.client.connected());
+  EXPECT_EQ(h.client.welcome(), welcome);
+  EXPECT_FALSE(h.client.failed());
+  const ClientNetStats s = h.client.stats();
+  EXPECT_EQ(s.sessions_started, 1u);
+  EXPECT_EQ(s.hellos_sent, 1u);
+  // The first heartbeat goes out with the session token right after connecting.
+  h.run_for(kMs);
+  ASSERT_FALSE(h.received<Heartbeat>().empty());
+  EXPECT_EQ(h.from_client.back().datagram.session_token, kToken);
+}
+
+TEST(ClientSession, RetriesHelloWithTheSameNonceThenGivesUp) {
+  Harness h;
+  h.client.tick();
+  h.run_for(6'000 * kMs);
+  const auto hellos = h.received<Hello>();
+  // Sent at 0, 250, ..., 4750 ms; at 5000 ms the client gives up.
+  EXPECT_EQ(hellos.size(), 20u);
+  for (const Hello& hello : hellos) EXPECT_EQ(hello.client_nonce, hellos[0].client_nonce);
+  EXPECT_TRUE(h.client.failed());
+  EXPECT_NE(h.client.failure().find("no Welcome"), std::string::npos) << h.client.failure();
+  EXPECT_EQ(h.client.stats().hellos_sent, 20u);
+  // Failed is terminal: nothing more is sent.
+  const size_t sent = h.from_client.size();
+  h.run_for(1'000 * kMs);
+  EXPECT_EQ(h.from_client.size(), sent);
+  EXPECT_FALSE(h.client.send_pose(1, 0, views_for(1)));
+}
+
+TEST(ClientSession, AWelcomeAfterARetryStillConnects) {
+  Harness h;
+  h.client.tick();
+  h.run_for(600 * kMs);
+  ASSERT_EQ(h.received<Hello>().size(), 3u);
+  h.server_send(h.welcome_for(h.received<Hello>()[0].client_nonce));
+  h.server_send(h.welcome_for(h.received<Hello>()[0].client_nonce));  // the answer to the retry
+  h.run_for(kMs);
+  EXPECT_TRUE(h.client.connected());
+  const ClientNetStats s = h.client.stats();
+  EXPECT_EQ(s.sessions_started, 1u);
+  EXPECT_EQ(s.welcomes_repeated, 1u);
+}
+
+TEST(ClientSession, ServerRefusalFailsWithTheReason) {
+  for (const ByeReason reason : {ByeReason::kBadHello, ByeReason::kUnknownScene}) {
+    Harness h;
+    h.client.tick();
+    h.run_for(kMs);
+    h.server_send(Bye{reason}, 0);
+    h.run_for(kMs);
+    EXPECT_TRUE(h.client.failed());
+    EXPECT_NE(h.client.failure().find(to_string(reason)), std::string::npos) << h.client.failure();
+  }
+}
+
+TEST(ClientSession, AnotherProtocolVersionFailsWithBothVersions) {
+  Harness h;
+  h.client.tick();
+  h.run_for(kMs);
+  std::vector<uint8_t> bye = encode_datagram(Datagram{0, 0, Bye{ByeReason::kVersionMismatch}});
+  bye[4] = 2;  // the server's version
+  h.server_send_raw(bye);
+  h.run_for(kMs);
+  EXPECT_TRUE(h.client.failed());
+  EXPECT_NE(h.client.failure().find("version 2"), std::string::npos) << h.client.failure();
+  EXPECT_EQ(h.client.stats().rejections[DecodeError::kWrongVersion], 1u);
+}
+
+TEST(ClientSession, WelcomeThatDoesNotFitTheHelloFails) {
+  Harness h;
+  h.client.tick();
+  h.run_for(kMs);
+  Welcome w = h.welcome_for(h.received<Hello>()[0].client_nonce);
+  w.buffer_width = kBufW + 2;  // not eye width + 2 * guard
+  h.server_send(w);
+  h.run_for(kMs);
+  EXPECT_TRUE(h.client.failed());
+  EXPECT_NE(h.client.failure().find("guard band"), std::string::npos) << h.client.failure();
+}
+
+TEST(ClientSession, TimeoutRestartsWithANewNonce) {
+  Harness h;
+  h.connect();
+  const uint64_t first_nonce = h.received<Hello>()[0].client_nonce;
+  // The Welcome's default session timeout is 5 s; the scripted server stays silent.
+  h.run_for(5'100 * kMs);
+  EXPECT_FALSE(h.client.connected());
+  const ClientNetStats s = h.client.stats();
+  EXPECT_EQ(s.session_timeouts, 1u);
+  EXPECT_EQ(s.sessions_restarted, 1u);
+  const auto hellos = h.received<Hello>();
+  ASSERT_GE(hellos.size(), 2u);
+  EXPECT_NE(hellos.back().client_nonce, first_nonce);
+  h.server_send(h.welcome_for(hellos.back().client_nonce));
+  h.run_for(kMs);
+  EXPECT_TRUE(h.client.connected());
+  EXPECT_EQ(h.client.stats().sessions_started, 2u);
+}
+
+TEST(ClientSession, ByeUnknownSessionRestartsAndAForeignByeDoesNot) {
+  Harness h;
+  h.connect();
+  h.server_send(Bye{ByeReason::kUnknownSession}, kToken + 1);  // another session's token
+  h.run_for(kMs);
+  EXPECT_TRUE(h.client.connected());
+  EXPECT_EQ(h.client.stats().datagrams_foreign, 1u);
+  h.server_send(Bye{ByeReason::kUnknownSession}, kToken);
+  h.run_for(2 * kMs);  // the Bye, then the new Hello
+  EXPECT_FALSE(h.client.connected());
+  EXPECT_FALSE(h.client.failed());
+  EXPECT_EQ(h.client.stats().sessions_restarted, 1u);
+  EXPECT_EQ(h.received<Hello>().size(), 2u);
+}
+
+TEST(ClientSession, HeartbeatsEveryIntervalAndTheyKeepTheSessionAlive) {
+  Harness h;
+  h.connect();
+  for (int second = 0; second < 10; ++second) {
+    h.run_for(1'000 * kMs);
+    Heartbeat hb;
+    hb.send_time_ns = h.clock.now_ns();
+    h.server_send(hb);
+  }
+  h.run_for(kMs);
+  EXPECT_TRUE(h.client.connected());
+  const auto heartbeats = h.received<Heartbeat>();
+  EXPECT_GE(heartbeats.size(), 10u);
+  EXPECT_LE(heartbeats.size(), 11u);
+  for (size_t i = 1; i < heartbeats.size(); ++i)
+    EXPECT_EQ(heartbeats[i].send_time_ns - heartbeats[i - 1].send_time_ns, 1'000 * kMs);
+  EXPECT_EQ(h.client.stats().heartbeats_received, 10u);
+}
+
+TEST(ClientSession, PosesOnlyWhenConnectedAndWithIncreasingFrameNumbers) {
+  Harness h;
+  h.client.tick();
+  EXPECT_FALSE(h.client.send_pose(1, 100, views_for(1)));
+  h.connect();
+  EXPECT_TRUE(h.client.send_pose(5, 100, views_for(5)));
+  EXPECT_FALSE(h.client.send_pose(5, 100, views_for(5)));
+  EXPECT_FALSE(h.client.send_pose(4, 100, views_for(4)));
+  EXPECT_FALSE(h.client.send_pose(6, -1, views_for(6)));
+  EXPECT_TRUE(h.client.send_pose(6, 200, views_for(6)));
+  h.run_for(kMs);
+  const auto poses = h.received<PoseUpdate>();
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_EQ(poses[0].frame_number, 5u);
+  EXPECT_EQ(poses[1].frame_number, 6u);
+  EXPECT_EQ(poses[1].display_time_ns, 200);
+  EXPECT_EQ(poses[1].views[1].pose.position, views_for(6)[1].pose.position);
+  const ClientNetStats s = h.client.stats();
+  EXPECT_EQ(s.poses_sent, 2u);
+  EXPECT_EQ(s.poses_not_connected, 1u);
+  EXPECT_EQ(s.poses_refused, 3u);
+  // Datagram sequence numbers count up per datagram sent.
+  std::set<uint32_t> sequences;
+  for (const auto& r : h.from_client) sequences.insert(r.datagram.sequence);
+  EXPECT_EQ(sequences.size(), h.from_client.size());
+}
+
+TEST(ClientSession, BadConfigThrows) {
+  net::VirtualClock clock;
+  net::SimulatedLink link({}, clock);
+  VisibilityClientConfig c = test_config();
+  c.eye_width = 0;
+  EXPECT_THROW(VisibilityClient(c, link, clock), std::invalid_argument);
+  c = test_config();
+  c.scene_id = std::string("room\n");
+  EXPECT_THROW(VisibilityClient(c, link, clock), std::invalid_argument);
+  c = test_config();
+  c.max_frames_in_flight = 1;
+  EXPECT_THROW(VisibilityClient(c, link, clock), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dhr::client::test

@@ -1,0 +1,120 @@
+#include "app/client_options.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "net/impairment_cli.hpp"
+#include "vk/context.hpp"
+
+namespace dhr::client {
+
+std::optional<Extent> parse_extent(const std::string& text, std::string* out_error) {
+  unsigned w = 0;
+  unsigned h = 0;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%ux%u%c", &w, &h, &tail) != 2) {
+    if (out_error) *out_error = "expected WxH (e.g. 320x240), got '" + text + "'";
+    return std::nullopt;
+  }
+  return Extent{w, h};
+}
+
+GuardBand default_guard_band(Extent eye) { return scale_guard_band(GuardBand{64, 36}, Extent{1920, 1080}, eye); }
+
+namespace {
+
+CLI::Validator extent_validator(uint32_t min_value, bool even) {
+  return CLI::Validator(
+      [min_value, even](std::string& text) -> std::string {
+        std::string error;
+        const auto e = parse_extent(text, &error);
+        if (!e) return error;
+        if (e->width < min_value || e->height < min_value || e->width > kMaxImageDimension ||
+            e->height > kMaxImageDimension) {
+          return "sizes must be within " + std::to_string(min_value) + ".." + std::to_string(kMaxImageDimension);
+        }
+        if (even && (e->width % 2 != 0 || e->height % 2 != 0)) return "guard band sizes must be even (split per side)";
+        return std::string();
+      },
+      "WxH");
+}
+
+}  // namespace
+
+ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int* exit_code) {
+  CLI::App app{"DHR-XR headset client: renders a scene with ray-traced shadows streamed from dhr-server"};
+  std::string eye_size;
+  std::string guard;
+  std::string schedule = "newest";
+  uint32_t frames = 0;
+  app.add_flag("--smoke", out.smoke, "Smoke session: clear both eyes for --frames frames, print one JSON line");
+  app.add_option("--scene", out.scene, "glTF scene (.gltf/.glb), the same the server traces");
+  app.add_option("--server", out.server, "dhr-server address HOST:PORT");
+  app.add_option("--trace", out.trace, "Play this pose trace offscreen (needs --offscreen)");
+  app.add_option("--offscreen", out.offscreen, "Render offscreen (no OpenXR): PNGs and statistics go to DIR");
+  app.add_option("--frames", frames, "Frames to present (default 300; with --trace: the trace's length)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--timeout", out.timeout_s, "Wall-clock cap of the frame phase, seconds")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 86400.0));
+  app.add_option("--eye-size", eye_size, "Offscreen per-eye size WxH (default 320x240, Monado's)")
+      ->check(extent_validator(1, false));
+  app.add_option("--guard", guard, "Guard band WxH: extra traced pixels per axis (even; default: 64x36 scaled "
+                                   "from 1920x1080 to the eye size)")
+      ->check(extent_validator(0, true));
+  app.add_option("--png-every", out.png_every, "Offscreen: write both eyes as PNG every Nth frame (0: never)")
+      ->capture_default_str();
+  app.add_option("--snapshot-dir", out.snapshot_dir,
+                 "OpenXR: also write the presented eyes as PNG every --png-every frames");
+  app.add_option("--stats-jsonl", out.stats_jsonl, "Per-frame statistics as JSON lines into FILE");
+  app.add_option("--schedule", schedule, "paper: show frame n-p+x; newest: always the newest pose")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"paper", "newest"}));
+  app.add_option("--x-max", out.x_max, "Paper schedule: frames predicted at most")->capture_default_str();
+  app.add_option("--record-trace", out.record_trace, "OpenXR: record the session's views as a canonical trace");
+  app.add_option("--connect-timeout", out.connect_timeout_s, "Give up on the server after this many seconds")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 600.0));
+  app.add_option("--vk-device", out.vk_device, "Vulkan device: auto | gpu | lavapipe")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "gpu", "lavapipe", "cpu"}));
+  app.add_option("--swapchain-format", out.swapchain_format, "Preferred swapchain colour encoding: srgb | unorm")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"srgb", "unorm"}));
+  net::add_impairment_options(app, out.impairment);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    *exit_code = app.exit(e);
+    return ParseOutcome::kExit;
+  }
+  auto usage = [&](const std::string& message) {
+    std::fprintf(stderr, "error: %s (see --help)\n", message.c_str());
+    *exit_code = 2;
+    return ParseOutcome::kExit;
+  };
+  if (frames > 0) out.frames = frames;
+  if (!eye_size.empty()) out.eye_size = *parse_extent(eye_size, nullptr);
+  if (!guard.empty()) {
+    const Extent g = *parse_extent(guard, nullptr);
+    out.guard = GuardBand{g.width, g.height};
+  }
+  out.schedule = *parse_schedule(schedule);
+  if (out.smoke) {
+    out.smoke_options.frames = out.frames.value_or(out.smoke_options.frames);
+    out.smoke_options.timeout_s = app.count("--timeout") > 0 ? out.timeout_s : out.smoke_options.timeout_s;
+    out.smoke_options.device = vk::parse_device_preference(out.vk_device);
+    out.smoke_options.color_encoding =
+        out.swapchain_format == "unorm" ? xr::ColorEncoding::kUnorm : xr::ColorEncoding::kSrgb;
+    return ParseOutcome::kRun;
+  }
+  if (out.scene.empty()) return usage("--scene FILE is required (or --smoke)");
+  if (out.server.empty()) return usage("--server HOST:PORT is required");
+  if (!out.trace.empty() && out.offscreen.empty()) return usage("--trace plays offscreen: add --offscreen DIR");
+  if (!out.record_trace.empty() && !out.offscreen.empty()) {
+    return usage("--record-trace records OpenXR views: it cannot be combined with --offscreen");
+  }
+  return ParseOutcome::kRun;
+}
+
+}  // namespace dhr::client

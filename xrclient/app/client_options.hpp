@@ -1,0 +1,50 @@
+// dhr-xrclient's command line (docs/client.md, "Command line"). Parsing is separate from running so the
+// executable's main stays small and the contract is in one place.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "core/projection.hpp"
+#include "core/schedule.hpp"
+#include "net/impairment.hpp"
+#include "smoke.hpp"
+
+namespace dhr::client {
+
+struct ClientOptions {
+  bool smoke = false;
+  SmokeOptions smoke_options;  // --frames, --timeout, --vk-device, --swapchain-format also apply to --smoke
+
+  std::string scene;        // --scene FILE
+  std::string server;       // --server HOST:PORT
+  std::string trace;        // --trace FILE (offscreen playback)
+  std::string offscreen;    // --offscreen DIR (no OpenXR; PNGs and statistics)
+  std::optional<uint32_t> frames;  // --frames N (default: 300, or the trace's length)
+  double timeout_s = 120.0;        // wall-clock cap of the frame phase
+  Extent eye_size{320, 240};       // --eye-size WxH (offscreen; OpenXR uses the runtime's size)
+  std::optional<GuardBand> guard;  // --guard WxH, extra pixels per axis (default: the paper's 64x36 at 1920x1080)
+  uint32_t png_every = 30;         // --png-every N (offscreen, --snapshot-dir; 0 = none)
+  std::string snapshot_dir;        // --snapshot-dir DIR (OpenXR: PNGs of the presented images)
+  std::string stats_jsonl;         // --stats-jsonl FILE
+  Schedule schedule = Schedule::kNewest;
+  uint32_t x_max = 3;
+  std::string record_trace;  // --record-trace FILE (OpenXR path)
+  double connect_timeout_s = 5.0;
+  std::string vk_device = "auto";
+  std::string swapchain_format = "srgb";
+  net::ImpairmentParams impairment;
+};
+
+enum class ParseOutcome { kRun, kExit };
+
+// Parses argv. kExit with *exit_code set for --help (0) and for usage errors (2, message printed).
+ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int* exit_code);
+
+// "WxH" with both in 1..kMaxImageDimension (guard: 0..4096, even).
+std::optional<Extent> parse_extent(const std::string& text, std::string* out_error);
+
+// The guard band used when --guard is not given: the paper's 64x36 at 1920x1080 scaled to the eye size.
+GuardBand default_guard_band(Extent eye);
+
+}  // namespace dhr::client

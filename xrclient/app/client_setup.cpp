@@ -1,0 +1,92 @@
+#include "app/client_setup.hpp"
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <thread>
+
+#include "core/log.hpp"
+#include "net/peer_address.hpp"
+
+namespace dhr::client {
+
+Scene load_client_scene(const std::string& path) {
+  SceneLoadResult loaded = load_scene(path);
+  if (!loaded) throw std::runtime_error("cannot load scene: " + loaded.error);
+  for (const std::string& w : loaded.scene->warnings) log::warn("scene: %s", w.c_str());
+  log::info("scene: %s", scene_summary(*loaded.scene).c_str());
+  return std::move(*loaded.scene);
+}
+
+std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard) {
+  std::string host;
+  uint16_t port = 0;
+  if (!net::split_host_port(options.server, host, port)) {
+    throw std::runtime_error("--server: expected HOST:PORT, got '" + options.server + "'");
+  }
+  VisibilityClientConfig config;
+  config.eye_width = static_cast<uint16_t>(eye.width);
+  config.eye_height = static_cast<uint16_t>(eye.height);
+  config.guard_x = static_cast<uint16_t>(guard.x / 2);
+  config.guard_y = static_cast<uint16_t>(guard.y / 2);
+  config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);
+  auto link = std::make_unique<UdpVisibilityClient>();
+  link->connect(config, host, port, options.impairment);
+  // Setup, not the frame loop: waiting for the handshake here keeps the first frames meaningful.
+  while (true) {
+    link->client().tick();
+    if (link->client().connected()) break;
+    if (link->client().failed()) {
+      throw std::runtime_error("no dhr-server reachable at " + options.server + ": " + link->client().failure());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  const Welcome w = *link->client().welcome();
+  log::info("connected to %s: %ux%u per eye traced (guard %u,%u per side), %u lights", options.server.c_str(),
+            w.buffer_width, w.buffer_height, w.guard_x, w.guard_y, w.light_count);
+  return link;
+}
+
+std::string summary_json(const RunSummary& run, const ClientOptions& options, const FrameSummary& frames,
+                         const UdpVisibilityClient& link) {
+  const ClientNetStats net = link.client().stats();
+  const net::UdpCounters udp = link.udp_counters();
+  nlohmann::ordered_json j;
+  j["frames"] = run.frames;
+  j["fps"] = run.fps;
+  const auto opt = [](std::optional<double> v) { return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(); };
+  j["response_ms_median"] = opt(frames.response_ms_median());
+  j["bits_per_frame"] = run.frames > 0 ? 8.0 * static_cast<double>(udp.bytes_received) / static_cast<double>(run.frames)
+                                       : 0.0;
+  j["predicted_frac"] = frames.predicted_frac();
+  j["unknown_frac"] = frames.unknown_frac();
+  j["mode"] = run.mode;
+  j["exit"] = run.exit;
+  j["pose_source"] = run.pose_source;
+  j["elapsed_s"] = run.elapsed_s;
+  j["eye_size"] = {run.eye.width, run.eye.height};
+  j["guard"] = {run.guard.x, run.guard.y};
+  if (const auto w = link.client().welcome()) {
+    j["buffer_size"] = {w->buffer_width, w->buffer_height};
+    j["lights"] = w->light_count;
+  }
+  j["schedule"] = schedule_name(options.schedule);
+  j["x_max"] = options.x_max;
+  j["frames_with_visibility"] = frames.frames_with_visibility();
+  j["age_frames_median"] = opt(frames.age_median());
+  j["responses"] = frames.responses();
+  j["gbuffer_ms_median"] = opt(frames.gbuffer_ms_median());
+  j["prediction_ms_median"] = opt(frames.prediction_ms_median());
+  j["shading_ms_median"] = opt(frames.shading_ms_median());
+  j["poses_rejected"] = run.poses_rejected;
+  j["png_files"] = run.png_files;
+  j["net"] = {{"poses_sent", net.poses_sent},
+              {"bytes_received", udp.bytes_received},
+              {"frames_completed", net.frames_completed},
+              {"frames_published_partial", net.frames_published_partial},
+              {"server_datagrams_missing", net.server_datagrams_missing},
+              {"impairment", options.impairment.describe()}};
+  return j.dump();
+}
+
+}  // namespace dhr::client

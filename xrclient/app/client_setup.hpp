@@ -1,0 +1,38 @@
+// Setup shared by the offscreen and the OpenXR runs: the scene, the connection to dhr-server (waiting for
+// the handshake, bounded), the pose guard's fallback, and the one-line JSON summary printed last.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "app/client_options.hpp"
+#include "core/frame_record.hpp"
+#include "core/scene.hpp"
+#include "net/udp_visibility_client.hpp"
+
+namespace dhr::client {
+
+// Throws std::runtime_error("cannot load scene: <file>: <problem>").
+Scene load_client_scene(const std::string& path);
+
+// Connects and waits for the Welcome (tick() every few ms, at most --connect-timeout). Throws
+// std::runtime_error with one line: bad address, "no dhr-server answered at HOST:PORT ...", or the refusal.
+std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard);
+
+struct RunSummary {
+  std::string mode;  // "offscreen" | "openxr"
+  std::string exit = "clean";
+  uint64_t frames = 0;
+  double fps = 0.0;
+  double elapsed_s = 0.0;
+  Extent eye;
+  GuardBand guard;
+  uint64_t poses_rejected = 0;
+  uint64_t png_files = 0;
+  std::string pose_source;
+};
+
+// The last stdout line: frames, fps, response_ms_median, bits_per_frame, predicted_frac, unknown_frac, ...
+std::string summary_json(const RunSummary& run, const ClientOptions& options, const FrameSummary& frames,
+                         const UdpVisibilityClient& link);
+
+}  // namespace dhr::client

@@ -1,0 +1,137 @@
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include "app/client_setup.hpp"
+#include "app/run_modes.hpp"
+#include "core/eye_model.hpp"
+#include "core/frame_coordinator.hpp"
+#include "core/log.hpp"
+#include "core/network_visibility_source.hpp"
+#include "pose/openxr_pose_source.hpp"
+#include "pose/pose_guard.hpp"
+#include "render/client_scene.hpp"
+#include "session_loop.hpp"
+#include "sink/png_sink.hpp"
+#include "sink/stats_sink.hpp"
+#include "sink/swapchain_sink.hpp"
+#include "watchdog.hpp"
+#include "xr/headset.hpp"
+
+namespace dhr::client {
+
+namespace {
+
+// Margin of the hard cap beyond the frame-phase cap: setup, exit walk and teardown.
+constexpr std::chrono::seconds kHardCapMargin{30};
+
+bool is_bgra(VkFormat f) { return f == VK_FORMAT_B8G8R8A8_SRGB || f == VK_FORMAT_B8G8R8A8_UNORM; }
+
+}  // namespace
+
+int run_openxr(const ClientOptions& options) {
+  Watchdog watchdog(std::chrono::milliseconds(static_cast<int64_t>(options.timeout_s * 1000.0)) + kHardCapMargin,
+                    "dhr-xrclient exceeded its wall-clock cap (a runtime call did not return)");
+  const Scene scene = load_client_scene(options.scene);
+
+  xr::HeadsetOptions headset_options;
+  headset_options.instance.app_name = "dhr-xrclient";
+  headset_options.vulkan.app_name = "dhr-xrclient";
+  headset_options.vulkan.device = vk::parse_device_preference(options.vk_device);
+  headset_options.color_encoding =
+      options.swapchain_format == "unorm" ? xr::ColorEncoding::kUnorm : xr::ColorEncoding::kSrgb;
+  const std::unique_ptr<xr::Headset> headset = xr::Headset::open(headset_options);
+  const vk::Context& vulkan = headset->vulkan();
+  const xr::SwapchainDesc& desc = headset->swapchain(0).desc();
+  const Extent eye{desc.width, desc.height};
+  if (headset->swapchain(1).desc().width != eye.width || headset->swapchain(1).desc().height != eye.height) {
+    throw std::runtime_error("the runtime's eyes differ in size; this client renders both at one size");
+  }
+  const render::ClientScene client_scene(vulkan, scene);
+  const GuardBand guard = options.guard.value_or(default_guard_band(eye));
+  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard);
+  NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
+
+  CoordinatorOptions coordinator_options;
+  coordinator_options.schedule = options.schedule;
+  coordinator_options.x_max = options.x_max;
+  // The raw copy into a BGRA swapchain needs the channels swapped by the shading pass.
+  coordinator_options.eye.shading.swap_red_blue = is_bgra(desc.format);
+  FrameCoordinator coordinator(vulkan, client_scene, eye, source, coordinator_options);
+  std::unique_ptr<StatsSink> stats;
+  if (!options.stats_jsonl.empty()) stats = std::make_unique<StatsSink>(options.stats_jsonl);
+  coordinator.set_on_frame([&stats](const FrameRecord& r) {
+    if (stats) stats->write(r);
+  });
+
+  OpenXrPoseSource poses;
+  if (!options.record_trace.empty()) poses.record_to(options.record_trace);
+  SwapchainSink swapchain;
+  SinkList sinks;
+  sinks.add(swapchain);
+  std::unique_ptr<PngSink> snapshots;
+  if (!options.snapshot_dir.empty()) {
+    snapshots = std::make_unique<PngSink>(vulkan, options.snapshot_dir, options.png_every);
+    sinks.add(*snapshots);
+  }
+  const EyeModel eyes = EyeModel::monado_simulated();
+  PoseGuard guard_poses(eyes.views(Pose{glm::dvec3(0.0, kDefaultEyeHeightMetres, 0.0), glm::dquat(1, 0, 0, 0)}));
+  RunSummary run;
+  run.mode = "openxr";
+  run.eye = eye;
+  run.guard = guard;
+  run.pose_source = poses.describe();
+  bool warned_failure = false;
+
+  const xr::RenderFn render = [&](const xr::FrameState& frame, const std::array<xr::EyeTarget, xr::kEyeCount>& t) {
+    poses.set_frame(frame);
+    PoseSample sample;
+    poses.next(sample);
+    if (source.failed() && !warned_failure) {
+      log::error("network: %s; rendering on with the last visibility", source.failure().c_str());
+      warned_failure = true;
+    }
+    FrameInput input;
+    input.frame = sample.frame;
+    input.display_time_ns = sample.display_time_ns;
+    input.views = sample.views;
+    input.pose_reused = guard_poses.filter(sample.frame, input.views);
+    swapchain.set_targets(t);
+    // A failure is reported after the frame (after_frame below) so the session can be walked down.
+    if (coordinator.run_frame(input, sinks)) ++run.frames;
+  };
+  SessionLoopOptions loop_options;
+  loop_options.frames = options.frames.value_or(300);
+  loop_options.timeout_s = options.timeout_s;
+  loop_options.log_name = "xrclient";
+  const SessionLoopResult result = run_session_loop(*headset, loop_options, render, [&](const xr::FrameState&) {
+    return coordinator.last_error().empty();
+  });
+  if (!coordinator.finish() || !coordinator.last_error().empty()) {
+    log::error("xrclient: rendering failed: %s", coordinator.last_error().c_str());
+    run.exit = "error";
+  } else {
+    run.exit = result.exit;
+  }
+  std::string error;
+  if (!poses.close_recording(&error)) log::error("record trace: %s", error.c_str());
+  if (!options.record_trace.empty()) {
+    log::info("recorded %zu poses into %s", poses.rows_recorded(), options.record_trace.c_str());
+  }
+  const xr::FrameLoop& loop = headset->frame_loop();
+  run.elapsed_s = std::chrono::duration<double>(loop.last_end_time() - loop.first_end_time()).count();
+  run.fps = loop.frames_ended() > 1 && run.elapsed_s > 0.0
+                ? static_cast<double>(loop.frames_ended() - 1) / run.elapsed_s
+                : 0.0;
+  run.frames = loop.frames_presented();
+  run.poses_rejected = guard_poses.rejected();
+  if (snapshots) run.png_files = snapshots->files_written();
+  const std::string summary = summary_json(run, options, coordinator.summary(), *link);
+  link->close();
+  std::fflush(stderr);
+  std::printf("%s\n", summary.c_str());
+  std::fflush(stdout);
+  return run.exit == "clean" ? kExitOk : kExitNotClean;
+}
+
+}  // namespace dhr::client
