@@ -1,0 +1,43 @@
+// The client's real per-eye pipeline (xrclient/render/EyePipeline: G-buffer, prediction, shading) run
+// synchronously for one eye and read back: the shaded RGBA8 image and the predicted light masks.
+#pragma once
+#include "core/projection.hpp"
+#include "core/scene.hpp"
+#include "core/visibility.hpp"
+#include "render/client_scene.hpp"
+#include "render/eye_pipeline.hpp"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dhr::vk {
+class Context;
+}
+
+namespace dhr::eval {
+
+struct EyeRender {
+  std::vector<uint8_t> rgba;  // display-sized, sRGB-encoded bytes
+  VisibilityBuffer mask;      // display-sized predicted masks (all light bits where unknown)
+  render::EyeStats stats;
+  double host_ms = 0.0;       // record + submit + wait, host wall time
+};
+
+class EyeRenderer {
+ public:
+  // Throws (setup) when the scene cannot be uploaded.
+  EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye);
+  EyeRender render(int eye, const View& view, const render::VisibilityInput& input);
+  uint32_t light_count() const { return light_count_; }
+
+ private:
+  const vk::Context* context_;
+  render::ClientScene scene_;
+  std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
+  uint32_t light_count_ = 0;
+};
+
+}  // namespace dhr::eval

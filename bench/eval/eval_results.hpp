@@ -1,0 +1,44 @@
+// The per-setting results (means over measured frames and eyes) and their JSON / CSV files.
+#pragma once
+#include "eval_session.hpp"
+#include "eval_settings.hpp"
+
+#include <string>
+#include <vector>
+
+namespace dhr::eval {
+
+struct SettingResult {
+  Setting setting;
+  uint64_t frames = 0;  // measured frames
+  double bit_error = 0.0;
+  std::vector<double> bit_error_per_light;
+  double ssim = 0.0;
+  double psnr = 0.0;  // from the mean MSE over frames and eyes; +inf when every frame matched exactly
+  double mse = 0.0;
+  double unknown_frac = 0.0;
+  double no_data_frac = 0.0;  // eye-frames with nothing received yet
+  double client_ms = 0.0;     // per eye
+  bool client_gpu_timed = false;
+  double server_ms = 0.0;     // per traced eye
+  double encode_ms = 0.0;     // per traced eye
+  double decode_ms = 0.0;     // per traced eye (all its shards)
+  double bytes_per_frame = 0.0;  // visibility bytes on the wire per traced frame (both eyes)
+  double response_ms = 0.0;
+  double frames_behind = 0.0;     // mean p
+  double frames_predicted = 0.0;  // mean x
+  double prediction_fallback_frac = 0.0;
+  double prediction_capped_frac = 0.0;
+  double horizon_ms = 0.0;
+  uint64_t datagrams_lost = 0;
+};
+
+SettingResult summarize(const Setting& setting, const SettingTotals& totals, uint64_t frames);
+
+// JSON: a list of objects (keys as in SettingResult; psnr null when infinite). CSV: one row per setting.
+std::string results_json(const std::vector<SettingResult>& results);
+std::string results_csv(const std::vector<SettingResult>& results);
+// A fixed-width table for the terminal.
+std::string results_table(const std::vector<SettingResult>& results);
+
+}  // namespace dhr::eval

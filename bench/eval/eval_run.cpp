@@ -1,0 +1,195 @@
+#include "eval_run.hpp"
+
+#include "core/eye_model.hpp"
+#include "core/log.hpp"
+#include "eval_render.hpp"
+#include "eval_results.hpp"
+#include "eval_session.hpp"
+#include "json_writer.hpp"
+#include "pose/trace_pose_source.hpp"
+#include "vk/context.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+namespace dhr::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kMinWarmupMs = 250.0;
+
+// The part of the trace from start_s on (the first sample interpolated at exactly start_s).
+PoseTrace skip_start(const PoseTrace& trace, double start_s) {
+  if (start_s <= 0.0) return trace;
+  const double t0 = trace.start_time() + start_s;
+  PoseTrace out = trace;
+  out.samples.clear();
+  out.samples.push_back(trace.sample(t0));
+  out.samples.front().time = t0;
+  for (const TraceSample& s : trace.samples) {
+    if (s.time > t0) out.samples.push_back(s);
+  }
+  return out;
+}
+
+bool write_file(const fs::path& path, const std::string& text) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file << text;
+  return static_cast<bool>(file);
+}
+
+void progress(uint64_t done, uint64_t total, size_t settings, double elapsed_s) {
+  const int width = 30;
+  const int filled = total > 0 ? static_cast<int>(width * done / total) : width;
+  std::string bar(static_cast<size_t>(filled), '=');
+  bar.resize(static_cast<size_t>(width), ' ');
+  const double eta = done > 0 ? elapsed_s * static_cast<double>(total - done) / static_cast<double>(done) : 0.0;
+  std::fprintf(stderr, "\r[%s] %3d%% frame %llu/%llu, %zu settings, %.0f s elapsed, ~%.0f s left ", bar.c_str(),
+               total > 0 ? static_cast<int>(100 * done / total) : 100, static_cast<unsigned long long>(done),
+               static_cast<unsigned long long>(total), settings, elapsed_s, eta);
+  std::fflush(stderr);
+}
+
+// Traced with the setting's guard band too (only the display region is used): a camera with another guard
+// band computes its ray directions with other rounding, which can flip a silhouette pixel.
+Truth ground_truth(server::VisibilityTracer& tracer, EyeRenderer& renderer, Extent eye_size, GuardBand guard,
+                   const client::PoseSample& sample) {
+  Truth truth;
+  for (int eye = 0; eye < 2; ++eye) {
+    const Camera camera = Camera::with_guard_band(sample.views[eye], eye_size, guard);
+    VisibilityBuffer exact;
+    server::TraceStats stats;
+    tracer.trace(camera, exact, stats);
+    render::VisibilityInput input;
+    input.buffer = &exact;
+    input.traced = camera;
+    EyeRender r = renderer.render(eye, sample.views[eye], input);
+    truth.luma[eye] = luma_from_rgba8(r.rgba, eye_size.width, eye_size.height);
+    truth.mask[eye] = std::move(r.mask);
+  }
+  return truth;
+}
+
+}  // namespace
+
+int run_eval(const RunOptions& options, const std::string& command_line) {
+  const auto started = std::chrono::steady_clock::now();
+  try {
+    const SceneLoadResult loaded = load_scene(options.scene);
+    if (!loaded) throw std::runtime_error(loaded.error);
+    const Scene& scene = *loaded.scene;
+    if (scene.lights.size() > kMaxLights) throw std::runtime_error(options.scene + ": more than 32 lights");
+    PoseTrace trace = client::TracePoseSource::load(options.trace);
+    if (options.trace_start_s >= trace.duration()) {
+      throw std::runtime_error(options.trace + ": --trace-start is past the end of the trace");
+    }
+    trace = skip_start(trace, options.trace_start_s);
+    std::string placement_note;
+    const TracePlacement placement = default_trace_placement(options.scene, &placement_note);
+    const EyeModel eyes = EyeModel::typical_headset();
+    client::TracePoseSource source(trace, eyes, placement, fs::path(options.trace).filename().string());
+
+    const std::vector<Setting> settings = expand_settings(options);
+    if (settings.empty()) throw std::runtime_error("no settings to run (empty lists)");
+    double max_rtt = 0.0;
+    for (const Setting& s : settings) max_rtt = std::max(max_rtt, s.rtt_ms);
+    const double period_ms = static_cast<double>(client::kVirtualFramePeriodNs) * 1e-6;
+    const uint64_t warmup = static_cast<uint64_t>(
+        std::ceil(std::max(kMinWarmupMs, max_rtt + 4.0 * options.jitter_ms + 30.0) / period_ms));
+    const uint64_t available = source.frame_count();
+    if (available <= warmup) {
+      throw std::runtime_error(options.trace + ": too short for the warm-up of " + std::to_string(warmup) + " frames");
+    }
+    const uint64_t frames = options.frames > 0 ? std::min(options.frames, available - warmup) : available - warmup;
+
+    fs::create_directories(options.out_dir);
+    vk::ContextOptions vk_options;
+    vk_options.app_name = "dhr-eval";
+    const std::unique_ptr<vk::Context> context = vk::Context::create(vk_options);
+    EyeRenderer renderer(*context, scene, options.eye);
+    server::TracerOptions tracer_options;
+    tracer_options.threads = options.threads;
+    const std::unique_ptr<server::VisibilityTracer> tracer =
+        server::create_tracer(server::TracerBackend::kEmbree, scene, tracer_options);
+
+    std::vector<client::PoseSample> history;
+    SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), &history};
+    std::vector<std::unique_ptr<SettingSession>> sessions;
+    for (const Setting& s : settings) sessions.push_back(std::make_unique<SettingSession>(s, options, shared));
+
+    log::info("dhr-eval: %zu settings, %llu warm-up + %llu measured frames, eyes %ux%u, %s, tracer %s",
+              settings.size(), static_cast<unsigned long long>(warmup), static_cast<unsigned long long>(frames),
+              options.eye.width, options.eye.height, context->info().name.c_str(),
+              tracer->device_description().c_str());
+    const uint64_t total = warmup + frames;
+    for (uint64_t i = 0; i < total; ++i) {
+      client::PoseSample sample;
+      if (!source.next(sample)) break;
+      sample.views = wire_views(sample.views);
+      history.push_back(sample);
+      const bool measured = i >= warmup;
+      std::map<std::string, Truth> truths;  // per guard band
+      if (measured) {
+        for (const Setting& s : settings) {
+          if (!truths.contains(s.guard)) truths[s.guard] = ground_truth(*tracer, renderer, options.eye, s.guard_px, sample);
+        }
+      }
+      for (auto& session : sessions) {
+        session->advance(sample);
+        if (measured) session->measure(truths.at(session->setting().guard));
+      }
+      if (options.progress && (i % 4 == 0 || i + 1 == total)) {
+        progress(i + 1, total, sessions.size(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+      }
+    }
+    if (options.progress) std::fprintf(stderr, "\n");
+
+    std::vector<SettingResult> results;
+    for (const auto& session : sessions) results.push_back(summarize(session->setting(), session->totals(), frames));
+    const fs::path out(options.out_dir);
+    bench::JsonWriter meta;
+    meta.begin_object();
+    meta.value("command", command_line);
+    meta.value("scene", options.scene);
+    meta.value("trace", options.trace);
+    meta.value("trace_start_s", options.trace_start_s, 3);
+    meta.value("placement", placement_note);
+    meta.value("eye_width", options.eye.width);
+    meta.value("eye_height", options.eye.height);
+    meta.value("frame_rate_hz", 1e9 / static_cast<double>(client::kVirtualFramePeriodNs), 3);
+    meta.value("warmup_frames", static_cast<unsigned long long>(warmup));
+    meta.value("frames", static_cast<unsigned long long>(frames));
+    meta.value("lights", renderer.light_count());
+    meta.value("jitter_ms", options.jitter_ms, 3);
+    meta.value("loss", options.loss, 4);
+    meta.value("seed", static_cast<unsigned long long>(options.seed));
+    meta.value("client_device", context->info().name + " (" + context->info().driver_info + ")");
+    meta.value("tracer", tracer->device_description());
+    meta.value("wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 1);
+    meta.end_object();
+    if (!write_file(out / "results.json", results_json(results)) || !write_file(out / "results.csv", results_csv(results)) ||
+        !write_file(out / "run.json", meta.str() + "\n")) {
+      throw std::runtime_error(options.out_dir + ": cannot write the results");
+    }
+    std::printf("%s", results_table(results).c_str());
+    std::printf("dhr-eval: %llu frames x 2 eyes x %zu settings in %.1f s; results in %s\n",
+                static_cast<unsigned long long>(frames), settings.size(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+                (out / "results.json").string().c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dhr-eval: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace dhr::eval

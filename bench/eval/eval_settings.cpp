@@ -1,0 +1,152 @@
+#include "eval_settings.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace dhr::eval {
+
+const char* method_name(Method method) {
+  switch (method) {
+    case Method::kStale: return "stale";
+    case Method::kPaper: return "paper";
+    case Method::kPaperPred: return "paper+pred";
+  }
+  return "unknown";
+}
+
+std::optional<Method> parse_method(const std::string& text) {
+  for (const Method m : {Method::kStale, Method::kPaper, Method::kPaperPred}) {
+    if (text == method_name(m)) return m;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = text.find(',', start);
+    const size_t end = comma == std::string::npos ? text.size() : comma;
+    out.push_back(text.substr(start, end - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+namespace {
+
+bool fail(std::string* out_error, const std::string& message) {
+  if (out_error) *out_error = message;
+  return false;
+}
+
+bool parse_double(const std::string& s, double& out) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtod(s.c_str(), &end);
+  return errno == 0 && end == s.c_str() + s.size() && std::isfinite(out);
+}
+
+bool parse_uint(const std::string& s, uint32_t& out) {
+  if (s.empty() || s.size() > 9) return false;
+  for (const char c : s) {
+    if (c < '0' || c > '9') return false;
+  }
+  out = static_cast<uint32_t>(std::strtoul(s.c_str(), nullptr, 10));
+  return true;
+}
+
+}  // namespace
+
+std::optional<Extent> parse_size(const std::string& text) {
+  const size_t x = text.find('x');
+  uint32_t w = 0, h = 0;
+  if (x == std::string::npos || !parse_uint(text.substr(0, x), w) || !parse_uint(text.substr(x + 1), h)) {
+    return std::nullopt;
+  }
+  return Extent{w, h};
+}
+
+std::optional<std::vector<double>> parse_rtt_list(const std::string& text, std::string* out_error) {
+  std::vector<double> out;
+  for (const std::string& item : split_list(text)) {
+    double v = 0.0;
+    if (!parse_double(item, v) || v < 0.0 || v > 10000.0) {
+      fail(out_error, "--rtt-ms: expected milliseconds in [0, 10000], got '" + item + "'");
+      return std::nullopt;
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+std::optional<std::vector<int>> parse_x_max_list(const std::string& text, std::string* out_error) {
+  std::vector<int> out;
+  for (const std::string& item : split_list(text)) {
+    uint32_t v = 0;
+    if (item == "all") {
+      out.push_back(-1);
+    } else if (parse_uint(item, v) && v <= 1000) {
+      out.push_back(static_cast<int>(v));
+    } else {
+      fail(out_error, "--x-max: expected a frame count 0..1000 or 'all', got '" + item + "'");
+      return std::nullopt;
+    }
+  }
+  return out;
+}
+
+std::optional<std::vector<std::string>> parse_guard_list(const std::string& text, std::string* out_error) {
+  std::vector<std::string> out;
+  for (const std::string& item : split_list(text)) {
+    const std::optional<Extent> e = parse_size(item);
+    if (item != "0" && (!e || e->width > 1920 || e->height > 1080)) {
+      fail(out_error, "--guard: expected 0 or WxH pixels at 1920x1080 (e.g. 64x36), got '" + item + "'");
+      return std::nullopt;
+    }
+    out.push_back(item);
+  }
+  return out;
+}
+
+std::optional<std::vector<Method>> parse_method_list(const std::string& text, std::string* out_error) {
+  std::vector<Method> out;
+  for (const std::string& item : split_list(text)) {
+    const std::optional<Method> m = parse_method(item);
+    if (!m) {
+      fail(out_error, "--method: expected stale, paper or paper+pred, got '" + item + "'");
+      return std::nullopt;
+    }
+    out.push_back(*m);
+  }
+  return out;
+}
+
+GuardBand guard_for_eye(const std::string& label, Extent eye) {
+  const std::optional<Extent> e = parse_size(label);
+  if (!e) return GuardBand{};
+  return scale_guard_band(GuardBand{e->width, e->height}, Extent{1920, 1080}, eye);
+}
+
+std::vector<Setting> expand_settings(const RunOptions& options) {
+  std::vector<Setting> out;
+  for (const std::string& guard : options.guard) {
+    for (const double rtt : options.rtt_ms) {
+      for (const Method method : options.methods) {
+        if (method == Method::kStale) {
+          out.push_back(Setting{method, rtt, -1, guard, guard_for_eye(guard, options.eye)});
+          continue;
+        }
+        for (const int x_max : options.x_max) {
+          out.push_back(Setting{method, rtt, x_max, guard, guard_for_eye(guard, options.eye)});
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace dhr::eval

@@ -1,0 +1,59 @@
+// dhr-eval's run options and the settings it sweeps (the cartesian product of the option lists).
+#pragma once
+#include "core/projection.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dhr::eval {
+
+// How the displayed frame gets its visibility:
+//   kStale     the newest received buffer used as if it had been traced for the displayed pose (no warp)
+//   kPaper     the paper's warp: the newest buffer reprojected from the pose it was traced for
+//   kPaperPred kPaper, with the server tracing the pose its PosePredictor predicts for the display time
+enum class Method { kStale, kPaper, kPaperPred };
+const char* method_name(Method method);
+std::optional<Method> parse_method(const std::string& text);
+
+struct Setting {
+  Method method = Method::kPaper;
+  double rtt_ms = 0.0;
+  int x_max = -1;          // frames predicted at most (x = min(x_max, p)); -1: unlimited (x = p)
+  std::string guard;       // as given: "0", "64x36" (pixels at 1920x1080, scaled to the eye size)
+  GuardBand guard_px;      // scaled to the eye size
+};
+
+struct RunOptions {
+  std::string scene;
+  std::string trace;
+  std::string out_dir;
+  std::vector<double> rtt_ms{0.0, 25.0, 50.0, 100.0, 200.0};
+  std::vector<int> x_max{-1};
+  std::vector<std::string> guard{"64x36"};
+  std::vector<Method> methods{Method::kStale, Method::kPaper, Method::kPaperPred};
+  uint64_t frames = 0;           // measured frames; 0: as many as the trace holds after the warm-up
+  Extent eye{160, 120};
+  double trace_start_s = 0.0;    // skip this much of the trace
+  double jitter_ms = 0.0;        // per direction, uniform
+  double loss = 0.0;             // per datagram, both directions
+  uint64_t seed = 1;
+  uint32_t threads = 0;          // Embree threads (0: all cores)
+  bool progress = true;
+};
+
+// Splits "a,b,c" (no empty items). Each parser returns std::nullopt with a one-line reason in out_error.
+std::vector<std::string> split_list(const std::string& text);
+std::optional<std::vector<double>> parse_rtt_list(const std::string& text, std::string* out_error);
+std::optional<std::vector<int>> parse_x_max_list(const std::string& text, std::string* out_error);  // ints, "all"
+std::optional<std::vector<std::string>> parse_guard_list(const std::string& text, std::string* out_error);
+std::optional<std::vector<Method>> parse_method_list(const std::string& text, std::string* out_error);
+std::optional<Extent> parse_size(const std::string& text);  // "WxH", both >= 0
+// A guard label ("0" or "WxH" at 1920x1080) scaled to the eye size.
+GuardBand guard_for_eye(const std::string& label, Extent eye);
+
+// Every combination; kStale ignores x_max (one setting per rtt and guard, x_max = -1).
+std::vector<Setting> expand_settings(const RunOptions& options);
+
+}  // namespace dhr::eval

@@ -1,0 +1,180 @@
+// dhr-eval end to end, through its command-line contract: a few frames at a low resolution on the default
+// scene and the shipped synthetic 6-DoF trace; checks the metrics are sane and ordered as physics says.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const std::string kScene = std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf";
+const std::string kTrace = std::string(DHR_SOURCE_DIR) + "/assets/traces/synthetic_6dof.csv";
+
+struct CliRun {
+  int exit_code = -1;
+  std::string output;  // stdout + stderr
+};
+
+CliRun run_cli(const std::string& args) {
+  const std::string command = std::string(DHR_EVAL_EXE) + " " + args + " 2>&1";
+  CliRun r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  char buffer[4096];
+  size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("dhr_eval_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+json read_results(const fs::path& dir) {
+  std::ifstream file(dir / "results.json");
+  return json::parse(file);
+}
+
+// results keyed "method@rtt".
+std::map<std::string, json> by_setting(const json& results) {
+  std::map<std::string, json> out;
+  for (const json& r : results) out[r["method"].get<std::string>() + "@" + std::to_string(r["rtt_ms"].get<int>())] = r;
+  return out;
+}
+
+std::string small_run(const fs::path& out, const std::string& extra = "") {
+  return "run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+         " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,50,100 --method stale,paper,paper+pred " +
+         extra;
+}
+
+class EvalCliTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(temp_dir("main"));
+    run_ = new CliRun(run_cli(small_run(*dir_)));
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    delete dir_;
+    delete run_;
+  }
+  static fs::path* dir_;
+  static CliRun* run_;
+};
+fs::path* EvalCliTest::dir_ = nullptr;
+CliRun* EvalCliTest::run_ = nullptr;
+
+TEST_F(EvalCliTest, WritesEverySettingWithTheContractKeys) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->output;
+  const json results = read_results(*dir_);
+  ASSERT_TRUE(results.is_array());
+  EXPECT_EQ(results.size(), 9u);
+  for (const json& r : results) {
+    for (const char* key : {"method", "rtt_ms", "x_max", "guard", "frames", "bit_error", "ssim", "psnr", "unknown_frac",
+                            "client_ms", "server_ms", "bytes_per_frame", "response_ms"}) {
+      EXPECT_TRUE(r.contains(key)) << key;
+    }
+    EXPECT_EQ(r["frames"].get<int>(), 8);
+    EXPECT_GE(r["bit_error"].get<double>(), 0.0);
+    EXPECT_LE(r["bit_error"].get<double>(), 1.0);
+    EXPECT_GT(r["ssim"].get<double>(), 0.0);
+    EXPECT_LE(r["ssim"].get<double>(), 1.0);
+    EXPECT_GE(r["unknown_frac"].get<double>(), 0.0);
+    EXPECT_LE(r["unknown_frac"].get<double>(), 1.0);
+    EXPECT_GT(r["bytes_per_frame"].get<double>(), 0.0);
+    EXPECT_GT(r["server_ms"].get<double>(), 0.0);
+    EXPECT_GT(r["client_ms"].get<double>(), 0.0);
+  }
+  EXPECT_TRUE(fs::exists(*dir_ / "results.csv"));
+  EXPECT_TRUE(fs::exists(*dir_ / "run.json"));
+}
+
+TEST_F(EvalCliTest, ZeroDelayIsExact) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->output;
+  for (const auto& [key, r] : by_setting(read_results(*dir_))) {
+    if (r["rtt_ms"].get<double>() != 0.0) continue;
+    EXPECT_EQ(r["bit_error"].get<double>(), 0.0) << key;
+    EXPECT_EQ(r["ssim"].get<double>(), 1.0) << key;
+    EXPECT_TRUE(r["psnr"].is_null()) << key << ": identical images have infinite PSNR";
+    EXPECT_EQ(r["unknown_frac"].get<double>(), 0.0) << key;
+    EXPECT_EQ(r["response_ms"].get<double>(), 0.0) << key;
+  }
+}
+
+TEST_F(EvalCliTest, ErrorGrowsWithDelayAndTheWarpBeatsTheStaleBuffer) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->output;
+  std::map<std::string, json> r = by_setting(read_results(*dir_));
+  const auto bits = [&](const std::string& key) { return r.at(key)["bit_error"].get<double>(); };
+  EXPECT_LT(bits("stale@0"), bits("stale@50"));
+  EXPECT_LT(bits("stale@50"), bits("stale@100"));
+  EXPECT_LE(bits("paper@100"), bits("stale@100"));
+  EXPECT_LT(r.at("stale@100")["ssim"].get<double>(), r.at("paper@100")["ssim"].get<double>());
+  // The response time covers the round trip, rounded up to whole frames.
+  EXPECT_GE(r.at("paper@100")["response_ms"].get<double>(), 100.0);
+  EXPECT_LT(r.at("paper@100")["response_ms"].get<double>(), 100.0 + 2 * 11.2);
+}
+
+TEST_F(EvalCliTest, TwoRunsGiveIdenticalMetrics) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->output;
+  const fs::path again = temp_dir("again");
+  const CliRun second = run_cli(small_run(again));
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const json a = read_results(*dir_), b = read_results(again);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    for (const char* key : {"method", "rtt_ms", "bit_error", "bit_error_per_light", "ssim", "psnr", "unknown_frac",
+                            "bytes_per_frame", "response_ms", "frames_behind"}) {
+      EXPECT_EQ(a[i][key], b[i][key]) << i << " " << key;
+    }
+  }
+  fs::remove_all(again);
+}
+
+TEST_F(EvalCliTest, ReportWritesMarkdownAndPlots) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->output;
+  const CliRun report = run_cli("report " + dir_->string());
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  std::ifstream md(*dir_ / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("| paper+pred | 100 |"), std::string::npos) << text;
+  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+    EXPECT_TRUE(fs::exists(*dir_ / "ssim_vs_frames.svg"));
+    EXPECT_TRUE(fs::exists(*dir_ / "pareto.svg"));
+  }
+}
+
+TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
+  const fs::path out = temp_dir("bad");
+  CliRun r = run_cli("run --scene /nonexistent.gltf --trace " + kTrace + " --out " + out.string() + " --no-progress");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("dhr-eval: "), std::string::npos) << r.output;
+  r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --rtt-ms 10,abc");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--rtt-ms"), std::string::npos) << r.output;
+  r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method warp");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --eye-size 0x0");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run_cli("run --scene " + kScene + " --trace /nonexistent.csv --out " + out.string() + " --no-progress");
+  EXPECT_EQ(r.exit_code, 1);
+  r = run_cli("report /nonexistent-dir");
+  EXPECT_EQ(r.exit_code, 1);
+  fs::remove_all(out);
+}
+
+}  // namespace
