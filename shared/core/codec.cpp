@@ -65,7 +65,9 @@ class Encoder {
         mb_(buffer.bytes_per_mask()),
         width_(buffer.width),
         budget_(clamp_payload(options.max_payload)),
-        run_px_(std::max<size_t>(2, (std::max<size_t>(32, options.uniform_min_bytes) + mb_ - 1) / mb_)),
+        // Rounded up without overflow: uniform_min_bytes may be SIZE_MAX ("never").
+        run_px_(std::max<size_t>(2, std::max<size_t>(32, options.uniform_min_bytes) / mb_ +
+                                        (std::max<size_t>(32, options.uniform_min_bytes) % mb_ != 0))),
         row_aligned_(options.row_aligned) {
     payload_.reserve(budget_);
     scratch_.resize(budget_);

@@ -1,11 +1,14 @@
 // Lights: KHR_lights_punctual placement, the default rig, and light spec strings.
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
+#include <limits>
 
 #include "core/scene.hpp"
 #include "core/scene_internal.hpp"
@@ -101,34 +104,37 @@ const char* light_type_name(SceneLight::Type type) {
 }
 
 std::vector<SceneLight> make_default_light_rig(const SceneBounds& bounds) {
-  SceneBounds box = bounds;
-  if (box.empty()) {
-    box.min = glm::vec3(-1.0f);
-    box.max = glm::vec3(1.0f);
+  // In double: a float box near the float limits (|coordinate| > ~1e19) overflows its size, and the
+  // intensity (irradiance * d^2) overflows float for d > ~1e19 (issue 7). Results are clamped to float.
+  glm::dvec3 lo(-1.0), hi(1.0);
+  if (!bounds.empty()) {
+    lo = glm::dvec3(bounds.min);
+    hi = glm::dvec3(bounds.max);
   }
-  const glm::vec3 c = box.center();
+  const glm::dvec3 c = 0.5 * (lo + hi);
   // Keep a minimum extent so that flat or point-like scenes still get separated lights.
-  const glm::vec3 s = glm::max(box.size(), glm::vec3(0.5f));
-  auto point = [&](const char* name, const glm::vec3& p, const glm::vec3& color, float irradiance_at_center) {
+  const glm::dvec3 s = glm::max(hi - lo, glm::dvec3(0.5));
+  auto point = [&](const char* name, const glm::dvec3& p, const glm::vec3& color, double irradiance_at_center) {
+    constexpr double kFloatMax = std::numeric_limits<float>::max();
     SceneLight l;
     l.type = SceneLight::Type::kPoint;
     l.name = name;
-    l.position = p;
+    l.position = glm::vec3(glm::clamp(p, glm::dvec3(-kFloatMax), glm::dvec3(kFloatMax)));
     l.color = color;
     // E = I / d^2 at the centre of the box: choose I for the wanted irradiance there.
-    const float d = glm::length(p - c);
-    l.intensity = irradiance_at_center * std::max(d * d, 0.01f);
+    const double d = glm::length(p - c);
+    l.intensity = static_cast<float>(std::min(irradiance_at_center * std::max(d * d, 0.01), kFloatMax));
     l.is_default = true;
     return l;
   };
   std::vector<SceneLight> rig;
   // Key: high (85% of the height), front-right (+Z is the glTF front), inside the box so that
   // closed rooms with inward-facing walls are lit from inside.
-  rig.push_back(point("default_key", glm::vec3(c.x + 0.25f * s.x, box.min.y + 0.85f * s.y, c.z + 0.3f * s.z),
-                      glm::vec3(1.0f, 0.95f, 0.85f), 3.0f));
+  rig.push_back(point("default_key", glm::dvec3(c.x + 0.25 * s.x, lo.y + 0.85 * s.y, c.z + 0.3 * s.z),
+                      glm::vec3(1.0f, 0.95f, 0.85f), 3.0));
   // Fill: lower, on the opposite side, cooler and dimmer.
-  rig.push_back(point("default_fill", glm::vec3(c.x - 0.3f * s.x, box.min.y + 0.6f * s.y, c.z + 0.15f * s.z),
-                      glm::vec3(0.8f, 0.87f, 1.0f), 1.0f));
+  rig.push_back(point("default_fill", glm::dvec3(c.x - 0.3 * s.x, lo.y + 0.6 * s.y, c.z + 0.15 * s.z),
+                      glm::vec3(0.8f, 0.87f, 1.0f), 1.0));
   SceneLight sun;
   sun.type = SceneLight::Type::kDirectional;
   sun.name = "default_sun";
