@@ -159,29 +159,7 @@ SurfaceHit EmbreeScene::surface(uint32_t mesh, uint32_t triangle, float u, float
   return hit;
 }
 
-std::optional<SurfaceHit> EmbreeScene::intersect(const glm::vec3& origin, const glm::vec3& dir) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRayHit rh{};
-  rh.ray.org_x = origin.x;
-  rh.ray.org_y = origin.y;
-  rh.ray.org_z = origin.z;
-  rh.ray.dir_x = dir.x;
-  rh.ray.dir_y = dir.y;
-  rh.ray.dir_z = dir.z;
-  rh.ray.tnear = 0.0f;
-  rh.ray.tfar = std::numeric_limits<float>::infinity();
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(scene_, &context, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  return surface(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, dir);
-}
-
-bool EmbreeScene::occluded(const glm::vec3& origin, const glm::vec3& dir, float tfar) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+RTCRay make_rtc_ray(const glm::vec3& origin, const glm::vec3& dir, float tfar) {
   RTCRay ray{};
   ray.org_x = origin.x;
   ray.org_y = origin.y;
@@ -192,6 +170,25 @@ bool EmbreeScene::occluded(const glm::vec3& origin, const glm::vec3& dir, float 
   ray.tnear = 0.0f;
   ray.tfar = tfar;
   ray.mask = 0xFFFFFFFFu;
+  return ray;
+}
+
+std::optional<SurfaceHit> EmbreeScene::intersect(const glm::vec3& origin, const glm::vec3& dir) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray = make_rtc_ray(origin, dir, std::numeric_limits<float>::infinity());
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  return surface(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, dir);
+}
+
+bool EmbreeScene::occluded(const glm::vec3& origin, const glm::vec3& dir, float tfar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = make_rtc_ray(origin, dir, tfar);
   rtcOccluded1(scene_, &context, &ray);
   return ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }

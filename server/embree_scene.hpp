@@ -81,6 +81,10 @@ class EmbreeScene {
   static bool on_memory(void* user, ssize_t bytes, bool post);
 };
 
+// The tracer's one ray set-up: origin, direction, (0, tfar), every mask bit, no time. Shared by the
+// single-ray queries above and the tile kernel's packets and streams.
+RTCRay make_rtc_ray(const glm::vec3& origin, const glm::vec3& dir, float tfar);
+
 // Embree intersection filter: rejects hits on the back of single-sided triangles (the client's rasterizer
 // culls those). Set on single-sided geometries for rtcIntersect only; shadow rays (rtcOccluded) see
 // every face. Exposed for tests.

@@ -3,6 +3,7 @@
 #include "ray_offset.hpp"
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include <array>
 #include <limits>
@@ -17,40 +18,22 @@ constexpr uint32_t kBlockPixels = kBlock * kBlock;
 // bulb's surface through the light's centre) does not count as an occluder of its own light.
 constexpr float kShadowTfarScale = 1.0f - 1e-5f;
 
-glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y) {
-  const glm::dvec3 d = frame.world_from_eye * frame.camera->eye_ray(x + 0.5, y + 0.5);
-  return glm::vec3(glm::normalize(d));
-}
-
-void init_ray(RTCRay& ray, const glm::vec3& origin, const glm::vec3& dir, float tfar) {
-  ray = RTCRay{};
-  ray.org_x = origin.x;
-  ray.org_y = origin.y;
-  ray.org_z = origin.z;
-  ray.dir_x = dir.x;
-  ray.dir_y = dir.y;
-  ray.dir_z = dir.z;
-  ray.tnear = 0.0f;
-  ray.tfar = tfar;
-  ray.mask = 0xFFFFFFFFu;
-}
-
 // The occlusion ray for one pixel-light pair: from the offset surface point toward the light.
 void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const LightSample& sample, RTCRay& out) {
   // Leave from the side of the surface the light is on (the geometric normal, not the shading normal).
   const glm::vec3 n = glm::dot(hit.geometric_normal, sample.l) >= 0.0f ? hit.geometric_normal : -hit.geometric_normal;
   const glm::vec3 origin = offset_ray_origin(hit.position, n);
   if (light_eval::light_is_directional(light)) {
-    init_ray(out, origin, sample.l, std::numeric_limits<float>::infinity());
+    out = make_rtc_ray(origin, sample.l, std::numeric_limits<float>::infinity());
     return;
   }
   const glm::vec3 d = glm::vec3(light.position_type) - origin;
   const float dist = glm::length(d);
   if (!(dist > 0.0f)) {
-    init_ray(out, origin, sample.l, 0.0f);  // at the light: nothing can be in between
+    out = make_rtc_ray(origin, sample.l, 0.0f);  // at the light: nothing can be in between
     return;
   }
-  init_ray(out, origin, d / dist, dist * kShadowTfarScale);
+  out = make_rtc_ray(origin, d / dist, dist * kShadowTfarScale);
 }
 
 // Primary rays of one 4x4 block; lanes outside the image stay std::nullopt and are not counted.
@@ -157,6 +140,45 @@ void trace_shadow_rays(const FrameSetup& frame, TileScratch& scratch) {
 
 }  // namespace
 
+FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
+                            const SkipOptions& skip) {
+  FrameSetup frame;
+  frame.scene = &scene;
+  frame.camera = &camera;
+  frame.eye = scene.to_relative(camera.T_world_eye.position);
+  frame.world_from_eye = glm::mat3_cast(glm::normalize(camera.T_world_eye.orientation));
+  frame.lights = pack_lights(lights, scene.origin());
+  frame.skip = skip;
+  for (uint32_t i = 0; i < lights.size(); ++i) {
+    if (skip.cull_lights && !light_may_reach_view(lights[i], camera))
+      ++frame.culled_lights;
+    else
+      frame.active_lights.push_back(i);
+  }
+  return frame;
+}
+
+glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y) {
+  const glm::dvec3 d = frame.world_from_eye * frame.camera->eye_ray(x + 0.5, y + 0.5);
+  return glm::vec3(glm::normalize(d));
+}
+
+bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
+                    RTCRay& out_ray, bool& out_contributes) {
+  const LightSample sample = sample_light(light, hit.position, hit.shading_normal);
+  if (sample.test == LightTest::kOutOfRange && frame.skip.out_of_range) {
+    ++stats.skipped_out_of_range;
+    return false;
+  }
+  if (sample.test == LightTest::kBackfacing && frame.skip.backfacing) {
+    ++stats.skipped_backfacing;
+    return false;
+  }
+  make_shadow_ray(light, hit, sample, out_ray);
+  out_contributes = sample.test == LightTest::kContributes;
+  return true;
+}
+
 void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
                 TraceStats& stats, TileScratch& scratch) {
   const uint32_t blocks_x = (x1 - x0 + kBlock - 1) / kBlock, blocks_y = (y1 - y0 + kBlock - 1) / kBlock;
@@ -195,19 +217,11 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
     const PackedLight& light = frame.lights[li];
     for (uint32_t slot = 0; slot < slots; ++slot) {
       if (!scratch.hits[slot]) continue;
-      const SurfaceHit& hit = *scratch.hits[slot];
-      const LightSample sample = sample_light(light, hit.position, hit.shading_normal);
-      if (sample.test == LightTest::kOutOfRange && frame.skip.out_of_range) {
-        ++stats.skipped_out_of_range;
-        continue;
-      }
-      if (sample.test == LightTest::kBackfacing && frame.skip.backfacing) {
-        ++stats.skipped_backfacing;
-        continue;
-      }
-      scratch.rays.emplace_back();
-      make_shadow_ray(light, hit, sample, scratch.rays.back());
-      scratch.pending.push_back({slot, li, sample.test == LightTest::kContributes});
+      RTCRay ray;
+      bool contributes = false;
+      if (!shadow_ray_for(frame, light, *scratch.hits[slot], stats, ray, contributes)) continue;
+      scratch.rays.push_back(ray);
+      scratch.pending.push_back({slot, li, contributes});
     }
   }
   stats.shadow_rays += scratch.rays.size();

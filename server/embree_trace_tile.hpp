@@ -41,6 +41,20 @@ struct TileScratch {
   std::vector<uint32_t> masks;
 };
 
+// The frame constants for one camera: the eye in the scene's relative frame, the packed lights and which of
+// them `skip.cull_lights` leaves active. Query kinds stay at their defaults (the tracer sets them).
+FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
+                            const SkipOptions& skip);
+
+// Unit primary-ray direction through pixel (x, y)'s centre, relative frame.
+glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y);
+
+// One surface point and light: true with the occlusion ray to trace (and whether the light contributes, else
+// the ray is traced only because a skip is off), or false when frame.skip skips the pair (counted in `stats`
+// by reason). bench/trace_bench uses it to replay exactly the tracer's rays.
+bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
+                    RTCRay& out_ray, bool& out_contributes);
+
 // Traces pixels [x0, x1) x [y0, y1) into `out` and adds to `stats` (counts only, no times).
 void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
                 TraceStats& stats, TileScratch& scratch);

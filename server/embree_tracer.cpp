@@ -2,8 +2,6 @@
 
 #include "embree_trace_tile.hpp"
 
-#include <glm/gtc/quaternion.hpp>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -42,21 +40,9 @@ void EmbreeTracer::trace(const Camera& camera, VisibilityBuffer& out, TraceStats
   if (out.width != width || out.height != height || out.light_count != light_count())
     out = VisibilityBuffer::create(width, height, light_count());
 
-  detail::FrameSetup frame;
-  frame.scene = scene_.get();
-  frame.camera = &camera;
-  frame.eye = scene_->to_relative(camera.T_world_eye.position);
-  frame.world_from_eye = glm::mat3_cast(glm::normalize(camera.T_world_eye.orientation));
-  frame.lights = pack_lights(lights_, scene_->origin());
-  frame.skip = options_.skip;
+  detail::FrameSetup frame = detail::make_frame_setup(*scene_, lights_, camera, options_.skip);
   frame.primary_packets = config_.primary_packets;
   frame.shadow_query = config_.shadow_query;
-  for (uint32_t i = 0; i < lights_.size(); ++i) {
-    if (options_.skip.cull_lights && !light_may_reach_view(lights_[i], camera))
-      ++frame.culled_lights;
-    else
-      frame.active_lights.push_back(i);
-  }
 
   const uint32_t tile = config_.tile_size;
   const uint32_t tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;

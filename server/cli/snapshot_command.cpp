@@ -1,8 +1,8 @@
 #include "snapshot_command.hpp"
 
 #include "camera_bookmarks.hpp"
+#include "core/png_writer.hpp"
 #include "embree_tracer.hpp"
-#include "png_writer.hpp"
 #include "preview_shading.hpp"
 #include "scene_setup.hpp"
 #include "stats_json.hpp"
@@ -107,12 +107,12 @@ int run_snapshot(const ServerOptions& options) {
     for (uint32_t li = 0; li < tracer->light_count(); ++li) {
       for (size_t i = 0; i < grey.size(); ++i) grey[i] = (visibility.mask_at(i) >> li & 1u) ? 255 : 0;
       const std::string path = (std::filesystem::path(options.snapshot_dir) / (base + "_light" + std::to_string(li) + ".png")).string();
-      if (!write_png(path, w, h, 1, grey)) return fail(path + ": cannot write the PNG");
+      if (const auto err = write_png(path, w, h, 1, grey)) return fail(*err);
       files.push_back(path);
     }
     const std::string shaded = (std::filesystem::path(options.snapshot_dir) / (base + "_shaded.png")).string();
-    if (!write_png(shaded, w, h, 3, shade_preview(*scene, *preview_scene, camera, visibility)))
-      return fail(shaded + ": cannot write the PNG");
+    if (const auto err = write_png(shaded, w, h, 3, shade_preview(*scene, *preview_scene, camera, visibility)))
+      return fail(*err);
     files.push_back(shaded);
 
     nlohmann::ordered_json stats_json = to_json(stats);

@@ -24,7 +24,8 @@ std::atomic<int>& level_storage() {
   return value;
 }
 
-void vwrite(Level lvl, const char* fmt, va_list args) {
+// The format attribute lets the compiler check that callers pass their own (checked) format through.
+__attribute__((format(printf, 2, 0))) void vwrite(Level lvl, const char* fmt, va_list args) {
   static std::mutex mutex;
   static const char* const kNames[] = {"error", "warn", "info", "debug"};
   char buffer[2048];

@@ -114,6 +114,7 @@ TraceReadResult read_canonical(std::string_view text, const std::string& name, c
   LineReader reader(text);
   TextLine line;
   bool have_header = false;
+  bool first_line = true;  // only the first non-blank line can be the "# dhr-trace <version>" line
   while (!have_header && reader.next(&line)) {
     if (line.text.size() > kMaxLineLength) {
       result.error = at_line(name, line.number, "line is longer than " + std::to_string(kMaxLineLength) + " characters");
@@ -121,9 +122,13 @@ TraceReadResult read_canonical(std::string_view text, const std::string& name, c
     }
     const std::string_view t = trim(line.text);
     if (t.empty()) continue;
+    const bool may_be_version = first_line;
+    first_line = false;
     if (t.front() == '#') {
       const std::string_view body = trim(t.substr(1));
-      if (body.substr(0, kMagic.size()) == kMagic) {
+      // Later comments are free text even when they start with the magic word: the writer puts the version
+      // line first and copies comments verbatim after it, so a written trace always reads back.
+      if (may_be_version && body.substr(0, kMagic.size()) == kMagic) {
         const std::string_view version = trim(body.substr(kMagic.size()));
         if (version != kVersion) {
           result.error = at_line(name, line.number,

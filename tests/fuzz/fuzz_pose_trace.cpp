@@ -33,15 +33,6 @@ bool same_fov(const dhr::Fov& a, const dhr::Fov& b) {
          a.angle_down == b.angle_down;
 }
 
-bool comment_looks_like_magic(const dhr::PoseTrace& trace) {
-  for (const std::string& c : trace.comments) {
-    // The writer turns CR/LF into spaces and the reader trims: whitespace of any kind does not count.
-    const size_t start = c.find_first_not_of(" \t\r\n\v\f");
-    if (start != std::string::npos && c.compare(start, 9, "dhr-trace") == 0) return true;
-  }
-  return false;
-}
-
 void check_trace(const dhr::PoseTrace& trace) {
   DHR_FUZZ_CHECK(trace.samples.size() <= kMaxRows);
   double previous = -std::numeric_limits<double>::infinity();
@@ -65,13 +56,6 @@ void check_trace(const dhr::PoseTrace& trace) {
   dhr::TraceReadOptions options;
   options.max_rows = kMaxRows;
   const dhr::TraceReadResult back = dhr::parse_pose_trace(text, "canonical", dhr::TraceFormat::kCanonical, options);
-  if (!back.ok() && comment_looks_like_magic(trace)) {
-    // Open finding: a comment whose text starts with "dhr-trace" after whitespace (e.g. from a '#' line
-    // among the rows) is written back into the header as "# dhr-trace...", which the reader takes for
-    // the version line.
-    DHR_FUZZ_KNOWN_ISSUE("pose-trace-comment-written-as-magic-line");
-    return;
-  }
   DHR_FUZZ_CHECK_MSG(back.ok(), back.error.c_str());
   const dhr::PoseTrace& t = *back.trace;
   DHR_FUZZ_CHECK(t.samples.size() == trace.samples.size());

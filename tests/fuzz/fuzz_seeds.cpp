@@ -6,6 +6,7 @@
 #include "core/visibility_synthetic.hpp"
 #include "fuzz_layouts.hpp"
 #include "fuzz_support.hpp"
+#include "protocol_fixtures.hpp"
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -17,60 +18,24 @@ std::vector<Seed> scene_seeds();  // fuzz_seeds_scene.cpp
 
 namespace {
 
-View test_view(double yaw) {
-  View v;
-  v.pose.position = {0.5, 1.6, -0.25};
-  v.pose.orientation = glm::angleAxis(yaw, glm::dvec3(0.0, 1.0, 0.0));
-  v.fov = Fov{-0.8f, 0.75f, 0.7f, -0.72f};
-  return v;
-}
-
 Bytes datagram(uint64_t token, const Message& message) { return encode_datagram(Datagram{token, 9, message}); }
 
 std::vector<Seed> datagram_seeds() {
   std::vector<Seed> out;
-  Hello hello;
-  hello.client_nonce = 0x1122334455667788ull;
-  hello.eye_width = 1920;
-  hello.eye_height = 1080;
-  hello.guard_x = 32;
-  hello.guard_y = 18;
-  hello.light_count_wanted = 3;
-  hello.scene_id = "living_room";
-  out.push_back({"hello", datagram(0, hello)});
-  Welcome welcome;
-  welcome.client_nonce = hello.client_nonce;
-  welcome.scene_hash = 0xABCDEF;
-  welcome.light_count = 12;
-  welcome.mask_bits = MaskWidth::k16;
-  welcome.buffer_width = 1984;
-  welcome.buffer_height = 1116;
-  welcome.guard_x = 32;
-  welcome.guard_y = 18;
-  out.push_back({"welcome", datagram(77, welcome)});
-  PoseUpdate pose;
-  pose.frame_number = 1234;
-  pose.display_time_ns = 5'000'000'000;
-  pose.views = {test_view(0.3), test_view(0.31)};
-  out.push_back({"pose_update", datagram(77, pose)});
+  // One of each message type (the protocol unit tests' samples), named after its type.
+  const std::vector<Datagram> samples = test::sample_datagrams();
+  for (const Datagram& d : samples) out.push_back({to_string(message_type(d.message)), encode_datagram(d)});
+  // Small shards: the first and last of a room buffer cut into 200-byte payloads.
   const VisibilityBuffer vis = make_room_visibility(64, 32, 3, 1);
   EncodeOptions options;
   options.max_payload = 200;
-  const auto shards = make_visibility_shards(vis, 1234, Eye::kRight, test_view(0.3), options);
+  const auto shards = make_visibility_shards(vis, 1234, Eye::kRight, test::sample_view(0.3), options);
   if (!shards.empty()) {
     out.push_back({"shard_first", datagram(77, shards.front())});
     out.push_back({"shard_last", datagram(77, shards.back())});
   }
-  Heartbeat beat;
-  beat.send_time_ns = 1'000'000;
-  beat.echo_time_ns = 900'000;
-  beat.echo_delay_ns = 1'000;
-  beat.newest_frame = 1233;
-  beat.datagrams_sent = 10;
-  out.push_back({"heartbeat", datagram(77, beat)});
-  out.push_back({"bye", datagram(77, Bye{ByeReason::kTimeout})});
   out.push_back({"bye_to_hello", datagram(0, Bye{ByeReason::kVersionMismatch})});
-  Bytes other_version = datagram(0, hello);
+  Bytes other_version = encode_datagram(samples.front());
   if (other_version.size() > 4) other_version[4] = 2;
   out.push_back({"hello_version2", other_version});
   return out;

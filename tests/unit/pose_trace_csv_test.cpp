@@ -92,6 +92,26 @@ void expect_same_pose(const dhr::Pose& a, const dhr::Pose& b) {
   EXPECT_EQ(a.orientation.w, b.orientation.w);
 }
 
+// A fuzz finding: comments are written after the "# dhr-trace v1" line, so one that starts with the magic
+// word must read back as a comment, not as a second (or unsupported) version line.
+TEST_F(TraceFiles, CommentsStartingWithTheMagicWordReadBack) {
+  dhr::PoseTrace trace = random_trace(false, false, 3);
+  trace.comments = {"dhr-trace v2", "dhr-trace", "dhr-trace v1 copied from another file"};
+  const std::string path = (dir_ / "trace.csv").string();
+  std::string error;
+  ASSERT_TRUE(dhr::write_pose_trace(path, trace, &error)) << error;
+  const dhr::TraceReadResult r = dhr::read_pose_trace(path);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.trace->comments, trace.comments);
+  EXPECT_EQ(r.trace->samples.size(), 3u);
+
+  // Only the first line names the version; a later one is free text.
+  const std::string text = "# provenance\n# dhr-trace v2\nt,x,y,z,qx,qy,qz,qw\n" + kRow;
+  const dhr::TraceReadResult later = dhr::read_pose_trace(write("later.csv", text));
+  ASSERT_TRUE(later.ok()) << later.error;
+  EXPECT_EQ(later.trace->comments, (std::vector<std::string>{"provenance", "dhr-trace v2"}));
+}
+
 TEST_F(TraceFiles, RoundTripIsExactForEveryLayout) {
   for (bool eyes : {false, true}) {
     for (bool fov : {false, true}) {

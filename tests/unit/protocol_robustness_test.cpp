@@ -2,7 +2,7 @@
 // crash (run these under -DDHR_SANITIZE=address,undefined too).
 #include "core/codec.hpp"
 #include "core/protocol.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "protocol_fixtures.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,54 +14,8 @@ namespace dhr {
 namespace {
 
 using Bytes = std::vector<uint8_t>;
-constexpr uint64_t kToken = 0x0123456789ABCDEFull;
-
-View sample_view(double x) {
-  View v;
-  v.pose.position = {x, 1.6, -3.25};
-  v.pose.orientation = glm::normalize(glm::dquat(0.9, 0.1, -0.3, 0.05));
-  v.fov = Fov{-0.8f, 0.75f, 0.7f, -0.85f};
-  return v;
-}
-
-std::vector<Datagram> sample_datagrams() {
-  std::vector<Datagram> out;
-  Hello hello;
-  hello.client_nonce = 99;
-  hello.eye_width = 1920;
-  hello.eye_height = 1080;
-  hello.guard_x = 32;
-  hello.guard_y = 18;
-  hello.light_count_wanted = 3;
-  hello.scene_id = "living_room";
-  out.push_back({0, 1, hello});
-  Welcome welcome;
-  welcome.client_nonce = 99;
-  welcome.light_count = 17;
-  welcome.mask_bits = MaskWidth::k32;
-  welcome.buffer_width = 1984;
-  welcome.buffer_height = 1116;
-  welcome.guard_x = 32;
-  welcome.guard_y = 18;
-  out.push_back({kToken, 2, welcome});
-  PoseUpdate pose;
-  pose.frame_number = 1234;
-  pose.display_time_ns = 987654321;
-  pose.views = {sample_view(-0.032), sample_view(0.032)};
-  out.push_back({kToken, 3, pose});
-  // A real shard from the codec.
-  const auto buffer = make_blob_visibility(160, 120, 3, 5);
-  const auto shards = make_visibility_shards(buffer, 1234, Eye::kLeft, sample_view(0.0));
-  EXPECT_FALSE(shards.empty());
-  out.push_back({kToken, 4, shards.front()});
-  Heartbeat hb;
-  hb.send_time_ns = 5;
-  hb.echo_time_ns = 3;
-  hb.echo_delay_ns = 1;
-  out.push_back({kToken, 5, hb});
-  out.push_back({kToken, 6, Bye{ByeReason::kTimeout}});
-  return out;
-}
+using test::sample_datagrams;
+constexpr uint64_t kToken = test::kSampleToken;
 
 TEST(ProtocolRobustness, RoundTripsEveryMessage) {
   for (const Datagram& d : sample_datagrams()) {

@@ -1,0 +1,57 @@
+#include "bench_views.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+namespace dhr::bench {
+
+std::vector<std::string> default_trace_scenes(const std::string& shared_data_dir, const std::string& source_dir) {
+  const std::string candidates[] = {
+      shared_data_dir + "/scenes/living_room.glb",
+      shared_data_dir + "/scenes/living_room_dense.glb",
+      shared_data_dir + "/scenes/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf",
+      source_dir + "/assets/scenes/default_room.gltf",
+  };
+  std::vector<std::string> out;
+  for (const std::string& c : candidates)
+    if (std::filesystem::exists(c)) out.push_back(c);
+  return out;
+}
+
+std::vector<server::CameraBookmark> bench_bookmarks(const std::string& scene_path, const Scene& scene,
+                                                    std::string& note) {
+  const std::string path = server::camera_bookmarks_path(scene_path);
+  if (std::filesystem::exists(path)) {
+    std::string error;
+    auto loaded = server::load_camera_bookmarks(path, &error);
+    if (!loaded) throw std::runtime_error(error);
+    note = path;
+    return *loaded;
+  }
+  // From the front (+Z) and a little above, at the distance where the bounding sphere just fits the
+  // vertical field of view of a 16:9 eye at 90 degrees horizontal (half angle ~29 degrees): sin = 0.49.
+  const glm::dvec3 centre(scene.bounds.center());
+  const double radius = std::max(1e-3, 0.5 * static_cast<double>(scene.bounds.diagonal()));
+  server::CameraBookmark b;
+  b.name = "bbox_front";
+  b.position = centre + glm::normalize(glm::dvec3(0.0, 0.3, 1.0)) * (radius / 0.49);
+  b.target = centre;
+  note = "no " + path + ": one camera in front of the bounding box";
+  return {b};
+}
+
+GuardBand bench_guard_band(Extent display) { return scale_guard_band(GuardBand{64, 36}, Extent{1920, 1080}, display); }
+
+std::optional<Camera> bench_eye_camera(const server::CameraBookmark& bookmark, int eye, Extent display) {
+  const std::optional<Pose> head = server::look_at_pose(bookmark);
+  if (!head) return std::nullopt;
+  // left_eye_pose moves by -ipd/2 along the head's x axis: a negative IPD gives the right eye.
+  const double ipd = eye == 0 ? server::kDefaultIpdMetres : -server::kDefaultIpdMetres;
+  const View view{server::left_eye_pose(*head, ipd), server::symmetric_fov(kTraceBenchFovDegrees, display)};
+  return Camera::with_guard_band(view, display, bench_guard_band(display));
+}
+
+}  // namespace dhr::bench

@@ -1,0 +1,32 @@
+// Scenes, cameras and eye views for bench/trace_bench.
+#pragma once
+#include "camera_bookmarks.hpp"
+#include "core/projection.hpp"
+#include "core/scene.hpp"
+
+#include <string>
+#include <vector>
+
+namespace dhr::bench {
+
+// The scenes measured by default, in order, those that exist: living_room (headline), living_room_dense and
+// LightsPunctualLamp from ../shared/data/scenes, then the project's assets/scenes/default_room.gltf.
+std::vector<std::string> default_trace_scenes(const std::string& shared_data_dir, const std::string& source_dir);
+
+// The scene's "<scene>.cameras.json" bookmarks; for a scene without one, a single bookmark "bbox_front"
+// (in front of the bounding box (+Z) and a little above, looking at its centre from where its bounding
+// sphere just fits the view; `note` says so).
+// Throws std::runtime_error with a one-line reason for a malformed bookmark file.
+std::vector<server::CameraBookmark> bench_bookmarks(const std::string& scene_path, const Scene& scene,
+                                                    std::string& note);
+
+inline constexpr double kTraceBenchFovDegrees = 90.0;  // horizontal, of the displayed region
+
+// Guard band of a display size: the server's default, 64x36 at 1920x1080, scaled.
+GuardBand bench_guard_band(Extent display);
+
+// The guard-banded camera of one eye (0 left, 1 right; IPD 63 mm) of a bookmark, or std::nullopt when the
+// bookmark has no usable look-at pose.
+std::optional<Camera> bench_eye_camera(const server::CameraBookmark& bookmark, int eye, Extent display);
+
+}  // namespace dhr::bench
