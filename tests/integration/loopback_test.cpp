@@ -5,6 +5,7 @@
 // memory, and that the client's counters add up with what the server and the impairment layer did.
 // Nothing asserts on time; sleeps only pace the loop.
 #include "loopback_rig.hpp"
+#include "wait_until.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,15 +18,7 @@
 namespace dhr::integration {
 namespace {
 
-template <class Predicate>
-bool wait_until(Predicate predicate, std::chrono::milliseconds timeout = std::chrono::seconds(20)) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (!predicate()) {
-    if (std::chrono::steady_clock::now() > deadline) return predicate();
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return true;
-}
+using net::test::wait_until;
 
 struct Verified {
   size_t complete = 0;

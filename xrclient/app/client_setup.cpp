@@ -89,4 +89,23 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   return j.dump();
 }
 
+PoseGuard make_pose_guard(const EyeModel& eyes) {
+  return PoseGuard(eyes.views(Pose{glm::dvec3(0.0, kDefaultEyeHeightMetres, 0.0), glm::dquat(1, 0, 0, 0)}));
+}
+
+FrameInput frame_input(const PoseSample& sample, PoseGuard& guard) {
+  FrameInput input;
+  input.frame = sample.frame;
+  input.display_time_ns = sample.display_time_ns;
+  input.views = sample.views;
+  input.pose_reused = guard.filter(sample.frame, input.views);
+  return input;
+}
+
+void note_source_failure(const VisibilitySource& source, bool& warned) {
+  if (warned || !source.failed()) return;
+  log::error("network: %s; rendering on with the last visibility", source.failure().c_str());
+  warned = true;
+}
+
 }  // namespace dhr::client

@@ -5,9 +5,14 @@
 #include <string>
 
 #include "app/client_options.hpp"
+#include "core/eye_model.hpp"
+#include "core/frame_coordinator.hpp"
 #include "core/frame_record.hpp"
+#include "core/visibility_source.hpp"
 #include "core/scene.hpp"
 #include "net/udp_visibility_client.hpp"
+#include "pose/pose_guard.hpp"
+#include "pose/pose_source.hpp"
 
 namespace dhr::client {
 
@@ -17,6 +22,15 @@ Scene load_client_scene(const std::string& path);
 // Connects and waits for the Welcome (tick() every few ms, at most --connect-timeout). Throws
 // std::runtime_error with one line: bad address, "no dhr-server answered at HOST:PORT ...", or the refusal.
 std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard);
+
+// The pose guard of a run; its fallback views are the eye model standing at the origin, looking down -Z.
+PoseGuard make_pose_guard(const EyeModel& eyes);
+
+// One frame's input: the sample's views through the pose guard (an unusable pose reuses the last good one).
+FrameInput frame_input(const PoseSample& sample, PoseGuard& guard);
+
+// Logs the visibility source's failure the first time it is seen (`warned` remembers it); rendering goes on.
+void note_source_failure(const VisibilitySource& source, bool& warned);
 
 struct RunSummary {
   std::string mode;  // "offscreen" | "openxr"

@@ -62,7 +62,7 @@ int run_offscreen(const ClientOptions& options) {
   });
   PngSink png(*context, options.offscreen, options.png_every);
 
-  PoseGuard guard_poses(eyes.views(Pose{glm::dvec3(0.0, kDefaultEyeHeightMetres, 0.0), glm::dquat(1, 0, 0, 0)}));
+  PoseGuard guard_poses = make_pose_guard(eyes);
   const uint64_t max_frames = options.frames.value_or(options.trace.empty() ? 300u : UINT32_MAX);
   RunSummary run;
   run.mode = "offscreen";
@@ -86,15 +86,8 @@ int run_offscreen(const ClientOptions& options) {
       run.exit = "timeout";
       break;
     }
-    if (source.failed() && !warned_failure) {
-      log::error("network: %s; rendering on with the last visibility", source.failure().c_str());
-      warned_failure = true;
-    }
-    FrameInput input;
-    input.frame = sample.frame;
-    input.display_time_ns = sample.display_time_ns;
-    input.views = sample.views;
-    input.pose_reused = guard_poses.filter(sample.frame, input.views);
+    note_source_failure(source, warned_failure);
+    const FrameInput input = frame_input(sample, guard_poses);
     if (!coordinator.run_frame(input, png)) {
       log::error("offscreen: frame %llu failed: %s", static_cast<unsigned long long>(sample.frame),
                  coordinator.last_error().c_str());

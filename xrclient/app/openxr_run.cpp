@@ -75,7 +75,7 @@ int run_openxr(const ClientOptions& options) {
     sinks.add(*snapshots);
   }
   const EyeModel eyes = EyeModel::monado_simulated();
-  PoseGuard guard_poses(eyes.views(Pose{glm::dvec3(0.0, kDefaultEyeHeightMetres, 0.0), glm::dquat(1, 0, 0, 0)}));
+  PoseGuard guard_poses = make_pose_guard(eyes);
   RunSummary run;
   run.mode = "openxr";
   run.eye = eye;
@@ -87,15 +87,8 @@ int run_openxr(const ClientOptions& options) {
     poses.set_frame(frame);
     PoseSample sample;
     poses.next(sample);
-    if (source.failed() && !warned_failure) {
-      log::error("network: %s; rendering on with the last visibility", source.failure().c_str());
-      warned_failure = true;
-    }
-    FrameInput input;
-    input.frame = sample.frame;
-    input.display_time_ns = sample.display_time_ns;
-    input.views = sample.views;
-    input.pose_reused = guard_poses.filter(sample.frame, input.views);
+    note_source_failure(source, warned_failure);
+    const FrameInput input = frame_input(sample, guard_poses);
     swapchain.set_targets(t);
     // A failure is reported after the frame (after_frame below) so the session can be walked down.
     if (coordinator.run_frame(input, sinks)) ++run.frames;
