@@ -68,6 +68,7 @@ std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const Embre
   const auto t0 = std::chrono::steady_clock::now();
   es->origin_ = scene.bounds.empty() ? glm::dvec3(0.0) : glm::dvec3(scene.bounds.min) * 0.5 +
                                                               glm::dvec3(scene.bounds.max) * 0.5;
+  es->ray_offset_ = scaled_ray_offset(ray_offset_scale(scene.bounds));
   es->scene_ = rtcNewScene(es->device_);
   rtcSetSceneBuildQuality(es->scene_, options.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
   rtcSetSceneFlags(es->scene_, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);

@@ -2,6 +2,7 @@
 // SceneMesh, geometry ID = mesh index), built in coordinates relative to the scene's bounding-box centre
 // so that large world offsets keep float precision. Also turns Embree hits into surface points.
 #pragma once
+#include "ray_offset.hpp"
 #include "visibility_tracer.hpp"
 
 #include <embree3/rtcore.h>
@@ -56,6 +57,8 @@ class EmbreeScene {
   // World position of the relative frame's origin (the bounding-box centre).
   const glm::dvec3& origin() const { return origin_; }
   glm::vec3 to_relative(const glm::dvec3& world) const { return glm::vec3(world - origin_); }
+  // Shadow-ray origin offset for this scene's size (ray_offset.hpp).
+  const RayOffset& ray_offset() const { return ray_offset_; }
   const AccelStats& stats() const { return stats_; }
   const std::vector<EmbreeMesh>& meshes() const { return meshes_; }
   // "Embree 3.13.5 (<ISA>), N threads"-style text for the device field of reports.
@@ -75,6 +78,7 @@ class EmbreeScene {
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   glm::dvec3 origin_{0.0};
+  RayOffset ray_offset_;
   AccelStats stats_;
   std::vector<EmbreeMesh> meshes_;
   std::atomic<int64_t> memory_bytes_{0};

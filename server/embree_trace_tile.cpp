@@ -5,9 +5,9 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include <array>
+#include <algorithm>
+#include <cstring>
 #include <limits>
-#include <optional>
 
 namespace dhr::server::detail {
 namespace {
@@ -19,10 +19,11 @@ constexpr uint32_t kBlockPixels = kBlock * kBlock;
 constexpr float kShadowTfarScale = 1.0f - 1e-5f;
 
 // The occlusion ray for one pixel-light pair: from the offset surface point toward the light.
-void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const LightSample& sample, RTCRay& out) {
+void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const LightSample& sample,
+                     const RayOffset& offset, RTCRay& out) {
   // Leave from the side of the surface the light is on (the geometric normal, not the shading normal).
   const glm::vec3 n = glm::dot(hit.geometric_normal, sample.l) >= 0.0f ? hit.geometric_normal : -hit.geometric_normal;
-  const glm::vec3 origin = offset_ray_origin(hit.position, n);
+  const glm::vec3 origin = offset_ray_origin(hit.position, n, offset);
   if (light_eval::light_is_directional(light)) {
     out = make_rtc_ray(origin, sample.l, std::numeric_limits<float>::infinity());
     return;
@@ -36,37 +37,47 @@ void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const Ligh
   out = make_rtc_ray(origin, d / dist, dist * kShadowTfarScale);
 }
 
-// Primary rays of one 4x4 block; lanes outside the image stay std::nullopt and are not counted.
+// Appends a primary hit of pixel (x, y) (tile slot `slot`) to the scratch lists.
+void add_hit(TileScratch& scratch, const SurfaceHit& hit, uint32_t slot, uint32_t x, uint32_t y) {
+  scratch.hits.push_back(hit);
+  scratch.hit_pixels.push_back({slot, x, y});
+}
+
+// Primary rays of the 4x4 block at (bx, by) whose first slot is `slot0`; lanes outside the image are not
+// traced or counted. Hits go to the scratch lists in lane order; misses are only counted.
 void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint32_t x1, uint32_t y1,
-                         std::array<std::optional<SurfaceHit>, kBlockPixels>& out_hits, TraceStats& stats) {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+                         uint32_t slot0, TileScratch& scratch, TraceStats& stats) {
   const EmbreeScene& scene = *frame.scene;
+  const uint32_t lanes_x = std::min(kBlock, x1 - bx), lanes_y = std::min(kBlock, y1 - by);
+  const uint32_t inside = lanes_x * lanes_y;
+  stats.primary_rays += inside;
+  const size_t hits_before = scratch.hits.size();
   if (!frame.primary_packets) {
     for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
       const uint32_t x = bx + lane % kBlock, y = by + lane / kBlock;
-      out_hits[lane].reset();
       if (x >= x1 || y >= y1) continue;
-      ++stats.primary_rays;
-      out_hits[lane] = scene.intersect(frame.eye, primary_direction(frame, x, y));
+      if (const auto hit = scene.intersect(frame.eye, primary_direction(frame, x, y)))
+        add_hit(scratch, *hit, slot0 + lane, x, y);
     }
+    stats.background_pixels += inside - (scratch.hits.size() - hits_before);
     return;
   }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   alignas(64) int valid[kBlockPixels];
   alignas(64) RTCRayHit16 rh;
-  std::array<glm::vec3, kBlockPixels> dirs{};
   for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
-    const uint32_t x = bx + lane % kBlock, y = by + lane / kBlock;
-    const bool inside = x < x1 && y < y1;
-    valid[lane] = inside ? -1 : 0;
-    dirs[lane] = inside ? primary_direction(frame, x, y) : glm::vec3(0.0f, 0.0f, -1.0f);
+    const uint32_t lx = lane % kBlock, ly = lane / kBlock;
+    const bool in = lx < lanes_x && ly < lanes_y;
+    valid[lane] = in ? -1 : 0;
+    const glm::vec3 dir = in ? primary_direction(frame, bx + lx, by + ly) : glm::vec3(0.0f, 0.0f, -1.0f);
     rh.ray.org_x[lane] = frame.eye.x;
     rh.ray.org_y[lane] = frame.eye.y;
     rh.ray.org_z[lane] = frame.eye.z;
-    rh.ray.dir_x[lane] = dirs[lane].x;
-    rh.ray.dir_y[lane] = dirs[lane].y;
-    rh.ray.dir_z[lane] = dirs[lane].z;
+    rh.ray.dir_x[lane] = dir.x;
+    rh.ray.dir_y[lane] = dir.y;
+    rh.ray.dir_z[lane] = dir.z;
     rh.ray.tnear[lane] = 0.0f;
     rh.ray.tfar[lane] = std::numeric_limits<float>::infinity();
     rh.ray.time[lane] = 0.0f;
@@ -75,14 +86,15 @@ void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint
     rh.ray.flags[lane] = 0;
     rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
-    if (inside) ++stats.primary_rays;
   }
   rtcIntersect16(valid, scene.handle(), &context, &rh);
   for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
-    out_hits[lane].reset();
     if (!valid[lane] || rh.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
-    out_hits[lane] = scene.surface(rh.hit.geomID[lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane], dirs[lane]);
+    const glm::vec3 dir(rh.ray.dir_x[lane], rh.ray.dir_y[lane], rh.ray.dir_z[lane]);
+    add_hit(scratch, scene.surface(rh.hit.geomID[lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane], dir),
+            slot0 + lane, bx + lane % kBlock, by + lane / kBlock);
   }
+  stats.background_pixels += inside - (scratch.hits.size() - hits_before);
 }
 
 // Runs the queued occlusion rays in the configured way; afterwards tfar < 0 marks an occluded ray.
@@ -141,26 +153,29 @@ void trace_shadow_rays(const FrameSetup& frame, TileScratch& scratch) {
 }  // namespace
 
 FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
-                            const SkipOptions& skip) {
+                            const SkipOptions& skip, uint32_t requested) {
   FrameSetup frame;
   frame.scene = &scene;
   frame.camera = &camera;
   frame.eye = scene.to_relative(camera.T_world_eye.position);
   frame.world_from_eye = glm::mat3_cast(glm::normalize(camera.T_world_eye.orientation));
+  // The products of R * (tx, ty, -1) at the pixel centres, each computed once (see FrameSetup).
+  const glm::dmat3& R = frame.world_from_eye;
+  frame.ray_columns.resize(camera.extent.width);
+  for (uint32_t x = 0; x < camera.extent.width; ++x) frame.ray_columns[x] = R[0] * camera.eye_ray(x + 0.5, 0.5).x;
+  frame.ray_rows.resize(camera.extent.height);
+  for (uint32_t y = 0; y < camera.extent.height; ++y) frame.ray_rows[y] = R[1] * camera.eye_ray(0.5, y + 0.5).y;
+  frame.ray_forward = R[2] * -1.0;
   frame.lights = pack_lights(lights, scene.origin());
   frame.skip = skip;
-  for (uint32_t i = 0; i < lights.size(); ++i) {
+  const uint32_t traced = static_cast<uint32_t>(std::min<size_t>(requested, lights.size()));
+  for (uint32_t i = 0; i < traced; ++i) {
     if (skip.cull_lights && !light_may_reach_view(lights[i], camera))
       ++frame.culled_lights;
     else
       frame.active_lights.push_back(i);
   }
   return frame;
-}
-
-glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y) {
-  const glm::dvec3 d = frame.world_from_eye * frame.camera->eye_ray(x + 0.5, y + 0.5);
-  return glm::vec3(glm::normalize(d));
 }
 
 bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
@@ -174,7 +189,7 @@ bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const Sur
     ++stats.skipped_backfacing;
     return false;
   }
-  make_shadow_ray(light, hit, sample, out_ray);
+  make_shadow_ray(light, hit, sample, frame.scene->ray_offset(), out_ray);
   out_contributes = sample.test == LightTest::kContributes;
   return true;
 }
@@ -182,32 +197,15 @@ bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const Sur
 void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
                 TraceStats& stats, TileScratch& scratch) {
   const uint32_t blocks_x = (x1 - x0 + kBlock - 1) / kBlock, blocks_y = (y1 - y0 + kBlock - 1) / kBlock;
-  const uint32_t slots = blocks_x * blocks_y * kBlockPixels;  // slot = block * 16 + lane
-  auto slot_pixel = [&](uint32_t slot, uint32_t& x, uint32_t& y) {
-    const uint32_t block = slot / kBlockPixels, lane = slot % kBlockPixels;
-    x = x0 + (block % blocks_x) * kBlock + lane % kBlock;
-    y = y0 + (block / blocks_x) * kBlock + lane / kBlock;
-    return x < x1 && y < y1;
-  };
 
-  // 1. Primary rays, block by block.
-  scratch.hits.resize(slots);
-  std::array<std::optional<SurfaceHit>, kBlockPixels> block_hits;
-  for (uint32_t b = 0; b < blocks_x * blocks_y; ++b) {
-    trace_primary_block(frame, x0 + (b % blocks_x) * kBlock, y0 + (b / blocks_x) * kBlock, x1, y1, block_hits, stats);
-    std::copy(block_hits.begin(), block_hits.end(), scratch.hits.begin() + b * kBlockPixels);
-  }
-  uint64_t hit_pixels = 0;
-  for (uint32_t slot = 0; slot < slots; ++slot) {
-    uint32_t x, y;
-    if (!slot_pixel(slot, x, y)) continue;
-    if (scratch.hits[slot]) {
-      ++hit_pixels;
-    } else {
-      ++stats.background_pixels;
-    }
-  }
-  stats.skipped_culled_light += hit_pixels * frame.culled_lights;
+  // 1. Primary rays, block by block (slot = block * 16 + lane); only hits are kept, in slot order.
+  scratch.hits.clear();
+  scratch.hit_pixels.clear();
+  for (uint32_t b = 0; b < blocks_x * blocks_y; ++b)
+    trace_primary_block(frame, x0 + (b % blocks_x) * kBlock, y0 + (b / blocks_x) * kBlock, x1, y1, b * kBlockPixels,
+                        scratch, stats);
+  const uint32_t hits = static_cast<uint32_t>(scratch.hits.size());
+  stats.skipped_culled_light += uint64_t{hits} * frame.culled_lights;
 
   // 2. Per pixel-light pair: skip (counted by reason) or queue an occlusion ray. Light-major, then block by
   // block: runs of up to 16 neighbouring rays toward the same light, which packets and streams bundle.
@@ -215,13 +213,12 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   scratch.pending.clear();
   for (uint32_t li : frame.active_lights) {
     const PackedLight& light = frame.lights[li];
-    for (uint32_t slot = 0; slot < slots; ++slot) {
-      if (!scratch.hits[slot]) continue;
+    for (uint32_t h = 0; h < hits; ++h) {
       RTCRay ray;
       bool contributes = false;
-      if (!shadow_ray_for(frame, light, *scratch.hits[slot], stats, ray, contributes)) continue;
+      if (!shadow_ray_for(frame, light, scratch.hits[h], stats, ray, contributes)) continue;
       scratch.rays.push_back(ray);
-      scratch.pending.push_back({slot, li, contributes});
+      scratch.pending.push_back({scratch.hit_pixels[h].slot, h, li, contributes});
     }
   }
   stats.shadow_rays += scratch.rays.size();
@@ -229,16 +226,18 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   // 3. Occlusion queries (terminate on the first hit).
   trace_shadow_rays(frame, scratch);
 
-  // 4. Bit = the light contributes and its ray reached it. Background pixels get 0.
-  scratch.masks.assign(slots, 0u);
+  // 4. Bit = the light contributes and its ray reached it. The tile's rows are cleared in one go (background
+  // and unlit pixels: 0), then only hit pixels with a bit are written.
+  scratch.masks.assign(hits, 0u);
   for (size_t r = 0; r < scratch.rays.size(); ++r) {
     const bool reached = scratch.rays[r].tfar >= 0.0f;  // Embree sets tfar = -inf when occluded
-    if (reached && scratch.pending[r].contributes) scratch.masks[scratch.pending[r].slot] |= 1u << scratch.pending[r].light;
+    if (reached && scratch.pending[r].contributes) scratch.masks[scratch.pending[r].hit] |= 1u << scratch.pending[r].light;
   }
-  for (uint32_t slot = 0; slot < slots; ++slot) {
-    uint32_t x, y;
-    if (slot_pixel(slot, x, y)) out.set(x, y, scratch.masks[slot]);
-  }
+  const size_t mask_bytes = out.bytes_per_mask();
+  for (uint32_t y = y0; y < y1; ++y)
+    std::memset(out.data.data() + (size_t{y} * out.width + x0) * mask_bytes, 0, (x1 - x0) * mask_bytes);
+  for (uint32_t h = 0; h < hits; ++h)
+    if (scratch.masks[h] != 0u) out.set(scratch.hit_pixels[h].x, scratch.hit_pixels[h].y, scratch.masks[h]);
 }
 
 }  // namespace dhr::server::detail

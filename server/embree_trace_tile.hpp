@@ -4,6 +4,7 @@
 #include "embree_scene.hpp"
 #include "embree_tracer.hpp"
 
+#include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
 #include <cstdint>
@@ -18,6 +19,12 @@ struct FrameSetup {
   const Camera* camera = nullptr;
   glm::vec3 eye{0.0f};          // eye position in the scene's relative frame
   glm::dmat3 world_from_eye{1.0};
+  // Primary-ray tables: the terms of R * (tx, ty, -1) (R = world_from_eye) that depend on the column or
+  // the row only, so a pixel costs two additions, not the camera maths (primary_direction sums them in
+  // the product's own order: bit-identical to normalize(R * camera.eye_ray(x + 0.5, y + 0.5))).
+  std::vector<glm::dvec3> ray_columns;  // R[0] * tx of column x
+  std::vector<glm::dvec3> ray_rows;     // R[1] * ty of row y
+  glm::dvec3 ray_forward{0.0};          // R[2] * -1
   std::vector<PackedLight> lights;      // all lights, relative frame
   std::vector<uint32_t> active_lights;  // indices of lights not culled for this view
   uint32_t culled_lights = 0;
@@ -28,26 +35,39 @@ struct FrameSetup {
 
 // One queued occlusion ray's destination.
 struct PendingShadowRay {
-  uint32_t slot = 0;         // pixel slot within the tile (block * 16 + lane)
+  uint32_t slot = 0;         // pixel slot within the tile (block * 16 + lane): packets group by block
+  uint32_t hit = 0;          // index into TileScratch::hits
   uint32_t light = 0;        // light index (bit)
   bool contributes = false;  // light_test said kContributes (else traced only because a skip is off)
 };
 
-// Per-thread buffers reused from tile to tile.
+// Where a hit pixel is.
+struct HitPixel {
+  uint32_t slot = 0;
+  uint32_t x = 0;
+  uint32_t y = 0;
+};
+
+// Per-thread buffers reused from tile to tile. Only pixels whose primary ray hit are stored (in slot
+// order), so background pixels cost no bookkeeping past their primary ray.
 struct TileScratch {
-  std::vector<std::optional<SurfaceHit>> hits;
+  std::vector<SurfaceHit> hits;
+  std::vector<HitPixel> hit_pixels;  // parallel to hits
   std::vector<RTCRay> rays;
   std::vector<PendingShadowRay> pending;
-  std::vector<uint32_t> masks;
+  std::vector<uint32_t> masks;  // parallel to hits
 };
 
 // The frame constants for one camera: the eye in the scene's relative frame, the packed lights and which of
-// them `skip.cull_lights` leaves active. Query kinds stay at their defaults (the tracer sets them).
+// the first `requested` of them `skip.cull_lights` leaves active (lights past `requested` are never
+// tested or traced). Query kinds stay at their defaults (the tracer sets them).
 FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
-                            const SkipOptions& skip);
+                            const SkipOptions& skip, uint32_t requested = UINT32_MAX);
 
-// Unit primary-ray direction through pixel (x, y)'s centre, relative frame.
-glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y);
+// Unit primary-ray direction through pixel (x, y)'s centre, relative frame (from the frame's tables).
+inline glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y) {
+  return glm::vec3(glm::normalize((frame.ray_columns[x] + frame.ray_rows[y]) + frame.ray_forward));
+}
 
 // One surface point and light: true with the occlusion ray to trace (and whether the light contributes, else
 // the ray is traced only because a skip is off), or false when frame.skip skips the pair (counted in `stats`

@@ -31,16 +31,22 @@ const AccelStats& EmbreeTracer::accel_stats() const { return scene_->stats(); }
 uint32_t EmbreeTracer::light_count() const { return static_cast<uint32_t>(lights_.size()); }
 
 void EmbreeTracer::trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) {
+  trace_lights(camera, light_count(), out, out_stats);
+}
+
+void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out,
+                                TraceStats& out_stats) {
   const auto t0 = std::chrono::steady_clock::now();
   if (auto err = validate_camera(camera)) throw std::invalid_argument("trace: " + *err);
   if (camera.extent.width > kMaxBufferDimension || camera.extent.height > kMaxBufferDimension)
     throw std::invalid_argument("trace: image exceeds " + std::to_string(kMaxBufferDimension) + " pixels per axis");
 
   const uint32_t width = camera.extent.width, height = camera.extent.height;
-  if (out.width != width || out.height != height || out.light_count != light_count())
-    out = VisibilityBuffer::create(width, height, light_count());
+  lights = std::min(lights, light_count());
+  if (out.width != width || out.height != height || out.light_count != lights)
+    out = VisibilityBuffer::create(width, height, lights);
 
-  detail::FrameSetup frame = detail::make_frame_setup(*scene_, lights_, camera, options_.skip);
+  detail::FrameSetup frame = detail::make_frame_setup(*scene_, lights_, camera, options_.skip, lights);
   frame.primary_packets = config_.primary_packets;
   frame.shadow_query = config_.shadow_query;
 
@@ -77,6 +83,7 @@ void EmbreeTracer::trace(const Camera& camera, VisibilityBuffer& out, TraceStats
   TraceStats stats;
   stats.pixels = static_cast<uint64_t>(width) * height;
   stats.lights_culled = frame.culled_lights;
+  stats.lights_unrequested = light_count() - lights;
   for (const TraceStats& p : partial) {
     stats.background_pixels += p.background_pixels;
     stats.primary_rays += p.primary_rays;

@@ -39,6 +39,7 @@ class EmbreeTracer final : public VisibilityTracer {
   const AccelStats& accel_stats() const override;
   uint32_t light_count() const override;
   void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) override;
+  void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats) override;
 
   // The Embree scene (e.g. to cast primary rays for a shaded preview with the same geometry).
   const EmbreeScene& embree_scene() const { return *scene_; }

@@ -11,6 +11,7 @@ nlohmann::ordered_json to_json(const TraceStats& s) {
           {"skipped_out_of_range", s.skipped_out_of_range},
           {"skipped_culled_light", s.skipped_culled_light},
           {"lights_culled", s.lights_culled},
+          {"lights_unrequested", s.lights_unrequested},
           {"trace_ms", s.trace_ms},
           {"gpu_ms", s.gpu_ms}};
 }

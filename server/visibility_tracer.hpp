@@ -52,7 +52,8 @@ struct TraceStats {
   uint64_t skipped_backfacing = 0;     // pixel-light pairs with N.L <= 0
   uint64_t skipped_out_of_range = 0;   // beyond range / outside spot cone
   uint64_t skipped_culled_light = 0;   // pixel-light pairs of lights culled for this view
-  uint32_t lights_culled = 0;
+  uint32_t lights_culled = 0;          // of the traced lights
+  uint32_t lights_unrequested = 0;     // lights past trace_lights' count: no light test, no ray at all
   double trace_ms = 0.0;               // wall time of the whole trace call (host)
   double gpu_ms = -1.0;                // GPU timestamp time (Vulkan), -1 when not measured
 };
@@ -70,7 +71,16 @@ class VisibilityTracer {
   // Throws std::invalid_argument for an unusable camera (see validate_camera). The Embree backend allows
   // concurrent calls (e.g. both eyes at once); the tracer's state is read-only while tracing.
   virtual void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) = 0;
+
+  // Traces one eye for the scene's first `lights` lights only (clamped to light_count()): a client asked for
+  // fewer than the scene has. The others cost nothing (TraceStats::lights_unrequested counts them); `out`
+  // gets `lights` lights in the narrowest mask width, with the bits trace() gives those lights. Both backends
+  // override this; the default, for wrappers that implement only trace(), traces all and drops the rest.
+  virtual void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats);
 };
+
+// Keeps lights [0, lights) of `buffer` (no-op when it has no more), narrowing its mask width to match.
+void keep_first_lights(VisibilityBuffer& buffer, uint32_t lights);
 
 // The name of a real (non-CPU) GPU whose Vulkan driver offers ray tracing, or std::nullopt (no driver,
 // only lavapipe, no ray tracing). Creates and drops a Vulkan context: call once, not per frame.

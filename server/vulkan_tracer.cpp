@@ -96,6 +96,7 @@ struct VulkanTracer::Impl {
   VulkanTracerConfig config;
   std::vector<SceneLight> lights;
   glm::dvec3 origin{0.0};
+  float ray_offset_scale = 1.0f;  // ray_offset.hpp, for the scene's bounds
   detail::GpuScene scene;
   detail::TracerPipeline pipeline;
   vk::TimestampQueries timestamps;
@@ -169,6 +170,7 @@ VulkanTracer::VulkanTracer(const Scene& scene, const TracerOptions& options, con
   const detail::ScenePlan plan = detail::plan_gpu_scene(scene, config);
   const double plan_ms = ms_since(t0);
   im.origin = plan.origin;
+  im.ray_offset_scale = ray_offset_scale(scene.bounds);
   const std::vector<PackedLight> packed = pack_lights(im.lights, im.origin);
   im.scene = detail::upload_gpu_scene(*im.context, plan, packed, config);
   im.scene.stats.build_ms += plan_ms;  // the spatial sort is part of building
@@ -189,6 +191,11 @@ bool VulkanTracer::is_cpu_device() const { return impl_->context->info().is_cpu;
 uint32_t VulkanTracer::validation_error_count() const { return impl_->context->validation_error_count(); }
 
 void VulkanTracer::trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) {
+  trace_lights(camera, light_count(), out, out_stats);
+}
+
+void VulkanTracer::trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out,
+                                TraceStats& out_stats) {
   const auto t0 = std::chrono::steady_clock::now();
   if (auto err = validate_camera(camera)) throw std::invalid_argument("trace: " + *err);
   if (camera.extent.width > kMaxBufferDimension || camera.extent.height > kMaxBufferDimension)
@@ -197,15 +204,18 @@ void VulkanTracer::trace(const Camera& camera, VisibilityBuffer& out, TraceStats
   std::lock_guard lock(im.mutex);
 
   const uint32_t width = camera.extent.width, height = camera.extent.height;
-  if (out.width != width || out.height != height || out.light_count != light_count())
-    out = VisibilityBuffer::create(width, height, light_count());
+  lights = std::min(lights, light_count());
+  if (out.width != width || out.height != height || out.light_count != lights)
+    out = VisibilityBuffer::create(width, height, lights);
   const size_t pixels = out.pixel_count();
 
   shader::VisPushConstants pc = push_constants(camera, im.origin);
-  pc.light_count = light_count();
+  pc.light_count = lights;  // the shader's light loop: unrequested lights are never tested
+  pc.ray_offset_scale = im.ray_offset_scale;
   TraceStats stats;
   stats.pixels = pixels;
-  for (uint32_t i = 0; i < im.lights.size(); ++i) {
+  stats.lights_unrequested = light_count() - lights;
+  for (uint32_t i = 0; i < lights; ++i) {
     if (im.options.skip.cull_lights && !light_may_reach_view(im.lights[i], camera))
       ++stats.lights_culled;
     else

@@ -41,6 +41,8 @@ class VulkanTracer final : public VisibilityTracer {
   uint32_t light_count() const override;
   // Concurrent calls are serialized (one queue, one set of frame buffers).
   void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) override;
+  // Lights past `lights` are neither tested nor traced by the shader (push constant light_count).
+  void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats) override;
 
   const VulkanTracerConfig& config() const;
   // True on a CPU implementation (lavapipe).

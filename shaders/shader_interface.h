@@ -60,7 +60,8 @@ DHR_CONST uint kVisCounterSlots = 64;
 
 // Shadow rays (same numbers as server/ray_offset.hpp and the Embree backend; vulkan_tracer.cpp checks them):
 // origins move off the surface by kVisRayOffsetIntScale ULPs per unit normal, or by
-// kVisRayOffsetFloatScale per unit normal where |coordinate| < kVisRayOffsetOriginThreshold; point and
+// kVisRayOffsetFloatScale per unit normal where |coordinate| < kVisRayOffsetOriginThreshold (both of these
+// times VisPushConstants::ray_offset_scale, a power of two for the scene's size); point and
 // spot shadow rays stop at kVisShadowTfarScale of the distance so geometry at the light does not occlude it.
 DHR_CONST float kVisRayOffsetOriginThreshold = 1.0f / 32.0f;
 DHR_CONST float kVisRayOffsetFloatScale = 1.0f / 65536.0f;
@@ -104,6 +105,7 @@ struct VisPushConstants {
   uint light_count;
   uint active_lights;  // bit i: light i not culled for this view
   uint flags;          // kVisSkip*
+  float ray_offset_scale;  // server/ray_offset.hpp: ray_offset_scale(scene bounds), a power of two
 };
 
 // ---- client (xrclient/render): G-buffer, prediction (warp) and shading passes ----
@@ -225,7 +227,7 @@ static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the G
 static_assert(sizeof(ClientPredictionPush) == 116, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
-static_assert(sizeof(VisPushConstants) == 84, "push constants must match the GLSL layout");
+static_assert(sizeof(VisPushConstants) == 88, "push constants must match the GLSL layout");
 }  // namespace dhr::shader
 #endif
 

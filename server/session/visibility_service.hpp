@@ -192,13 +192,8 @@ class VisibilityService {
   std::atomic<uint32_t> unsolicited_sequence_{0};
 
   std::mutex trace_mutex_;  // serializes process_pending (scratch buffers below)
-  VisibilityBuffer traced_;
-  VisibilityBuffer reduced_;
+  VisibilityBuffer traced_;  // the session's requested lights only (VisibilityTracer::trace_lights)
 };
-
-// Keeps bits [0, light_count) of every mask of `in` (light_count <= in.light_count), in the narrowest
-// mask width for that count: tracing all of the scene's lights and sending the first N.
-void restrict_lights(const VisibilityBuffer& in, uint32_t light_count, VisibilityBuffer& out);
 
 // Whether a Hello's scene id names the served scene: empty, equal, or a path / file name whose stem
 // (directories and extension removed) equals scene_id.

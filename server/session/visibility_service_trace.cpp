@@ -12,15 +12,6 @@ Camera session_camera(const View& view, uint32_t eye_width, uint32_t eye_height,
   return Camera::with_guard_band(view, Extent{eye_width, eye_height}, GuardBand{2 * guard_x, 2 * guard_y});
 }
 
-void restrict_lights(const VisibilityBuffer& in, uint32_t light_count, VisibilityBuffer& out) {
-  light_count = std::min(light_count, in.light_count);
-  if (out.width != in.width || out.height != in.height || out.light_count != light_count)
-    out = VisibilityBuffer::create(in.width, in.height, light_count);
-  const uint32_t keep = out.light_bits();
-  const size_t n = in.pixel_count();
-  for (size_t i = 0; i < n; ++i) out.set_mask_at(i, in.mask_at(i) & keep);
-}
-
 size_t VisibilityService::process_pending() {
   std::lock_guard trace_lock(trace_mutex_);
   std::vector<Work> work;
@@ -82,7 +73,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
     const Camera camera = session_camera(view, hello.eye_width, hello.eye_height, hello.guard_x, hello.guard_y);
     TraceStats trace_stats;
     try {
-      tracer_.trace(camera, traced_, trace_stats);
+      // Only the lights the client asked for (the first light_count): the others cost no ray.
+      tracer_.trace_lights(camera, light_count, traced_, trace_stats);
     } catch (const std::exception& ex) {
       log::warn("session %016llx frame %llu: trace failed: %s", static_cast<unsigned long long>(s.token),
                 static_cast<unsigned long long>(work.pose.frame_number), ex.what());
@@ -91,13 +83,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
     }
     trace_ms += trace_stats.trace_ms;
     const int64_t encode_start = net::steady_now_ns();
-    const VisibilityBuffer* buffer = &traced_;
-    if (light_count < traced_.light_count) {
-      restrict_lights(traced_, light_count, reduced_);
-      buffer = &reduced_;
-    }
     const std::vector<VisibilityShard> encoded =
-        make_visibility_shards(*buffer, work.pose.frame_number, static_cast<Eye>(e), view, config_.encode);
+        make_visibility_shards(traced_, work.pose.frame_number, static_cast<Eye>(e), view, config_.encode);
     if (encoded.empty()) {
       ok = false;
       break;

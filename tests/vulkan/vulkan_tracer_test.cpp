@@ -249,6 +249,42 @@ TEST_F(VulkanTracerTest, SkippingChangesNoBit) {
   }
 }
 
+// A client asking for the first N lights: the same bits as the full trace for those lights, and the shader
+// never tests or traces the others (exhaustive: exactly hit pixels x N shadow rays).
+TEST_F(VulkanTracerTest, LightSubsetHasTheFullTracesBitsAndNoRaysForTheOthers) {
+  const std::string path = test::source_path(kDefaultScenePath);
+  const Scene scene = load(path);
+  const uint32_t total = static_cast<uint32_t>(scene.lights.size());
+  ASSERT_GE(total, 2u);
+  const std::vector<Camera> cameras = bookmark_cameras(path, {64, 48});
+  ASSERT_FALSE(cameras.empty());
+  const Camera& camera = cameras.front();
+  for (const SkipOptions skip : {SkipOptions{}, SkipOptions::none()}) {
+    VulkanTracer tracer(scene, vk_options(skip));
+    VisibilityBuffer full;
+    TraceStats full_stats;
+    tracer.trace(camera, full, full_stats);
+    const uint64_t hit = full_stats.pixels - full_stats.background_pixels;
+    for (uint32_t n = 0; n <= total; ++n) {
+      VisibilityBuffer subset;
+      TraceStats stats;
+      tracer.trace_lights(camera, n, subset, stats);
+      ASSERT_EQ(subset.light_count, n);
+      EXPECT_EQ(subset.mask_bits, mask_width_for_light_count(n));
+      uint64_t differing = 0;
+      for (size_t i = 0; i < full.pixel_count(); ++i)
+        differing += subset.mask_at(i) != (full.mask_at(i) & subset.light_bits());
+      EXPECT_EQ(differing, 0u) << n << " lights";
+      EXPECT_EQ(stats.lights_unrequested, total - n);
+      EXPECT_EQ(stats.shadow_rays + stats.skipped_backfacing + stats.skipped_out_of_range + stats.skipped_culled_light,
+                hit * n);
+      if (!skip.backfacing) {
+        EXPECT_EQ(stats.shadow_rays, hit * n);
+      }
+    }
+  }
+}
+
 // Single-sided quads seen from the back vanish for primary rays but still cast shadows; double-sided ones
 // are seen from both sides; mirrored and plain instances of one geometry share a BLAS; lights are culled.
 Scene make_instanced_scene() {
