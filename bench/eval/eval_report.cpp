@@ -27,6 +27,8 @@ struct Row {
   int x_max = -1, guard_px = 0;
   std::string guard;
   bool psnr_inf = false;
+  bool has_flip = false;  // null in results.json: FLIP was not computed
+  double flip = 0;
   double frame_ms() const { return 2.0 * (client_ms + server_ms); }  // both eyes, client + server
   std::string x_max_text() const { return x_max < 0 ? "all" : std::to_string(x_max); }
 };
@@ -53,6 +55,8 @@ std::vector<Row> read_rows(const json& results) {
     r.ssim = num(j, "ssim");
     r.psnr_inf = j.contains("psnr") && j["psnr"].is_null();
     r.psnr = num(j, "psnr");
+    r.has_flip = j.contains("flip") && j["flip"].is_number();
+    r.flip = num(j, "flip");
     r.unknown_frac = num(j, "unknown_frac");
     r.client_ms = num(j, "client_ms");
     r.server_ms = num(j, "server_ms");
@@ -171,10 +175,11 @@ int write_report(const std::string& dir_text) {
   };
   const auto frames_x = [&](const Row& r) { return several_x ? r.frames_predicted : r.frames_behind; };
 
-  SeriesSet ssim_s, psnr_s, bits_s, resp_s, cost_s, points_s;
+  SeriesSet ssim_s, flip_s, psnr_s, bits_s, resp_s, cost_s, points_s;
   for (const Row& r : rows) {
     if (r.guard == first_guard) {
       ssim_s.at(label(r)).points.emplace_back(frames_x(r), r.ssim);
+      if (r.has_flip) flip_s.at(label(r)).points.emplace_back(frames_x(r), r.flip);
       if (!r.psnr_inf) psnr_s.at(label(r)).points.emplace_back(frames_x(r), r.psnr);
       if (!several_x || r.x_max < 0 || r.method == "stale") {
         resp_s.at(r.method).points.emplace_back(r.rtt_ms, r.response_ms);
@@ -195,6 +200,8 @@ int write_report(const std::string& dir_text) {
   const std::string frames_label = several_x ? "frames predicted (x = min(x_max, p))"
                                              : "frames predicted (p: age of the visibility, x_max unlimited)";
   add("SSIM vs frames predicted", plot(dir, "ssim_vs_frames", "SSIM of the shaded luma", frames_label, "SSIM", ssim_s.list));
+  add("FLIP vs frames predicted", plot(dir, "flip_vs_frames", "FLIP (LDR) of the shaded image", frames_label,
+                                     "mean FLIP (0 = identical)", flip_s.list));
   add("PSNR vs frames predicted", plot(dir, "psnr_vs_frames", "PSNR of the shaded luma", frames_label, "PSNR (dB)", psnr_s.list));
   add("Bitwise visibility error vs frames predicted, per guard band",
       plot(dir, "bit_error_vs_frames", "wrong pixel-light bits / all", frames_label, "bit error", bits_s.list));
@@ -218,14 +225,17 @@ int write_report(const std::string& dir_text) {
        << run.value("warmup_frames", 0) << " warm-up frames) at " << fmt(0, num(run, "frame_rate_hz")) << " Hz, eyes "
        << run.value("eye_width", 0) << "x" << run.value("eye_height", 0) << ", " << run.value("lights", 0)
        << " lights, jitter " << fmt(1, num(run, "jitter_ms")) << " ms, loss " << fmt(3, num(run, "loss"))
+       << ", modelled server time " << fmt(1, num(run, "server_model_ms")) << " ms per frame"
        << ". Client: " << run.value("client_device", "") << "; tracer: " << run.value("tracer", "") << ". Wall time "
        << fmt(0, num(run, "wall_s")) << " s.\n\n";
   }
-  md << "| method | rtt ms | x_max | guard | p | bit error | SSIM | PSNR dB | unknown | client ms | server ms | bytes/frame | response ms |\n";
-  md << "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  md << "| method | rtt ms | x_max | guard | p | bit error | SSIM | FLIP | PSNR dB | unknown | client ms | server ms | "
+        "bytes/frame | response ms |\n";
+  md << "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const Row& r : rows) {
     md << "| " << r.method << " | " << fmt(0, r.rtt_ms) << " | " << r.x_max_text() << " | " << r.guard << " | "
        << fmt(2, r.frames_behind) << " | " << fmt(5, r.bit_error) << " | " << fmt(4, r.ssim) << " | "
+       << (r.has_flip ? fmt(4, r.flip) : std::string("-")) << " | "
        << (r.psnr_inf ? std::string("inf") : fmt(2, r.psnr)) << " | " << fmt(4, r.unknown_frac) << " | "
        << fmt(2, r.client_ms) << " | " << fmt(2, r.server_ms) << " | " << fmt(0, r.bytes_per_frame)
        << " | " << fmt(1, r.response_ms) << " |\n";

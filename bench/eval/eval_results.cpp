@@ -31,6 +31,7 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   for (const double v : t.bit_error_per_light) r.bit_error_per_light.push_back(mean(v, t.eye_frames));
   r.ssim = mean(t.ssim, t.eye_frames);
   r.mse = mean(t.mse, t.eye_frames);
+  if (t.flip_frames > 0) r.flip = mean(t.flip, t.flip_frames);
   r.psnr = r.mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / r.mse) : std::numeric_limits<double>::infinity();
   r.unknown_frac = mean(t.unknown_frac, t.eye_frames);
   r.no_data_frac = mean(static_cast<double>(t.eye_frames_without_data), t.eye_frames);
@@ -46,7 +47,10 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   r.prediction_fallback_frac = mean(static_cast<double>(t.prediction_fallbacks), t.predictions);
   r.prediction_capped_frac = mean(static_cast<double>(t.prediction_capped), t.predictions);
   r.horizon_ms = mean(t.horizon_ms, t.predictions);
+  r.poses_skipped_identical = t.poses_skipped_identical;
+  r.poses_superseded = t.poses_superseded;
   r.datagrams_lost = t.datagrams_lost;
+  r.connect_ms = t.connect_ms;
   return r;
 }
 
@@ -69,6 +73,7 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("ssim", r.ssim, 8);
     w.value("psnr", r.psnr, 4);
     w.value("mse", r.mse, 6);
+    w.value("flip", r.flip.value_or(std::numeric_limits<double>::quiet_NaN()), 8);  // null: not computed
     w.value("unknown_frac", r.unknown_frac, 8);
     w.value("no_data_frac", r.no_data_frac, 6);
     w.value("client_ms", r.client_ms, 4);
@@ -83,7 +88,10 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("prediction_fallback_frac", r.prediction_fallback_frac, 4);
     w.value("prediction_capped_frac", r.prediction_capped_frac, 4);
     w.value("horizon_ms", r.horizon_ms, 3);
+    w.value("poses_skipped_identical", static_cast<unsigned long long>(r.poses_skipped_identical));
+    w.value("poses_superseded", static_cast<unsigned long long>(r.poses_superseded));
     w.value("datagrams_lost", static_cast<unsigned long long>(r.datagrams_lost));
+    w.value("connect_ms", r.connect_ms, 3);
     w.end_object();
   }
   w.end_array();
@@ -92,13 +100,13 @@ std::string results_json(const std::vector<SettingResult>& results) {
 
 std::string results_csv(const std::vector<SettingResult>& results) {
   std::string out =
-      "method,rtt_ms,x_max,guard,frames,bit_error,ssim,psnr,unknown_frac,client_ms,server_ms,encode_ms,decode_ms,"
+      "method,rtt_ms,x_max,guard,frames,bit_error,ssim,psnr,flip,unknown_frac,client_ms,server_ms,encode_ms,decode_ms,"
       "bytes_per_frame,response_ms,frames_behind,frames_predicted,prediction_fallback_frac,horizon_ms\n";
   for (const SettingResult& r : results) {
     out += std::string(method_name(r.setting.method)) + "," + number(r.setting.rtt_ms, 3) + "," +
            std::to_string(r.setting.x_max) + "," + r.setting.guard + "," + std::to_string(r.frames) + "," +
            number(r.bit_error, 8) + "," + number(r.ssim, 8) + "," + number(r.psnr, 4) + "," +
-           number(r.unknown_frac, 8) + "," + number(r.client_ms, 4) + "," + number(r.server_ms, 4) + "," +
+           (r.flip ? number(*r.flip, 8) : std::string()) + "," + number(r.unknown_frac, 8) + "," + number(r.client_ms, 4) + "," + number(r.server_ms, 4) + "," +
            number(r.encode_ms, 4) + "," + number(r.decode_ms, 4) + "," + number(r.bytes_per_frame, 1) + "," +
            number(r.response_ms, 3) + "," + number(r.frames_behind, 4) + "," + number(r.frames_predicted, 4) + "," +
            number(r.prediction_fallback_frac, 4) + "," + number(r.horizon_ms, 3) + "\n";
@@ -109,13 +117,15 @@ std::string results_csv(const std::vector<SettingResult>& results) {
 std::string results_table(const std::vector<SettingResult>& results) {
   std::string out;
   char line[256];
-  std::snprintf(line, sizeof line, "%-11s %7s %5s %7s %9s %7s %7s %8s %9s %9s %9s %9s\n", "method", "rtt_ms", "x_max",
-                "guard", "bit_err", "ssim", "psnr", "unknown", "client_ms", "server_ms", "bytes/fr", "resp_ms");
+  std::snprintf(line, sizeof line, "%-11s %7s %5s %7s %9s %7s %7s %7s %8s %9s %9s %9s %9s\n", "method", "rtt_ms",
+                "x_max", "guard", "bit_err", "ssim", "psnr", "flip", "unknown", "client_ms", "server_ms", "bytes/fr",
+                "resp_ms");
   out += line;
   for (const SettingResult& r : results) {
-    std::snprintf(line, sizeof line, "%-11s %7.1f %5s %7s %9.5f %7.4f %7s %8.5f %9.3f %9.3f %9.0f %9.1f\n",
+    std::snprintf(line, sizeof line, "%-11s %7.1f %5s %7s %9.5f %7.4f %7s %7s %8.5f %9.3f %9.3f %9.0f %9.1f\n",
                   method_name(r.setting.method), r.setting.rtt_ms, x_max_text(r.setting.x_max).c_str(),
-                  r.setting.guard.c_str(), r.bit_error, r.ssim, number(r.psnr, 2).c_str(), r.unknown_frac,
+                  r.setting.guard.c_str(), r.bit_error, r.ssim, number(r.psnr, 2).c_str(),
+                  r.flip ? number(*r.flip, 4).c_str() : "-", r.unknown_frac,
                   r.client_ms, r.server_ms, r.bytes_per_frame, r.response_ms);
     out += line;
   }

@@ -3,6 +3,7 @@
 #include "eval_session.hpp"
 #include "eval_settings.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@ struct SettingResult {
   double ssim = 0.0;
   double psnr = 0.0;  // from the mean MSE over frames and eyes; +inf when every frame matched exactly
   double mse = 0.0;
+  std::optional<double> flip;  // mean FLIP (LDR) over frames and eyes; nullopt when not computed
   double unknown_frac = 0.0;
   double no_data_frac = 0.0;  // eye-frames with nothing received yet
   double client_ms = 0.0;     // per eye
@@ -30,7 +32,10 @@ struct SettingResult {
   double prediction_fallback_frac = 0.0;
   double prediction_capped_frac = 0.0;
   double horizon_ms = 0.0;
+  uint64_t poses_skipped_identical = 0;  // service: identical to the last traced pose, not traced again
+  uint64_t poses_superseded = 0;         // service: replaced by a newer pose before it was traced
   uint64_t datagrams_lost = 0;
+  double connect_ms = 0.0;  // virtual time of the connection phase (handshake + heartbeat round trip)
 };
 
 SettingResult summarize(const Setting& setting, const SettingTotals& totals, uint64_t frames);

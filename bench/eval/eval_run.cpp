@@ -73,6 +73,7 @@ Truth ground_truth(server::VisibilityTracer& tracer, EyeRenderer& renderer, Exte
     input.traced = camera;
     EyeRender r = renderer.render(eye, sample.views[eye], input);
     truth.luma[eye] = luma_from_rgba8(r.rgba, eye_size.width, eye_size.height);
+    truth.rgba[eye] = std::move(r.rgba);
     truth.mask[eye] = std::move(r.mask);
   }
   return truth;
@@ -103,7 +104,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     for (const Setting& s : settings) max_rtt = std::max(max_rtt, s.rtt_ms);
     const double period_ms = static_cast<double>(client::kVirtualFramePeriodNs) * 1e-6;
     const uint64_t warmup = static_cast<uint64_t>(
-        std::ceil(std::max(kMinWarmupMs, max_rtt + 4.0 * options.jitter_ms + 30.0) / period_ms));
+        std::ceil(std::max(kMinWarmupMs, max_rtt + options.server_ms + 4.0 * options.jitter_ms + 30.0) / period_ms));
     const uint64_t available = source.frame_count();
     if (available <= warmup) {
       throw std::runtime_error(options.trace + ": too short for the warm-up of " + std::to_string(warmup) + " frames");
@@ -171,6 +172,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.value("lights", renderer.light_count());
     meta.value("jitter_ms", options.jitter_ms, 3);
     meta.value("loss", options.loss, 4);
+    meta.value("server_model_ms", options.server_ms, 3);
     meta.value("seed", static_cast<unsigned long long>(options.seed));
     meta.value("client_device", context->info().name + " (" + context->info().driver_info + ")");
     meta.value("tracer", tracer->device_description());

@@ -1,21 +1,22 @@
 #include "eval_session.hpp"
 
-#include "core/codec.hpp"
+#include "core/image_flip.hpp"
 #include "core/log.hpp"
+#include "core/protocol.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <variant>
 
 namespace dhr::eval {
 namespace {
 
-constexpr uint64_t kSessionToken = 0xD4E7A1;
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
+// The simulated client's address as the service sees it (the links carry no addresses of their own).
+const net::PeerAddress kClientAddress = net::PeerAddress::ipv4({10, 0, 0, 2}, 5000);
+// The connection phase gives up after this much virtual time (the client itself gives up after 5 s).
+constexpr int64_t kConnectLimitNs = 10 * net::kNsPerSecond;
 
 net::ImpairmentParams link_params(const Setting& setting, const RunOptions& options, uint64_t seed) {
   net::ImpairmentParams p;
@@ -26,12 +27,28 @@ net::ImpairmentParams link_params(const Setting& setting, const RunOptions& opti
   return p;
 }
 
-ReassemblerConfig reassembler_config(const Setting& setting, const SessionShared& shared) {
-  ReassemblerConfig c;
-  c.width = shared.eye.width + setting.guard_px.x;
-  c.height = shared.eye.height + setting.guard_px.y;
-  c.light_count = shared.light_count;
+// Half the frame's modelled compute time per traced eye (the service traces both eyes of a frame).
+int64_t server_ns_per_eye(const RunOptions& options) {
+  return static_cast<int64_t>(std::llround(options.server_ms * 1e6 / 2.0));
+}
+
+server::ServiceConfig service_config(const Setting& setting, const RunOptions& options) {
+  server::ServiceConfig c;
+  c.token_seed = options.seed * 2 + 1;  // never 0 (0 would draw tokens from std::random_device)
+  c.predict = setting.method == Method::kPaperPred;
+  c.predict_horizon_ns = -1;  // automatic: the session's measured RTT + queueing + the last trace time
+  return c;
+}
+
+client::VisibilityClientConfig client_config(const Setting& setting, const RunOptions& options,
+                                             const SessionShared& shared) {
+  client::VisibilityClientConfig c;
+  c.eye_width = static_cast<uint16_t>(shared.eye.width);
+  c.eye_height = static_cast<uint16_t>(shared.eye.height);
+  c.guard_x = static_cast<uint16_t>(setting.guard_px.x / 2);  // the protocol's guard band is per side
+  c.guard_y = static_cast<uint16_t>(setting.guard_px.y / 2);
   c.max_frames_in_flight = 8;
+  c.nonce_seed = options.seed;
   return c;
 }
 
@@ -68,155 +85,173 @@ std::array<View, 2> wire_views(const std::array<View, 2>& views) {
   return current;
 }
 
-SettingSession::SettingSession(const Setting& setting, const RunOptions& options, const SessionShared& shared)
-    : setting_(setting), shared_(shared), clock_(0),
-      uplink_(link_params(setting, options, options.seed * 2 + 0), clock_),
-      downlink_(link_params(setting, options, options.seed * 2 + 1), clock_),
-      reassembler_(reassembler_config(setting, shared)) {
-  totals_.bit_error_per_light.assign(shared.light_count, 0.0);
+int64_t ServerClock::take_busy_ns() {
+  const int64_t busy = busy_ns_;
+  busy_ns_ = 0;
+  return busy;
 }
 
-void SettingSession::deliver_until(int64_t t_ns, bool inclusive) {
+void ModelledTimeTracer::trace(const Camera& camera, VisibilityBuffer& out, server::TraceStats& out_stats) {
+  inner_.trace(camera, out, out_stats);
+  clock_.add_busy_ns(ns_per_eye_);
+}
+
+bool CountingSender::send_to(std::span<const uint8_t> datagram, const net::PeerAddress& to) {
+  DatagramHeader header;
+  const bool shard = decode_header(datagram, header) == DecodeError::kNone && header.type == MessageType::kVisibilityShard;
+  if (!link_.send_to(datagram, to)) return false;
+  if (shard) shard_bytes_ += datagram.size();
+  return true;
+}
+
+SettingSession::SettingSession(const Setting& setting, const RunOptions& options, const SessionShared& shared)
+    : setting_(setting), shared_(shared), guard_(setting.guard_px), clock_(0), server_clock_(clock_),
+      uplink_(link_params(setting, options, options.seed * 2 + 0), clock_),
+      downlink_(link_params(setting, options, options.seed * 2 + 1), server_clock_), server_out_(downlink_),
+      tracer_(*shared.tracer, server_clock_, server_ns_per_eye(options)) {
+  totals_.bit_error_per_light.assign(shared.light_count, 0.0);
+  service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options), server_out_,
+                                                         server_clock_);
+  client_ = std::make_unique<client::VisibilityClient>(client_config(setting, options, shared), uplink_, clock_);
+  connect();
+}
+
+SettingSession::~SettingSession() = default;
+
+// The connection phase, before the trace plays: Hello -> Welcome, then heartbeats until the service has
+// an echo of its own heartbeat (its RTT sample, which the automatic prediction horizon needs).
+void SettingSession::connect() {
+  const int64_t period = client::kVirtualFramePeriodNs;
+  bool echo_pending = false;
+  uint64_t heartbeats_before_echo = 0;
+  int64_t t = 0;
+  bool done = false;
+  for (; t <= kConnectLimitNs && !done; t += period) {
+    run_until(t, false);
+    clock_.set_ns(std::max(clock_.now_ns(), t));
+    client_->tick();
+    service_->tick();
+    run_until(t, true);
+    if (client_->failed()) throw std::runtime_error("setting " + setting_label(setting_) + ": " + client_->failure());
+    const client::ClientNetStats stats = client_->stats();
+    if (!echo_pending && stats.heartbeats_received > 0) {
+      echo_pending = true;  // the client's next heartbeat echoes the service's
+      heartbeats_before_echo = stats.heartbeats_sent;
+    } else if (echo_pending && stats.heartbeats_sent > heartbeats_before_echo && uplink_.in_flight() == 0) {
+      done = true;
+    }
+  }
+  if (!client_->connected()) {
+    throw std::runtime_error("setting " + setting_label(setting_) + ": the client did not connect");
+  }
+  if (!done) log::warn("dhr-eval: %s: no heartbeat round trip before the trace starts", setting_label(setting_).c_str());
+  const std::optional<Welcome> welcome = client_->welcome();
+  if (!welcome || welcome->guard_x * 2u != guard_.x || welcome->guard_y * 2u != guard_.y) {
+    throw std::runtime_error("setting " + setting_label(setting_) + ": the server granted another guard band");
+  }
+  totals_.connect_ms = static_cast<double>(t) * 1e-6;
+  time_offset_ns_ = t + period;
+}
+
+// Discrete events in time order: datagrams reaching the service, the service's worker tracing, datagrams
+// reaching the client. At equal times the service receives first, then traces, then the client receives.
+void SettingSession::run_until(int64_t t_ns, bool inclusive) {
+  std::optional<int64_t> work_at;  // when the worker takes the pending pose: on arrival, or when it is free
   for (;;) {
-    const std::optional<int64_t> up = uplink_.next_delivery_ns(), down = downlink_.next_delivery_ns();
     const auto due = [&](const std::optional<int64_t>& at) { return at && (inclusive ? *at <= t_ns : *at < t_ns); };
-    // Earliest first; the server's deliveries before the client's at equal times.
-    if (due(up) && (!due(down) || *up <= *down)) {
-      clock_.set_ns(*up);
-      uplink_.deliver_until(*up, [this](const net::SimulatedDelivery& d) { on_pose(d); });
-    } else if (due(down)) {
-      clock_.set_ns(*down);
-      downlink_.deliver_until(*down, [this](const net::SimulatedDelivery& d) { on_shard(d); });
+    const std::optional<int64_t> up = uplink_.next_delivery_ns(), down = downlink_.next_delivery_ns();
+    if (server_work_ && !work_at) work_at = std::max(server_free_ns_, clock_.now_ns());
+    int which = -1;
+    int64_t at = 0;
+    for (const auto& [candidate, id] : {std::pair{up, 0}, std::pair{work_at, 1}, std::pair{down, 2}}) {
+      if (due(candidate) && (which < 0 || *candidate < at)) {
+        which = id;
+        at = *candidate;
+      }
+    }
+    if (which < 0) break;
+    clock_.set_ns(std::max(clock_.now_ns(), at));
+    if (which == 0) {
+      uplink_.deliver_until(at, [this](const net::SimulatedDelivery& d) { service_->on_datagram(d.bytes, kClientAddress); });
+      server_work_ = true;
+    } else if (which == 1) {
+      work_at.reset();
+      process_on_server(at);
     } else {
-      break;
+      downlink_.deliver_until(at, [this](const net::SimulatedDelivery& d) { deliver_to_client(d); });
     }
   }
   clock_.set_ns(std::max(clock_.now_ns(), t_ns));
 }
 
+void SettingSession::process_on_server(int64_t t_ns) {
+  server_work_ = false;
+  const bool predict = setting_.method == Method::kPaperPred;
+  const server::ServiceStats before = predict ? service_->stats() : server::ServiceStats{};
+  service_->process_pending();
+  server_free_ns_ = t_ns + server_clock_.take_busy_ns();
+  if (!predict) return;
+  // The service counts sums only; one call traces at most this one session's frame, so the differences
+  // are that frame's horizon and fallback.
+  const server::ServiceStats after = service_->stats();
+  if (after.frames_predicted == before.frames_predicted) return;
+  const double horizon_ms = after.prediction_horizon_ms - before.prediction_horizon_ms;
+  const double cap_ms = static_cast<double>(server::PosePredictorConfig{}.max_horizon_ns) * 1e-6;
+  if (after.prediction_fallbacks == before.prediction_fallbacks && horizon_ms >= cap_ms - 1e-6) {
+    totals_.prediction_capped += 1;
+  }
+}
+
+void SettingSession::deliver_to_client(const net::SimulatedDelivery& delivery) {
+  const auto start = std::chrono::steady_clock::now();
+  client_->on_datagram(delivery.bytes);
+  totals_.decode_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 void SettingSession::advance(const client::PoseSample& sample) {
   frame_ = sample.frame;
-  now_ns_ = sample.display_time_ns;
-  deliver_until(now_ns_, false);
-  clock_.set_ns(now_ns_);
-  const std::vector<uint8_t> bytes =
-      encode_datagram(Datagram{kSessionToken, up_sequence_++, PoseUpdate{sample.frame, sample.display_time_ns, sample.views}});
-  if (!bytes.empty() && uplink_.send(bytes)) {
-    totals_.bytes_up += bytes.size();
-    totals_.poses_sent += 1;
-  }
-  reassembler_.set_newest_requested_frame(sample.frame);
-  deliver_until(now_ns_, true);
-}
-
-// Server side: one PoseUpdate -> (prediction) -> trace both eyes -> encode -> shards on the downlink.
-void SettingSession::on_pose(const net::SimulatedDelivery& delivery) {
-  Datagram datagram;
-  if (decode_datagram(delivery.bytes.data(), delivery.bytes.size(), datagram) != DecodeError::kNone) return;
-  const PoseUpdate* update = std::get_if<PoseUpdate>(&datagram.message);
-  if (!update) return;
-  std::array<View, 2> views = update->views;
-  if (setting_.method == Method::kPaperPred) {
-    predictor_.add(update->display_time_ns, update->views);
-    // The result is shown at the first client frame at or after the pose's display time plus the round
-    // trip (the nominal RTT stands in for the server's measured one).
-    int64_t period = predictor_.frame_period_ns();
-    if (period <= 0) period = client::kVirtualFramePeriodNs;
-    const int64_t rtt_ns = static_cast<int64_t>(std::llround(setting_.rtt_ms * 1e6));
-    const int64_t frames_ahead = (rtt_ns + period - 1) / period;
-    const server::PredictedViews predicted = predictor_.predict(update->display_time_ns + frames_ahead * period);
-    totals_.predictions += 1;
-    totals_.prediction_fallbacks += predicted.fell_back ? 1 : 0;
-    totals_.prediction_capped += predicted.capped ? 1 : 0;
-    totals_.horizon_ms += static_cast<double>(predicted.horizon_ns) * 1e-6;
-    // No extrapolation (zero horizon, fallback): exactly the received views, as without prediction.
-    // Otherwise trace exactly what the shards will carry, so the client warps from exactly what was traced.
-    if (!predicted.fell_back && predicted.horizon_ns > 0) views = wire_views(predicted.views);
-  }
-  for (uint8_t eye = 0; eye < 2; ++eye) {
-    const Camera camera = Camera::with_guard_band(views[eye], shared_.eye, setting_.guard_px);
-    server::TraceStats stats;
-    try {
-      shared_.tracer->trace(camera, scratch_, stats);
-    } catch (const std::exception& e) {
-      log::warn("dhr-eval: frame %llu eye %u not traced: %s", static_cast<unsigned long long>(update->frame_number),
-                   static_cast<unsigned>(eye), e.what());
-      continue;
-    }
-    totals_.traces += 1;
-    totals_.server_ms += stats.trace_ms;
-    const auto start = std::chrono::steady_clock::now();
-    const std::vector<VisibilityShard> shards =
-        make_visibility_shards(scratch_, update->frame_number, static_cast<Eye>(eye), views[eye]);
-    std::vector<std::vector<uint8_t>> datagrams;
-    datagrams.reserve(shards.size());
-    for (const VisibilityShard& shard : shards) {
-      datagrams.push_back(encode_datagram(Datagram{kSessionToken, down_sequence_++, shard}));
-    }
-    totals_.encode_ms += ms_since(start);
-    for (const std::vector<uint8_t>& bytes : datagrams) {
-      if (bytes.empty()) continue;
-      totals_.bytes_down += bytes.size();
-      downlink_.send(bytes);
-    }
-  }
-}
-
-// Client side: one datagram -> reassembler.
-void SettingSession::on_shard(const net::SimulatedDelivery& delivery) {
-  const auto start = std::chrono::steady_clock::now();
-  Datagram datagram;
-  if (decode_datagram(delivery.bytes.data(), delivery.bytes.size(), datagram) == DecodeError::kNone) {
-    if (const VisibilityShard* shard = std::get_if<VisibilityShard>(&datagram.message)) reassembler_.insert(*shard);
-  }
-  totals_.decode_ms += ms_since(start);
+  const int64_t t = display_ns(sample);
+  run_until(t, false);
+  client_->tick();
+  service_->tick();
+  client_->send_pose(sample.frame, t, sample.views);
+  run_until(t, true);
 }
 
 void SettingSession::measure(const Truth& truth) {
   const std::vector<client::PoseSample>& history = *shared_.history;
   const client::PoseSample& now = history.at(frame_);
   for (int eye = 0; eye < 2; ++eye) {
-    const ReassembledFrame* received = reassembler_.latest(static_cast<Eye>(eye));
+    client::EyeVisibility incoming;
+    if (client_->take_newest(static_cast<Eye>(eye), incoming)) newest_[eye] = std::move(incoming);
+    const std::optional<client::EyeVisibility>& received = newest_[eye];
     render::VisibilityInput input;
     View render_view = now.views[eye];
     uint64_t p = 0, x = 0;
     if (received) {
       input.buffer = &received->buffer;
-      if (!received->complete()) input.row_valid = received->row_valid;
+      if (!received->complete) input.row_valid = received->row_valid;
       p = frame_ - std::min(frame_, received->frame_number);
       if (setting_.method == Method::kStale) {
         // The old bits as if they had been traced for the displayed pose: no reprojection at all.
-        input.traced = Camera::with_guard_band(now.views[eye], shared_.eye, setting_.guard_px);
+        input.traced = Camera::with_guard_band(now.views[eye], shared_.eye, guard_);
       } else {
-        input.traced = Camera::with_guard_band(received->view, shared_.eye, setting_.guard_px);
+        input.traced = Camera::with_guard_band(received->view, shared_.eye, guard_);
         x = setting_.x_max < 0 ? p : std::min<uint64_t>(p, static_cast<uint64_t>(setting_.x_max));
         render_view = history.at(frame_ - p + x).views[eye];  // the paper renders frame n with G-buffer n-p+x
       }
       if (!last_used_[eye] || *last_used_[eye] != received->frame_number) {
         last_used_[eye] = received->frame_number;
         totals_.responses += 1;
-        totals_.response_ms += static_cast<double>(now.display_time_ns - history.at(received->frame_number).display_time_ns) * 1e-6;
+        totals_.response_ms +=
+            static_cast<double>(now.display_time_ns - history.at(received->frame_number).display_time_ns) * 1e-6;
       }
     } else {
-      input.traced = Camera::with_guard_band(now.views[eye], shared_.eye, setting_.guard_px);
+      input.traced = Camera::with_guard_band(now.views[eye], shared_.eye, guard_);
       totals_.eye_frames_without_data += 1;
     }
     const EyeRender rendered = shared_.renderer->render(eye, render_view, input);
-    const LumaImage luma = luma_from_rgba8(rendered.rgba, shared_.eye.width, shared_.eye.height);
-    const std::optional<BitError> bits = visibility_bit_error(rendered.mask, truth.mask[eye]);
-    const std::optional<double> s = ssim(luma, truth.luma[eye]);
-    totals_.eye_frames += 1;
-    if (bits) {
-      totals_.bit_error += bits->fraction();
-      for (uint32_t l = 0; l < shared_.light_count; ++l) totals_.bit_error_per_light[l] += bits->light_fraction(l);
-    }
-    totals_.ssim += s.value_or(0.0);
-    double mse = 0.0;
-    for (size_t i = 0; i < luma.pixels.size(); ++i) {
-      const double d = luma.pixels[i] - truth.luma[eye].pixels[i];
-      mse += d * d;
-    }
-    totals_.mse += luma.pixels.empty() ? 0.0 : mse / static_cast<double>(luma.pixels.size());
+    add_image_errors(rendered, truth, eye);
     const double pixels = static_cast<double>(shared_.eye.width) * shared_.eye.height;
     totals_.unknown_frac += static_cast<double>(rendered.stats.unknown_pixels()) / pixels;
     totals_.client_ms += rendered.stats.gpu.valid ? rendered.stats.gpu.total_ms : rendered.host_ms;
@@ -224,7 +259,45 @@ void SettingSession::measure(const Truth& truth) {
     totals_.frames_behind += static_cast<double>(p);
     totals_.frames_predicted += static_cast<double>(x);
   }
-  totals_.datagrams_lost = uplink_.stats().model.lost + downlink_.stats().model.lost;
+}
+
+void SettingSession::add_image_errors(const EyeRender& rendered, const Truth& truth, int eye) {
+  const LumaImage luma = luma_from_rgba8(rendered.rgba, shared_.eye.width, shared_.eye.height);
+  const std::optional<BitError> bits = visibility_bit_error(rendered.mask, truth.mask[eye]);
+  const std::optional<double> s = ssim(luma, truth.luma[eye]);
+  totals_.eye_frames += 1;
+  if (bits) {
+    totals_.bit_error += bits->fraction();
+    for (uint32_t l = 0; l < shared_.light_count; ++l) totals_.bit_error_per_light[l] += bits->light_fraction(l);
+  }
+  totals_.ssim += s.value_or(0.0);
+  double mse = 0.0;
+  for (size_t i = 0; i < luma.pixels.size(); ++i) {
+    const double d = luma.pixels[i] - truth.luma[eye].pixels[i];
+    mse += d * d;
+  }
+  totals_.mse += luma.pixels.empty() ? 0.0 : mse / static_cast<double>(luma.pixels.size());
+  const std::optional<FlipResult> flip = flip_ldr(truth.rgba[eye], rendered.rgba, shared_.eye.width, shared_.eye.height);
+  if (flip) {
+    totals_.flip += flip->mean;
+    totals_.flip_frames += 1;
+  }
+}
+
+SettingTotals SettingSession::totals() const {
+  SettingTotals t = totals_;
+  const server::ServiceStats s = service_->stats();
+  t.traces = s.frames_traced * 2;
+  t.server_ms = s.trace_ms;
+  t.encode_ms = s.encode_ms;
+  t.bytes_down = server_out_.shard_bytes();
+  t.predictions = s.frames_predicted;
+  t.prediction_fallbacks = s.prediction_fallbacks;
+  t.horizon_ms = s.prediction_horizon_ms;
+  t.poses_skipped_identical = s.poses_skipped_identical;
+  t.poses_superseded = s.poses_superseded;
+  t.datagrams_lost = uplink_.stats().model.lost + downlink_.stats().model.lost;
+  return t;
 }
 
 }  // namespace dhr::eval

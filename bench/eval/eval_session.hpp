@@ -1,18 +1,21 @@
-// One setting of the sweep, simulated frame by frame: the client sends each frame's PoseUpdate over a
-// simulated uplink; the server side (the Embree tracer, server/PosePredictor for paper+pred, the codec)
-// traces each eye and sends VisibilityShard datagrams over a simulated downlink; the client reassembles
-// them (shared/core/reassembly) and renders every measured frame with the real EyePipeline, compared with
-// the ground truth. Each session has its own VirtualClock and links, so settings do not interact.
+// One setting of the sweep, simulated frame by frame with the real session layers: a client::VisibilityClient
+// (handshake, heartbeats, poses, reassembly, publication) and a server::VisibilityService (sessions,
+// prediction for paper+pred, tracing, encoding) talk over two net::SimulatedLinks on the setting's own
+// net::VirtualClock, so settings do not interact and every run is deterministic. The client renders every
+// measured frame with the newest visibility it took, through the real EyePipeline, against the ground truth.
+//
+// Server compute time is modelled, not measured: each traced eye takes RunOptions::server_ms / 2 of virtual
+// time (the service's clock runs on while it traces), so results never depend on the host's speed. The
+// host's trace, encode and decode times are recorded as run-time metrics only.
 #pragma once
 #include "core/image_metrics.hpp"
-#include "core/protocol.hpp"
-#include "core/reassembly.hpp"
 #include "eval_render.hpp"
 #include "eval_settings.hpp"
 #include "net/clock.hpp"
 #include "net/simulated_link.hpp"
+#include "net/visibility_client.hpp"
 #include "pose/pose_source.hpp"
-#include "pose_predictor.hpp"
+#include "session/visibility_service.hpp"
 #include "visibility_tracer.hpp"
 
 #include <array>
@@ -25,6 +28,7 @@ namespace dhr::eval {
 
 // The ground truth of one frame: visibility traced exactly for the displayed views, shaded by the client.
 struct Truth {
+  std::array<std::vector<uint8_t>, 2> rgba;  // display-sized sRGB bytes
   std::array<LumaImage, 2> luma;
   std::array<VisibilityBuffer, 2> mask;
 };
@@ -37,25 +41,29 @@ struct SettingTotals {
   std::vector<double> bit_error_per_light;
   double ssim = 0.0;
   double mse = 0.0;
+  double flip = 0.0;
+  uint64_t flip_frames = 0;     // eye-frames with a FLIP value
   double unknown_frac = 0.0;
   double client_ms = 0.0;       // GPU timestamps (all three passes) where valid, else host time
   uint64_t client_gpu_timed = 0;
   double frames_behind = 0.0;   // p
   double frames_predicted = 0.0;  // x
-  uint64_t traces = 0;          // eyes traced by the server
-  double server_ms = 0.0;
-  double encode_ms = 0.0;
-  double decode_ms = 0.0;       // datagram decode + reassembly, per shard summed
-  uint64_t bytes_down = 0;      // visibility datagrams sent
-  uint64_t bytes_up = 0;        // pose datagrams sent
-  uint64_t poses_sent = 0;
   uint64_t responses = 0;
   double response_ms = 0.0;
+  // From the session layers, over the whole run (warm-up included).
+  uint64_t traces = 0;          // eyes traced by the service
+  double server_ms = 0.0;       // host wall time of the tracer
+  double encode_ms = 0.0;       // host wall time: restricting lights, codec, datagram encoding and send
+  double decode_ms = 0.0;       // host wall time of the client's on_datagram (decode + reassembly)
+  uint64_t bytes_down = 0;      // VisibilityShard datagram bytes sent
   uint64_t predictions = 0;
   uint64_t prediction_fallbacks = 0;
   uint64_t prediction_capped = 0;
   double horizon_ms = 0.0;
+  uint64_t poses_skipped_identical = 0;
+  uint64_t poses_superseded = 0;
   uint64_t datagrams_lost = 0;
+  double connect_ms = 0.0;      // virtual time from the first Hello to the end of the connection phase
 };
 
 struct SessionShared {
@@ -70,37 +78,91 @@ struct SessionShared {
 // fixed point, so what the client displays is exactly what the server can receive and trace.
 std::array<View, 2> wire_views(const std::array<View, 2>& views);
 
+// The service's clock: the setting's virtual clock plus the modelled compute time of the trace in progress.
+class ServerClock final : public net::Clock {
+ public:
+  explicit ServerClock(const net::VirtualClock& base) : base_(base) {}
+  int64_t now_ns() const override { return base_.now_ns() + busy_ns_; }
+  void add_busy_ns(int64_t ns) { busy_ns_ += ns; }
+  int64_t take_busy_ns();  // returns the time spent and resets it (the trace is over)
+
+ private:
+  const net::VirtualClock& base_;
+  int64_t busy_ns_ = 0;
+};
+
+// The shared tracer as one setting's service sees it: each trace moves that setting's ServerClock on by the
+// modelled time per eye.
+class ModelledTimeTracer final : public server::VisibilityTracer {
+ public:
+  ModelledTimeTracer(server::VisibilityTracer& inner, ServerClock& clock, int64_t ns_per_eye)
+      : inner_(inner), clock_(clock), ns_per_eye_(ns_per_eye) {}
+  server::TracerBackend backend() const override { return inner_.backend(); }
+  std::string device_description() const override { return inner_.device_description(); }
+  const server::AccelStats& accel_stats() const override { return inner_.accel_stats(); }
+  uint32_t light_count() const override { return inner_.light_count(); }
+  void trace(const Camera& camera, VisibilityBuffer& out, server::TraceStats& out_stats) override;
+
+ private:
+  server::VisibilityTracer& inner_;
+  ServerClock& clock_;
+  int64_t ns_per_eye_;
+};
+
+// The service's DatagramSender: forwards to the downlink and counts the visibility bytes.
+class CountingSender final : public net::DatagramSender {
+ public:
+  explicit CountingSender(net::SimulatedLink& link) : link_(link) {}
+  bool send_to(std::span<const uint8_t> datagram, const net::PeerAddress& to) override;
+  uint64_t shard_bytes() const { return shard_bytes_; }
+
+ private:
+  net::SimulatedLink& link_;
+  uint64_t shard_bytes_ = 0;
+};
+
 class SettingSession {
  public:
+  // Runs the connection phase (handshake and a heartbeat round trip, see connect()); throws
+  // std::runtime_error when the client cannot connect.
   SettingSession(const Setting& setting, const RunOptions& options, const SessionShared& shared);
+  ~SettingSession();
 
-  // Frame sample.frame: delivers everything due before its display time, sends its PoseUpdate, then
-  // delivers everything due at its display time (a zero delay arrives in the same frame).
+  // Frame sample.frame: delivers everything due before its display time, ticks both sides, sends its
+  // PoseUpdate, then delivers everything due at its display time (a zero delay arrives in the same frame).
   void advance(const client::PoseSample& sample);
   // Renders the frame last advanced to with the newest visibility and adds its errors against `truth`.
   void measure(const Truth& truth);
 
   const Setting& setting() const { return setting_; }
-  const SettingTotals& totals() const { return totals_; }
+  // The totals, with the session layers' counters folded in.
+  SettingTotals totals() const;
 
  private:
-  void deliver_until(int64_t t_ns, bool inclusive);
-  void on_pose(const net::SimulatedDelivery& delivery);
-  void on_shard(const net::SimulatedDelivery& delivery);
+  void connect();
+  void run_until(int64_t t_ns, bool inclusive);
+  void process_on_server(int64_t t_ns);
+  void deliver_to_client(const net::SimulatedDelivery& delivery);
+  void add_image_errors(const EyeRender& rendered, const Truth& truth, int eye);
+  int64_t display_ns(const client::PoseSample& sample) const { return time_offset_ns_ + sample.display_time_ns; }
 
   Setting setting_;
   SessionShared shared_;
+  GuardBand guard_;  // both sides together, as the Welcome granted it
   net::VirtualClock clock_;
-  net::SimulatedLink uplink_;
-  net::SimulatedLink downlink_;
-  VisibilityReassembler reassembler_;
-  server::PosePredictor predictor_;
-  uint32_t up_sequence_ = 0;
-  uint32_t down_sequence_ = 0;
+  ServerClock server_clock_;
+  net::SimulatedLink uplink_;    // client -> server, stamped with the client's clock
+  net::SimulatedLink downlink_;  // server -> client, stamped with the service's clock
+  CountingSender server_out_;
+  ModelledTimeTracer tracer_;
+  std::unique_ptr<server::VisibilityService> service_;
+  std::unique_ptr<client::VisibilityClient> client_;
+  bool server_work_ = false;     // a datagram reached the service since it last processed
+  int64_t server_free_ns_ = 0;   // the service's worker is busy tracing until then
+  int64_t time_offset_ns_ = 0;   // virtual time of trace frame 0 (after the connection phase)
   uint64_t frame_ = 0;
-  int64_t now_ns_ = 0;
+  std::array<std::optional<client::EyeVisibility>, 2> newest_;
   std::array<std::optional<uint64_t>, 2> last_used_{};
-  VisibilityBuffer scratch_;
   SettingTotals totals_;
 };
 

@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace dhr::eval {
@@ -123,6 +124,13 @@ std::optional<std::vector<Method>> parse_method_list(const std::string& text, st
     out.push_back(*m);
   }
   return out;
+}
+
+std::string setting_label(const Setting& setting) {
+  char rtt[32];
+  std::snprintf(rtt, sizeof rtt, "%g", setting.rtt_ms);
+  return std::string(method_name(setting.method)) + " rtt=" + rtt + "ms x_max=" +
+         (setting.x_max < 0 ? std::string("all") : std::to_string(setting.x_max)) + " guard=" + setting.guard;
 }
 
 GuardBand guard_for_eye(const std::string& label, Extent eye) {

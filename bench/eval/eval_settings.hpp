@@ -24,6 +24,8 @@ struct Setting {
   std::string guard;       // as given: "0", "64x36" (pixels at 1920x1080, scaled to the eye size)
   GuardBand guard_px;      // scaled to the eye size
 };
+// "paper+pred rtt=50ms x_max=all guard=64x36", for messages.
+std::string setting_label(const Setting& setting);
 
 struct RunOptions {
   std::string scene;
@@ -38,6 +40,7 @@ struct RunOptions {
   double trace_start_s = 0.0;    // skip this much of the trace
   double jitter_ms = 0.0;        // per direction, uniform
   double loss = 0.0;             // per datagram, both directions
+  double server_ms = 0.0;        // modelled server compute per traced frame (both eyes), virtual time
   uint64_t seed = 1;
   uint32_t threads = 0;          // Embree threads (0: all cores)
   bool progress = true;

@@ -1,5 +1,5 @@
-// dhr-eval: run time against error. `run` simulates the whole pipeline (client poses -> simulated network ->
-// server tracer -> codec -> reassembly -> the client's real GPU passes) on a virtual 90 Hz clock over a sweep
+// dhr-eval: run time against error. `run` simulates the whole pipeline (VisibilityClient -> simulated network ->
+// VisibilityService -> simulated network -> the client's real GPU passes) on a virtual 90 Hz clock over a sweep
 // of settings, against the exactly traced ground truth; `report` turns the results into plots and Markdown;
 // `make-trace` writes a small synthetic 6-DoF trace. docs/evaluation.md.
 #include "core/pose_trace.hpp"
@@ -34,6 +34,10 @@ int main(int argc, char** argv) {
   run->add_option("--trace-start", options.trace_start_s, "skip this many seconds of the trace");
   run->add_option("--jitter-ms", options.jitter_ms, "uniform jitter per direction, ms");
   run->add_option("--loss", options.loss, "datagram loss probability per direction");
+  run->add_option("--server-ms", options.server_ms,
+                  "modelled server compute time per traced frame (both eyes), virtual ms")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1000.0));
   run->add_option("--seed", options.seed, "network impairment seed");
   run->add_option("--threads", options.threads, "Embree threads (0: all cores)");
   bool no_progress = false;

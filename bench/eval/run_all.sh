@@ -14,7 +14,8 @@ living="../shared/data/scenes/living_room.glb"
 default="assets/scenes/default_room.gltf"
 user1="../shared/data/traces/6dof/gul2020_hololens/raw/User1.csv"
 user2="../shared/data/traces/6dof/gul2020_hololens/raw/User2.csv"
-# 2 s of trace per run (plus 0.26 s warm-up) keeps the whole set under an hour on 2 CPU cores (lavapipe).
+# 2 s of trace per run (plus 0.26 s warm-up; the connection phase before it costs no rendering) keeps the
+# whole set under an hour on 2 CPU cores (lavapipe).
 common=(--trace-start 2 --eye-size 160x120 --rtt-ms 0,25,50,100,200 --method stale,paper,paper+pred)
 
 one() {  # name, then dhr-eval run arguments; DHR_EVAL_ONLY="a b" runs only those names
@@ -37,3 +38,5 @@ one living_room_user1_guard --scene "$living" --trace "$user1" --trace-start 2 -
   --rtt-ms 50,100 --method paper,paper+pred --guard 0,64x36,128x72
 one living_room_user1_xmax --scene "$living" --trace "$user1" --trace-start 2 --frames 90 --eye-size 160x120 \
   --rtt-ms 100 --method paper --x-max 0,2,4,6,all
+one living_room_user1_server --scene "$living" --trace "$user1" --trace-start 2 --frames 90 --eye-size 160x120 \
+  --rtt-ms 0,50,100 --method paper,paper+pred --server-ms 10

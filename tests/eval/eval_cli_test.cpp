@@ -85,7 +85,7 @@ TEST_F(EvalCliTest, WritesEverySettingWithTheContractKeys) {
   ASSERT_TRUE(results.is_array());
   EXPECT_EQ(results.size(), 9u);
   for (const json& r : results) {
-    for (const char* key : {"method", "rtt_ms", "x_max", "guard", "frames", "bit_error", "ssim", "psnr", "unknown_frac",
+    for (const char* key : {"method", "rtt_ms", "x_max", "guard", "frames", "bit_error", "ssim", "psnr", "flip", "unknown_frac",
                             "client_ms", "server_ms", "bytes_per_frame", "response_ms"}) {
       EXPECT_TRUE(r.contains(key)) << key;
     }
@@ -116,6 +116,24 @@ TEST_F(EvalCliTest, ZeroDelayIsExact) {
   }
 }
 
+// FLIP of the displayed image against the ground truth: 0 when identical, growing as the stale buffer ages.
+TEST_F(EvalCliTest, FlipIsZeroAtZeroDelayAndGrowsWithTheStaleBuffersAge) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->output;
+  std::map<std::string, json> r = by_setting(read_results(*dir_));
+  for (const auto& [key, result] : r) {
+    ASSERT_TRUE(result["flip"].is_number()) << key;
+    EXPECT_GE(result["flip"].get<double>(), 0.0) << key;
+    EXPECT_LE(result["flip"].get<double>(), 1.0) << key;
+    if (result["rtt_ms"].get<double>() == 0.0) {
+      EXPECT_EQ(result["flip"].get<double>(), 0.0) << key;
+    }
+  }
+  const auto flip = [&](const std::string& key) { return r.at(key)["flip"].get<double>(); };
+  EXPECT_LT(flip("stale@0"), flip("stale@50"));
+  EXPECT_LT(flip("stale@50"), flip("stale@100"));
+  EXPECT_LT(flip("paper@100"), flip("stale@100"));
+}
+
 TEST_F(EvalCliTest, ErrorGrowsWithDelayAndTheWarpBeatsTheStaleBuffer) {
   ASSERT_EQ(run_->exit_code, 0) << run_->output;
   std::map<std::string, json> r = by_setting(read_results(*dir_));
@@ -137,12 +155,55 @@ TEST_F(EvalCliTest, TwoRunsGiveIdenticalMetrics) {
   const json a = read_results(*dir_), b = read_results(again);
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) {
-    for (const char* key : {"method", "rtt_ms", "bit_error", "bit_error_per_light", "ssim", "psnr", "unknown_frac",
+    for (const char* key : {"method", "rtt_ms", "bit_error", "bit_error_per_light", "ssim", "psnr", "flip", "unknown_frac",
                             "bytes_per_frame", "response_ms", "frames_behind"}) {
       EXPECT_EQ(a[i][key], b[i][key]) << i << " " << key;
     }
   }
   fs::remove_all(again);
+}
+
+// The whole simulation runs on virtual time, network impairments, handshake and heartbeats included.
+TEST(EvalCliDeterminismTest, ImpairedRunsWithModelledServerTimeRepeatExactly) {
+  const auto run_once = [](const fs::path& out) {
+    return run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+                   " --frames 10 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 50 --method paper,paper+pred"
+                   " --jitter-ms 10 --loss 0.1 --server-ms 15 --seed 7");
+  };
+  const fs::path first = temp_dir("impaired_a"), second = temp_dir("impaired_b");
+  const CliRun a_run = run_once(first), b_run = run_once(second);
+  ASSERT_EQ(a_run.exit_code, 0) << a_run.output;
+  ASSERT_EQ(b_run.exit_code, 0) << b_run.output;
+  const json a = read_results(first), b = read_results(second);
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  for (size_t i = 0; i < a.size(); ++i) {
+    for (const auto& [key, value] : a[i].items()) {
+      if (key == "client_ms" || key == "server_ms" || key == "encode_ms" || key == "decode_ms") continue;  // host time
+      EXPECT_EQ(value, b[i][key]) << i << " " << key;
+    }
+    EXPECT_GT(a[i]["datagrams_lost"].get<int>(), 0) << "10 % loss over a whole run loses some datagrams";
+  }
+  fs::remove_all(first);
+  fs::remove_all(second);
+}
+
+// --server-ms is virtual time the service spends per traced frame: with no network delay the visibility
+// of frame n arrives that much later, and the response time grows by it (rounded up to whole frames).
+TEST(EvalCliServerTimeTest, ModelledServerTimeDelaysTheResponse) {
+  const fs::path out = temp_dir("server_ms");
+  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+                           " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0 --method paper"
+                           " --server-ms 20");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json results = read_results(out);
+  ASSERT_EQ(results.size(), 1u);
+  const double response = results[0]["response_ms"].get<double>();
+  EXPECT_GE(response, 20.0);
+  EXPECT_LT(response, 20.0 + 11.2);
+  EXPECT_GE(results[0]["frames_behind"].get<double>(), 2.0);
+  EXPECT_GT(results[0]["bit_error"].get<double>(), 0.0) << "the visibility is two frames old";
+  fs::remove_all(out);
 }
 
 TEST_F(EvalCliTest, ReportWritesMarkdownAndPlots) {
