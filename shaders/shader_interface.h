@@ -136,9 +136,9 @@ DHR_CONST uint kClientPredictionBindingDepth = 0;       // sampler2D: G-buffer d
 DHR_CONST uint kClientPredictionBindingVisibility = 1;  // storage buffer uint[]: packed masks, little endian
 DHR_CONST uint kClientPredictionBindingRowValid = 2;    // storage buffer uint[]: bit r%32 of word r/32 = row r valid
 DHR_CONST uint kClientPredictionBindingMask = 3;        // r32ui image: predicted mask
-DHR_CONST uint kClientPredictionBindingStatus = 4;      // r32ui image: kClientStatus*
+DHR_CONST uint kClientPredictionBindingStatus = 4;      // r32ui image: kClientStatus* (debug, optional)
 DHR_CONST uint kClientPredictionBindingMotion = 5;      // rg32f image: lookup - lookup without motion (debug)
-DHR_CONST uint kClientPredictionBindingCounters = 6;    // storage buffer uint[kClientStatusCount]
+DHR_CONST uint kClientPredictionBindingCounters = 6;    // storage buffer: per bucket two words of 10-bit counts
 
 // Per-pixel outcome of the prediction; every status but kKnown is "unknown" and takes all light bits.
 DHR_CONST uint kClientStatusKnown = 0u;       // fetched from the old buffer
@@ -152,6 +152,10 @@ DHR_CONST uint kClientStatusCount = 6u;
 DHR_CONST uint kClientPredictionHasVisibility = 1u;
 DHR_CONST uint kClientPredictionHasRowValidity = 2u;
 DHR_CONST uint kClientPredictionWriteMotion = 4u;
+DHR_CONST uint kClientPredictionWriteStatus = 8u;
+// Status counts are gathered per bucket of this many horizontally adjacent workgroups (8 x 64 pixels fit
+// the 10-bit fields); statuses 0-2 in the bucket's first word, 3-5 in its second, field s % 3.
+DHR_CONST uint kClientCountBucketGroups = 8u;
 
 // The pixel (i, j) of the new camera with depth-buffer value d is, in the old eye's space,
 //   p_old = (near_plane / d) * (ray0 + (i + 0.5) * ray_dx + (j + 0.5) * ray_dy) + trans

@@ -16,7 +16,7 @@ layout(set = 0, binding = kClientPredictionBindingDepth) uniform sampler2D depth
 layout(set = 0, binding = kClientPredictionBindingVisibility, std430) readonly buffer Visibility { uint vis_words[]; };
 layout(set = 0, binding = kClientPredictionBindingRowValid, std430) readonly buffer RowValid { uint row_words[]; };
 layout(set = 0, binding = kClientPredictionBindingMask, r32ui) uniform writeonly uimage2D mask_image;
-layout(set = 0, binding = kClientPredictionBindingStatus, r32ui) uniform writeonly uimage2D status_image;
+layout(set = 0, binding = kClientPredictionBindingStatus, r32ui) uniform writeonly uimage2D status_image;  // optional
 layout(set = 0, binding = kClientPredictionBindingMotion, rg32f) uniform writeonly image2D motion_image;
 layout(set = 0, binding = kClientPredictionBindingCounters, std430) buffer Counters { uint counters[]; };
 layout(push_constant, std430) uniform Push { ClientPredictionPush pc; };
@@ -52,7 +52,9 @@ void main() {
            : !row_ok ? kClientStatusMissingRow
            : kClientStatusKnown;
     imageStore(mask_image, ivec2(id), uvec4(status == kClientStatusKnown ? old_mask : pc.unknown_mask, 0u, 0u, 0u));
-    imageStore(status_image, ivec2(id), uvec4(status, 0u, 0u, 0u));
+    if ((pc.flags & kClientPredictionWriteStatus) != 0u) {
+      imageStore(status_image, ivec2(id), uvec4(status, 0u, 0u, 0u));
+    }
     if ((pc.flags & kClientPredictionWriteMotion) != 0u) {
       const vec2 still = vec2(pc.ident_px_scale * centre.x + pc.ident_px_offset,
                               pc.ident_py_scale * centre.y + pc.ident_py_offset);
@@ -62,15 +64,17 @@ void main() {
     }
   }
 
-  // Per-status counts: two subgroup sums of one-hot values packed in 10-bit fields (a subgroup has at most
-  // 128 invocations, each counting one pixel), then one atomic per status and subgroup.
+  // Per-status counts: two subgroup sums of one-hot values packed in 10-bit fields, then the elected lane
+  // adds them to its bucket (8 horizontally adjacent workgroups, at most 512 pixels: no field overflows); the
+  // host unpacks and sums the buckets. Buckets instead of one counter per status: with every workgroup
+  // hitting the same six words the atomics serialize (on lavapipe they cost a third of the pass).
   const uint one_hot = status < kClientStatusCount ? 1u << (10u * (status % 3u)) : 0u;
   const uint low = subgroupAdd(status < 3u ? one_hot : 0u);
   const uint high = subgroupAdd(status >= 3u ? one_hot : 0u);
   if (subgroupElect()) {
-    for (uint s = 0u; s < kClientStatusCount; ++s) {
-      const uint n = ((s < 3u ? low : high) >> (10u * (s % 3u))) & 1023u;
-      if (n != 0u) atomicAdd(counters[s], n);
-    }
+    const uint buckets_x = (gl_NumWorkGroups.x + kClientCountBucketGroups - 1u) / kClientCountBucketGroups;
+    const uint bucket = 2u * (gl_WorkGroupID.y * buckets_x + gl_WorkGroupID.x / kClientCountBucketGroups);
+    if (low != 0u) atomicAdd(counters[bucket], low);
+    if (high != 0u) atomicAdd(counters[bucket + 1u], high);
   }
 }

@@ -36,6 +36,13 @@ std::unique_ptr<vk::Context> make_context() {
   return vk::Context::create(options);
 }
 
+// The frame loop's defaults plus the per-pixel warp status, which CaptureSink reads back.
+CoordinatorOptions capture_options() {
+  CoordinatorOptions options;
+  options.eye.warp_status = true;
+  return options;
+}
+
 // Captures both presented eye images (readback after each frame) and what the prediction pass wrote.
 class CaptureSink final : public FrameSink {
  public:
@@ -83,7 +90,7 @@ TEST(ClientFrameLoopTest, ZeroDelayPresentsFreshlyTracedVisibility) {
   {
     const render::ClientScene scene(*context, traced.scene);
     FrameCoordinator* coord_ptr = nullptr;
-    FrameCoordinator coordinator(*context, scene, kEye, source);
+    FrameCoordinator coordinator(*context, scene, kEye, source, capture_options());
     coord_ptr = &coordinator;
     CaptureSink sink(*context, coord_ptr);
     const std::array<View, 2> views = room_views();
@@ -204,7 +211,7 @@ TEST(ClientFrameLoopTest, PredictionBeatsStaleBufferUnderDelayOnRecordedTrace) {
   {
     const render::ClientScene scene(*context, traced.scene);
     FrameCoordinator* coord_ptr = nullptr;
-    FrameCoordinator coordinator(*context, scene, kEye, source);
+    FrameCoordinator coordinator(*context, scene, kEye, source, capture_options());
     coord_ptr = &coordinator;
     CaptureSink sink(*context, coord_ptr);
     PoseSample sample;

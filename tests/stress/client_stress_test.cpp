@@ -43,6 +43,7 @@ Rendered render_eye(vk::Context& ctx, const Scene& scene, const View& view, Exte
   EyePipelineOptions options;
   options.near_plane = near_plane;
   options.frames_in_flight = 1;
+  options.warp_status = true;
   EyePipeline eye(ctx, gpu_scene, extent, options);
   ctx.submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input); });
   Rendered r;

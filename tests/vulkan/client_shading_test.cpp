@@ -71,7 +71,7 @@ struct ShadingRig {
         prediction_pass(ctx),
         shading_pass(ctx),
         gbuffer(GBuffer::create(ctx, kExtent)),
-        prediction(PredictionTargets::create(ctx, kExtent, false)),
+        prediction(PredictionTargets::create(ctx, kExtent, PredictionOutputs{true, false})),
         output(create_shading_output(ctx, kExtent)) {}
 
   void run(vk::Context& ctx, const View& view, const VisibilityInput& vis, const ShadingSettings& settings) {
@@ -241,6 +241,31 @@ TEST_F(ClientShadingTest, MismatchedSizesAreRejected) {
                             ShadingSettings{}, rig.output);
   }),
                std::invalid_argument);
+}
+
+// Debug views read optional prediction outputs: without them the pass refuses instead of reading placeholders.
+TEST_F(ClientShadingTest, DebugViewsNeedTheirPredictionOutputs) {
+  const Scene scene = lit_room();
+  ShadingRig rig(ctx(), scene);  // status on, motion vectors off
+  const Camera camera = display_camera(room_view(), kExtent);
+  PredictionTargets bare = PredictionTargets::create(ctx(), kExtent, PredictionOutputs{});
+  EXPECT_FALSE(bare.has_status());
+  EXPECT_FALSE(bare.has_motion());
+  for (const ShadingView view : {ShadingView::kLightVisibility, ShadingView::kUnknown, ShadingView::kMotion}) {
+    SCOPED_TRACE(static_cast<int>(view));
+    EXPECT_FALSE(debug_outputs_available(view, bare));
+    ShadingSettings settings;
+    settings.view = view;
+    EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+      rig.shading_pass.record(cmd, 0, rig.gbuffer, bare, camera, kNear, rig.gpu_scene.lights(), settings, rig.output);
+    }),
+                 std::invalid_argument);
+  }
+  EXPECT_TRUE(debug_outputs_available(ShadingView::kUnknown, rig.prediction));
+  EXPECT_FALSE(debug_outputs_available(ShadingView::kMotion, rig.prediction));
+  for (const ShadingView view : {ShadingView::kShaded, ShadingView::kAlbedo, ShadingView::kNormal}) {
+    EXPECT_TRUE(debug_outputs_available(view, bare));
+  }
 }
 
 }  // namespace

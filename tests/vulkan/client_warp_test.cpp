@@ -56,7 +56,7 @@ struct GpuWarp {
 
 class WarpRig {
  public:
-  explicit WarpRig(vk::Context& ctx) : ctx_(ctx), pass_(ctx), targets_(PredictionTargets::create(ctx, kExtent, true)) {
+  explicit WarpRig(vk::Context& ctx) : ctx_(ctx), pass_(ctx), targets_(PredictionTargets::create(ctx, kExtent, PredictionOutputs{true, true})) {
     depth_ = GBuffer::create(ctx, kExtent).depth;
   }
 
@@ -167,6 +167,52 @@ TEST_F(ClientWarpTest, GpuMatchesCpuReferenceForCameraMoves) {
   }
 }
 
+// The status and motion outputs are optional (debug, tests): leaving them out changes neither the masks nor the
+// counts, and the counts (gathered per bucket of workgroups) still match the CPU reference on a display whose
+// width and height are not multiples of a workgroup or a bucket.
+TEST_F(ClientWarpTest, OptionalOutputsOffChangeNoMaskAndNoCount) {
+  const View now = base_view();
+  View old_view = now;
+  old_view.pose = test::rotated(now.pose, 6.0, -2.0);
+  old_view.pose.position += glm::dvec3(0.03, 0.0, -0.05);
+  const Camera traced = Camera::with_guard_band(old_view, kExtent, kGuard);
+  const VisibilityBuffer vis = make_random_visibility(traced.extent.width, traced.extent.height, 4, 21);
+  VisibilityInput input;
+  input.buffer = &vis;
+  input.traced = traced;
+  WarpRig rig(ctx());
+  const Camera display = display_camera(now, kExtent);
+  const WarpResult cpu = expect_gpu_equals_cpu(rig, display, input);
+  ASSERT_GT(cpu.counts[WarpStatus::kOutside], 0u);
+
+  std::vector<float> depth = synthetic_depth();
+  remove_ambiguous(depth, reference(depth, display, input));
+  const WarpResult sanitized = reference(depth, display, input);
+  PredictionPass pass(ctx());
+  PredictionTargets bare = PredictionTargets::create(ctx(), kExtent, PredictionOutputs{});
+  vk::Image depth_image = GBuffer::create(ctx(), kExtent).depth;
+  vk::upload_image(ctx(), depth_image, depth.data(), depth.size() * sizeof(float));
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, 0, depth_image, display, kNear, input, bare); });
+  EXPECT_EQ(test::read_pixels<uint32_t>(ctx(), bare.mask), sanitized.masks);
+  EXPECT_EQ(pass.read_counts(0), sanitized.counts);
+
+  // Odd sizes: partial workgroups and a partial bucket on both axes.
+  for (const Extent odd : {Extent{1, 1}, Extent{67, 9}, Extent{131, 77}}) {
+    SCOPED_TRACE(std::to_string(odd.width) + "x" + std::to_string(odd.height));
+    PredictionTargets t = PredictionTargets::create(ctx(), odd, PredictionOutputs{});
+    vk::Image d = GBuffer::create(ctx(), odd).depth;
+    std::vector<float> values(size_t{odd.width} * odd.height);
+    for (size_t i = 0; i < values.size(); ++i) values[i] = i % 7 == 0 ? 0.0f : 0.05f;  // some background
+    vk::upload_image(ctx(), d, values.data(), values.size() * sizeof(float));
+    const Camera odd_display = display_camera(now, odd);
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, 0, d, odd_display, kNear, VisibilityInput{}, t); });
+    const WarpCounts counts = pass.read_counts(0);
+    const uint64_t background = (values.size() + 6) / 7;
+    EXPECT_EQ(counts[WarpStatus::kBackground], background);
+    EXPECT_EQ(counts[WarpStatus::kNoData], values.size() - background);
+  }
+}
+
 TEST_F(ClientWarpTest, MissingRowsAreUnknown) {
   const View now = base_view();
   View old_view = now;
@@ -251,7 +297,7 @@ TEST_F(ClientWarpTest, UnusableVisibilityIsIgnoredNotFatal) {
   input.traced = traced;
   EXPECT_TRUE(validate_visibility_input(traced, wrong_size, {}).has_value());
   PredictionPass pass(ctx());
-  PredictionTargets targets = PredictionTargets::create(ctx(), kExtent, false);
+  PredictionTargets targets = PredictionTargets::create(ctx(), kExtent, PredictionOutputs{true, false});
   vk::Image depth = GBuffer::create(ctx(), kExtent).depth;
   const std::vector<float> values = synthetic_depth();
   vk::upload_image(ctx(), depth, values.data(), values.size() * sizeof(float));

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <string_view>
 
 #include "net/impairment_cli.hpp"
 #include "vk/context.hpp"
@@ -39,6 +40,29 @@ CLI::Validator extent_validator(uint32_t min_value, bool even) {
       "WxH");
 }
 
+// "shaded", "unknown", "motion", "albedo", "normal" or "light:N" (N in 0..31) into out.view / out.view_light.
+bool parse_view(const std::string& text, ClientOptions& out) {
+  for (const char* name : {"shaded", "unknown", "motion", "albedo", "normal"}) {
+    if (text == name) {
+      out.view = text;
+      return true;
+    }
+  }
+  constexpr std::string_view kLight = "light:";
+  if (text.size() <= kLight.size() || text.size() > kLight.size() + 2 || text.compare(0, kLight.size(), kLight) != 0) {
+    return false;
+  }
+  uint32_t n = 0;
+  for (size_t i = kLight.size(); i < text.size(); ++i) {
+    if (text[i] < '0' || text[i] > '9') return false;
+    n = n * 10 + static_cast<uint32_t>(text[i] - '0');
+  }
+  if (n > 31) return false;
+  out.view = "light";
+  out.view_light = n;
+  return true;
+}
+
 }  // namespace
 
 ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int* exit_code) {
@@ -46,6 +70,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   std::string eye_size;
   std::string guard;
   std::string schedule = "newest";
+  std::string view = "shaded";
   uint32_t frames = 0;
   app.add_flag("--smoke", out.smoke, "Smoke session: clear both eyes for --frames frames, print one JSON line");
   app.add_option("--scene", out.scene, "glTF scene (.gltf/.glb), the same the server traces");
@@ -81,6 +106,11 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   app.add_option("--swapchain-format", out.swapchain_format, "Preferred swapchain colour encoding: srgb | unorm")
       ->capture_default_str()
       ->check(CLI::IsMember({"srgb", "unorm"}));
+  app.add_option("--view", view,
+                 "What the eyes show: shaded | light:N (light N's predicted visibility: white lit, black shadowed, "
+                 "red unknown) | unknown (shaded, unknown pixels magenta) | motion (warp motion vectors) | "
+                 "albedo | normal")
+      ->capture_default_str();
   net::add_impairment_options(app, out.impairment);
   try {
     app.parse(argc, argv);
@@ -100,6 +130,9 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
     out.guard = GuardBand{g.width, g.height};
   }
   out.schedule = *parse_schedule(schedule);
+  if (!parse_view(view, out)) {
+    return usage("--view '" + view + "': expected shaded, light:N (N 0..31), unknown, motion, albedo or normal");
+  }
   if (out.smoke) {
     out.smoke_options.frames = out.frames.value_or(out.smoke_options.frames);
     out.smoke_options.timeout_s = app.count("--timeout") > 0 ? out.timeout_s : out.smoke_options.timeout_s;

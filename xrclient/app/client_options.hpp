@@ -33,6 +33,8 @@ struct ClientOptions {
   double connect_timeout_s = 5.0;
   std::string vk_device = "auto";
   std::string swapchain_format = "srgb";
+  std::string view = "shaded";  // --view: shaded | light | unknown | motion | albedo | normal
+  uint32_t view_light = 0;      // --view light:N
   net::ImpairmentParams impairment;
 };
 

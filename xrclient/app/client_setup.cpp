@@ -44,6 +44,10 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
   const Welcome w = *link->client().welcome();
   log::info("connected to %s: %ux%u per eye traced (guard %u,%u per side), %u lights", options.server.c_str(),
             w.buffer_width, w.buffer_height, w.guard_x, w.guard_y, w.light_count);
+  if (options.view == "light" && options.view_light >= w.light_count) {
+    throw std::runtime_error("--view light:" + std::to_string(options.view_light) + ": the server traces " +
+                             std::to_string(w.light_count) + " lights: N must be below that");
+  }
   return link;
 }
 
@@ -72,6 +76,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   }
   j["schedule"] = schedule_name(options.schedule);
   j["x_max"] = options.x_max;
+  j["view"] = options.view == "light" ? "light:" + std::to_string(options.view_light) : options.view;
   j["frames_with_visibility"] = frames.frames_with_visibility();
   j["age_frames_median"] = opt(frames.age_median());
   j["responses"] = frames.responses();
@@ -100,6 +105,24 @@ FrameInput frame_input(const PoseSample& sample, PoseGuard& guard) {
   input.views = sample.views;
   input.pose_reused = guard.filter(sample.frame, input.views);
   return input;
+}
+
+CoordinatorOptions coordinator_options(const ClientOptions& options) {
+  using render::ShadingView;
+  CoordinatorOptions out;
+  out.schedule = options.schedule;
+  out.x_max = options.x_max;
+  const std::pair<const char*, ShadingView> views[] = {
+      {"shaded", ShadingView::kShaded}, {"light", ShadingView::kLightVisibility}, {"unknown", ShadingView::kUnknown},
+      {"motion", ShadingView::kMotion}, {"albedo", ShadingView::kAlbedo},         {"normal", ShadingView::kNormal}};
+  for (const auto& [name, view] : views) {
+    if (options.view == name) out.eye.shading.view = view;
+  }
+  out.eye.shading.debug_light = options.view_light;
+  const render::PredictionOutputs needed = render::prediction_outputs_for(out.eye.shading.view);
+  out.eye.warp_status = needed.status;
+  out.eye.motion_vectors = needed.motion;
+  return out;
 }
 
 void note_source_failure(const VisibilitySource& source, bool& warned) {

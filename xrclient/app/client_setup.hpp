@@ -29,6 +29,10 @@ PoseGuard make_pose_guard(const EyeModel& eyes);
 // One frame's input: the sample's views through the pose guard (an unusable pose reuses the last good one).
 FrameInput frame_input(const PoseSample& sample, PoseGuard& guard);
 
+// The frame loop's options from the command line: schedule, x_max and the shading view (a debug view also
+// turns on the prediction outputs it reads).
+CoordinatorOptions coordinator_options(const ClientOptions& options);
+
 // Logs the visibility source's failure the first time it is seen (`warned` remembers it); rendering goes on.
 void note_source_failure(const VisibilitySource& source, bool& warned);
 

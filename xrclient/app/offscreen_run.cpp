@@ -51,10 +51,7 @@ int run_offscreen(const ClientOptions& options) {
   const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard);
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
 
-  CoordinatorOptions coordinator_options;
-  coordinator_options.schedule = options.schedule;
-  coordinator_options.x_max = options.x_max;
-  FrameCoordinator coordinator(*context, client_scene, eye, source, coordinator_options);
+  FrameCoordinator coordinator(*context, client_scene, eye, source, coordinator_options(options));
   std::unique_ptr<StatsSink> stats;
   if (!options.stats_jsonl.empty()) stats = std::make_unique<StatsSink>(options.stats_jsonl);
   coordinator.set_on_frame([&stats](const FrameRecord& r) {

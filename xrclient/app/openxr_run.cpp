@@ -52,12 +52,10 @@ int run_openxr(const ClientOptions& options) {
   const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard);
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
 
-  CoordinatorOptions coordinator_options;
-  coordinator_options.schedule = options.schedule;
-  coordinator_options.x_max = options.x_max;
+  CoordinatorOptions frame_options = coordinator_options(options);
   // The raw copy into a BGRA swapchain needs the channels swapped by the shading pass.
-  coordinator_options.eye.shading.swap_red_blue = is_bgra(desc.format);
-  FrameCoordinator coordinator(vulkan, client_scene, eye, source, coordinator_options);
+  frame_options.eye.shading.swap_red_blue = is_bgra(desc.format);
+  FrameCoordinator coordinator(vulkan, client_scene, eye, source, frame_options);
   std::unique_ptr<StatsSink> stats;
   if (!options.stats_jsonl.empty()) stats = std::make_unique<StatsSink>(options.stats_jsonl);
   coordinator.set_on_frame([&stats](const FrameRecord& r) {

@@ -37,7 +37,8 @@ EyePipeline::~EyePipeline() = default;
 
 void EyePipeline::create_images() {
   gbuffer_ = GBuffer::create(*context_, extent_);
-  prediction_ = PredictionTargets::create(*context_, extent_, options_.motion_vectors);
+  prediction_ = PredictionTargets::create(*context_, extent_,
+                                          PredictionOutputs{options_.warp_status, options_.motion_vectors});
   output_ = create_shading_output(*context_, extent_);
 }
 

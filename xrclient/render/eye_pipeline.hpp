@@ -32,6 +32,7 @@ struct EyePipelineOptions {
   uint32_t frames_in_flight = 2;  // slots
   double near_plane = kDefaultNearPlane;
   bool motion_vectors = false;    // allocate and write the prediction's motion vectors (debug)
+  bool warp_status = false;       // allocate and write the prediction's per-pixel status (debug, tests)
   ShadingSettings shading;
 };
 

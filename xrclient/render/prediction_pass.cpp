@@ -23,6 +23,18 @@ using namespace dhr::shader;  // binding numbers and flags shared with the GLSL
 
 constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
 constexpr VkDeviceSize kRowWords = kMaxBufferDimension / 32;
+constexpr VkBufferUsageFlags kCounterUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+
+static_assert(kWarpStatusCount == kClientStatusCount && kClientStatusCount == 6, "two words of three fields");
+static_assert(kClientCountBucketGroups * kClientWarpGroupSize * kClientWarpGroupSize <= 1023,
+              "a bucket's count must fit a 10-bit field");
+
+// Words of packed status counts for a display size: two per bucket (see kClientCountBucketGroups).
+uint32_t count_words(Extent extent) {
+  const uint32_t groups_x = (extent.width + kClientWarpGroupSize - 1) / kClientWarpGroupSize;
+  const uint32_t groups_y = (extent.height + kClientWarpGroupSize - 1) / kClientWarpGroupSize;
+  return 2 * ((groups_x + kClientCountBucketGroups - 1) / kClientCountBucketGroups) * groups_y;
+}
 
 // The per-status counts use subgroupAdd in compute shaders (Vulkan 1.1 subgroup arithmetic).
 void require_subgroup_arithmetic(const vk::Context& context) {
@@ -87,13 +99,14 @@ ClientPredictionPush make_push(const Camera& display, const Camera* traced, doub
 
 }  // namespace
 
-PredictionTargets PredictionTargets::create(const vk::Context& context, Extent extent, bool motion_vectors) {
+PredictionTargets PredictionTargets::create(const vk::Context& context, Extent extent, PredictionOutputs outputs) {
   constexpr VkImageUsageFlags kUsage =
       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   PredictionTargets t;
   t.mask = vk::Image(context, extent.width, extent.height, VK_FORMAT_R32_UINT, kUsage);
-  t.status = vk::Image(context, extent.width, extent.height, VK_FORMAT_R32_UINT, kUsage);
-  const Extent motion = motion_vectors ? extent : Extent{1, 1};
+  const Extent status = outputs.status ? extent : Extent{1, 1};
+  t.status = vk::Image(context, status.width, status.height, VK_FORMAT_R32_UINT, kUsage);
+  const Extent motion = outputs.motion ? extent : Extent{1, 1};
   t.motion = vk::Image(context, motion.width, motion.height, VK_FORMAT_R32G32_SFLOAT, kUsage);
   return t;
 }
@@ -116,8 +129,7 @@ PredictionPass::PredictionPass(const vk::Context& context, uint32_t slots) : con
   for (Slot& s : slots_) {
     s.visibility = vk::Buffer(context, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.rows = vk::Buffer(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
-    s.counters = vk::Buffer(context, kWarpStatusCount * 4,
-                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, kHost);
+    s.counters = vk::Buffer(context, 4, kCounterUsage, kHost);
     s.set = core_.allocate_set(device);
   }
 }
@@ -141,6 +153,10 @@ bool PredictionPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image&
     throw std::invalid_argument("prediction pass: display camera, depth and targets differ in size");
   }
   Slot& slot = slots_[slot_index];
+  slot.count_words = count_words(extent);
+  if (VkDeviceSize{slot.count_words} * 4 > slot.counters.size()) {
+    slot.counters = vk::Buffer(*context_, VkDeviceSize{slot.count_words} * 4, kCounterUsage, kHost);
+  }
 
   bool usable = visibility.buffer != nullptr;
   if (usable) {
@@ -150,7 +166,8 @@ bool PredictionPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image&
     }
   }
   ClientPredictionPush push = make_push(display, usable ? &visibility.traced : nullptr, near_plane);
-  push.flags = targets.has_motion() ? kClientPredictionWriteMotion : 0u;
+  push.flags = (targets.has_motion() ? kClientPredictionWriteMotion : 0u) |
+               (targets.has_status() ? kClientPredictionWriteStatus : 0u);
   if (usable) {
     push.unknown_mask = unknown_mask(visibility.buffer);
     push.mask_bits = static_cast<uint32_t>(visibility.buffer->mask_bits);
@@ -185,14 +202,16 @@ bool PredictionPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image&
   ensure_layout(cmd, depth, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   constexpr VkPipelineStageFlags2 kCs = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
   discard_to_layout(cmd, targets.mask, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  discard_to_layout(cmd, targets.status, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  if (targets.has_motion()) {
-    discard_to_layout(cmd, targets.motion, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  } else {
-    ensure_layout(cmd, targets.motion, VK_IMAGE_LAYOUT_GENERAL);
+  for (const auto& [image, written] : {std::pair{&targets.status, targets.has_status()},
+                                      std::pair{&targets.motion, targets.has_motion()}}) {
+    if (written) {
+      discard_to_layout(cmd, *image, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    } else {
+      ensure_layout(cmd, *image, VK_IMAGE_LAYOUT_GENERAL);
+    }
   }
   // The counters start at zero; earlier readers (the host, after the previous use) are done by contract.
-  vkCmdFillBuffer(cmd, slot.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+  vkCmdFillBuffer(cmd, slot.counters.handle(), 0, VkDeviceSize{slot.count_words} * 4, 0);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, kCs,
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 
@@ -208,10 +227,15 @@ bool PredictionPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image&
 
 WarpCounts PredictionPass::read_counts(uint32_t slot_index) const {
   if (slot_index >= slots_.size()) throw std::invalid_argument("prediction pass: slot out of range");
-  std::array<uint32_t, kWarpStatusCount> raw{};
-  slots_[slot_index].counters.read(raw.data(), raw.size() * 4);
+  const Slot& slot = slots_[slot_index];
+  std::vector<uint32_t> raw(slot.count_words);
+  if (!raw.empty()) slot.counters.read(raw.data(), raw.size() * 4);
   WarpCounts counts;
-  for (size_t i = 0; i < raw.size(); ++i) counts.by_status[i] = raw[i];
+  for (size_t i = 0; i < raw.size(); ++i) {
+    for (uint32_t field = 0; field < 3; ++field) {
+      counts.by_status[(i % 2) * 3 + field] += (raw[i] >> (10 * field)) & 1023u;
+    }
+  }
   return counts;
 }
 

@@ -2,9 +2,11 @@
 // buffer looked up where the pixel's surface point lands in the old guard-banded camera it was traced for.
 // The decision rule and its CPU reference: warp_reference.hpp. Outputs, all display-sized:
 //   mask   R32_UINT   predicted light mask (all light bits where unknown)
-//   status R32_UINT   WarpStatus per pixel (kClientStatus* in shader_interface.h)
+//   status R32_UINT   (optional: debug views, tests) WarpStatus per pixel (kClientStatus* in shader_interface.h)
 //   motion R32G32_SFLOAT (optional, debug) old-buffer lookup minus the lookup without any pose change, px
-// plus per-status pixel counts (WarpCounts) gathered with one atomic per workgroup and status.
+// plus per-status pixel counts (WarpCounts), summed per subgroup and atomically per bucket of workgroups.
+// Optional outputs are 1x1 placeholders when off: each full-size store costs (about a sixth of the pass on
+// lavapipe) and the frame loop only needs the mask and the counts.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -26,13 +28,20 @@ class Context;
 
 namespace dhr::render {
 
+// Which optional per-pixel outputs the prediction writes.
+struct PredictionOutputs {
+  bool status = false;  // WarpStatus per pixel
+  bool motion = false;  // motion vectors
+};
+
 struct PredictionTargets {
   vk::Image mask;    // STORAGE | SAMPLED | TRANSFER_SRC
-  vk::Image status;  // STORAGE | SAMPLED | TRANSFER_SRC
+  vk::Image status;  // display-sized with status on, else a 1x1 placeholder
   vk::Image motion;  // display-sized with motion vectors on, else a 1x1 placeholder
 
-  static PredictionTargets create(const vk::Context& context, Extent extent, bool motion_vectors);
+  static PredictionTargets create(const vk::Context& context, Extent extent, PredictionOutputs outputs);
   Extent extent() const { return Extent{mask.width(), mask.height()}; }
+  bool has_status() const { return status.width() == mask.width() && status.height() == mask.height(); }
   bool has_motion() const { return motion.width() == mask.width() && motion.height() == mask.height(); }
 };
 
@@ -66,7 +75,8 @@ class PredictionPass {
   struct Slot {
     vk::Buffer visibility;  // host-visible storage buffer, grown on demand
     vk::Buffer rows;        // host-visible row-validity bitmask
-    vk::Buffer counters;    // host-visible WarpCounts (uint32 per status)
+    vk::Buffer counters;    // host-visible packed per-bucket counts, grown on demand
+    uint32_t count_words = 0;  // words the last recorded pass counted into
     VkDescriptorSet set = VK_NULL_HANDLE;
     uint64_t key = 0;
   };

@@ -29,6 +29,16 @@ bool same_extent(const vk::Image& image, const Extent& extent) {
 
 }  // namespace
 
+PredictionOutputs prediction_outputs_for(ShadingView view) {
+  return PredictionOutputs{view == ShadingView::kLightVisibility || view == ShadingView::kUnknown,
+                           view == ShadingView::kMotion};
+}
+
+bool debug_outputs_available(ShadingView view, const PredictionTargets& targets) {
+  const PredictionOutputs needed = prediction_outputs_for(view);
+  return (!needed.status || targets.has_status()) && (!needed.motion || targets.has_motion());
+}
+
 vk::Image create_shading_output(const vk::Context& context, Extent extent) {
   return vk::Image(context, extent.width, extent.height, kShadingOutputFormat,
                    VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
@@ -63,6 +73,9 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
   const Extent extent = display.extent;
   if (!same_extent(gbuffer.depth, extent) || !same_extent(prediction.mask, extent) || !same_extent(output, extent)) {
     throw std::invalid_argument("shading pass: display camera, G-buffer, prediction and output differ in size");
+  }
+  if (!debug_outputs_available(settings.view, prediction)) {
+    throw std::invalid_argument("shading pass: the debug view needs prediction outputs that were not allocated");
   }
   Slot& slot = slots_[slot_index];
 

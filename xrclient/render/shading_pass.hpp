@@ -16,6 +16,7 @@
 #include "core/projection.hpp"
 #include "core/scene.hpp"
 #include "render/pass_util.hpp"
+#include "render/prediction_pass.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
@@ -27,7 +28,6 @@ class Context;
 namespace dhr::render {
 
 struct GBuffer;
-struct PredictionTargets;
 
 inline constexpr VkFormat kShadingOutputFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
@@ -40,6 +40,11 @@ enum class ShadingView : uint32_t {
   kNormal = 4,
   kMotion = 5,           // needs prediction motion vectors
 };
+
+// The optional prediction outputs a view reads (light visibility and unknown: status; motion: motion vectors).
+PredictionOutputs prediction_outputs_for(ShadingView view);
+// Whether `targets` has what `view` reads.
+bool debug_outputs_available(ShadingView view, const PredictionTargets& targets);
 
 struct ShadingSettings {
   float exposure = 1.0f;  // linear scale of the radiance before the tonemap
@@ -62,7 +67,7 @@ class ShadingPass {
   // finished the slot's previous use) and records the pass. The G-buffer must be in SHADER_READ_ONLY_OPTIMAL
   // and the prediction targets in GENERAL (as their passes leave them); `output` ends in GENERAL with its
   // writes visible to later shaders and transfers. Throws std::invalid_argument for mismatched sizes,
-  // more than kMaxSceneLights lights or a bad slot.
+  // more than kMaxSceneLights lights, a bad slot, or a debug view whose prediction outputs are placeholders.
   void record(VkCommandBuffer cmd, uint32_t slot, GBuffer& gbuffer, PredictionTargets& prediction,
               const Camera& display, double near_plane, std::span<const SceneLight> lights,
               const ShadingSettings& settings, vk::Image& output);

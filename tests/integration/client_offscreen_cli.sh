@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# dhr-xrclient's offscreen trace playback from the command line, as a user runs it: the summary contract
+# (last stdout line, one JSON object), PNGs of both eyes, per-frame JSON lines, the light-visibility debug
+# view (--view light:N), and clear errors for a bad --view.
+# Usage: client_offscreen_cli.sh DHR_SERVER DHR_XRCLIENT SOURCE_DIR
+set -euo pipefail
+server_exe="$1" client_exe="$2" src="$3"
+tmp="$(mktemp -d)"
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+export DHR_TEST_LIB="$here"
+. "$here/server_lib.sh"
+scene="$src/assets/scenes/default_room.gltf"
+trace="$src/assets/traces/synthetic_6dof.csv"
+start_server "$server_exe" "$scene" "$tmp"
+export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json DHR_LOG=warn
+
+run_client() {  # name, then extra arguments
+  local name="$1"; shift
+  mkdir -p "$tmp/$name"
+  "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --trace "$trace" --offscreen "$tmp/$name" \
+    --eye-size 96x72 --frames 45 --png-every 44 --stats-jsonl "$tmp/$name/stats.jsonl" "$@" \
+    >"$tmp/$name.out" 2>"$tmp/$name.err"
+}
+
+run_client shaded --net-delay 20 || { tail -n 20 "$tmp/shaded.err"; echo "FAIL: shaded run"; exit 1; }
+run_client light --view light:0 || { tail -n 20 "$tmp/light.err"; echo "FAIL: --view light:0 run"; exit 1; }
+
+python3 - "$tmp" <<'PY'
+import json, os, sys
+sys.path.insert(0, os.environ["DHR_TEST_LIB"])
+from png_read import read_png
+tmp = sys.argv[1]
+for name in ("shaded", "light"):
+    summary = json.loads(open(f"{tmp}/{name}.out").read().strip().splitlines()[-1])
+    for key in ("frames", "fps", "response_ms_median", "bits_per_frame", "predicted_frac", "unknown_frac"):
+        assert key in summary, f"{name}: summary lacks {key}: {summary}"
+    assert summary["exit"] == "clean" and summary["frames"] == 45, summary
+    assert summary["frames_with_visibility"] > 0, summary
+    lines = open(f"{tmp}/{name}/stats.jsonl").read().splitlines()
+    assert len(lines) == 45, f"{name}: {len(lines)} stats lines"
+    for line in lines: json.loads(line)
+    pngs = sorted(f for f in os.listdir(f"{tmp}/{name}") if f.endswith(".png"))
+    assert len(pngs) == 4, f"{name}: PNGs {pngs}"  # frames 0 and 44, both eyes
+    print(name, summary["view"], "frames", summary["frames"], "predicted", round(summary["predicted_frac"], 3))
+
+# The light view of the last frame: lit (230), shadowed (26), unknown (red) or background; both lit and
+# shadowed present (light 0 of the default room casts shadows into the camera's view).
+w, h, rows = read_png(os.path.join(tmp, "light", sorted(f for f in os.listdir(f"{tmp}/light") if f.endswith("left.png"))[-1]))
+colours = {}
+for r in rows:
+    for i in range(0, len(r), 3):
+        colours[tuple(r[i:i + 3])] = colours.get(tuple(r[i:i + 3]), 0) + 1
+lit, shadowed = colours.get((230, 230, 230), 0), colours.get((26, 26, 26), 0)
+print("light view: lit", lit, "shadowed", shadowed, "of", w * h)
+assert lit > w * h // 20 and shadowed > w * h // 100, colours
+assert lit + shadowed + colours.get((255, 0, 0), 0) > w * h // 2, colours
+PY
+
+# Bad --view values: a usage error (exit 2) or, for a light the server does not trace, a clear one-line error.
+if "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --view sideways >/dev/null 2>"$tmp/bad1.err"; then
+  echo "FAIL: --view sideways accepted"; exit 1; fi
+grep -q -- "--view 'sideways'" "$tmp/bad1.err" || { cat "$tmp/bad1.err"; echo "FAIL: no --view message"; exit 1; }
+if run_client badlight --view light:9; then echo "FAIL: --view light:9 accepted for 3 lights"; exit 1; fi
+grep -q -- "--view light:9" "$tmp/badlight.err" || { cat "$tmp/badlight.err"; echo "FAIL: no light message"; exit 1; }
+echo PASS
