@@ -99,17 +99,6 @@ std::vector<NamedCamera> cameras_for(const std::string& path, const Scene& scene
   return out;
 }
 
-VisibilityBuffer widened(const VisibilityBuffer& v) {
-  VisibilityBuffer w;
-  w.width = v.width;
-  w.height = v.height;
-  w.light_count = v.light_count;
-  w.mask_bits = MaskWidth::k32;
-  w.data.assign(v.pixel_count() * 4, 0);
-  for (size_t i = 0; i < v.pixel_count(); ++i) w.set_mask_at(i, v.mask_at(i));
-  return w;
-}
-
 size_t datagram_bytes(const VisibilityBuffer& v, const EncodeOptions& options) {
   std::vector<EncodedShard> shards;
   CodecStats stats;
@@ -200,7 +189,7 @@ int main(int argc, char** argv) {
       double ms = 0.0, ms_full = 0.0;
       timed_traces(*fast, *full, nc.camera, o.repeat, a, sa, ms, b, sb, ms_full);
       const bool identical = a == b;
-      const VisibilityBuffer wide = widened(a);
+      const VisibilityBuffer wide = a.with_mask_width(MaskWidth::k32);
       const size_t bytes = datagram_bytes(a, EncodeOptions{}), bytes_no_uniform = datagram_bytes(a, no_uniform),
                    bytes_wide = datagram_bytes(wide, EncodeOptions{}), bytes_unskipped = datagram_bytes(wide, no_uniform);
       j.begin_object();

@@ -1,5 +1,7 @@
 #include "scene_setup.hpp"
 
+#include <cstdio>
+
 namespace dhr::server::cli {
 namespace {
 
@@ -37,6 +39,11 @@ std::optional<Scene> load_server_scene(const ServerOptions& options, std::string
     }
   }
   return scene;
+}
+
+int fail_setup(const std::string& message) {
+  std::fprintf(stderr, "dhr-server: %s\n", message.c_str());
+  return 2;
 }
 
 }  // namespace dhr::server::cli

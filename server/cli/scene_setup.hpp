@@ -12,4 +12,7 @@ namespace dhr::server::cli {
 // triangles). std::nullopt with a one-line message otherwise.
 std::optional<Scene> load_server_scene(const ServerOptions& options, std::string* out_error);
 
+// Prints "dhr-server: MESSAGE" on stderr and returns 2, the exit code of an unusable setup.
+int fail_setup(const std::string& message);
+
 }  // namespace dhr::server::cli

@@ -8,24 +8,15 @@
 #include <filesystem>
 
 namespace dhr::server::cli {
-namespace {
-
-int fail(const std::string& message) {
-  std::fprintf(stderr, "dhr-server: %s\n", message.c_str());
-  return 2;
-}
-
-}  // namespace
-
 int run_serve_command(const ServerOptions& options) {
   std::string error;
   std::optional<Scene> scene = load_server_scene(options, &error);
-  if (!scene) return fail(error);
+  if (!scene) return fail_setup(error);
   std::unique_ptr<VisibilityTracer> tracer;
   try {
     tracer = create_tracer(options.backend, *scene, options.tracer);
   } catch (const std::exception& e) {
-    return fail(std::string("cannot create the tracer: ") + e.what());
+    return fail_setup(std::string("cannot create the tracer: ") + e.what());
   }
 
   ServeOptions serve;
@@ -53,7 +44,7 @@ int run_serve_command(const ServerOptions& options) {
   try {
     return run_serve(serve, *tracer);
   } catch (const std::exception& e) {
-    return fail(e.what());
+    return fail_setup(e.what());
   }
 }
 

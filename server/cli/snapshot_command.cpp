@@ -14,15 +14,6 @@
 #include <filesystem>
 
 namespace dhr::server::cli {
-namespace {
-
-int fail(const std::string& message) {
-  std::fprintf(stderr, "dhr-server: %s\n", message.c_str());
-  return 2;
-}
-
-}  // namespace
-
 std::string file_safe_name(const std::string& name) {
   std::string out;
   for (char c : name) {
@@ -35,33 +26,33 @@ std::string file_safe_name(const std::string& name) {
 int run_snapshot(const ServerOptions& options) {
   std::string error;
   std::optional<Scene> scene = load_server_scene(options, &error);
-  if (!scene) return fail(error);
+  if (!scene) return fail_setup(error);
 
   std::vector<CameraBookmark> bookmarks;
   if (!options.cameras.empty()) {
     for (size_t i = 0; i < options.cameras.size(); ++i) {
       auto b = parse_camera_spec(options.cameras[i], &error);
-      if (!b) return fail("--camera: " + error);
+      if (!b) return fail_setup("--camera: " + error);
       b->name = "camera" + std::to_string(i);
       bookmarks.push_back(*b);
     }
   } else {
     const std::string path = camera_bookmarks_path(options.scene_path);
     auto loaded = load_camera_bookmarks(path, &error);
-    if (!loaded) return fail(error + " (give cameras with --camera x,y,z:tx,ty,tz)");
+    if (!loaded) return fail_setup(error + " (give cameras with --camera x,y,z:tx,ty,tz)");
     bookmarks = std::move(*loaded);
   }
 
   std::error_code ec;
   std::filesystem::create_directories(options.snapshot_dir, ec);
   if (ec || !std::filesystem::is_directory(options.snapshot_dir))
-    return fail(options.snapshot_dir + ": cannot create the output directory");
+    return fail_setup(options.snapshot_dir + ": cannot create the output directory");
 
   std::unique_ptr<VisibilityTracer> tracer;
   try {
     tracer = create_tracer(options.backend, *scene, options.tracer);
   } catch (const std::exception& e) {
-    return fail(std::string("cannot create the tracer: ") + e.what());
+    return fail_setup(std::string("cannot create the tracer: ") + e.what());
   }
   // The preview's primary rays come from Embree; reuse the tracer's scene when it is Embree.
   std::unique_ptr<EmbreeScene> own_preview_scene;
@@ -78,7 +69,7 @@ int run_snapshot(const ServerOptions& options) {
   std::vector<std::string> used_names;
   for (const CameraBookmark& bookmark : bookmarks) {
     const std::optional<Pose> head = look_at_pose(bookmark);
-    if (!head) return fail("camera '" + bookmark.name + "': cannot look from its position at its target");
+    if (!head) return fail_setup("camera '" + bookmark.name + "': cannot look from its position at its target");
     const View view{left_eye_pose(*head), fov};
     const Camera camera = Camera::with_guard_band(view, options.eye_size, guard);
 
@@ -91,7 +82,7 @@ int run_snapshot(const ServerOptions& options) {
         times.push_back(stats.trace_ms);
       }
     } catch (const std::exception& e) {
-      return fail("camera '" + bookmark.name + "': " + e.what());
+      return fail_setup("camera '" + bookmark.name + "': " + e.what());
     }
     std::sort(times.begin(), times.end());
     stats.trace_ms = times[times.size() / 2];
@@ -107,12 +98,12 @@ int run_snapshot(const ServerOptions& options) {
     for (uint32_t li = 0; li < tracer->light_count(); ++li) {
       for (size_t i = 0; i < grey.size(); ++i) grey[i] = (visibility.mask_at(i) >> li & 1u) ? 255 : 0;
       const std::string path = (std::filesystem::path(options.snapshot_dir) / (base + "_light" + std::to_string(li) + ".png")).string();
-      if (const auto err = write_png(path, w, h, 1, grey)) return fail(*err);
+      if (const auto err = write_png(path, w, h, 1, grey)) return fail_setup(*err);
       files.push_back(path);
     }
     const std::string shaded = (std::filesystem::path(options.snapshot_dir) / (base + "_shaded.png")).string();
     if (const auto err = write_png(shaded, w, h, 3, shade_preview(*scene, *preview_scene, camera, visibility)))
-      return fail(*err);
+      return fail_setup(*err);
     files.push_back(shaded);
 
     nlohmann::ordered_json stats_json = to_json(stats);

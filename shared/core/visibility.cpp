@@ -30,4 +30,16 @@ VisibilityBuffer VisibilityBuffer::create(uint32_t width, uint32_t height, uint3
   return b;
 }
 
+VisibilityBuffer VisibilityBuffer::with_mask_width(MaskWidth to) const {
+  if (mask_bytes(to) < 4 && light_count > static_cast<uint32_t>(to)) {
+    throw std::invalid_argument("visibility buffer: " + std::to_string(light_count) + " lights do not fit " +
+                                std::to_string(static_cast<uint32_t>(to)) + "-bit masks");
+  }
+  VisibilityBuffer out = *this;
+  out.mask_bits = to;
+  out.data.assign(pixel_count() * mask_bytes(to), 0);
+  for (size_t i = 0; i < pixel_count(); ++i) out.set_mask_at(i, mask_at(i));
+  return out;
+}
+
 }  // namespace dhr

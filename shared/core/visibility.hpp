@@ -62,6 +62,10 @@ struct VisibilityBuffer {
   uint32_t get(uint32_t x, uint32_t y) const { return mask_at(static_cast<size_t>(y) * width + x); }
   void set(uint32_t x, uint32_t y, uint32_t mask) { set_mask_at(static_cast<size_t>(y) * width + x, mask); }
 
+  // The same masks stored at another width (e.g. 32 bits: what the codec would send without the light-count
+  // width). Throws std::invalid_argument when a mask does not fit the narrower width.
+  VisibilityBuffer with_mask_width(MaskWidth width) const;
+
   bool operator==(const VisibilityBuffer&) const = default;
 };
 

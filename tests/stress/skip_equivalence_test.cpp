@@ -187,18 +187,6 @@ bool decode_all(const std::vector<EncodedShard>& shards, VisibilityBuffer& out) 
   return true;
 }
 
-// The same masks in 32-bit storage (what the codec would send without the light-count width).
-VisibilityBuffer widened(const VisibilityBuffer& v) {
-  VisibilityBuffer w;
-  w.width = v.width;
-  w.height = v.height;
-  w.light_count = v.light_count;
-  w.mask_bits = MaskWidth::k32;
-  w.data.assign(v.pixel_count() * 4, 0);
-  for (size_t i = 0; i < v.pixel_count(); ++i) w.set_mask_at(i, v.mask_at(i));
-  return w;
-}
-
 std::vector<VisibilityBuffer> codec_inputs() {
   std::vector<VisibilityBuffer> out;
   const std::string path = test::source_path(kDefaultScenePath);
@@ -223,7 +211,7 @@ TEST(SkipEquivalence, CodecUniformChunksAndNarrowMasksDecodeToTheSameBits) {
   without_uniform.uniform_min_bytes = std::numeric_limits<size_t>::max();  // never a uniform chunk
   size_t differing = 0, bytes_skip = 0, bytes_full = 0, uniform_chunks = 0;
   for (const VisibilityBuffer& v : codec_inputs()) {
-    const VisibilityBuffer wide = widened(v);
+    const VisibilityBuffer wide = v.with_mask_width(MaskWidth::k32);
     std::vector<EncodedShard> a, b, c;
     CodecStats sa, sb, sc;
     ASSERT_TRUE(encode_visibility(v, with_uniform, a, &sa));

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -251,6 +252,22 @@ TEST(Codec, MakeVisibilityShardsFillsTheMessages) {
               DecodeError::kNone);
   }
   EXPECT_EQ(out, b);
+}
+
+TEST(VisibilityBufferWidth, ConvertsBetweenMaskWidthsWithoutChangingAMask) {
+  VisibilityBuffer b = VisibilityBuffer::create(7, 5, 6);
+  ASSERT_EQ(b.mask_bits, MaskWidth::k8);
+  for (size_t p = 0; p < b.pixel_count(); ++p) b.set_mask_at(p, static_cast<uint32_t>(p * 37u) & b.light_bits());
+  for (const MaskWidth w : {MaskWidth::k8, MaskWidth::k16, MaskWidth::k32}) {
+    const VisibilityBuffer c = b.with_mask_width(w);
+    EXPECT_EQ(c.mask_bits, w);
+    EXPECT_EQ(c.data.size(), b.pixel_count() * mask_bytes(w));
+    for (size_t p = 0; p < b.pixel_count(); ++p) ASSERT_EQ(c.mask_at(p), b.mask_at(p));
+    EXPECT_EQ(c.with_mask_width(MaskWidth::k8), b);
+  }
+  const VisibilityBuffer many = VisibilityBuffer::create(2, 2, 12);
+  EXPECT_THROW((void)many.with_mask_width(MaskWidth::k8), std::invalid_argument);
+  EXPECT_NO_THROW((void)many.with_mask_width(MaskWidth::k32));
 }
 
 }  // namespace

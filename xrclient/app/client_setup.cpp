@@ -1,10 +1,12 @@
 #include "app/client_setup.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <thread>
 
+#include "app/run_modes.hpp"
 #include "core/log.hpp"
 #include "net/peer_address.hpp"
 
@@ -129,6 +131,16 @@ void note_source_failure(const VisibilitySource& source, bool& warned) {
   if (warned || !source.failed()) return;
   log::error("network: %s; rendering on with the last visibility", source.failure().c_str());
   warned = true;
+}
+
+int finish_run(const RunSummary& run, const ClientOptions& options, const FrameSummary& frames,
+               UdpVisibilityClient& link) {
+  const std::string summary = summary_json(run, options, frames, link);
+  link.close();
+  std::fflush(stderr);
+  std::printf("%s\n", summary.c_str());
+  std::fflush(stdout);
+  return run.exit == "clean" ? kExitOk : kExitNotClean;
 }
 
 }  // namespace dhr::client

@@ -53,4 +53,9 @@ struct RunSummary {
 std::string summary_json(const RunSummary& run, const ClientOptions& options, const FrameSummary& frames,
                          const UdpVisibilityClient& link);
 
+// The end of a run: says Bye (closes the link), prints the summary as the last stdout line, and returns
+// the exit code (kExitOk for a clean run, kExitNotClean otherwise).
+int finish_run(const RunSummary& run, const ClientOptions& options, const FrameSummary& frames,
+               UdpVisibilityClient& link);
+
 }  // namespace dhr::client

@@ -100,12 +100,7 @@ int run_offscreen(const ClientOptions& options) {
   run.poses_rejected = guard_poses.rejected();
   run.png_files = png.files_written();
   if (run.frames == 0 && run.exit == "clean") run.exit = "no frames";
-  const std::string summary = summary_json(run, options, coordinator.summary(), *link);
-  link->close();
-  std::fflush(stderr);
-  std::printf("%s\n", summary.c_str());
-  std::fflush(stdout);
-  return run.exit == "clean" ? kExitOk : kExitNotClean;
+  return finish_run(run, options, coordinator.summary(), *link);
 }
 
 }  // namespace dhr::client

@@ -117,12 +117,7 @@ int run_openxr(const ClientOptions& options) {
   run.frames = loop.frames_presented();
   run.poses_rejected = guard_poses.rejected();
   if (snapshots) run.png_files = snapshots->files_written();
-  const std::string summary = summary_json(run, options, coordinator.summary(), *link);
-  link->close();
-  std::fflush(stderr);
-  std::printf("%s\n", summary.c_str());
-  std::fflush(stdout);
-  return run.exit == "clean" ? kExitOk : kExitNotClean;
+  return finish_run(run, options, coordinator.summary(), *link);
 }
 
 }  // namespace dhr::client
