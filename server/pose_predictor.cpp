@@ -99,4 +99,11 @@ int64_t PosePredictor::frame_period_ns() const {
   return intervals[intervals.size() / 2];
 }
 
+int64_t round_up_to_frame_grid(int64_t horizon_ns, int64_t frame_period_ns) {
+  if (horizon_ns <= 0) return 0;
+  if (frame_period_ns < 1'000'000 || frame_period_ns > 100'000'000) return horizon_ns;
+  // horizon_ns is bounded by the caller's clock values; the division first keeps the product in range.
+  return (horizon_ns / frame_period_ns + (horizon_ns % frame_period_ns != 0 ? 1 : 0)) * frame_period_ns;
+}
+
 }  // namespace dhr::server

@@ -58,4 +58,10 @@ class PosePredictor {
   std::deque<Sample> samples_;
 };
 
+// The automatic horizon on the client's frame grid: a result that arrives `horizon_ns` after a pose's
+// display time is shown at the first client frame after that, a whole number of frame periods after the
+// pose's own display time. A frame period outside [1 ms, 100 ms] (unknown, or implausible for a headset)
+// leaves the horizon unchanged; a negative horizon becomes 0.
+int64_t round_up_to_frame_grid(int64_t horizon_ns, int64_t frame_period_ns);
+
 }  // namespace dhr::server

@@ -47,8 +47,11 @@ struct ServiceConfig {
   // views predicted at the pose's display time + the horizon. predict_horizon_ns < 0: automatic, the
   // session's round trip (from Heartbeat echoes) + how long the pose waited here + the session's last
   // trace-and-send time (service clock); >= 0: that fixed horizon. Shards carry the predicted views.
+  // With the automatic horizon, horizon_on_frame_grid rounds it up to whole client frame periods (estimated
+  // from the poses' display times): the result is displayed at the first client frame after it arrives.
   bool predict = false;
   int64_t predict_horizon_ns = -1;
+  bool horizon_on_frame_grid = true;
   PosePredictorConfig predictor;
   // Unsolicited replies (Bye to an unknown token, a rejected Hello, another version's Hello) are
   // limited to this many per second over all peers: no reflection flood toward a spoofed source.

@@ -35,9 +35,11 @@ size_t VisibilityService::process_pending() {
       s->last_trace_ns = now;
       Work w{s, pose, pose.views};
       if (config_.predict) {
-        const int64_t horizon = config_.predict_horizon_ns >= 0
-                                    ? config_.predict_horizon_ns
-                                    : s->offset.rtt_ns() + (now - s->pending_receive_ns) + s->last_process_ns;
+        int64_t horizon = config_.predict_horizon_ns;
+        if (horizon < 0) {
+          horizon = s->offset.rtt_ns() + (now - s->pending_receive_ns) + s->last_process_ns;
+          if (config_.horizon_on_frame_grid) horizon = round_up_to_frame_grid(horizon, s->predictor.frame_period_ns());
+        }
         const PredictedViews predicted = s->predictor.predict(pose.display_time_ns + horizon);
         w.views = predicted.views;
         ++stats_.frames_predicted;

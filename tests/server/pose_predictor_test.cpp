@@ -148,5 +148,20 @@ TEST(PosePredictorTest, HistoryIsBoundedAndConfigIsChecked) {
   EXPECT_THROW(PosePredictor{config}, std::invalid_argument);
 }
 
+TEST(FrameGrid, HorizonRoundsUpToWholeClientFrames) {
+  EXPECT_EQ(round_up_to_frame_grid(0, kFrame), 0);
+  EXPECT_EQ(round_up_to_frame_grid(-5 * kMs, kFrame), 0);
+  EXPECT_EQ(round_up_to_frame_grid(1, kFrame), kFrame);
+  EXPECT_EQ(round_up_to_frame_grid(25 * kMs, kFrame), 3 * kFrame);  // 25 ms RTT: shown 3 frames later
+  EXPECT_EQ(round_up_to_frame_grid(3 * kFrame, kFrame), 3 * kFrame);  // on the grid: unchanged
+  EXPECT_EQ(round_up_to_frame_grid(3 * kFrame + 1, kFrame), 4 * kFrame);
+  // Unknown or implausible periods leave the horizon alone.
+  for (int64_t period : {int64_t{0}, int64_t{-kFrame}, kMs / 2, 101 * kMs, std::numeric_limits<int64_t>::max()}) {
+    EXPECT_EQ(round_up_to_frame_grid(25 * kMs, period), 25 * kMs) << period;
+  }
+  // Large horizons stay exact (no overflow in the rounding).
+  EXPECT_EQ(round_up_to_frame_grid(int64_t{1} << 60, 8 * kMs) % (8 * kMs), 0);
+}
+
 }  // namespace
 }  // namespace dhr::server

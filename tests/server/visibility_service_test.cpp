@@ -194,5 +194,28 @@ TEST_F(VisibilityServiceTest, PredictionTracesTheExtrapolatedViews) {
   EXPECT_EQ(s.prediction_fallbacks, 1u);  // one pose is no velocity
   EXPECT_NEAR(s.prediction_horizon_ms, 20.0, 1e-9);
 }
+// The automatic horizon (RTT + waiting + trace time) is rounded up to the client's frame grid: the result
+// is displayed at a client frame, a whole number of frame periods after the pose's display time.
+TEST_F(VisibilityServiceTest, AutomaticHorizonLandsOnTheClientFrameGrid) {
+  for (const bool grid : {true, false}) {
+    SCOPED_TRACE(grid);
+    config_.predict = true;
+    config_.predict_horizon_ns = -1;
+    config_.horizon_on_frame_grid = grid;
+    make_service();
+    const uint64_t t = connect(peer(1), 1);
+    for (uint64_t frame = 1; frame <= 3; ++frame) {  // display times 11 ms apart (send_pose)
+      send_pose(t, peer(1), frame, bookmark_views(0, 0.01 * static_cast<double>(frame)));
+      clock_.advance_ns(3'000'000);  // the pose waits 3 ms for the worker; no RTT measured yet
+      EXPECT_EQ(service_->process_pending(), 1u);
+      drain();
+    }
+    const ServiceStats s = service_->stats();
+    EXPECT_EQ(s.frames_predicted, 3u);
+    EXPECT_EQ(s.prediction_fallbacks, 1u);  // the first pose has no velocity: horizon 0
+    EXPECT_NEAR(s.prediction_horizon_ms, grid ? 22.0 : 6.0, 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace dhr::server
