@@ -31,16 +31,8 @@ std::vector<server::CameraBookmark> bench_bookmarks(const std::string& scene_pat
     note = path;
     return *loaded;
   }
-  // From the front (+Z) and a little above, at the distance where the bounding sphere just fits the
-  // vertical field of view of a 16:9 eye at 90 degrees horizontal (half angle ~29 degrees): sin = 0.49.
-  const glm::dvec3 centre(scene.bounds.center());
-  const double radius = std::max(1e-3, 0.5 * static_cast<double>(scene.bounds.diagonal()));
-  server::CameraBookmark b;
-  b.name = "bbox_front";
-  b.position = centre + glm::normalize(glm::dvec3(0.0, 0.3, 1.0)) * (radius / 0.49);
-  b.target = centre;
   note = "no " + path + ": one camera in front of the bounding box";
-  return {b};
+  return {server::front_bookmark(scene.bounds)};
 }
 
 GuardBand bench_guard_band(Extent display) { return scale_guard_band(GuardBand{64, 36}, Extent{1920, 1080}, display); }

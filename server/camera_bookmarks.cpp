@@ -5,6 +5,7 @@
 #include <glm/mat3x3.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -135,6 +136,17 @@ Pose left_eye_pose(const Pose& head, double ipd_metres) {
   Pose eye = head;
   eye.position = head.transform_point(glm::dvec3(-0.5 * ipd_metres, 0.0, 0.0));
   return eye;
+}
+
+CameraBookmark front_bookmark(const SceneBounds& bounds) {
+  // Half the vertical angle of that eye is ~29 degrees: sin = 0.49.
+  const glm::dvec3 centre(bounds.center());
+  const double radius = std::max(1e-3, 0.5 * static_cast<double>(bounds.diagonal()));
+  CameraBookmark b;
+  b.name = "bbox_front";
+  b.position = centre + glm::normalize(glm::dvec3(0.0, 0.3, 1.0)) * (radius / 0.49);
+  b.target = centre;
+  return b;
 }
 
 }  // namespace dhr::server

@@ -5,6 +5,7 @@
 #pragma once
 #include "core/pose.hpp"
 #include "core/projection.hpp"
+#include "core/scene.hpp"
 
 #include <glm/vec3.hpp>
 
@@ -28,6 +29,11 @@ std::string camera_bookmarks_path(const std::string& scene_path);
 // Reads a bookmark file. std::nullopt with "<file>: <problem>" in out_error for a missing or malformed file
 // (wrong JSON types, non-finite numbers, position == target, no cameras).
 std::optional<std::vector<CameraBookmark>> load_camera_bookmarks(const std::string& path, std::string* out_error);
+
+// For a scene without bookmarks: "bbox_front", looking at the bounds' centre from the front (+Z) and a
+// little above, at the distance where the bounding sphere just fits the vertical field of view of a 16:9
+// eye at 90 degrees horizontal.
+CameraBookmark front_bookmark(const SceneBounds& bounds);
 
 // "x,y,z:tx,ty,tz" (metres, world space); the name is left empty.
 std::optional<CameraBookmark> parse_camera_spec(std::string_view spec, std::string* out_error);
