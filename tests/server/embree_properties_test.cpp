@@ -32,20 +32,7 @@ uint64_t differing_pixels(const VisibilityBuffer& a, const VisibilityBuffer& b) 
   return n;
 }
 
-// Left-eye cameras of a scene's bookmark file at a small size with the default guard band.
-std::vector<Camera> bookmark_cameras(const std::string& scene_path, Extent eye) {
-  std::string error;
-  auto bookmarks = load_camera_bookmarks(camera_bookmarks_path(scene_path), &error);
-  EXPECT_TRUE(bookmarks) << error;
-  std::vector<Camera> cameras;
-  if (!bookmarks) return cameras;
-  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
-  for (const CameraBookmark& b : *bookmarks) {
-    const View view{left_eye_pose(look_at_pose(b).value()), symmetric_fov(90.0, eye)};
-    cameras.push_back(Camera::with_guard_band(view, eye, guard));
-  }
-  return cameras;
-}
+using test::bookmark_cameras;
 
 // Skipping (N.L, range, culling) against SkipOptions::none(): identical bits, and the counters add up.
 void expect_skipping_changes_nothing(const Scene& scene, const std::vector<Camera>& cameras) {

@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace dhr::test {
 
@@ -37,6 +38,13 @@ Camera look_camera(const glm::dvec3& eye, const glm::dvec3& target, uint32_t wid
 std::optional<double> ray_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& min, const glm::dvec3& max);
 // Whether the segment p -> q crosses the box.
 bool segment_hits_box(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& min, const glm::dvec3& max);
+
+// Left-eye cameras of a scene's bookmark file (90 degrees, the paper's guard band scaled to `eye`); a missing
+// or malformed file fails the current test and gives none.
+std::vector<Camera> bookmark_cameras(const std::string& scene_path, Extent eye);
+
+// Loads a scene or fails the current test (returns an empty scene then).
+Scene load_scene_or_fail(const std::string& path);
 
 // The repository and shared-data paths (compile definitions).
 std::string source_path(const std::string& relative);

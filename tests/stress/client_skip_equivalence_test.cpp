@@ -18,7 +18,7 @@ using ClientSkipEquivalence = vk::test::VulkanTest;
 
 TEST_F(ClientSkipEquivalence, VisibilityUploadKeyChangesNoByte) {
   const std::string path = test::source_path(kDefaultScenePath);
-  const Scene room = load_or_fail(path);
+  const Scene room = load_scene_or_fail(path);
   const Extent extent{48, 36};
   View view;
   view.pose = render::test::look_at({0.0, 1.6, 1.35}, {-0.1, 0.5, -0.9});

@@ -91,7 +91,7 @@ constexpr double kShadedDiffBound = 0.01;
 constexpr double kInputShadedDiffBound = 0.05;
 
 TEST_F(ClientStress, FarFromTheOriginShadesLikeTheOrigin) {
-  const Scene room = load_or_fail(test::source_path(kDefaultScenePath));
+  const Scene room = load_scene_or_fail(test::source_path(kDefaultScenePath));
   const Extent extent = pick(Extent{64, 48}, Extent{160, 120});
   const GuardBand guard{8, 6};
   const View view = entrance_view();
@@ -136,7 +136,7 @@ TEST_F(ClientStress, FarFromTheOriginShadesLikeTheOrigin) {
 }
 
 TEST_F(ClientStress, SameFrameTwiceGivesTheSameBytes) {
-  const Scene room = load_or_fail(test::source_path(kDefaultScenePath));
+  const Scene room = load_scene_or_fail(test::source_path(kDefaultScenePath));
   const Extent extent{48, 36};
   const View view = entrance_view();
   render::VisibilityInput input;
@@ -151,7 +151,7 @@ TEST_F(ClientStress, SameFrameTwiceGivesTheSameBytes) {
 }
 
 TEST_F(ClientStress, ExtremeProjectionWarpEqualsTheCpuReference) {
-  const Scene room = load_or_fail(test::source_path(kDefaultScenePath));
+  const Scene room = load_scene_or_fail(test::source_path(kDefaultScenePath));
   const Extent extent = pick(Extent{64, 48}, Extent{160, 120});
   constexpr double kNear = 1e-4;
   constexpr double kDeg = 3.14159265358979323846 / 180.0;

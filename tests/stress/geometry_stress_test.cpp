@@ -111,7 +111,7 @@ TEST(StressGeometry, DenseLivingRoomIsBoundedAndDeterministic) {
   const std::string path = test::shared_data_path("scenes/living_room_dense.glb");
   if (path.empty()) GTEST_SKIP() << "../shared/data not present: living_room_dense.glb skipped";
   const auto start = std::chrono::steady_clock::now();
-  const Scene scene = load_or_fail(path);
+  const Scene scene = load_scene_or_fail(path);
   ASSERT_GT(scene.triangle_count, 1'000'000u);
   const double load_rss = peak_rss_mib();
   const std::vector<Camera> cameras = bookmark_cameras(path, pick(Extent{48, 36}, Extent{160, 120}));
@@ -175,13 +175,13 @@ TEST(StressGeometry, HugeCoordinatesGetAFiniteDefaultLightRig) {
 TEST(StressDeterminism, SameRunTwiceGivesTheSameBits) {
   std::string path = test::shared_data_path("scenes/living_room.glb");
   if (path.empty()) path = test::source_path(kDefaultScenePath);
-  const Scene scene = load_or_fail(path);
+  const Scene scene = load_scene_or_fail(path);
   uint64_t differing = 0;
   for (const Camera& c : bookmark_cameras(path, pick(Extent{64, 48}, Extent{192, 144}))) {
     differing += differing_bits(trace_once(TracerBackend::kEmbree, scene, c), trace_once(TracerBackend::kEmbree, scene, c));
   }
   const std::string room = test::source_path(kDefaultScenePath);
-  const Scene small = load_or_fail(room);
+  const Scene small = load_scene_or_fail(room);
   const Camera camera = bookmark_cameras(room, pick(Extent{32, 24}, Extent{96, 72})).at(0);
   differing += differing_bits(trace_once(TracerBackend::kVulkan, small, camera),
                               trace_once(TracerBackend::kVulkan, small, camera));

@@ -61,7 +61,7 @@ Errors compare_scenes(const Scene& reference, const Scene& moved, const std::vec
   return e;
 }
 
-Scene default_room() { return load_or_fail(test::source_path(kDefaultScenePath)); }
+Scene default_room() { return load_scene_or_fail(test::source_path(kDefaultScenePath)); }
 
 std::vector<Camera> cameras_for(const std::string& path, Extent eye, size_t max_count) {
   std::vector<Camera> cameras = bookmark_cameras(path, eye);

@@ -86,7 +86,7 @@ struct Rig {
 };
 
 TEST(SkipEquivalence, IdenticalPoseSkipChangesNoBitTheClientSees) {
-  const Scene scene = load_or_fail(test::source_path(kDefaultScenePath));
+  const Scene scene = load_scene_or_fail(test::source_path(kDefaultScenePath));
   server::EmbreeTracer tracer(scene, embree_options());
   Rig skipping(tracer, true), exhaustive(tracer, false);
   ASSERT_TRUE(skipping.reassembler && exhaustive.reassembler);
@@ -117,7 +117,7 @@ TEST(SkipEquivalence, IdenticalPoseSkipChangesNoBitTheClientSees) {
 }
 
 TEST(StressPoses, BadPosesInASessionAreCountedAndNeverTraced) {
-  const Scene scene = load_or_fail(test::source_path(kDefaultScenePath));
+  const Scene scene = load_scene_or_fail(test::source_path(kDefaultScenePath));
   server::EmbreeTracer tracer(scene, embree_options());
   Rig rig(tracer, true);
   ASSERT_TRUE(rig.reassembler);

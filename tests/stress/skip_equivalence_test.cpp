@@ -142,7 +142,7 @@ TEST(SkipEquivalence, VulkanEverySkipOnTheHandMadeScene) {
 
 TEST(SkipEquivalence, EmbreeEverySkipOnTheDefaultRoom) {
   const std::string path = test::source_path(kDefaultScenePath);
-  expect_every_skip_changes_nothing(TracerBackend::kEmbree, "default_room", load_or_fail(path),
+  expect_every_skip_changes_nothing(TracerBackend::kEmbree, "default_room", load_scene_or_fail(path),
                                     bookmark_cameras(path, pick(Extent{64, 48}, Extent{192, 144})), false);
 }
 
@@ -150,15 +150,15 @@ TEST(SkipEquivalence, VulkanEverySkipOnTheDefaultRoom) {
   const std::string path = test::source_path(kDefaultScenePath);
   std::vector<Camera> cameras = bookmark_cameras(path, pick(Extent{32, 24}, Extent{96, 72}));
   if (!long_mode() && cameras.size() > 2) cameras.resize(2);
-  expect_every_skip_changes_nothing(TracerBackend::kVulkan, "default_room", load_or_fail(path), cameras, false);
+  expect_every_skip_changes_nothing(TracerBackend::kVulkan, "default_room", load_scene_or_fail(path), cameras, false);
 }
 
 TEST(SkipEquivalence, EmbreeEverySkipOnTheRealScenes) {
   const std::string living = test::shared_data_path("scenes/living_room.glb");
   if (living.empty()) GTEST_SKIP() << "../shared/data not present: real scenes skipped";
-  expect_every_skip_changes_nothing(TracerBackend::kEmbree, "living_room", load_or_fail(living),
+  expect_every_skip_changes_nothing(TracerBackend::kEmbree, "living_room", load_scene_or_fail(living),
                                     bookmark_cameras(living, pick(Extent{64, 48}, Extent{192, 144})), false);
-  const Scene lamp = load_or_fail(test::shared_data_path("scenes/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf"));
+  const Scene lamp = load_scene_or_fail(test::shared_data_path("scenes/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf"));
   expect_every_skip_changes_nothing(TracerBackend::kEmbree, "lights_punctual_lamp", lamp,
                                     orbit_cameras(lamp, pick(Extent{64, 48}, Extent{192, 144}), 4), false);
 }
@@ -166,12 +166,12 @@ TEST(SkipEquivalence, EmbreeEverySkipOnTheRealScenes) {
 TEST(SkipEquivalence, VulkanAllSkipsOnTheRealScenes) {
   const std::string living = test::shared_data_path("scenes/living_room.glb");
   if (living.empty()) GTEST_SKIP() << "../shared/data not present: real scenes skipped";
-  const Scene lamp = load_or_fail(test::shared_data_path("scenes/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf"));
+  const Scene lamp = load_scene_or_fail(test::shared_data_path("scenes/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf"));
   const Totals t = compare(TracerBackend::kVulkan, lamp, orbit_cameras(lamp, Extent{32, 24}, 2), SkipOptions{});
   EXPECT_EQ(t.differing, 0u);
   std::vector<Camera> cameras = bookmark_cameras(living, Extent{32, 24});
   if (!long_mode() && cameras.size() > 1) cameras.resize(1);
-  const Totals u = compare(TracerBackend::kVulkan, load_or_fail(living), cameras, SkipOptions{});
+  const Totals u = compare(TracerBackend::kVulkan, load_scene_or_fail(living), cameras, SkipOptions{});
   EXPECT_EQ(u.differing, 0u);
   report("skip_tracer_vulkan_real_scenes", "differing_bits", double(t.differing + u.differing), 0.0);
 }
@@ -190,7 +190,7 @@ bool decode_all(const std::vector<EncodedShard>& shards, VisibilityBuffer& out) 
 std::vector<VisibilityBuffer> codec_inputs() {
   std::vector<VisibilityBuffer> out;
   const std::string path = test::source_path(kDefaultScenePath);
-  const Scene room = load_or_fail(path);
+  const Scene room = load_scene_or_fail(path);
   for (const Camera& c : bookmark_cameras(path, pick(Extent{128, 96}, Extent{640, 480})))
     out.push_back(trace_once(TracerBackend::kEmbree, room, c));
   const Scene hand = all_skips_scene();

@@ -81,26 +81,6 @@ uint64_t differing_bits_off_edges(const VisibilityBuffer& a, const VisibilityBuf
   return n;
 }
 
-std::vector<Camera> bookmark_cameras(const std::string& scene_path, Extent eye) {
-  std::string error;
-  auto bookmarks = server::load_camera_bookmarks(server::camera_bookmarks_path(scene_path), &error);
-  EXPECT_TRUE(bookmarks) << error;
-  std::vector<Camera> cameras;
-  if (!bookmarks) return cameras;
-  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
-  for (const server::CameraBookmark& b : *bookmarks) {
-    const View view{server::left_eye_pose(server::look_at_pose(b).value()), server::symmetric_fov(90.0, eye)};
-    cameras.push_back(Camera::with_guard_band(view, eye, guard));
-  }
-  return cameras;
-}
-
-Scene load_or_fail(const std::string& path) {
-  SceneLoadResult loaded = load_scene(path);
-  EXPECT_TRUE(loaded) << loaded.error;
-  return loaded ? std::move(*loaded.scene) : Scene{};
-}
-
 server::TracerOptions embree_options(server::SkipOptions skip) {
   server::TracerOptions o;
   o.skip = skip;

@@ -5,6 +5,7 @@
 #include "core/projection.hpp"
 #include "core/scene.hpp"
 #include "core/visibility.hpp"
+#include "test_scenes.hpp"
 #include "visibility_tracer.hpp"
 
 #include <cstdint>
@@ -37,11 +38,9 @@ uint64_t total_bits(const VisibilityBuffer& v);
 // (shadow boundaries and silhouettes move by sub-pixel amounts under rounding).
 uint64_t differing_bits_off_edges(const VisibilityBuffer& a, const VisibilityBuffer& b);
 
-// Left-eye cameras of a scene's bookmark file, 90 degrees, the paper's guard band scaled to `eye`.
-std::vector<Camera> bookmark_cameras(const std::string& scene_path, Extent eye);
-
-// Loads a scene or fails the current test (returns an empty scene then).
-Scene load_or_fail(const std::string& path);
+// Bookmark cameras and scene loading: the server tests' helpers (tests/server/test_scenes.hpp).
+using test::bookmark_cameras;
+using test::load_scene_or_fail;
 
 // Tracer options for the tests: Embree with 2 threads; Vulkan on whatever device the environment gives
 // (lavapipe under ctest).

@@ -1,15 +1,9 @@
-// The Vulkan visibility tracer against the Embree reference (lavapipe, validation layer on, zero errors):
-// real scenes from their camera bookmarks, hand-made scenes for culling / double-sided / mirrored instances,
-// skipping that changes no bit, statistics, mask widths, far-from-origin precision, bad input.
-#include "camera_bookmarks.hpp"
-#include "embree_tracer.hpp"
+// The Vulkan visibility tracer against the Embree reference (lavapipe, validation layer on, zero errors;
+// real scenes: vulkan_tracer_real_scene_test.cpp): build variants, hand-made scenes for culling /
+// double-sided / mirrored instances, skipping that changes no bit, statistics, mask widths, far-from-origin precision, bad input.
 #include "test_scenes.hpp"
-#include "vulkan_tracer.hpp"
+#include "vulkan_tracer_agreement.hpp"
 #include "vulkan_tracer_internal.hpp"
-
-#include "vk/context.hpp"
-
-#include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -20,7 +14,6 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <random>
 #include <string>
 
@@ -30,231 +23,11 @@ namespace {
 using test::add_grid;
 using test::finalize;
 
-// Validation on for every tracer; the process-wide count also catches errors while a context is destroyed.
-class VulkanTracerTest : public ::testing::Test {
- protected:
-  void SetUp() override { errors_before_ = vk::process_validation_error_count(); }
-  void TearDown() override {
-    EXPECT_EQ(vk::process_validation_error_count() - errors_before_, 0u) << "Vulkan validation errors (see log)";
-  }
-  static TracerOptions vk_options(SkipOptions skip = {}) {
-    TracerOptions o;
-    o.skip = skip;
-    o.vk_validation = true;
-    return o;
-  }
-  static TracerOptions embree_options() {
-    TracerOptions o;
-    o.threads = 2;
-    return o;
-  }
-  uint32_t errors_before_ = 0;
-};
-
-// Left-eye cameras of a scene's bookmarks (90 degrees, the paper's guard band scaled to the size).
-std::vector<Camera> bookmark_cameras(const std::string& scene_path, Extent eye) {
-  std::string error;
-  auto bookmarks = load_camera_bookmarks(camera_bookmarks_path(scene_path), &error);
-  EXPECT_TRUE(bookmarks) << error;
-  std::vector<Camera> cameras;
-  if (!bookmarks) return cameras;
-  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
-  for (const CameraBookmark& b : *bookmarks) {
-    const View view{left_eye_pose(look_at_pose(b).value()), symmetric_fov(90.0, eye)};
-    cameras.push_back(Camera::with_guard_band(view, eye, guard));
-  }
-  return cameras;
-}
-
-// The reference's primary hit per pixel (same rays as the Embree tracer's).
-struct PixelHit {
-  bool hit = false;
-  uint32_t mesh = 0;
-  double depth = 0.0;
-};
-
-std::vector<PixelHit> reference_hits(const EmbreeTracer& embree, const Camera& camera) {
-  const EmbreeScene& scene = embree.embree_scene();
-  const glm::vec3 eye = scene.to_relative(camera.T_world_eye.position);
-  const glm::dmat3 R = glm::mat3_cast(glm::normalize(camera.T_world_eye.orientation));
-  std::vector<PixelHit> hits(size_t{camera.extent.width} * camera.extent.height);
-  for (uint32_t y = 0; y < camera.extent.height; ++y) {
-    for (uint32_t x = 0; x < camera.extent.width; ++x) {
-      const glm::vec3 dir(glm::normalize(R * camera.eye_ray(x + 0.5, y + 0.5)));
-      const auto hit = scene.intersect(eye, dir);
-      PixelHit& h = hits[size_t{y} * camera.extent.width + x];
-      if (!hit) continue;
-      h.hit = true;
-      h.mesh = hit->mesh;
-      h.depth = glm::length(glm::dvec3(hit->position) - glm::dvec3(eye));
-    }
-  }
-  return hits;
-}
-
-// Differing pixel-light bits, and those not explained by a silhouette or a shadow boundary within one
-// pixel. A silhouette pixel differs from a 4-neighbour in hit/miss, mesh, or depth (> 2% jump); a bit is
-// at a shadow boundary when the reference has the other value of that bit in the 3x3 neighbourhood.
-struct Agreement {
-  uint64_t bits = 0;
-  uint64_t differing = 0;
-  uint64_t unexplained = 0;
-  uint64_t differing_pixels = 0;
-  std::string first_unexplained;
-  double rate() const { return bits ? double(differing) / double(bits) : 0.0; }
-};
-
-Agreement compare(const VisibilityBuffer& ref, const VisibilityBuffer& got, const std::vector<PixelHit>& hits) {
-  Agreement a;
-  const int w = int(ref.width), h = int(ref.height);
-  a.bits = uint64_t(ref.pixel_count()) * ref.light_count;
-  auto at = [&](int x, int y) -> const PixelHit& { return hits[size_t(y) * size_t(w) + size_t(x)]; };
-  std::vector<uint8_t> edge(ref.pixel_count(), 0);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const PixelHit& p = at(x, y);
-      const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
-      for (int k = 0; k < 4; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= w || ny[k] >= h) continue;
-        const PixelHit& q = at(nx[k], ny[k]);
-        if (p.hit != q.hit || (p.hit && (p.mesh != q.mesh || std::abs(p.depth - q.depth) >
-                                                                  0.02 * std::min(p.depth, q.depth))))
-          edge[size_t(y) * size_t(w) + size_t(x)] = 1;
-      }
-    }
-  }
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const uint32_t diff = ref.get(uint32_t(x), uint32_t(y)) ^ got.get(uint32_t(x), uint32_t(y));
-      if (!diff) continue;
-      ++a.differing_pixels;
-      a.differing += uint64_t(std::popcount(diff));
-      bool near_edge = false;
-      uint32_t boundary_bits = 0;  // bits that change somewhere in the reference's 3x3 neighbourhood
-      const uint32_t centre = ref.get(uint32_t(x), uint32_t(y));
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int qx = x + dx, qy = y + dy;
-          if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
-          near_edge = near_edge || edge[size_t(qy) * size_t(w) + size_t(qx)];
-          boundary_bits |= centre ^ ref.get(uint32_t(qx), uint32_t(qy));
-        }
-      }
-      if (near_edge) continue;
-      const uint32_t unexplained = diff & ~boundary_bits;
-      if (!unexplained) continue;
-      a.unexplained += uint64_t(std::popcount(unexplained));
-      if (a.first_unexplained.empty()) {
-        char text[128];
-        std::snprintf(text, sizeof text, "pixel (%d, %d): reference 0x%x, vulkan 0x%x", x, y, centre,
-                      got.get(uint32_t(x), uint32_t(y)));
-        a.first_unexplained = text;
-      }
-    }
-  }
-  return a;
-}
-
-// Traces every camera with both backends; expects < 0.1% differing bits and none unexplained.
-void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,
-                      const TracerOptions& embree_options, const VulkanTracerConfig& config = {}) {
-  EmbreeTracer embree(scene, embree_options);
-  VulkanTracer vulkan(scene, vk_options, config);
-  uint64_t bits = 0, differing = 0;
-  for (size_t c = 0; c < cameras.size(); ++c) {
-    VisibilityBuffer ref, got;
-    TraceStats ref_stats, got_stats;
-    embree.trace(cameras[c], ref, ref_stats);
-    vulkan.trace(cameras[c], got, got_stats);
-    ASSERT_EQ(got.width, ref.width);
-    ASSERT_EQ(got.height, ref.height);
-    ASSERT_EQ(got.mask_bits, ref.mask_bits);
-    const Agreement a = compare(ref, got, reference_hits(embree, cameras[c]));
-    std::printf("[ agreement ] camera %zu %ux%u, %u lights: %llu of %llu bits differ (%.4f%%), %llu pixels, "
-                "%llu unexplained; vulkan %.1f ms (gpu %.1f ms), embree %.1f ms\n",
-                c, ref.width, ref.height, ref.light_count, static_cast<unsigned long long>(a.differing),
-                static_cast<unsigned long long>(a.bits), 100.0 * a.rate(),
-                static_cast<unsigned long long>(a.differing_pixels), static_cast<unsigned long long>(a.unexplained),
-                got_stats.trace_ms, got_stats.gpu_ms, ref_stats.trace_ms);
-    EXPECT_EQ(a.unexplained, 0u) << "camera " << c << ": first at " << a.first_unexplained;
-    EXPECT_LT(a.rate(), 0.001) << "camera " << c;
-    // Statistics: one primary ray per pixel; every hit pixel-light pair traced or skipped for a reason.
-    EXPECT_EQ(got_stats.pixels, ref_stats.pixels);
-    EXPECT_EQ(got_stats.primary_rays, got_stats.pixels);
-    EXPECT_EQ(got_stats.lights_culled, ref_stats.lights_culled);
-    const uint64_t hit = got_stats.pixels - got_stats.background_pixels;
-    EXPECT_EQ(got_stats.shadow_rays + got_stats.skipped_backfacing + got_stats.skipped_out_of_range +
-                  got_stats.skipped_culled_light,
-              hit * scene.lights.size());
-    EXPECT_NEAR(double(got_stats.background_pixels), double(ref_stats.background_pixels), 0.01 * got_stats.pixels);
-    EXPECT_NEAR(double(got_stats.shadow_rays), double(ref_stats.shadow_rays),
-                0.01 * double(ref_stats.shadow_rays) + 4.0);
-    EXPECT_GT(got_stats.trace_ms, 0.0);
-    bits += a.bits;
-    differing += a.differing;
-  }
-  EXPECT_EQ(vulkan.validation_error_count(), 0u);
-  if (bits) std::printf("[ agreement ] all cameras: %.4f%% of bits differ\n", 100.0 * double(differing) / double(bits));
-}
-
-Scene load(const std::string& path) {
-  SceneLoadResult loaded = load_scene(path);
-  EXPECT_TRUE(loaded) << loaded.error;
-  return loaded ? std::move(*loaded.scene) : Scene{};
-}
-
-TEST_F(VulkanTracerTest, AgreesWithEmbreeOnTheDefaultRoom) {
-  const std::string path = test::source_path(kDefaultScenePath);
-  const Scene scene = load(path);
-  const auto cameras = bookmark_cameras(path, {160, 120});
-  ASSERT_FALSE(cameras.empty());
-  expect_agreement(scene, cameras, vk_options(), embree_options());
-}
-
-TEST_F(VulkanTracerTest, AgreesWithEmbreeOnTheLivingRoom) {
-  const std::string path = test::shared_data_path("scenes/living_room.glb");
-  if (path.empty()) GTEST_SKIP() << "../shared/data not present: living_room.glb comparison skipped";
-  const Scene scene = load(path);
-  const auto cameras = bookmark_cameras(path, {96, 72});
-  ASSERT_EQ(cameras.size(), 5u);
-  expect_agreement(scene, cameras, vk_options(), embree_options());
-}
-
-// Every other scene in ../shared/data/scenes: its bookmarks (living_room_dense) or, for the glTF samples
-// without any, one camera in front of the bounding box (as trace_bench). Small images: lavapipe is slow,
-// and the 1M-triangle scenes cost mostly their BLAS builds.
-TEST_F(VulkanTracerTest, AgreesWithEmbreeOnEveryOtherRealScene) {
-  const std::string dir = test::shared_data_path("scenes");
-  if (dir.empty()) GTEST_SKIP() << "../shared/data not present: real-scene comparisons skipped";
-  std::vector<std::string> paths;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir)) {
-    const std::string ext = entry.path().extension().string();
-    if ((ext == ".gltf" || ext == ".glb") && entry.path().filename() != "living_room.glb") {
-      paths.push_back(entry.path().string());
-    }
-  }
-  std::sort(paths.begin(), paths.end());
-  ASSERT_GE(paths.size(), 8u) << "the MANIFEST lists 9 scenes";
-  const Extent eye{64, 48};
-  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
-  for (const std::string& path : paths) {
-    SCOPED_TRACE(path);
-    const Scene scene = load(path);
-    std::vector<Camera> cameras;
-    if (std::filesystem::exists(camera_bookmarks_path(path))) {
-      cameras = bookmark_cameras(path, eye);
-    } else {
-      const View view{left_eye_pose(look_at_pose(front_bookmark(scene.bounds)).value()), symmetric_fov(90.0, eye)};
-      cameras.push_back(Camera::with_guard_band(view, eye, guard));
-    }
-    ASSERT_FALSE(cameras.empty());
-    expect_agreement(scene, cameras, vk_options(), embree_options());
-  }
-}
+using namespace tracer_test;
 
 TEST_F(VulkanTracerTest, FlattenedUnsortedBuildAgreesToo) {
   const std::string path = test::source_path(kDefaultScenePath);
-  const Scene scene = load(path);
+  const Scene scene = load_scene_or_fail(path);
   const auto cameras = bookmark_cameras(path, {96, 72});
   VulkanTracerConfig config;
   config.instanced = false;
@@ -265,7 +38,7 @@ TEST_F(VulkanTracerTest, FlattenedUnsortedBuildAgreesToo) {
 
 TEST_F(VulkanTracerTest, SkippingChangesNoBit) {
   const std::string path = test::source_path(kDefaultScenePath);
-  const Scene scene = load(path);
+  const Scene scene = load_scene_or_fail(path);
   VulkanTracer skipping(scene, vk_options());
   VulkanTracer exhaustive(scene, vk_options(SkipOptions::none()));
   for (const Camera& camera : bookmark_cameras(path, {128, 96})) {
@@ -287,7 +60,7 @@ TEST_F(VulkanTracerTest, SkippingChangesNoBit) {
 // never tests or traces the others (exhaustive: exactly hit pixels x N shadow rays).
 TEST_F(VulkanTracerTest, LightSubsetHasTheFullTracesBitsAndNoRaysForTheOthers) {
   const std::string path = test::source_path(kDefaultScenePath);
-  const Scene scene = load(path);
+  const Scene scene = load_scene_or_fail(path);
   const uint32_t total = static_cast<uint32_t>(scene.lights.size());
   ASSERT_GE(total, 2u);
   const std::vector<Camera> cameras = bookmark_cameras(path, {64, 48});
@@ -386,7 +159,7 @@ TEST_F(VulkanTracerTest, InstancesMirroringAndDoubleSidedFacesMatchEmbree) {
 
 TEST_F(VulkanTracerTest, MaskWidthsFollowTheLightCount) {
   const std::string path = test::source_path(kDefaultScenePath);
-  Scene scene = load(path);
+  Scene scene = load_scene_or_fail(path);
   ASSERT_FALSE(scene.lights.empty());
   const Camera camera = bookmark_cameras(path, {64, 48}).at(0);
   const std::vector<SceneLight> base = scene.lights;
@@ -404,7 +177,7 @@ TEST_F(VulkanTracerTest, MaskWidthsFollowTheLightCount) {
 
 TEST_F(VulkanTracerTest, PreciseFarFromTheWorldOrigin) {
   const std::string path = test::source_path(kDefaultScenePath);
-  Scene scene = load(path);
+  Scene scene = load_scene_or_fail(path);
   const glm::dvec3 offset(25000.0, 120.0, -40000.0);
   for (SceneMesh& m : scene.meshes) {
     for (glm::vec3& p : m.positions) p = glm::vec3(glm::dvec3(p) + offset);

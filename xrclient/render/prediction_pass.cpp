@@ -228,12 +228,17 @@ bool PredictionPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image&
 WarpCounts PredictionPass::read_counts(uint32_t slot_index) const {
   if (slot_index >= slots_.size()) throw std::invalid_argument("prediction pass: slot out of range");
   const Slot& slot = slots_[slot_index];
-  std::vector<uint32_t> raw(slot.count_words);
-  if (!raw.empty()) slot.counters.read(raw.data(), raw.size() * 4);
   WarpCounts counts;
-  for (size_t i = 0; i < raw.size(); ++i) {
-    for (uint32_t field = 0; field < 3; ++field) {
-      counts.by_status[(i % 2) * 3 + field] += (raw[i] >> (10 * field)) & 1023u;
+  // In chunks through a fixed array: no allocation per frame (thousands of buckets at headset sizes).
+  std::array<uint32_t, 512> raw{};
+  for (uint32_t first = 0; first < slot.count_words; first += static_cast<uint32_t>(raw.size())) {
+    const uint32_t n = std::min<uint32_t>(static_cast<uint32_t>(raw.size()), slot.count_words - first);
+    slot.counters.read(raw.data(), VkDeviceSize{n} * 4, VkDeviceSize{first} * 4);
+    for (uint32_t i = 0; i < n; ++i) {
+      // Even words hold statuses 0-2, odd words 3-5 (first is even: the chunk size is).
+      for (uint32_t field = 0; field < 3; ++field) {
+        counts.by_status[(i % 2) * 3 + field] += (raw[i] >> (10 * field)) & 1023u;
+      }
     }
   }
   return counts;

@@ -1,0 +1,145 @@
+#include "vulkan_tracer_agreement.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+namespace dhr::server::tracer_test {
+namespace {
+
+// The reference's primary hit per pixel (same rays as the Embree tracer's).
+struct PixelHit {
+  bool hit = false;
+  uint32_t mesh = 0;
+  double depth = 0.0;
+};
+
+std::vector<PixelHit> reference_hits(const EmbreeTracer& embree, const Camera& camera) {
+  const EmbreeScene& scene = embree.embree_scene();
+  const glm::vec3 eye = scene.to_relative(camera.T_world_eye.position);
+  const glm::dmat3 R = glm::mat3_cast(glm::normalize(camera.T_world_eye.orientation));
+  std::vector<PixelHit> hits(size_t{camera.extent.width} * camera.extent.height);
+  for (uint32_t y = 0; y < camera.extent.height; ++y) {
+    for (uint32_t x = 0; x < camera.extent.width; ++x) {
+      const glm::vec3 dir(glm::normalize(R * camera.eye_ray(x + 0.5, y + 0.5)));
+      const auto hit = scene.intersect(eye, dir);
+      PixelHit& h = hits[size_t{y} * camera.extent.width + x];
+      if (!hit) continue;
+      h.hit = true;
+      h.mesh = hit->mesh;
+      h.depth = glm::length(glm::dvec3(hit->position) - glm::dvec3(eye));
+    }
+  }
+  return hits;
+}
+
+// Differing pixel-light bits, and those not explained by a silhouette or a shadow boundary within one
+// pixel. A silhouette pixel differs from a 4-neighbour in hit/miss, mesh, or depth (> 2% jump); a bit is
+// at a shadow boundary when the reference has the other value of that bit in the 3x3 neighbourhood.
+struct Agreement {
+  uint64_t bits = 0;
+  uint64_t differing = 0;
+  uint64_t unexplained = 0;
+  uint64_t differing_pixels = 0;
+  std::string first_unexplained;
+  double rate() const { return bits ? double(differing) / double(bits) : 0.0; }
+};
+
+Agreement compare(const VisibilityBuffer& ref, const VisibilityBuffer& got, const std::vector<PixelHit>& hits) {
+  Agreement a;
+  const int w = int(ref.width), h = int(ref.height);
+  a.bits = uint64_t(ref.pixel_count()) * ref.light_count;
+  auto at = [&](int x, int y) -> const PixelHit& { return hits[size_t(y) * size_t(w) + size_t(x)]; };
+  std::vector<uint8_t> edge(ref.pixel_count(), 0);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const PixelHit& p = at(x, y);
+      const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= w || ny[k] >= h) continue;
+        const PixelHit& q = at(nx[k], ny[k]);
+        if (p.hit != q.hit || (p.hit && (p.mesh != q.mesh || std::abs(p.depth - q.depth) >
+                                                                  0.02 * std::min(p.depth, q.depth))))
+          edge[size_t(y) * size_t(w) + size_t(x)] = 1;
+      }
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const uint32_t diff = ref.get(uint32_t(x), uint32_t(y)) ^ got.get(uint32_t(x), uint32_t(y));
+      if (!diff) continue;
+      ++a.differing_pixels;
+      a.differing += uint64_t(std::popcount(diff));
+      bool near_edge = false;
+      uint32_t boundary_bits = 0;  // bits that change somewhere in the reference's 3x3 neighbourhood
+      const uint32_t centre = ref.get(uint32_t(x), uint32_t(y));
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+          near_edge = near_edge || edge[size_t(qy) * size_t(w) + size_t(qx)];
+          boundary_bits |= centre ^ ref.get(uint32_t(qx), uint32_t(qy));
+        }
+      }
+      if (near_edge) continue;
+      const uint32_t unexplained = diff & ~boundary_bits;
+      if (!unexplained) continue;
+      a.unexplained += uint64_t(std::popcount(unexplained));
+      if (a.first_unexplained.empty()) {
+        char text[128];
+        std::snprintf(text, sizeof text, "pixel (%d, %d): reference 0x%x, vulkan 0x%x", x, y, centre,
+                      got.get(uint32_t(x), uint32_t(y)));
+        a.first_unexplained = text;
+      }
+    }
+  }
+  return a;
+}
+
+}  // namespace
+
+void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,
+                      const TracerOptions& embree_options, const VulkanTracerConfig& config) {
+  EmbreeTracer embree(scene, embree_options);
+  VulkanTracer vulkan(scene, vk_options, config);
+  uint64_t bits = 0, differing = 0;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    VisibilityBuffer ref, got;
+    TraceStats ref_stats, got_stats;
+    embree.trace(cameras[c], ref, ref_stats);
+    vulkan.trace(cameras[c], got, got_stats);
+    ASSERT_EQ(got.width, ref.width);
+    ASSERT_EQ(got.height, ref.height);
+    ASSERT_EQ(got.mask_bits, ref.mask_bits);
+    const Agreement a = compare(ref, got, reference_hits(embree, cameras[c]));
+    std::printf("[ agreement ] camera %zu %ux%u, %u lights: %llu of %llu bits differ (%.4f%%), %llu pixels, "
+                "%llu unexplained; vulkan %.1f ms (gpu %.1f ms), embree %.1f ms\n",
+                c, ref.width, ref.height, ref.light_count, static_cast<unsigned long long>(a.differing),
+                static_cast<unsigned long long>(a.bits), 100.0 * a.rate(),
+                static_cast<unsigned long long>(a.differing_pixels), static_cast<unsigned long long>(a.unexplained),
+                got_stats.trace_ms, got_stats.gpu_ms, ref_stats.trace_ms);
+    EXPECT_EQ(a.unexplained, 0u) << "camera " << c << ": first at " << a.first_unexplained;
+    EXPECT_LT(a.rate(), 0.001) << "camera " << c;
+    // Statistics: one primary ray per pixel; every hit pixel-light pair traced or skipped for a reason.
+    EXPECT_EQ(got_stats.pixels, ref_stats.pixels);
+    EXPECT_EQ(got_stats.primary_rays, got_stats.pixels);
+    EXPECT_EQ(got_stats.lights_culled, ref_stats.lights_culled);
+    const uint64_t hit = got_stats.pixels - got_stats.background_pixels;
+    EXPECT_EQ(got_stats.shadow_rays + got_stats.skipped_backfacing + got_stats.skipped_out_of_range +
+                  got_stats.skipped_culled_light,
+              hit * scene.lights.size());
+    EXPECT_NEAR(double(got_stats.background_pixels), double(ref_stats.background_pixels), 0.01 * got_stats.pixels);
+    EXPECT_NEAR(double(got_stats.shadow_rays), double(ref_stats.shadow_rays),
+                0.01 * double(ref_stats.shadow_rays) + 4.0);
+    EXPECT_GT(got_stats.trace_ms, 0.0);
+    bits += a.bits;
+    differing += a.differing;
+  }
+  EXPECT_EQ(vulkan.validation_error_count(), 0u);
+  if (bits) std::printf("[ agreement ] all cameras: %.4f%% of bits differ\n", 100.0 * double(differing) / double(bits));
+}
+
+
+}  // namespace dhr::server::tracer_test

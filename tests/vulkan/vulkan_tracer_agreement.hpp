@@ -1,0 +1,48 @@
+// Shared by the Vulkan tracer tests (vulkan_tracer_test.cpp, vulkan_tracer_real_scene_test.cpp): the
+// fixture (validation on, zero errors) and the comparison with the Embree reference. Two backends agree when
+// fewer than 0.1% of the pixel-light bits differ and every differing bit lies within a pixel of a silhouette
+// or a shadow boundary.
+#pragma once
+#include "camera_bookmarks.hpp"
+#include "embree_tracer.hpp"
+#include "test_scenes.hpp"
+#include "vulkan_tracer.hpp"
+
+#include "vk/context.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace dhr::server::tracer_test {
+
+// Validation on for every tracer; the process-wide count also catches errors while a context is destroyed.
+class VulkanTracerTest : public ::testing::Test {
+ protected:
+  void SetUp() override { errors_before_ = vk::process_validation_error_count(); }
+  void TearDown() override {
+    EXPECT_EQ(vk::process_validation_error_count() - errors_before_, 0u) << "Vulkan validation errors (see log)";
+  }
+  static TracerOptions vk_options(SkipOptions skip = {}) {
+    TracerOptions o;
+    o.skip = skip;
+    o.vk_validation = true;
+    return o;
+  }
+  static TracerOptions embree_options() {
+    TracerOptions o;
+    o.threads = 2;
+    return o;
+  }
+  uint32_t errors_before_ = 0;
+};
+
+using test::bookmark_cameras;  // tests/server/test_scenes.hpp
+using test::load_scene_or_fail;
+
+// Traces every camera with both backends; expects < 0.1% differing bits and none unexplained.
+void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,
+                      const TracerOptions& embree_options, const VulkanTracerConfig& config = {});
+
+}  // namespace dhr::server::tracer_test
