@@ -35,7 +35,7 @@ std::vector<server::CameraBookmark> bench_bookmarks(const std::string& scene_pat
   return {server::front_bookmark(scene.bounds)};
 }
 
-GuardBand bench_guard_band(Extent display) { return scale_guard_band(GuardBand{64, 36}, Extent{1920, 1080}, display); }
+GuardBand bench_guard_band(Extent display) { return paper_guard_band(display); }
 
 std::optional<Camera> bench_eye_camera(const server::CameraBookmark& bookmark, int eye, Extent display) {
   const std::optional<Pose> head = server::look_at_pose(bookmark);

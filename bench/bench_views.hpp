@@ -1,8 +1,8 @@
 // Scenes, cameras and eye views for bench/trace_bench.
 #pragma once
 #include "camera_bookmarks.hpp"
-#include "core/projection.hpp"
-#include "core/scene.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
 
 #include <string>
 #include <vector>

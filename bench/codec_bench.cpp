@@ -6,8 +6,8 @@
 // frame (sharded scheme vs whole-frame LZ4), shard count, Mbit/s at 90 Hz stereo, and `lz4 -b1` on the
 // same bytes as the reference. docs/performance.md ("Codec") has measured numbers.
 #include "codec_measure.hpp"
-#include "core/protocol.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "protocol/protocol.hpp"
+#include "metrics/visibility_synthetic.hpp"
 #include "json_writer.hpp"
 #include "lz4_reference.hpp"
 

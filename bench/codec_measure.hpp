@@ -1,8 +1,8 @@
 // Measurements of the visibility codec on a set of buffers (bench/codec_bench): encode/decode speed of
 // the sharded scheme, compressed sizes beside whole-frame LZ4, and the bit rate at 90 Hz stereo.
 #pragma once
-#include "core/codec.hpp"
-#include "core/visibility.hpp"
+#include "codec/codec.hpp"
+#include "visibility/visibility.hpp"
 
 #include <cstddef>
 #include <string>

@@ -9,7 +9,7 @@
 // Without --scene: default_room, and living_room and LightsPunctualLamp from ../shared/data when present.
 // Scenes without a bookmark file get four cameras orbiting their bounds. docs/performance.md, "Skipped work".
 #include "camera_bookmarks.hpp"
-#include "core/codec.hpp"
+#include "codec/codec.hpp"
 #include "json_writer.hpp"
 #include "visibility_tracer.hpp"
 
@@ -73,7 +73,7 @@ struct NamedCamera {
 
 std::vector<NamedCamera> cameras_for(const std::string& path, const Scene& scene, Extent eye) {
   std::vector<NamedCamera> out;
-  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
+  const GuardBand guard = paper_guard_band(eye);
   const Fov fov = server::symmetric_fov(90.0, eye);
   std::string error;
   const std::string bookmark_file = server::camera_bookmarks_path(path);

@@ -167,9 +167,10 @@ Json base_record(const char* record, const LoadedScene& s) {
 
 Json size_json(Extent display) {
   const GuardBand g = bench_guard_band(display);
+  const TracedFormat format{display, g};
   return Json{{"display", size_text(display)},
-              {"guard", size_text(Extent{g.x, g.y})},
-              {"traced", size_text(Extent{display.width + g.x, display.height + g.y})}};
+              {"guard", size_text(Extent{2 * g.x, 2 * g.y})},  // both sides together, as before
+              {"traced", size_text(format.buffer())}};
 }
 
 // Totals over bookmarks and eyes for one summary record.

@@ -2,7 +2,7 @@
 // every camera bookmark, both eyes (built only when dhr_server is, see bench/CMakeLists.txt).
 #pragma once
 #include "codec_measure.hpp"
-#include "core/projection.hpp"
+#include "math/projection.hpp"
 
 #include <string>
 

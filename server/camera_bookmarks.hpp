@@ -3,9 +3,9 @@
 //    "cameras": [{"name": "doorway_overview", "position": [x,y,z], "target": [x,y,z]}, ...]}
 // or given on the command line as "x,y,z:tx,ty,tz"; and the eye views made from them.
 #pragma once
-#include "core/pose.hpp"
-#include "core/projection.hpp"
-#include "core/scene.hpp"
+#include "math/pose.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
 
 #include <glm/vec3.hpp>
 

@@ -1,6 +1,6 @@
 #include "embree_scene.hpp"
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 
 #include <glm/geometric.hpp>
 

@@ -1,6 +1,6 @@
 // Internal to the Embree tracer: everything one tile needs, and the tile kernel.
 #pragma once
-#include "core/lighting.hpp"
+#include "scene/lighting.hpp"
 #include "embree_scene.hpp"
 #include "embree_tracer.hpp"
 

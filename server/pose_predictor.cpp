@@ -12,12 +12,6 @@
 namespace dhr::server {
 namespace {
 
-bool finite(const Pose& pose) {
-  return std::isfinite(pose.position.x) && std::isfinite(pose.position.y) && std::isfinite(pose.position.z) &&
-         std::isfinite(pose.orientation.w) && std::isfinite(pose.orientation.x) &&
-         std::isfinite(pose.orientation.y) && std::isfinite(pose.orientation.z);
-}
-
 // Extrapolates one eye from (t0, a) and (t1, b) by horizon seconds; false when implausible or non-finite.
 bool extrapolate(const Pose& a, const Pose& b, double dt, double horizon, const PosePredictorConfig& config,
                  Pose& out) {
@@ -39,7 +33,7 @@ bool extrapolate(const Pose& a, const Pose& b, double dt, double horizon, const 
     const glm::dquat step = glm::angleAxis(angular_speed * horizon, v / sin_half);
     out.orientation = glm::normalize(step * b.orientation);
   }
-  return finite(out) && !validate_pose(out).has_value();
+  return !validate_pose(out).has_value();  // finite, non-zero quaternion, plausible position
 }
 
 }  // namespace
@@ -53,7 +47,7 @@ PosePredictor::PosePredictor(const PosePredictorConfig& config) : config_(config
 
 bool PosePredictor::add(int64_t display_time_ns, const std::array<View, 2>& views) {
   for (const View& view : views) {
-    if (validate_pose(view.pose) || validate_fov(view.fov)) return false;
+    if (validate_view(view)) return false;
   }
   if (!samples_.empty() && display_time_ns <= samples_.back().time_ns) return false;
   samples_.push_back(Sample{display_time_ns, views});  // kept bit-exact: a zero horizon returns them unchanged

@@ -5,7 +5,7 @@
 // that is non-finite or implausible (speed or angular speed above the limits) falls back to the newest
 // real pose, and so does a history of fewer than two poses. Deterministic; not thread-safe.
 #pragma once
-#include "core/pose.hpp"
+#include "math/pose.hpp"
 
 #include <array>
 #include <cstddef>

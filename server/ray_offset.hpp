@@ -13,7 +13,7 @@
 // near-zero terms are therefore multiplied by the scene's ray-offset scale: a power of two (exact in float,
 // the same on the CPU and the GPU), 1 for scenes up to kRayOffsetReferenceHalfExtent.
 #pragma once
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 
 #include <glm/vec3.hpp>
 

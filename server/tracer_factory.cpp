@@ -2,7 +2,7 @@
 #include "embree_tracer.hpp"
 #include "visibility_tracer.hpp"
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "vk/context.hpp"
 
 #include <stdexcept>

@@ -3,9 +3,9 @@
 // Two backends behind this interface: Vulkan ray tracing (GPUs; lavapipe for tests) and Embree (CPUs,
 // also the reference). Both produce identical bits except at silhouettes / shadow boundaries.
 #pragma once
-#include "core/projection.hpp"
-#include "core/scene.hpp"
-#include "core/visibility.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
+#include "visibility/visibility.hpp"
 
 #include <cstdint>
 #include <memory>

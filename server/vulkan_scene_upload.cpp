@@ -1,7 +1,7 @@
 // Device side of the Vulkan tracer's scene: compacted BLASes, the TLAS and the shading storage buffers.
 #include "vulkan_tracer_internal.hpp"
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 
 #include <chrono>
 #include <stdexcept>

@@ -3,7 +3,7 @@
 #include "ray_offset.hpp"
 #include "vulkan_tracer_internal.hpp"
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "vk/barriers.hpp"
 #include "vk/timestamps.hpp"
 

@@ -1,7 +1,7 @@
 // Internal to the Vulkan tracer (server/vulkan_*.cpp; tests may use it): the CPU-side plan of the GPU scene,
 // its upload into acceleration structures and storage buffers, and the ray-tracing pipeline.
 #pragma once
-#include "core/lighting.hpp"
+#include "scene/lighting.hpp"
 #include "shader_interface.h"
 #include "vulkan_tracer.hpp"
 

@@ -108,7 +108,7 @@ struct VisPushConstants {
   float ray_offset_scale;  // server/ray_offset.hpp: ray_offset_scale(scene bounds), a power of two
 };
 
-// ---- client (xrclient/render): G-buffer, prediction (warp) and shading passes ----
+// ---- client (xrclient/render): G-buffer, warp and shading passes ----
 // G-buffer (graphics): one combined image sampler per material (base colour, sRGB texels -> linear).
 DHR_CONST uint kClientGBufferBindingBaseColor = 0;
 DHR_CONST uint kClientMaterialDoubleSided = 1u;  // ClientGBufferPush::flags: no culling, back faces flip N
@@ -130,17 +130,17 @@ struct ClientGBufferPush {
   uint pad2;
 };
 
-// Prediction (compute, 8x8 groups): per display pixel, the light mask looked up in the old buffer.
+// Warp (compute, 8x8 groups): per display pixel, the light mask looked up in the old buffer.
 DHR_CONST uint kClientWarpGroupSize = 8u;
-DHR_CONST uint kClientPredictionBindingDepth = 0;       // sampler2D: G-buffer depth (reversed-Z)
-DHR_CONST uint kClientPredictionBindingVisibility = 1;  // storage buffer uint[]: packed masks, little endian
-DHR_CONST uint kClientPredictionBindingRowValid = 2;    // storage buffer uint[]: bit r%32 of word r/32 = row r valid
-DHR_CONST uint kClientPredictionBindingMask = 3;        // r32ui image: predicted mask
-DHR_CONST uint kClientPredictionBindingStatus = 4;      // r32ui image: kClientStatus* (debug, optional)
-DHR_CONST uint kClientPredictionBindingMotion = 5;      // rg32f image: lookup - lookup without motion (debug)
-DHR_CONST uint kClientPredictionBindingCounters = 6;    // storage buffer: per bucket two words of 10-bit counts
+DHR_CONST uint kClientWarpBindingDepth = 0;       // sampler2D: G-buffer depth (reversed-Z)
+DHR_CONST uint kClientWarpBindingVisibility = 1;  // storage buffer uint[]: packed masks, little endian
+DHR_CONST uint kClientWarpBindingRowValid = 2;    // storage buffer uint[]: bit r%32 of word r/32 = row r valid
+DHR_CONST uint kClientWarpBindingMask = 3;        // r32ui image: predicted mask
+DHR_CONST uint kClientWarpBindingStatus = 4;      // r32ui image: kClientStatus* (debug, optional)
+DHR_CONST uint kClientWarpBindingMotion = 5;      // rg32f image: lookup - lookup without motion (debug)
+DHR_CONST uint kClientWarpBindingCounters = 6;    // storage buffer: per bucket two words of 10-bit counts
 
-// Per-pixel outcome of the prediction; every status but kKnown is "unknown" and takes all light bits.
+// Per-pixel outcome of the warp; every status but kKnown is "unknown" and takes all light bits.
 DHR_CONST uint kClientStatusKnown = 0u;       // fetched from the old buffer
 DHR_CONST uint kClientStatusBackground = 1u;  // no surface (depth == 0)
 DHR_CONST uint kClientStatusBehind = 2u;      // at or behind the old eye plane
@@ -149,10 +149,10 @@ DHR_CONST uint kClientStatusMissingRow = 4u;  // the old buffer's row did not ar
 DHR_CONST uint kClientStatusNoData = 5u;      // no visibility buffer at all yet
 DHR_CONST uint kClientStatusCount = 6u;
 
-DHR_CONST uint kClientPredictionHasVisibility = 1u;
-DHR_CONST uint kClientPredictionHasRowValidity = 2u;
-DHR_CONST uint kClientPredictionWriteMotion = 4u;
-DHR_CONST uint kClientPredictionWriteStatus = 8u;
+DHR_CONST uint kClientWarpHasVisibility = 1u;
+DHR_CONST uint kClientWarpHasRowValidity = 2u;
+DHR_CONST uint kClientWarpWriteMotion = 4u;
+DHR_CONST uint kClientWarpWriteStatus = 8u;
 // Status counts are gathered per bucket of this many horizontally adjacent workgroups (8 x 64 pixels fit
 // the 10-bit fields); statuses 0-2 in the bucket's first word, 3-5 in its second, field s % 3.
 DHR_CONST uint kClientCountBucketGroups = 8u;
@@ -161,7 +161,7 @@ DHR_CONST uint kClientCountBucketGroups = 8u;
 //   p_old = (near_plane / d) * (ray0 + (i + 0.5) * ray_dx + (j + 0.5) * ray_dy) + trans
 // (ray0/ray_dx/ray_dy: R_old^T R_new applied to the new camera's tangent-plane point (tx, ty, -1) and its
 // per-pixel steps), and lands at px = old_px_scale * p_old.x / -p_old.z + old_px_offset (same for y).
-struct ClientPredictionPush {
+struct ClientWarpPush {
   float ray0[3];
   float ray_dx[3];
   float ray_dy[3];
@@ -182,7 +182,7 @@ struct ClientPredictionPush {
   uint old_height;
   uint mask_bits;        // 8, 16 or 32
   uint unknown_mask;     // mask for unknown pixels: all light bits
-  uint flags;            // kClientPrediction*
+  uint flags;            // kClientWarp*
 };
 
 // Shading (compute, 8x8 groups).
@@ -228,7 +228,7 @@ struct ClientShadingPush {
 static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the GLSL layout");
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
-static_assert(sizeof(ClientPredictionPush) == 116, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientWarpPush) == 116, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
 static_assert(sizeof(VisPushConstants) == 88, "push constants must match the GLSL layout");

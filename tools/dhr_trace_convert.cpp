@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/pose_trace.hpp"
+#include "traces/pose_trace.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <thread>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "exit_signal.hpp"
 #include "xr/headset.hpp"
 #include "xr/xr_check.hpp"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "session_loop.hpp"
 #include "vk/barriers.hpp"
 #include "watchdog.hpp"
@@ -82,11 +82,12 @@ SmokeReport run_smoke(const SmokeOptions& options) {
 
   const Clock::time_point start = Clock::now();
   const xr::RenderFn clear_eyes = [&](const xr::FrameState&,
-                                      const std::array<xr::EyeTarget, xr::kEyeCount>& eyes) {
+                                      const std::array<xr::EyeTarget, xr::kEyeCount>& eyes) -> xr::RenderedViews {
     const double seconds = Seconds(Clock::now() - start).count();
     vulkan.submit_and_wait([&](VkCommandBuffer cmd) {
       for (const xr::EyeTarget& eye : eyes) record_clear(cmd, eye.image, eye_colour(eye.eye, seconds));
     });
+    return std::nullopt;  // drawn for the located views
   };
   SessionLoopOptions loop_options;
   loop_options.frames = options.frames;

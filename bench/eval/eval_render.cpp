@@ -17,7 +17,7 @@ EyeRenderer::EyeRenderer(const vk::Context& context, const Scene& scene, Extent 
   for (auto& pipeline : eyes_) pipeline = std::make_unique<render::EyePipeline>(context, scene_, eye, options);
 }
 
-EyeRender EyeRenderer::render(int eye, const View& view, const render::VisibilityInput& input) {
+EyeRender EyeRenderer::render(int eye, const View& view, const VisibilityInput& input) {
   render::EyePipeline& pipeline = *eyes_[static_cast<size_t>(eye)];
   EyeRender out;
   const auto start = std::chrono::steady_clock::now();
@@ -27,7 +27,7 @@ EyeRender EyeRenderer::render(int eye, const View& view, const render::Visibilit
   out.rgba = render::read_rgba8(*context_, pipeline.output());
   const Extent extent = pipeline.extent();
   std::vector<uint32_t> masks(static_cast<size_t>(extent.width) * extent.height);
-  vk::read_image(*context_, pipeline.prediction().mask, masks.data(), masks.size() * sizeof(uint32_t));
+  vk::read_image(*context_, pipeline.warp().mask, masks.data(), masks.size() * sizeof(uint32_t));
   out.mask = VisibilityBuffer::create(extent.width, extent.height, light_count_);
   const uint32_t bits = out.mask.light_bits();
   for (size_t p = 0; p < masks.size(); ++p) out.mask.set_mask_at(p, masks[p] & bits);

@@ -1,9 +1,9 @@
 // The client's real per-eye pipeline (xrclient/render/EyePipeline: G-buffer, prediction, shading) run
 // synchronously for one eye and read back: the shaded RGBA8 image and the predicted light masks.
 #pragma once
-#include "core/projection.hpp"
-#include "core/scene.hpp"
-#include "core/visibility.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
+#include "visibility/visibility.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
 
@@ -30,7 +30,7 @@ class EyeRenderer {
  public:
   // Throws (setup) when the scene cannot be uploaded.
   EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye);
-  EyeRender render(int eye, const View& view, const render::VisibilityInput& input);
+  EyeRender render(int eye, const View& view, const VisibilityInput& input);
   uint32_t light_count() const { return light_count_; }
 
  private:

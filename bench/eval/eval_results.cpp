@@ -63,8 +63,8 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("rtt_ms", r.setting.rtt_ms, 3);
     w.value("x_max", r.setting.x_max);
     w.value("guard", r.setting.guard);
-    w.value("guard_px_x", r.setting.guard_px.x);
-    w.value("guard_px_y", r.setting.guard_px.y);
+    w.value("guard_px_x", 2 * r.setting.guard_band.x);  // both sides together
+    w.value("guard_px_y", 2 * r.setting.guard_band.y);
     w.value("frames", static_cast<unsigned long long>(r.frames));
     w.value("bit_error", r.bit_error, 8);
     w.begin_array("bit_error_per_light");

@@ -1,7 +1,7 @@
 #include "eval_run.hpp"
 
-#include "core/eye_model.hpp"
-#include "core/log.hpp"
+#include "traces/eye_model.hpp"
+#include "log/log.hpp"
 #include "eval_render.hpp"
 #include "eval_results.hpp"
 #include "eval_session.hpp"
@@ -61,14 +61,14 @@ void progress(uint64_t done, uint64_t total, size_t settings, double elapsed_s) 
 // Traced with the setting's guard band too (only the display region is used): a camera with another guard
 // band computes its ray directions with other rounding, which can flip a silhouette pixel.
 Truth ground_truth(server::VisibilityTracer& tracer, EyeRenderer& renderer, Extent eye_size, GuardBand guard,
-                   const client::PoseSample& sample) {
+                   const FramePose& sample) {
   Truth truth;
   for (int eye = 0; eye < 2; ++eye) {
     const Camera camera = Camera::with_guard_band(sample.views[eye], eye_size, guard);
     VisibilityBuffer exact;
     server::TraceStats stats;
     tracer.trace(camera, exact, stats);
-    render::VisibilityInput input;
+    VisibilityInput input;
     input.buffer = &exact;
     input.traced = camera;
     EyeRender r = renderer.render(eye, sample.views[eye], input);
@@ -121,8 +121,9 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     const std::unique_ptr<server::VisibilityTracer> tracer =
         server::create_tracer(server::TracerBackend::kEmbree, scene, tracer_options);
 
-    std::vector<client::PoseSample> history;
-    SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), &history};
+    std::vector<FramePose> history;
+    const uint64_t total = warmup + frames;
+    SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), &history, total};
     std::vector<std::unique_ptr<SettingSession>> sessions;
     for (const Setting& s : settings) sessions.push_back(std::make_unique<SettingSession>(s, options, shared));
 
@@ -130,9 +131,8 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
               settings.size(), static_cast<unsigned long long>(warmup), static_cast<unsigned long long>(frames),
               options.eye.width, options.eye.height, context->info().name.c_str(),
               tracer->device_description().c_str());
-    const uint64_t total = warmup + frames;
     for (uint64_t i = 0; i < total; ++i) {
-      client::PoseSample sample;
+      FramePose sample;
       if (!source.next(sample)) break;
       sample.views = wire_views(sample.views);
       history.push_back(sample);
@@ -140,7 +140,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
       std::map<std::string, Truth> truths;  // per guard band
       if (measured) {
         for (const Setting& s : settings) {
-          if (!truths.contains(s.guard)) truths[s.guard] = ground_truth(*tracer, renderer, options.eye, s.guard_px, sample);
+          if (!truths.contains(s.guard)) truths[s.guard] = ground_truth(*tracer, renderer, options.eye, s.guard_band, sample);
         }
       }
       for (auto& session : sessions) {

@@ -1,8 +1,8 @@
 #include "eval_session.hpp"
 
-#include "core/image_flip.hpp"
-#include "core/log.hpp"
-#include "core/protocol.hpp"
+#include "metrics/image_flip.hpp"
+#include "log/log.hpp"
+#include "protocol/protocol.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -43,10 +43,7 @@ server::ServiceConfig service_config(const Setting& setting, const RunOptions& o
 client::VisibilityClientConfig client_config(const Setting& setting, const RunOptions& options,
                                              const SessionShared& shared) {
   client::VisibilityClientConfig c;
-  c.eye_width = static_cast<uint16_t>(shared.eye.width);
-  c.eye_height = static_cast<uint16_t>(shared.eye.height);
-  c.guard_x = static_cast<uint16_t>(setting.guard_px.x / 2);  // the protocol's guard band is per side
-  c.guard_y = static_cast<uint16_t>(setting.guard_px.y / 2);
+  c.format = TracedFormat{shared.eye, setting.guard_band};
   c.max_frames_in_flight = 8;
   c.nonce_seed = options.seed;
   return c;
@@ -69,6 +66,22 @@ bool same_views(const std::array<View, 2>& a, const std::array<View, 2>& b) {
     }
   }
   return true;
+}
+
+// The client's frame policy for the setting's method: stale shows the bits unwarped, paper warps with x_max
+// (all: the newest pose, the client's default schedule); paper+pred differs on the server only.
+client::PlannerSettings planner_settings(const Setting& setting, const SessionShared& shared) {
+  client::PlannerSettings s;
+  if (setting.method == Method::kStale) {
+    s.schedule = client::Schedule::kStale;
+  } else if (setting.x_max < 0) {
+    s.schedule = client::Schedule::kNewest;
+  } else {
+    s.schedule = client::Schedule::kPaper;
+    s.x_max = static_cast<uint64_t>(setting.x_max);
+  }
+  s.history_frames = std::max<size_t>(shared.frames_total, 1);  // every frame of the run stays known
+  return s;
 }
 
 }  // namespace
@@ -105,10 +118,11 @@ bool CountingSender::send_to(std::span<const uint8_t> datagram, const net::PeerA
 }
 
 SettingSession::SettingSession(const Setting& setting, const RunOptions& options, const SessionShared& shared)
-    : setting_(setting), shared_(shared), guard_(setting.guard_px), clock_(0), server_clock_(clock_),
+    : setting_(setting), shared_(shared), format_{shared.eye, setting.guard_band}, clock_(0), server_clock_(clock_),
       uplink_(link_params(setting, options, options.seed * 2 + 0), clock_),
       downlink_(link_params(setting, options, options.seed * 2 + 1), server_clock_), server_out_(downlink_),
-      tracer_(*shared.tracer, server_clock_, server_ns_per_eye(options)) {
+      tracer_(*shared.tracer, server_clock_, server_ns_per_eye(options)),
+      planner_(planner_settings(setting, shared)) {
   totals_.bit_error_per_light.assign(shared.light_count, 0.0);
   service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options), server_out_,
                                                          server_clock_);
@@ -146,7 +160,7 @@ void SettingSession::connect() {
   }
   if (!done) log::warn("dhr-eval: %s: no heartbeat round trip before the trace starts", setting_label(setting_).c_str());
   const std::optional<Welcome> welcome = client_->welcome();
-  if (!welcome || welcome->guard_x * 2u != guard_.x || welcome->guard_y * 2u != guard_.y) {
+  if (!welcome || welcome->format() != format_) {
     throw std::runtime_error("setting " + setting_label(setting_) + ": the server granted another guard band");
   }
   totals_.connect_ms = static_cast<double>(t) * 1e-6;
@@ -208,8 +222,9 @@ void SettingSession::deliver_to_client(const net::SimulatedDelivery& delivery) {
   totals_.decode_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-void SettingSession::advance(const client::PoseSample& sample) {
+void SettingSession::advance(const FramePose& sample) {
   frame_ = sample.frame;
+  planner_.record(sample);
   const int64_t t = display_ns(sample);
   run_until(t, false);
   client_->tick();
@@ -219,45 +234,27 @@ void SettingSession::advance(const client::PoseSample& sample) {
 }
 
 void SettingSession::measure(const Truth& truth) {
-  const std::vector<client::PoseSample>& history = *shared_.history;
-  const client::PoseSample& now = history.at(frame_);
+  const FramePose& now = shared_.history->at(frame_);
+  for (uint32_t eye = 0; eye < 2; ++eye) {
+    VisibilityFrame incoming;
+    if (client_->take_newest(static_cast<Eye>(eye), incoming)) planner_.offer(eye, std::move(incoming));
+  }
+  const client::FramePlan plan = planner_.plan(now, format_);
   for (int eye = 0; eye < 2; ++eye) {
-    client::EyeVisibility incoming;
-    if (client_->take_newest(static_cast<Eye>(eye), incoming)) newest_[eye] = std::move(incoming);
-    const std::optional<client::EyeVisibility>& received = newest_[eye];
-    render::VisibilityInput input;
-    View render_view = now.views[eye];
-    uint64_t p = 0, x = 0;
-    if (received) {
-      input.buffer = &received->buffer;
-      if (!received->complete) input.row_valid = received->row_valid;
-      p = frame_ - std::min(frame_, received->frame_number);
-      if (setting_.method == Method::kStale) {
-        // The old bits as if they had been traced for the displayed pose: no reprojection at all.
-        input.traced = Camera::with_guard_band(now.views[eye], shared_.eye, guard_);
-      } else {
-        input.traced = Camera::with_guard_band(received->view, shared_.eye, guard_);
-        x = setting_.x_max < 0 ? p : std::min<uint64_t>(p, static_cast<uint64_t>(setting_.x_max));
-        render_view = history.at(frame_ - p + x).views[eye];  // the paper renders frame n with G-buffer n-p+x
-      }
-      if (!last_used_[eye] || *last_used_[eye] != received->frame_number) {
-        last_used_[eye] = received->frame_number;
-        totals_.responses += 1;
-        totals_.response_ms +=
-            static_cast<double>(now.display_time_ns - history.at(received->frame_number).display_time_ns) * 1e-6;
-      }
-    } else {
-      input.traced = Camera::with_guard_band(now.views[eye], shared_.eye, guard_);
-      totals_.eye_frames_without_data += 1;
+    const client::EyePlan& p = plan.eyes[eye];
+    if (!p.has_visibility) totals_.eye_frames_without_data += 1;
+    if (p.first_use) {
+      totals_.responses += 1;
+      totals_.response_ms += static_cast<double>(p.visibility_age_ns.value_or(0)) * 1e-6;
     }
-    const EyeRender rendered = shared_.renderer->render(eye, render_view, input);
+    const EyeRender rendered = shared_.renderer->render(eye, p.view, p.visibility);
     add_image_errors(rendered, truth, eye);
     const double pixels = static_cast<double>(shared_.eye.width) * shared_.eye.height;
     totals_.unknown_frac += static_cast<double>(rendered.stats.unknown_pixels()) / pixels;
     totals_.client_ms += rendered.stats.gpu.valid ? rendered.stats.gpu.total_ms : rendered.host_ms;
     totals_.client_gpu_timed += rendered.stats.gpu.valid ? 1 : 0;
-    totals_.frames_behind += static_cast<double>(p);
-    totals_.frames_predicted += static_cast<double>(x);
+    totals_.frames_behind += static_cast<double>(p.age);
+    totals_.frames_predicted += static_cast<double>(p.predicted);
   }
 }
 

@@ -8,12 +8,13 @@
 // time (the service's clock runs on while it traces), so results never depend on the host's speed. The
 // host's trace, encode and decode times are recorded as run-time metrics only.
 #pragma once
-#include "core/image_metrics.hpp"
+#include "metrics/image_metrics.hpp"
 #include "eval_render.hpp"
 #include "eval_settings.hpp"
 #include "net/clock.hpp"
 #include "net/simulated_link.hpp"
-#include "net/visibility_client.hpp"
+#include "link/visibility_client.hpp"
+#include "plan/frame_planner.hpp"
 #include "pose/pose_source.hpp"
 #include "session/visibility_service.hpp"
 #include "visibility_tracer.hpp"
@@ -71,7 +72,8 @@ struct SessionShared {
   EyeRenderer* renderer = nullptr;
   Extent eye;
   uint32_t light_count = 0;
-  const std::vector<client::PoseSample>* history = nullptr;  // every frame so far, index = frame
+  const std::vector<FramePose>* history = nullptr;  // every frame so far, index = frame
+  size_t frames_total = 0;                          // frames the run plays (the planner's history holds them all)
 };
 
 // Views as they arrive after one trip through the wire format (f32 quaternions, renormalized), iterated to a
@@ -130,7 +132,7 @@ class SettingSession {
 
   // Frame sample.frame: delivers everything due before its display time, ticks both sides, sends its
   // PoseUpdate, then delivers everything due at its display time (a zero delay arrives in the same frame).
-  void advance(const client::PoseSample& sample);
+  void advance(const FramePose& sample);
   // Renders the frame last advanced to with the newest visibility and adds its errors against `truth`.
   void measure(const Truth& truth);
 
@@ -144,25 +146,24 @@ class SettingSession {
   void process_on_server(int64_t t_ns);
   void deliver_to_client(const net::SimulatedDelivery& delivery);
   void add_image_errors(const EyeRender& rendered, const Truth& truth, int eye);
-  int64_t display_ns(const client::PoseSample& sample) const { return time_offset_ns_ + sample.display_time_ns; }
+  int64_t display_ns(const FramePose& sample) const { return time_offset_ns_ + sample.display_time_ns; }
 
   Setting setting_;
   SessionShared shared_;
-  GuardBand guard_;  // both sides together, as the Welcome granted it
+  TracedFormat format_;  // the eye size and guard band, as the Welcome must grant them
   net::VirtualClock clock_;
   ServerClock server_clock_;
   net::SimulatedLink uplink_;    // client -> server, stamped with the client's clock
   net::SimulatedLink downlink_;  // server -> client, stamped with the service's clock
   CountingSender server_out_;
   ModelledTimeTracer tracer_;
+  client::FramePlanner planner_;  // the client's own frame policy
   std::unique_ptr<server::VisibilityService> service_;
   std::unique_ptr<client::VisibilityClient> client_;
   bool server_work_ = false;     // a datagram reached the service since it last processed
   int64_t server_free_ns_ = 0;   // the service's worker is busy tracing until then
   int64_t time_offset_ns_ = 0;   // virtual time of trace frame 0 (after the connection phase)
   uint64_t frame_ = 0;
-  std::array<std::optional<client::EyeVisibility>, 2> newest_;
-  std::array<std::optional<uint64_t>, 2> last_used_{};
   SettingTotals totals_;
 };
 

@@ -104,8 +104,9 @@ std::optional<std::vector<std::string>> parse_guard_list(const std::string& text
   std::vector<std::string> out;
   for (const std::string& item : split_list(text)) {
     const std::optional<Extent> e = parse_size(item);
-    if (item != "0" && (!e || e->width > 1920 || e->height > 1080)) {
-      fail(out_error, "--guard: expected 0 or WxH pixels at 1920x1080 (e.g. 64x36), got '" + item + "'");
+    if (item != "0" && (!e || e->width > 1920 || e->height > 1080 || !guard_band_from_total(e->width, e->height))) {
+      fail(out_error, "--guard: expected 0 or WxH pixels at 1920x1080, both sides together, even (e.g. 64x36), got '" +
+                          item + "'");
       return std::nullopt;
     }
     out.push_back(item);
@@ -135,8 +136,9 @@ std::string setting_label(const Setting& setting) {
 
 GuardBand guard_for_eye(const std::string& label, Extent eye) {
   const std::optional<Extent> e = parse_size(label);
-  if (!e) return GuardBand{};
-  return scale_guard_band(GuardBand{e->width, e->height}, Extent{1920, 1080}, eye);
+  const std::optional<GuardBand> per_side = e ? guard_band_from_total(e->width, e->height) : std::nullopt;
+  if (!per_side) return GuardBand{};
+  return scale_guard_band(*per_side, Extent{1920, 1080}, eye);
 }
 
 std::vector<Setting> expand_settings(const RunOptions& options) {

@@ -1,6 +1,6 @@
 // dhr-eval's run options and the settings it sweeps (the cartesian product of the option lists).
 #pragma once
-#include "core/projection.hpp"
+#include "math/projection.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -22,7 +22,7 @@ struct Setting {
   double rtt_ms = 0.0;
   int x_max = -1;          // frames predicted at most (x = min(x_max, p)); -1: unlimited (x = p)
   std::string guard;       // as given: "0", "64x36" (pixels at 1920x1080, scaled to the eye size)
-  GuardBand guard_px;      // scaled to the eye size
+  GuardBand guard_band;    // per side, scaled to the eye size
 };
 // "paper+pred rtt=50ms x_max=all guard=64x36", for messages.
 std::string setting_label(const Setting& setting);

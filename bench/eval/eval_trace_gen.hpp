@@ -1,7 +1,7 @@
 // A small synthetic 6-DoF head trace (sums of sines: walking sway, looking around, nodding), written in the
 // canonical CSV format, for scenes and machines without the recorded traces of ../shared/data.
 #pragma once
-#include "core/pose_trace.hpp"
+#include "traces/pose_trace.hpp"
 
 namespace dhr::eval {
 

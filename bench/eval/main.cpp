@@ -2,7 +2,7 @@
 // VisibilityService -> simulated network -> the client's real GPU passes) on a virtual 90 Hz clock over a sweep
 // of settings, against the exactly traced ground truth; `report` turns the results into plots and Markdown;
 // `make-trace` writes a small synthetic 6-DoF trace. docs/evaluation.md.
-#include "core/pose_trace.hpp"
+#include "traces/pose_trace.hpp"
 #include "eval_report.hpp"
 #include "eval_run.hpp"
 #include "eval_settings.hpp"

@@ -1,6 +1,6 @@
 #include "check_command.hpp"
 
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 #include "scene_setup.hpp"
 
 #include <nlohmann/json.hpp>

@@ -1,6 +1,6 @@
 #include "preview_shading.hpp"
 
-#include "core/lighting.hpp"
+#include "scene/lighting.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>

@@ -2,9 +2,9 @@
 //   I = albedo / pi * sum_i bit_i * saturate(N.L_i) * E_i   (DESIGN.md), plus a faint ambient term so
 // shadowed surfaces stay recognisable; auto exposure (95th percentile), Reinhard tonemap, sRGB.
 #pragma once
-#include "core/projection.hpp"
-#include "core/scene.hpp"
-#include "core/visibility.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
+#include "visibility/visibility.hpp"
 #include "embree_scene.hpp"
 
 #include <cstdint>

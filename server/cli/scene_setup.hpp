@@ -1,6 +1,6 @@
 // Loading the scene the command line names, with the checks every mode shares.
 #pragma once
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 #include "server_options.hpp"
 
 #include <optional>

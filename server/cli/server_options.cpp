@@ -1,7 +1,7 @@
 #include "server_options.hpp"
 
-#include "core/scene.hpp"
-#include "core/visibility.hpp"
+#include "scene/scene.hpp"
+#include "visibility/visibility.hpp"
 #include "net/impairment_cli.hpp"
 
 #include <CLI/CLI.hpp>
@@ -32,7 +32,7 @@ bool parse_uint(const std::string& text, uint32_t& out) {
 
 GuardBand effective_guard_band(const ServerOptions& options) {
   if (options.guard) return *options.guard;
-  return scale_guard_band(GuardBand{64, 36}, Extent{1920, 1080}, options.eye_size);
+  return paper_guard_band(options.eye_size);
 }
 
 std::optional<uint16_t> parse_port(const std::string& text) {
@@ -172,8 +172,9 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   }
   if (!guard.empty()) {
     auto g = parse_extent(guard, 0);
-    if (!g) return fail("--guard: expected WxH in pixels, got '" + guard + "'");
-    out.guard = GuardBand{g->width, g->height};
+    const std::optional<GuardBand> band = g ? guard_band_from_total(g->width, g->height) : std::nullopt;
+    if (!band) return fail("--guard: expected WxH, even pixel counts (both sides together), got '" + guard + "'");
+    out.guard = *band;
     if (out.eye_size.width + g->width > kMaxBufferDimension || out.eye_size.height + g->height > kMaxBufferDimension)
       return fail("--guard: eye size plus guard band exceeds " + std::to_string(kMaxBufferDimension) + " pixels");
   }

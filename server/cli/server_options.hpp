@@ -1,7 +1,7 @@
 // dhr-server's command line: what to do (check, snapshot, serve clients over UDP) and with which
 // settings. Parsing is separate from running so new modes only add a field and a branch.
 #pragma once
-#include "core/projection.hpp"
+#include "math/projection.hpp"
 #include "net/impairment.hpp"
 #include "visibility_tracer.hpp"
 

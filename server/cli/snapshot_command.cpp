@@ -1,7 +1,7 @@
 #include "snapshot_command.hpp"
 
 #include "camera_bookmarks.hpp"
-#include "core/png_writer.hpp"
+#include "image/png_writer.hpp"
 #include "embree_tracer.hpp"
 #include "preview_shading.hpp"
 #include "scene_setup.hpp"

@@ -3,7 +3,7 @@
 // server traces the content it rasterizes. Not cryptographic; deterministic across runs and machines
 // (little-endian IEEE bit patterns, no pointers, no hashing of names or materials).
 #pragma once
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 
 #include <cstdint>
 

@@ -2,7 +2,7 @@
 // handshake is in visibility_service_hello.cpp, tracing in visibility_service_trace.cpp.
 #include "session/service_session.hpp"
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 
 #include <chrono>
 #include <stdexcept>

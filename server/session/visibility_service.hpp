@@ -8,9 +8,9 @@
 // on either. One mutex guards the session table; it is held briefly and never while tracing or encoding.
 // Memory is bounded whatever arrives: at most max_sessions sessions, one pending pose each, no queues.
 #pragma once
-#include "core/codec.hpp"
-#include "core/projection.hpp"
-#include "core/protocol.hpp"
+#include "codec/codec.hpp"
+#include "math/projection.hpp"
+#include "protocol/protocol.hpp"
 #include "net/clock.hpp"
 #include "net/peer_address.hpp"
 #include "net/udp_socket.hpp"
@@ -201,9 +201,5 @@ class VisibilityService {
 // Whether a Hello's scene id names the served scene: empty, equal, or a path / file name whose stem
 // (directories and extension removed) equals scene_id.
 bool scene_id_matches(const std::string& requested, const std::string& scene_id);
-
-// The camera traced for one eye of a session: the view widened by the negotiated guard band (per side,
-// so the traced size is eye + 2 * guard).
-Camera session_camera(const View& view, uint32_t eye_width, uint32_t eye_height, uint32_t guard_x, uint32_t guard_y);
 
 }  // namespace dhr::server

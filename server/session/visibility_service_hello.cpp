@@ -1,7 +1,7 @@
 // VisibilityService: the handshake (Hello -> Welcome or Bye) and scene id matching.
 #include "session/service_session.hpp"
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 
 namespace dhr::server {
 

@@ -1,16 +1,11 @@
 // VisibilityService: tracing pending poses (optionally predicted), encoding and sending the shards.
 #include "session/service_session.hpp"
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 
 namespace dhr::server {
 
 using namespace session_detail;
-
-Camera session_camera(const View& view, uint32_t eye_width, uint32_t eye_height, uint32_t guard_x, uint32_t guard_y) {
-  // GuardBand counts both sides together; the protocol's guard is per side.
-  return Camera::with_guard_band(view, Extent{eye_width, eye_height}, GuardBand{2 * guard_x, 2 * guard_y});
-}
 
 size_t VisibilityService::process_pending() {
   std::lock_guard trace_lock(trace_mutex_);
@@ -64,7 +59,7 @@ size_t VisibilityService::process_pending() {
 
 bool VisibilityService::trace_and_send(const Work& work) {
   Session& s = *work.session;
-  const Hello& hello = s.hello;
+  const TracedFormat format = s.welcome.format();
   const uint32_t light_count = s.welcome.light_count;
   double trace_ms = 0.0, encode_ms = 0.0;
   uint64_t shards = 0;
@@ -72,7 +67,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
   const int64_t start_ns = clock_.now_ns();
   for (int e = 0; e < 2 && ok; ++e) {
     const View& view = work.views[e];
-    const Camera camera = session_camera(view, hello.eye_width, hello.eye_height, hello.guard_x, hello.guard_y);
+    const Camera camera = format.camera(view);
     TraceStats trace_stats;
     try {
       // Only the lights the client asked for (the first light_count): the others cost no ray.

@@ -2,12 +2,12 @@
 // VirtualClock, and a scripted server peer that decodes what the client sends and answers with real
 // encoded datagrams (Welcome, shards from the real codec, Heartbeat, Bye). Nothing of the client is mocked.
 #pragma once
-#include "core/codec.hpp"
-#include "core/protocol.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "codec/codec.hpp"
+#include "protocol/protocol.hpp"
+#include "metrics/visibility_synthetic.hpp"
 #include "net/clock.hpp"
 #include "net/simulated_link.hpp"
-#include "net/visibility_client.hpp"
+#include "link/visibility_client.hpp"
 
 #include <gtest/gtest.h>
 
@@ -26,10 +26,7 @@ inline constexpr uint64_t kToken = 0x1234'5678'9ABC'DEF0ull;
 
 inline VisibilityClientConfig test_config() {
   VisibilityClientConfig c;
-  c.eye_width = kEyeW;
-  c.eye_height = kEyeH;
-  c.guard_x = kGuard;
-  c.guard_y = kGuard;
+  c.format = TracedFormat{Extent{kEyeW, kEyeH}, GuardBand{kGuard, kGuard}};
   c.light_count_wanted = kLights;
   c.nonce_seed = 7;
   return c;

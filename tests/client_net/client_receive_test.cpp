@@ -19,7 +19,7 @@ std::vector<uint8_t> rows_covered_fully(const std::vector<VisibilityShard>& shar
   return rows;
 }
 
-void expect_rows_equal(const EyeVisibility& v, const VisibilityBuffer& expected) {
+void expect_rows_equal(const VisibilityFrame& v, const VisibilityBuffer& expected) {
   ASSERT_EQ(v.buffer.width, expected.width);
   ASSERT_EQ(v.buffer.height, expected.height);
   for (uint32_t y = 0; y < expected.height; ++y) {
@@ -35,7 +35,7 @@ TEST(ClientReceive, CompleteFrameIsPublishedWithItsViewAndExactContent) {
   const int64_t sent = h.clock.now_ns();  // the links have no delay: delivered at the send time
   h.send_frame(1, Eye::kLeft);
   h.run_for(kMs);
-  EyeVisibility v;
+  VisibilityFrame v;
   ASSERT_TRUE(h.client.take_newest(Eye::kLeft, v));
   EXPECT_EQ(v.frame_number, 1u);
   EXPECT_TRUE(v.complete);
@@ -57,7 +57,7 @@ TEST(ClientReceive, NewestWinsPerEyeAndFrameNumbersNeverGoBack) {
   h.send_frame(1, Eye::kRight);
   h.send_frame(1, Eye::kLeft);  // older than the newest complete left frame: late
   h.run_for(kMs);
-  EyeVisibility left, right;
+  VisibilityFrame left, right;
   ASSERT_TRUE(h.client.take_newest(Eye::kLeft, left));
   EXPECT_EQ(left.frame_number, 3u);
   EXPECT_EQ(left.buffer, buffer_for(3, Eye::kLeft));
@@ -92,7 +92,7 @@ TEST(ClientReceive, IncompleteFrameIsPublishedWhenItGoesQuietWithRowValid) {
     if (i != 1) sent.push_back(i);
   for (const size_t i : sent) h.send_shard(shards[i]);
   h.run_for(5 * kMs);
-  EyeVisibility v;
+  VisibilityFrame v;
   EXPECT_FALSE(h.client.take_newest(Eye::kLeft, v));  // not quiet long enough yet (20 ms)
   h.run_for(20 * kMs);
   ASSERT_TRUE(h.client.take_newest(Eye::kLeft, v));
@@ -128,7 +128,7 @@ TEST(ClientReceive, IncompleteFrameIsPublishedWhenANewerFrameStarts) {
   for (const size_t i : sent) h.send_shard(first[i]);
   h.send_shard(second[0]);  // no quiet time in between
   h.run_for(kMs);
-  EyeVisibility v;
+  VisibilityFrame v;
   ASSERT_TRUE(h.client.take_newest(Eye::kRight, v));
   EXPECT_EQ(v.frame_number, 1u);
   EXPECT_FALSE(v.complete);
@@ -207,7 +207,7 @@ TEST(ClientReceive, BadDatagramsAreCountedByReasonAndDropped) {
             s.datagrams_rejected + s.datagrams_foreign + s.datagrams_unexpected + s.datagrams_handled);
   EXPECT_TRUE(h.client.connected());  // garbage does not end the session
   EXPECT_FALSE(h.client.failed());
-  EyeVisibility v;
+  VisibilityFrame v;
   EXPECT_FALSE(h.client.take_newest(Eye::kLeft, v));
   for (const auto& shard : shards) h.send_shard(shard);  // the real frame still gets through
   h.run_for(kMs);
@@ -235,7 +235,7 @@ TEST(ClientReceive, MutatedDatagramsNeverCrashAndMemoryStaysBounded) {
       h.server_send_raw(bytes);
     }
     h.run_for(3 * kMs);
-    EyeVisibility v;
+    VisibilityFrame v;
     h.client.take_newest(Eye::kLeft, v);
     h.client.take_newest(Eye::kRight, v);
   }

@@ -197,7 +197,7 @@ TEST(ClientSession, BadConfigThrows) {
   net::VirtualClock clock;
   net::SimulatedLink link({}, clock);
   VisibilityClientConfig c = test_config();
-  c.eye_width = 0;
+  c.format.display.width = 0;
   EXPECT_THROW(VisibilityClient(c, link, clock), std::invalid_argument);
   c = test_config();
   c.scene_id = std::string("room\n");

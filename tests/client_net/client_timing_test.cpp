@@ -22,7 +22,7 @@ TEST(ClientTiming, ResponseTimeIsPoseSentToBothEyesComplete) {
   const ClientNetStats s = h.client.stats();
   EXPECT_EQ(s.response.count, 1u);
   EXPECT_EQ(s.response.last_ns, 29 * kMs);
-  EyeVisibility v;
+  VisibilityFrame v;
   ASSERT_TRUE(h.client.take_newest(Eye::kLeft, v));
   EXPECT_EQ(v.received_ns, sent + 25 * kMs);  // usable from when the left eye completed
 }

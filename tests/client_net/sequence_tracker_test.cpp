@@ -1,5 +1,5 @@
 // SequenceTracker: duplicates and gaps in the peer's datagram sequence numbers, wrap-around, restart.
-#include "net/sequence_tracker.hpp"
+#include "link/sequence_tracker.hpp"
 
 #include <gtest/gtest.h>
 

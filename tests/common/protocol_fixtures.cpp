@@ -1,7 +1,7 @@
 #include "protocol_fixtures.hpp"
 
-#include "core/codec.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "codec/codec.hpp"
+#include "metrics/visibility_synthetic.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>

@@ -1,7 +1,7 @@
 // Sample protocol messages with every field set, shared by the protocol unit tests
 // (tests/unit/protocol_robustness_test.cpp) and the fuzz seeds (tests/fuzz/fuzz_seeds.cpp).
 #pragma once
-#include "core/protocol.hpp"
+#include "protocol/protocol.hpp"
 
 #include <cstdint>
 #include <vector>

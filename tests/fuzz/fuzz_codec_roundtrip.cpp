@@ -5,9 +5,9 @@
 // add up; with row_aligned, a shard ends on a row boundary whenever it crosses one; decoding every
 // shard restores the buffer exactly; the same shards as datagrams fit kMaxDatagramSize, decode, and
 // complete a frame in a VisibilityReassembler that equals the buffer.
-#include "core/codec.hpp"
-#include "core/protocol.hpp"
-#include "core/reassembly.hpp"
+#include "codec/codec.hpp"
+#include "protocol/protocol.hpp"
+#include "codec/reassembly.hpp"
 #include "fuzz_layouts.hpp"
 #include "fuzz_support.hpp"
 

@@ -7,7 +7,7 @@
 // Why the quaternions are the exception: the decoder renormalizes the orientation in double (within the
 // 1e-3 norm tolerance) and the encoder rounds it back to float, so the 16 quaternion bytes of each view
 // may move by up to ~1e-3 on the first round trip and by at most one float step on later ones.
-#include "core/protocol.hpp"
+#include "protocol/protocol.hpp"
 #include "fuzz_support.hpp"
 
 #include <cmath>

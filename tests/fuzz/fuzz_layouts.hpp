@@ -2,7 +2,7 @@
 // that the seed generator writes exactly what the targets read. Raw fields are mapped into small ranges
 // here (a frame of at most a few hundred KiB), so no input can make a target allocate absurdly.
 #pragma once
-#include "core/protocol.hpp"
+#include "protocol/protocol.hpp"
 #include "fuzz_support.hpp"
 
 #include <cstdint>

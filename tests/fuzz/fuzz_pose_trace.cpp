@@ -5,7 +5,7 @@
 // FOVs when present, row limit); sampling it gives finite unit-quaternion poses; and its canonical CSV
 // reads back to the same trace (times, positions and FOVs exactly, quaternions to 1e-12: the reader
 // divides by the norm again).
-#include "core/pose_trace.hpp"
+#include "traces/pose_trace.hpp"
 #include "fuzz_support.hpp"
 
 #include <cmath>

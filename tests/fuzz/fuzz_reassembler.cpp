@@ -6,8 +6,8 @@
 // latest() is at least as new; each held frame's bookkeeping is consistent (sorted disjoint ranges that
 // sum to pixels_received, row_valid exactly the fully covered rows); frames built from real shards hold
 // exactly the real masks in every received range; insert()'s status agrees with the statistics.
-#include "core/codec.hpp"
-#include "core/reassembly.hpp"
+#include "codec/codec.hpp"
+#include "codec/reassembly.hpp"
 #include "fuzz_layouts.hpp"
 #include "fuzz_support.hpp"
 

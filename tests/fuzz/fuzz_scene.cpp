@@ -4,7 +4,7 @@
 // Properties: no crash, hang or sanitizer report; a loaded scene keeps every promise of scene.hpp
 // (valid indices and material references, one unit normal per position, finite positions, image sizes,
 // counts that add up, limits respected, valid lights); a failure always carries an error message.
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 #include "fuzz_support.hpp"
 
 #include <unistd.h>

@@ -1,9 +1,9 @@
 // Seed inputs for the fuzz targets, made with the project's own encoders (so they follow the current
 // wire format without committed binary files). Scene seeds are in fuzz_seeds_scene.cpp.
-#include "core/codec.hpp"
-#include "core/pose_trace.hpp"
-#include "core/protocol.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "codec/codec.hpp"
+#include "traces/pose_trace.hpp"
+#include "protocol/protocol.hpp"
+#include "metrics/visibility_synthetic.hpp"
 #include "fuzz_layouts.hpp"
 #include "fuzz_support.hpp"
 #include "protocol_fixtures.hpp"

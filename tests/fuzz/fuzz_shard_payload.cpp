@@ -3,7 +3,7 @@
 // Properties: no crash or sanitizer report; nothing outside the region is ever written (accepted or
 // not); the result is deterministic; an accepted payload re-encodes (as a buffer of just that region)
 // to shards that decode back to the same masks.
-#include "core/codec.hpp"
+#include "codec/codec.hpp"
 #include "fuzz_layouts.hpp"
 #include "fuzz_support.hpp"
 

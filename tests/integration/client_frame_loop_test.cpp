@@ -12,9 +12,9 @@
 #include <filesystem>
 #include <thread>
 
-#include "core/eye_model.hpp"
-#include "core/frame_coordinator.hpp"
-#include "core/network_visibility_source.hpp"
+#include "traces/eye_model.hpp"
+#include "frame/frame_coordinator.hpp"
+#include "frame/network_visibility_source.hpp"
 #include "loopback_rig.hpp"
 #include "pose/orbit_pose_source.hpp"
 #include "pose/trace_pose_source.hpp"
@@ -27,7 +27,7 @@ namespace dhr::client {
 namespace {
 
 constexpr Extent kEye{96, 80};
-constexpr GuardBand kGuard{8, 6};  // per axis (4, 3 per side)
+constexpr GuardBand kGuard{4, 3};  // per side
 
 std::unique_ptr<vk::Context> make_context() {
   vk::ContextOptions options;
@@ -43,14 +43,14 @@ CoordinatorOptions capture_options() {
   return options;
 }
 
-// Captures both presented eye images (readback after each frame) and what the prediction pass wrote.
+// Captures both presented eye images (readback after each frame) and what the warp pass wrote.
 class CaptureSink final : public FrameSink {
  public:
   CaptureSink(const vk::Context& context, FrameCoordinator*& coordinator) : context_(context), coord_(coordinator) {}
   void after_submit(uint64_t /*frame*/, const EyeImages& eyes) override {
     for (uint32_t e = 0; e < 2; ++e) {
       images[e] = render::read_rgba8(context_, *eyes[e]);
-      render::PredictionTargets& p = coord_->eye(e).prediction();
+      render::WarpTargets& p = coord_->eye(e).warp();
       masks[e].assign(size_t{kEye.width} * kEye.height, 0);
       status[e].assign(masks[e].size(), 0);
       vk::read_image(context_, p.mask, masks[e].data(), masks[e].size() * 4);
@@ -69,7 +69,7 @@ class CaptureSink final : public FrameSink {
 std::array<View, 2> room_views() {
   OrbitPoseSource orbit(default_trace_placement(std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf"),
                         EyeModel::monado_simulated());
-  PoseSample s;
+  FramePose s;
   orbit.next(s);
   return s.views;
 }
@@ -79,10 +79,7 @@ TEST(ClientFrameLoopTest, ZeroDelayPresentsFreshlyTracedVisibility) {
   integration::LoopbackServer server(*traced.tracer);
   UdpVisibilityClient link;
   VisibilityClientConfig config;
-  config.eye_width = kEye.width;
-  config.eye_height = kEye.height;
-  config.guard_x = kGuard.x / 2;
-  config.guard_y = kGuard.y / 2;
+  config.format = TracedFormat{kEye, kGuard};
   link.connect(config, "127.0.0.1", server.port());
   NetworkVisibilitySource source(link.client());
 
@@ -99,13 +96,13 @@ TEST(ClientFrameLoopTest, ZeroDelayPresentsFreshlyTracedVisibility) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
     while (!(coordinator.visibility(0) && coordinator.visibility(1)) && std::chrono::steady_clock::now() < deadline) {
       link.client().tick();
-      FrameInput in{frame++, 0, views, false};
-      in.display_time_ns = static_cast<int64_t>(in.frame) * kVirtualFramePeriodNs;
+      FrameInput in{FramePose{frame, static_cast<int64_t>(frame) * kVirtualFramePeriodNs, views}, false};
+      ++frame;
       ASSERT_TRUE(coordinator.run_frame(in, sink)) << coordinator.last_error();
       std::this_thread::sleep_for(std::chrono::milliseconds(11));
     }
     ASSERT_TRUE(coordinator.visibility(0) && coordinator.visibility(1)) << "no visibility within 30 s";
-    FrameInput last{frame, static_cast<int64_t>(frame) * kVirtualFramePeriodNs, views, false};
+    FrameInput last{FramePose{frame, static_cast<int64_t>(frame) * kVirtualFramePeriodNs, views}, false};
     ASSERT_TRUE(coordinator.run_frame(last, sink));
     ASSERT_TRUE(coordinator.finish());
 
@@ -114,14 +111,14 @@ TEST(ClientFrameLoopTest, ZeroDelayPresentsFreshlyTracedVisibility) {
     for (uint32_t e = 0; e < 2; ++e) {
       const VisibilityFrame& used = *coordinator.visibility(e);
       ASSERT_TRUE(used.complete);
-      const Camera camera = traced_camera(views[e], format);
+      const Camera camera = format.traced.camera(views[e]);
       VisibilityBuffer fresh;
       server::TraceStats stats;
       traced.tracer->trace(camera, fresh, stats);
       EXPECT_EQ(fresh, used.buffer) << "eye " << e << ": visibility not bit-exact";
 
       render::EyePipeline pipeline(*context, scene, kEye);
-      render::VisibilityInput input;
+      VisibilityInput input;
       input.buffer = &fresh;
       input.traced = camera;
       context->submit_and_wait([&](VkCommandBuffer cmd) { pipeline.record(cmd, 0, views[e], input); });
@@ -152,7 +149,7 @@ class DelayedTracerSource final : public VisibilitySource {
     Sent s{frame, views, {}};
     for (uint32_t e = 0; e < 2; ++e) {
       server::TraceStats stats;
-      tracer_.trace(traced_camera(views[e], format_), s.buffers[e], stats);
+      tracer_.trace(format_.traced.camera(views[e]), s.buffers[e], stats);
     }
     queue_.push_back(std::move(s));
   }
@@ -189,6 +186,47 @@ class DelayedTracerSource final : public VisibilitySource {
   std::array<std::optional<uint64_t>, 2> taken_;
 };
 
+// The paper's schedule renders frame n - p + x with that frame's views: the images must be submitted with
+// exactly those views (not frame n's), or the compositor reprojects them from the wrong pose.
+TEST(ClientFrameLoopTest, PaperScheduleSubmitsTheViewsItRenderedWith) {
+  integration::TracedScene& traced = integration::TracedScene::get();
+  const VisibilityFormat format{TracedFormat{kEye, kGuard}, traced.tracer->light_count()};
+  constexpr uint64_t kDelayFrames = 6;
+  DelayedTracerSource source(*traced.tracer, format, kDelayFrames);
+  auto context = make_context();
+  {
+    const render::ClientScene scene(*context, traced.scene);
+    CoordinatorOptions options = capture_options();
+    options.plan.schedule = Schedule::kPaper;
+    options.plan.x_max = 2;
+    FrameCoordinator* coord_ptr = nullptr;
+    FrameCoordinator coordinator(*context, scene, kEye, source, options);
+    coord_ptr = &coordinator;
+    CaptureSink sink(*context, coord_ptr);
+    std::vector<FramePose> poses;
+    uint64_t checked = 0;
+    for (uint64_t f = 0; f < 20; ++f) {
+      FramePose pose{f, static_cast<int64_t>(f) * kVirtualFramePeriodNs, {}};
+      for (uint32_t e = 0; e < 2; ++e) {  // the head slides sideways: every frame's views differ
+        pose.views[e].pose.position = glm::dvec3(0.03 * static_cast<double>(f) + (e == 0 ? -0.032 : 0.032), 1.6, 1.0);
+      }
+      poses.push_back(pose);
+      ASSERT_TRUE(coordinator.run_frame(FrameInput{pose, false}, sink)) << coordinator.last_error();
+      if (!coordinator.visibility(0)) continue;
+      // p = 6 frames behind, x = 2: frame n - 4 is rendered, and submitted.
+      const uint64_t shown = f - kDelayFrames + 2;
+      for (uint32_t e = 0; e < 2; ++e) {
+        EXPECT_EQ(coordinator.rendered_views()[e].pose.position, poses[shown].views[e].pose.position) << "frame " << f;
+        EXPECT_NE(coordinator.rendered_views()[e].pose.position, pose.views[e].pose.position) << "frame " << f;
+      }
+      ++checked;
+    }
+    EXPECT_GE(checked, 10u);
+    ASSERT_TRUE(coordinator.finish());
+  }
+  EXPECT_EQ(context->validation_error_count(), 0u);
+}
+
 TEST(ClientFrameLoopTest, PredictionBeatsStaleBufferUnderDelayOnRecordedTrace) {
   const std::filesystem::path trace_path =
       std::filesystem::path(DHR_SHARED_DATA_DIR) / "traces/6dof/gul2020_hololens/raw/User1.csv";
@@ -200,8 +238,7 @@ TEST(ClientFrameLoopTest, PredictionBeatsStaleBufferUnderDelayOnRecordedTrace) {
   trace = truncate_trace(trace, 30.0);
   TracePoseSource poses(std::move(trace), EyeModel::monado_simulated(), default_trace_placement(scene_path), "User1");
 
-  const VisibilityFormat format{Extent{kEye.width + kGuard.x, kEye.height + kGuard.y}, kGuard,
-                                traced.tracer->light_count()};
+  const VisibilityFormat format{TracedFormat{kEye, kGuard}, traced.tracer->light_count()};
   constexpr uint64_t kDelayFrames = 9;  // 100 ms at 90 Hz
   DelayedTracerSource source(*traced.tracer, format, kDelayFrames);
   auto context = make_context();
@@ -214,11 +251,11 @@ TEST(ClientFrameLoopTest, PredictionBeatsStaleBufferUnderDelayOnRecordedTrace) {
     FrameCoordinator coordinator(*context, scene, kEye, source, capture_options());
     coord_ptr = &coordinator;
     CaptureSink sink(*context, coord_ptr);
-    PoseSample sample;
+    FramePose sample;
     // 2.5 s of the trace from 10 s in, every 3rd frame compared (the ground truth is traced per frame).
     for (uint64_t i = 0; i < 1125 && poses.next(sample); ++i) {
       if (i < 900) continue;
-      FrameInput in{sample.frame, sample.display_time_ns, sample.views, false};
+      FrameInput in{sample, false};
       ASSERT_TRUE(coordinator.run_frame(in, sink)) << coordinator.last_error();
       if (i % 3 != 0 || !coordinator.visibility(0) || !coordinator.visibility(1)) continue;
       for (uint32_t e = 0; e < 2; ++e) {
@@ -232,7 +269,7 @@ TEST(ClientFrameLoopTest, PredictionBeatsStaleBufferUnderDelayOnRecordedTrace) {
             const size_t p = size_t{y} * kEye.width + x;
             if (sink.status[e][p] == static_cast<uint32_t>(render::WarpStatus::kBackground)) continue;
             const uint32_t t = truth.get(x, y);
-            const uint32_t as_is = stale.buffer.get(x + kGuard.x / 2, y + kGuard.y / 2);
+            const uint32_t as_is = stale.buffer.get(x + kGuard.x, y + kGuard.y);
             wrong_predicted += static_cast<uint64_t>(__builtin_popcount(sink.masks[e][p] ^ t));
             wrong_stale += static_cast<uint64_t>(__builtin_popcount(as_is ^ t));
             ++compared;

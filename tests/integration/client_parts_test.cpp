@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/schedule.hpp"
-#include "core/view_history.hpp"
+#include "plan/schedule.hpp"
+#include "plan/view_history.hpp"
 #include "pose/pose_guard.hpp"
 #include "pose/trace_pose_source.hpp"
 
@@ -31,22 +31,29 @@ TEST(ClientScheduleTest, PaperShowsFrameNMinusPPlusX) {
   EXPECT_EQ(d.age, 0u);
   d = decide_schedule(Schedule::kPaper, 3, 20, 25);  // a frame from the future counts as n
   EXPECT_EQ(d.display_frame, 20u);
+  d = decide_schedule(Schedule::kStale, 3, 20, 12);  // no warp: frame n, the bits as they are
+  EXPECT_EQ(d.display_frame, 20u);
+  EXPECT_EQ(d.age, 8u);
+  EXPECT_EQ(d.predicted, 0u);
   EXPECT_EQ(parse_schedule("paper"), Schedule::kPaper);
+  EXPECT_EQ(parse_schedule("stale"), Schedule::kStale);
   EXPECT_FALSE(parse_schedule("fast").has_value());
 }
 
 TEST(ClientViewHistoryTest, FindsFramesStillInTheRing) {
   ViewHistory history(4);
-  std::array<View, 2> views{};
+  FramePose pose;
   for (uint64_t f = 0; f < 10; ++f) {
-    views[0].pose.position.x = static_cast<double>(f);
-    history.record(f, static_cast<int64_t>(f) * 100, views);
+    pose.frame = f;
+    pose.display_time_ns = static_cast<int64_t>(f) * 100;
+    pose.views[0].pose.position.x = static_cast<double>(f);
+    history.record(pose);
   }
-  ASSERT_TRUE(history.find(9).has_value());
-  EXPECT_EQ((*history.find(7))[0].pose.position.x, 7.0);
-  EXPECT_EQ(history.display_time(6), 600);
-  EXPECT_FALSE(history.find(5).has_value());  // overwritten by 9
-  EXPECT_FALSE(history.find(11).has_value());
+  ASSERT_NE(history.find(9), nullptr);
+  EXPECT_EQ(history.find(7)->views[0].pose.position.x, 7.0);
+  EXPECT_EQ(history.find(6)->display_time_ns, 600);
+  EXPECT_EQ(history.find(5), nullptr);  // overwritten by 9
+  EXPECT_EQ(history.find(11), nullptr);
 }
 
 TEST(ClientPoseGuardTest, RejectsNonFiniteAndReusesLastValid) {
@@ -88,7 +95,7 @@ TEST(ClientTracePoseSourceTest, PlaysAtNinetyHertzUntilTheTraceEnds) {
   }
   TracePoseSource source(trace, EyeModel{}, TracePlacement{}, "test");
   EXPECT_EQ(source.frame_count(), 10u);  // 0, 1/90, ..., 9/90 <= 0.1 s
-  PoseSample sample;
+  FramePose sample;
   uint64_t frames = 0;
   while (source.next(sample)) {
     EXPECT_EQ(sample.frame, frames);

@@ -71,10 +71,7 @@ std::optional<net::ImpairedSenderStats> LoopbackServer::impairment_stats() const
 
 client::VisibilityClientConfig client_config(const EyeSize& size) {
   client::VisibilityClientConfig c;
-  c.eye_width = size.width;
-  c.eye_height = size.height;
-  c.guard_x = size.guard_x;
-  c.guard_y = size.guard_y;
+  c.format = TracedFormat{Extent{size.width, size.height}, GuardBand{size.guard_x, size.guard_y}};
   c.scene_id = "default_room";
   c.nonce_seed = 3;
   return c;
@@ -116,7 +113,7 @@ void take_both(client::UdpVisibilityClient& client, RunRecord& record, std::arra
     take.frame = take.visibility.frame_number;
     std::optional<Take>& previous = last[static_cast<size_t>(eye)];
     if (previous) {
-      const client::EyeVisibility& p = previous->visibility;
+      const VisibilityFrame& p = previous->visibility;
       const bool newer = take.frame > p.frame_number;
       const bool more = take.frame == p.frame_number && !p.complete &&
                         (take.visibility.complete || take.visibility.rows_valid >= p.rows_valid);
@@ -162,7 +159,7 @@ void idle_frames(client::UdpVisibilityClient& client, int64_t duration_ns, RunRe
 }
 
 VisibilityBuffer reference_trace(const View& view, const EyeSize& size) {
-  const Camera camera = server::session_camera(view, size.width, size.height, size.guard_x, size.guard_y);
+  const Camera camera = TracedFormat{Extent{size.width, size.height}, GuardBand{size.guard_x, size.guard_y}}.camera(view);
   VisibilityBuffer out;
   server::TraceStats stats;
   TracedScene::get().tracer->trace(camera, out, stats);

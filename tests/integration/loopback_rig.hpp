@@ -3,11 +3,11 @@
 // send side) with the Embree tracer on the default room, and a render-loop driver for the real client
 // (UdpVisibilityClient) that sends a pose sequence and records everything take_newest() hands out.
 #pragma once
-#include "core/protocol.hpp"
-#include "core/scene.hpp"
+#include "protocol/protocol.hpp"
+#include "scene/scene.hpp"
 #include "net/endpoints.hpp"
 #include "net/impaired_sender.hpp"
-#include "net/udp_visibility_client.hpp"
+#include "link/udp_visibility_client.hpp"
 #include "session/visibility_service.hpp"
 #include "visibility_tracer.hpp"
 
@@ -61,7 +61,7 @@ class LoopbackServer {
 struct Take {
   uint64_t frame = 0;
   Eye eye = Eye::kLeft;
-  client::EyeVisibility visibility;
+  VisibilityFrame visibility;
 };
 
 struct RunRecord {

@@ -34,7 +34,7 @@ Verified verify_takes(const RunRecord& record) {
     EXPECT_NE(views, record.traced_views.end()) << "frame " << take.frame << " was never requested";
     if (views == record.traced_views.end()) continue;
     const View& traced = views->second[static_cast<size_t>(take.eye)];
-    const client::EyeVisibility& got = take.visibility;
+    const VisibilityFrame& got = take.visibility;
     // The shard's view is the traced one (positions travel as f64, orientations as f32).
     EXPECT_EQ(got.view.pose.position, traced.pose.position) << "frame " << take.frame;
     EXPECT_NEAR(std::abs(glm::dot(got.view.pose.orientation, traced.pose.orientation)), 1.0, 1e-6);

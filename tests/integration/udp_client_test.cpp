@@ -74,7 +74,7 @@ TEST(UdpClient, RetriesHelloOverUdpThenGivesUp) {
   EXPECT_GE(hellos.size(), 2u);  // 5 when the loop is never delayed (0, 100, ..., 400 ms); no timing asserted
   for (const Hello& h : hellos) {
     EXPECT_EQ(h.client_nonce, hellos[0].client_nonce);
-    EXPECT_EQ(h.eye_width, config.eye_width);
+    EXPECT_EQ(h.eye_width, config.format.display.width);
     EXPECT_EQ(h.scene_id, config.scene_id);
   }
   EXPECT_EQ(server.undecodable, 0u);

@@ -1,9 +1,9 @@
 // The visibility codec and reassembler on real traced buffers (Embree, living room or the default room):
 // exact round trips over the wire format, and a lossy delivery that costs only the lost shards' rows.
 #include "camera_bookmarks.hpp"
-#include "core/codec.hpp"
-#include "core/protocol.hpp"
-#include "core/reassembly.hpp"
+#include "codec/codec.hpp"
+#include "protocol/protocol.hpp"
+#include "codec/reassembly.hpp"
 #include "embree_tracer.hpp"
 #include "test_scenes.hpp"
 
@@ -26,7 +26,7 @@ std::vector<VisibilityBuffer> traced_buffers(Extent eye) {
   TracerOptions options;
   options.threads = 2;
   EmbreeTracer tracer(*loaded.scene, options);
-  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
+  const GuardBand guard = paper_guard_band(eye);
   for (const CameraBookmark& b : *bookmarks) {
     const View view{left_eye_pose(look_at_pose(b).value()), symmetric_fov(90.0, eye)};
     VisibilityBuffer vis;

@@ -1,6 +1,6 @@
 // dhr-server --port: starts, names its port, answers a real Hello over loopback UDP, stops on
 // --max-seconds or SIGTERM with Bye(shutdown) and a JSON stats line; bad serving options exit 2.
-#include "core/protocol.hpp"
+#include "protocol/protocol.hpp"
 #include "net/udp_socket.hpp"
 
 #include <gtest/gtest.h>

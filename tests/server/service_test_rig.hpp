@@ -3,7 +3,7 @@
 // datagrams go straight into on_datagram.
 #pragma once
 #include "camera_bookmarks.hpp"
-#include "core/reassembly.hpp"
+#include "codec/reassembly.hpp"
 #include "embree_tracer.hpp"
 #include "net/simulated_link.hpp"
 #include "session/scene_hash.hpp"
@@ -167,7 +167,7 @@ class VisibilityServiceTest : public ::testing::Test {
   static VisibilityBuffer trace_directly(const View& view) {
     VisibilityBuffer out;
     TraceStats stats;
-    shared_scene().tracer->trace(session_camera(view, kEyeW, kEyeH, kGuardX, kGuardY), out, stats);
+    shared_scene().tracer->trace(TracedFormat{Extent{kEyeW, kEyeH}, GuardBand{kGuardX, kGuardY}}.camera(view), out, stats);
     return out;
   }
 

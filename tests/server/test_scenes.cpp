@@ -148,7 +148,7 @@ std::vector<Camera> bookmark_cameras(const std::string& scene_path, Extent eye) 
   EXPECT_TRUE(bookmarks) << error;
   std::vector<Camera> cameras;
   if (!bookmarks) return cameras;
-  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
+  const GuardBand guard = paper_guard_band(eye);
   for (const server::CameraBookmark& b : *bookmarks) {
     const View view{server::left_eye_pose(server::look_at_pose(b).value()), server::symmetric_fov(90.0, eye)};
     cameras.push_back(Camera::with_guard_band(view, eye, guard));

@@ -1,7 +1,7 @@
 // Hand-made scenes and analytic geometry for the server tests.
 #pragma once
-#include "core/projection.hpp"
-#include "core/scene.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
 
 #include <glm/vec3.hpp>
 

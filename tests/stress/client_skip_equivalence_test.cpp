@@ -23,7 +23,7 @@ TEST_F(ClientSkipEquivalence, VisibilityUploadKeyChangesNoByte) {
   View view;
   view.pose = render::test::look_at({0.0, 1.6, 1.35}, {-0.1, 0.5, -0.9});
   view.fov = Fov{-0.742f, 0.742f, 0.779f, -0.779f};
-  const Camera traced = Camera::with_guard_band(view, extent, GuardBand{8, 6});
+  const Camera traced = Camera::with_guard_band(view, extent, GuardBand{4, 3});
   // Two different buffers: the traced one, and the same with the first light switched off.
   const VisibilityBuffer a = trace_once(server::TracerBackend::kEmbree, room, traced);
   VisibilityBuffer b = a;
@@ -43,7 +43,7 @@ TEST_F(ClientSkipEquivalence, VisibilityUploadKeyChangesNoByte) {
   render::EyePipeline keyed(ctx(), gpu_scene, extent, options), plain(ctx(), gpu_scene, extent, options);
   uint64_t differing = 0;
   for (const FrameIn& f : frames) {
-    render::VisibilityInput input;
+    VisibilityInput input;
     input.buffer = f.buffer;
     input.traced = traced;
     input.key = f.key;

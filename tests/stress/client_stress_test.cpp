@@ -5,7 +5,7 @@
 //    eye moved into the room so that points lie behind it): the GPU warp equals the CPU double reference;
 //  - no NaN/Inf in the G-buffer, depth in [0, 1], and the same image bytes when rendered twice.
 #include "client_test_helpers.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "metrics/visibility_synthetic.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
 #include "render/offscreen_sink.hpp"
@@ -38,7 +38,7 @@ struct Rendered {
 };
 
 Rendered render_eye(vk::Context& ctx, const Scene& scene, const View& view, Extent extent,
-                    const render::VisibilityInput& input, double near_plane) {
+                    const VisibilityInput& input, double near_plane) {
   const render::ClientScene gpu_scene(ctx, scene);
   EyePipelineOptions options;
   options.near_plane = near_plane;
@@ -51,8 +51,8 @@ Rendered render_eye(vk::Context& ctx, const Scene& scene, const View& view, Exte
   r.rgba = render::read_rgba8(ctx, eye.output());
   r.depth = render::test::read_pixels<float>(ctx, eye.gbuffer().depth);
   r.normals = render::test::read_normals(ctx, eye.gbuffer().normal);
-  r.mask = render::test::read_pixels<uint32_t>(ctx, eye.prediction().mask);
-  r.status = render::test::read_pixels<uint32_t>(ctx, eye.prediction().status);
+  r.mask = render::test::read_pixels<uint32_t>(ctx, eye.warp().mask);
+  r.status = render::test::read_pixels<uint32_t>(ctx, eye.warp().status);
   return r;
 }
 
@@ -93,7 +93,7 @@ constexpr double kInputShadedDiffBound = 0.05;
 TEST_F(ClientStress, FarFromTheOriginShadesLikeTheOrigin) {
   const Scene room = load_scene_or_fail(test::source_path(kDefaultScenePath));
   const Extent extent = pick(Extent{64, 48}, Extent{160, 120});
-  const GuardBand guard{8, 6};
+  const GuardBand guard{4, 3};
   const View view = entrance_view();
   double worst_rate = 0.0;
   uint64_t bad = 0;
@@ -107,7 +107,7 @@ TEST_F(ClientStress, FarFromTheOriginShadesLikeTheOrigin) {
     const Scene* scenes[3] = {&back, &moved, &room};
     const View views[3] = {view, moved_view, view};
     for (int k = 0; k < 3; ++k) {
-      render::VisibilityInput input;
+      VisibilityInput input;
       input.traced = Camera::with_guard_band(views[k], extent, guard);
       const VisibilityBuffer vis = trace_once(server::TracerBackend::kEmbree, *scenes[k], input.traced);
       input.buffer = &vis;
@@ -139,8 +139,8 @@ TEST_F(ClientStress, SameFrameTwiceGivesTheSameBytes) {
   const Scene room = load_scene_or_fail(test::source_path(kDefaultScenePath));
   const Extent extent{48, 36};
   const View view = entrance_view();
-  render::VisibilityInput input;
-  input.traced = Camera::with_guard_band(view, extent, GuardBand{8, 6});
+  VisibilityInput input;
+  input.traced = Camera::with_guard_band(view, extent, GuardBand{4, 3});
   const VisibilityBuffer vis = trace_once(server::TracerBackend::kEmbree, room, input.traced);
   input.buffer = &vis;
   const Rendered a = render_eye(ctx(), room, view, extent, input, render::kDefaultNearPlane);
@@ -161,8 +161,8 @@ TEST_F(ClientStress, ExtremeProjectionWarpEqualsTheCpuReference) {
   View old_view = view;
   old_view.pose.position += view.pose.orientation * glm::dvec3(0.1, -0.1, -1.2);
   old_view.pose = render::test::rotated(old_view.pose, 20.0, -5.0);
-  const GuardBand guard{extent.width / 2, extent.height / 2};  // 50 %
-  render::VisibilityInput input;
+  const GuardBand guard{extent.width / 4, extent.height / 4};  // 50 %
+  VisibilityInput input;
   input.traced = Camera::with_guard_band(old_view, extent, guard);
   const VisibilityBuffer vis = make_random_visibility(input.traced.extent.width, input.traced.extent.height, 5, 3);
   input.buffer = &vis;

@@ -2,10 +2,10 @@
 // after every composition); NaN / Inf / zero quaternions and huge translations in pose input, in trace
 // files and in PoseUpdate datagrams are rejected with a clear message, counted, and never reach a
 // decoded message or a trace.
-#include "core/pose.hpp"
-#include "core/pose_trace.hpp"
-#include "core/protocol.hpp"
-#include "core/protocol_error.hpp"
+#include "math/pose.hpp"
+#include "traces/pose_trace.hpp"
+#include "protocol/protocol.hpp"
+#include "protocol/protocol_error.hpp"
 #include "stress_support.hpp"
 
 #include <gtest/gtest.h>

@@ -4,7 +4,7 @@
 //  - PoseUpdates with NaN / Inf / zero quaternions / huge translations are rejected, counted per decode
 //    error, and never traced.
 #include "camera_bookmarks.hpp"
-#include "core/reassembly.hpp"
+#include "codec/reassembly.hpp"
 #include "embree_tracer.hpp"
 #include "net/simulated_link.hpp"
 #include "session/visibility_service.hpp"

@@ -5,7 +5,7 @@
 //    decoded masks;
 //  - client (when built): the prediction pass's visibility upload key (an upload skipped for an unchanged
 //    buffer) vs uploading every frame: identical images (client_skip_equivalence_test.cpp).
-#include "core/codec.hpp"
+#include "codec/codec.hpp"
 #include "stress_support.hpp"
 #include "test_scenes.hpp"
 

@@ -2,9 +2,9 @@
 // each case's measured worst value (docs/stress.md is built from these lines), scene transforms, bit
 // comparison and bookmark cameras.
 #pragma once
-#include "core/projection.hpp"
-#include "core/scene.hpp"
-#include "core/visibility.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
+#include "visibility/visibility.hpp"
 #include "test_scenes.hpp"
 #include "visibility_tracer.hpp"
 

@@ -1,7 +1,7 @@
 // The payload decoder rejects malformed, truncated and inconsistent chunks and never writes outside
 // its region, whatever the bytes.
-#include "core/codec.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "codec/codec.hpp"
+#include "metrics/visibility_synthetic.hpp"
 
 #include <gtest/gtest.h>
 

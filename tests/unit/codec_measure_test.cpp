@@ -1,7 +1,7 @@
 // Measurement, not an assertion of numbers: compressed bytes per frame for realistic synthetic shadow
 // buffers, whole-frame LZ4 against the shardable scheme (the ratio cost of independent shards).
-#include "core/codec.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "codec/codec.hpp"
+#include "metrics/visibility_synthetic.hpp"
 
 #include <gtest/gtest.h>
 

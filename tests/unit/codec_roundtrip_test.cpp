@@ -1,6 +1,6 @@
 // Codec round trips over light counts, sizes and content; shard layout invariants; the encode bound.
-#include "core/codec.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "codec/codec.hpp"
+#include "metrics/visibility_synthetic.hpp"
 
 #include <gtest/gtest.h>
 

@@ -10,8 +10,8 @@
 #include <numbers>
 #include <unistd.h>
 
-#include "core/eye_model.hpp"
-#include "core/projection.hpp"
+#include "traces/eye_model.hpp"
+#include "math/projection.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/image_flip.hpp"
+#include "metrics/image_flip.hpp"
 
 namespace dhr::flip_reference {
 

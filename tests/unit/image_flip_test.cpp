@@ -13,7 +13,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/image_flip.hpp"
+#include "metrics/image_flip.hpp"
 #include "image_flip_reference.hpp"
 
 namespace dhr {

@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/image_metrics.hpp"
+#include "metrics/image_metrics.hpp"
 
 namespace dhr {
 namespace {

@@ -1,6 +1,6 @@
 // The shared light math (shaders/light_eval.h via core/lighting.hpp): direction/distance, the
 // "can contribute" test, glTF falloff, packing, per-view culling.
-#include "core/lighting.hpp"
+#include "scene/lighting.hpp"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>

@@ -9,7 +9,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "core/pose_trace.hpp"
+#include "traces/pose_trace.hpp"
 
 namespace {
 

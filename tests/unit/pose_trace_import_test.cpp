@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "core/pose_trace.hpp"
+#include "traces/pose_trace.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/pose_trace.hpp"
+#include "traces/pose_trace.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "core/projection.hpp"
+#include "math/projection.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +22,7 @@ TEST(Projection, GuardBandKeepsFocalLengthAndDisplayedRegion) {
   const View view = make_view({0, 0, 0}, glm::dquat(1, 0, 0, 0));
   const Extent display{1920, 1080};
   const Camera plain = Camera::with_guard_band(view, display, {});
-  const Camera guarded = Camera::with_guard_band(view, display, GuardBand{64, 36});
+  const Camera guarded = Camera::with_guard_band(view, display, GuardBand{32, 18});
   EXPECT_EQ(guarded.extent, (Extent{1984, 1116}));
   EXPECT_NEAR(plain.focal_x(), guarded.focal_x(), 1e-9);
   EXPECT_NEAR(plain.focal_y(), guarded.focal_y(), 1e-9);
@@ -36,15 +36,18 @@ TEST(Projection, GuardBandKeepsFocalLengthAndDisplayedRegion) {
   }
 }
 
-TEST(Projection, ScaleGuardBandRoundsToEven) {
-  EXPECT_EQ(scale_guard_band({64, 36}, {1920, 1080}, {320, 240}), (GuardBand{10, 8}));
-  EXPECT_EQ(scale_guard_band({64, 36}, {1920, 1080}, {1920, 1080}), (GuardBand{64, 36}));
+TEST(Projection, ScaleGuardBandRoundsPerSide) {
+  EXPECT_EQ(scale_guard_band({32, 18}, {1920, 1080}, {320, 240}), (GuardBand{5, 4}));
+  EXPECT_EQ(paper_guard_band({320, 240}), (GuardBand{5, 4}));
+  EXPECT_EQ(paper_guard_band({1920, 1080}), (GuardBand{32, 18}));
+  EXPECT_EQ(guard_band_from_total(64, 36), (GuardBand{32, 18}));
+  EXPECT_EQ(guard_band_from_total(65, 36), std::nullopt);
   EXPECT_EQ(scale_guard_band({0, 0}, {1920, 1080}, {640, 480}), (GuardBand{0, 0}));
 }
 
 TEST(Projection, PixelRayReprojectsToSamePixel) {
   const glm::dquat q = glm::angleAxis(0.3, glm::normalize(glm::dvec3(0.2, 1.0, -0.1)));
-  const Camera cam = Camera::with_guard_band(make_view({1.0, 1.6, -2.0}, q), {160, 120}, {8, 6});
+  const Camera cam = Camera::with_guard_band(make_view({1.0, 1.6, -2.0}, q), {160, 120}, {4, 3});
   for (double px : {0.5, 17.25, 83.5, 167.5}) {
     for (double py : {0.5, 60.0, 125.5}) {
       const glm::dvec3 p = cam.T_world_eye.position + 3.7 * cam.world_ray(px, py);
@@ -58,7 +61,7 @@ TEST(Projection, PixelRayReprojectsToSamePixel) {
 
 TEST(Projection, MatrixAgreesWithReprojection) {
   const glm::dquat q = glm::angleAxis(-0.4, glm::dvec3(0, 1, 0));
-  const Camera cam = Camera::with_guard_band(make_view({0.5, 1.2, 0.3}, q), {200, 100}, {10, 6});
+  const Camera cam = Camera::with_guard_band(make_view({0.5, 1.2, 0.3}, q), {200, 100}, {5, 3});
   const double near_plane = 0.05;
   const glm::dmat4 vp = cam.view_projection(near_plane);
   const glm::dvec3 p = cam.T_world_eye.position + 2.0 * cam.world_ray(40.5, 77.25);

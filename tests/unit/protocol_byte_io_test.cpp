@@ -1,4 +1,4 @@
-#include "core/byte_io.hpp"
+#include "protocol/byte_io.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Golden bytes: hand-written datagrams that lock the wire format (docs/protocol.md). A failure here
 // means the format changed: bump kProtocolVersion and update docs/protocol.md with the bytes.
-#include "core/protocol.hpp"
+#include "protocol/protocol.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Every decoder rejects every truncation, bad field and random corruption with an error code, never a
 // crash (run these under -DDHR_SANITIZE=address,undefined too).
-#include "core/codec.hpp"
-#include "core/protocol.hpp"
+#include "codec/codec.hpp"
+#include "protocol/protocol.hpp"
 #include "protocol_fixtures.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Client-side reassembly: loss, reordering, duplicates, newest-frame-wins, late shards, bounded memory.
-#include "core/codec.hpp"
-#include "core/reassembly.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "codec/codec.hpp"
+#include "codec/reassembly.hpp"
+#include "metrics/visibility_synthetic.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <glm/geometric.hpp>
 #include <string>
 
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The whole per-eye pipeline (G-buffer -> prediction -> shading) on the project's default scene, the
+// The whole per-eye pipeline (G-buffer -> warp -> shading) on the project's default scene, the
 // offscreen PNG sink and the JSON-lines statistics. DISABLED_MeasurePassTimes prints per-pass GPU times
 // (run it with --gtest_also_run_disabled_tests; docs/client.md).
 #include <gtest/gtest.h>
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "client_test_helpers.hpp"
-#include "core/png_writer.hpp"
-#include "core/scene.hpp"
+#include "image/png_writer.hpp"
+#include "scene/scene.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
 #include "render/offscreen_sink.hpp"
@@ -28,7 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using ClientEyePipelineTest = vk::test::VulkanTest;
 
-constexpr GuardBand kGuard{8, 6};
+constexpr GuardBand kGuard{4, 3};
 
 Scene default_room() {
   const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / kDefaultScenePath).string());
@@ -237,7 +237,7 @@ TEST_F(ClientEyePipelineTest, DISABLED_MeasurePassTimes) {
     for (const Extent extent : {Extent{320, 240}, Extent{1832, 1920}}) {
       EyePipeline eye(ctx(), gpu_scene, extent);
       const Camera traced =
-          Camera::with_guard_band(c.view, extent, scale_guard_band({64, 36}, {1920, 1080}, extent));
+          Camera::with_guard_band(c.view, extent, paper_guard_band(extent));
       VisibilityBuffer vis = VisibilityBuffer::create(traced.extent.width, traced.extent.height,
                                                       static_cast<uint32_t>(scene.lights.size()));
       for (size_t p = 0; p < vis.pixel_count(); ++p) {
@@ -259,11 +259,11 @@ TEST_F(ClientEyePipelineTest, DISABLED_MeasurePassTimes) {
         return v[v.size() / 2];
       };
       std::printf("{\"device\":\"%s\",\"scene\":\"%s\",\"triangles\":%llu,\"width\":%u,\"height\":%u,"
-                  "\"runs\":%zu,\"gbuffer_ms\":%.3f,\"prediction_ms\":%.3f,\"shading_ms\":%.3f,"
+                  "\"runs\":%zu,\"gbuffer_ms\":%.3f,\"warp_ms\":%.3f,\"shading_ms\":%.3f,"
                   "\"total_ms\":%.3f}\n",
                   ctx().info().name.c_str(), c.name.c_str(), static_cast<unsigned long long>(gpu_scene.triangle_count()),
                   extent.width, extent.height, runs.size(), median(&EyePassTimes::gbuffer_ms),
-                  median(&EyePassTimes::prediction_ms), median(&EyePassTimes::shading_ms),
+                  median(&EyePassTimes::warp_ms), median(&EyePassTimes::shading_ms),
                   median(&EyePassTimes::total_ms));
     }
   }

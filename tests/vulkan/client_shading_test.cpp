@@ -8,11 +8,11 @@
 
 #include "client/display_encode.h"
 #include "client_test_helpers.hpp"
-#include "core/lighting.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "scene/lighting.hpp"
+#include "metrics/visibility_synthetic.hpp"
 #include "render/client_scene.hpp"
 #include "render/gbuffer_pass.hpp"
-#include "render/prediction_pass.hpp"
+#include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "render/shading_pass.hpp"
 #include "vulkan_test_fixture.hpp"
@@ -23,7 +23,7 @@ namespace {
 using ClientShadingTest = vk::test::VulkanTest;
 
 constexpr Extent kExtent{96, 72};
-constexpr GuardBand kGuard{8, 6};
+constexpr GuardBand kGuard{4, 3};
 constexpr double kNear = kDefaultNearPlane;
 
 // A floor and a back wall with different albedos, lit by a point, a spot and a directional light.
@@ -68,27 +68,27 @@ struct ShadingRig {
   ShadingRig(vk::Context& ctx, const Scene& scene)
       : gpu_scene(ctx, scene),
         gbuffer_pass(ctx, gpu_scene),
-        prediction_pass(ctx),
+        warp_pass(ctx),
         shading_pass(ctx),
         gbuffer(GBuffer::create(ctx, kExtent)),
-        prediction(PredictionTargets::create(ctx, kExtent, PredictionOutputs{true, false})),
+        warp(WarpTargets::create(ctx, kExtent, WarpOutputs{true, false})),
         output(create_shading_output(ctx, kExtent)) {}
 
   void run(vk::Context& ctx, const View& view, const VisibilityInput& vis, const ShadingSettings& settings) {
     const Camera camera = display_camera(view, kExtent);
     ctx.submit_and_wait([&](VkCommandBuffer cmd) {
       gbuffer_pass.record(cmd, gbuffer, camera, kNear);
-      prediction_pass.record(cmd, 0, gbuffer.depth, camera, kNear, vis, prediction);
-      shading_pass.record(cmd, 0, gbuffer, prediction, camera, kNear, gpu_scene.lights(), settings, output);
+      warp_pass.record(cmd, 0, gbuffer.depth, camera, kNear, vis, warp);
+      shading_pass.record(cmd, 0, gbuffer, warp, camera, kNear, gpu_scene.lights(), settings, output);
     });
   }
 
   ClientScene gpu_scene;
   GBufferPass gbuffer_pass;
-  PredictionPass prediction_pass;
+  WarpPass warp_pass;
   ShadingPass shading_pass;
   GBuffer gbuffer;
-  PredictionTargets prediction;
+  WarpTargets warp;
   vk::Image output;
 };
 
@@ -108,7 +108,7 @@ TEST_F(ClientShadingTest, MatchesTheCpuShadingEquation) {
   const std::vector<float> depth = test::read_pixels<float>(ctx(), rig.gbuffer.depth);
   const std::vector<float> normal = test::read_normals(ctx(), rig.gbuffer.normal);
   const std::vector<uint8_t> albedo = test::read_pixels<uint8_t>(ctx(), rig.gbuffer.albedo, 4);
-  const std::vector<uint32_t> mask = test::read_pixels<uint32_t>(ctx(), rig.prediction.mask);
+  const std::vector<uint32_t> mask = test::read_pixels<uint32_t>(ctx(), rig.warp.mask);
   const std::vector<uint8_t> out = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
   const std::vector<PackedLight> lights = pack_lights(scene.lights, camera.T_world_eye.position);
 
@@ -180,7 +180,7 @@ TEST_F(ClientShadingTest, DebugViews) {
   settings.view = ShadingView::kLightVisibility;
   settings.debug_light = 1;
   rig.run(ctx(), view, VisibilityInput{&vis, traced, {}, 0}, settings);
-  std::vector<uint32_t> mask = test::read_pixels<uint32_t>(ctx(), rig.prediction.mask);
+  std::vector<uint32_t> mask = test::read_pixels<uint32_t>(ctx(), rig.warp.mask);
   std::vector<uint8_t> out = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
   for (size_t p = 0; p < depth.size(); ++p) {
     if (depth[p] == 0.0f) continue;
@@ -232,23 +232,23 @@ TEST_F(ClientShadingTest, MismatchedSizesAreRejected) {
   vk::Image small = create_shading_output(ctx(), Extent{32, 32});
   const Camera camera = display_camera(room_view(), kExtent);
   EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) {
-    rig.shading_pass.record(cmd, 0, rig.gbuffer, rig.prediction, camera, kNear, rig.gpu_scene.lights(),
+    rig.shading_pass.record(cmd, 0, rig.gbuffer, rig.warp, camera, kNear, rig.gpu_scene.lights(),
                             ShadingSettings{}, small);
   }),
                std::invalid_argument);
   EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) {
-    rig.shading_pass.record(cmd, 1, rig.gbuffer, rig.prediction, camera, kNear, rig.gpu_scene.lights(),
+    rig.shading_pass.record(cmd, 1, rig.gbuffer, rig.warp, camera, kNear, rig.gpu_scene.lights(),
                             ShadingSettings{}, rig.output);
   }),
                std::invalid_argument);
 }
 
-// Debug views read optional prediction outputs: without them the pass refuses instead of reading placeholders.
-TEST_F(ClientShadingTest, DebugViewsNeedTheirPredictionOutputs) {
+// Debug views read optional warp outputs: without them the pass refuses instead of reading placeholders.
+TEST_F(ClientShadingTest, DebugViewsNeedTheirWarpOutputs) {
   const Scene scene = lit_room();
   ShadingRig rig(ctx(), scene);  // status on, motion vectors off
   const Camera camera = display_camera(room_view(), kExtent);
-  PredictionTargets bare = PredictionTargets::create(ctx(), kExtent, PredictionOutputs{});
+  WarpTargets bare = WarpTargets::create(ctx(), kExtent, WarpOutputs{});
   EXPECT_FALSE(bare.has_status());
   EXPECT_FALSE(bare.has_motion());
   for (const ShadingView view : {ShadingView::kLightVisibility, ShadingView::kUnknown, ShadingView::kMotion}) {
@@ -261,8 +261,8 @@ TEST_F(ClientShadingTest, DebugViewsNeedTheirPredictionOutputs) {
     }),
                  std::invalid_argument);
   }
-  EXPECT_TRUE(debug_outputs_available(ShadingView::kUnknown, rig.prediction));
-  EXPECT_FALSE(debug_outputs_available(ShadingView::kMotion, rig.prediction));
+  EXPECT_TRUE(debug_outputs_available(ShadingView::kUnknown, rig.warp));
+  EXPECT_FALSE(debug_outputs_available(ShadingView::kMotion, rig.warp));
   for (const ShadingView view : {ShadingView::kShaded, ShadingView::kAlbedo, ShadingView::kNormal}) {
     EXPECT_TRUE(debug_outputs_available(view, bare));
   }

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/pose.hpp"
-#include "core/projection.hpp"
-#include "core/scene.hpp"
+#include "math/pose.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
 #include "vk/context.hpp"
 #include "vk/image.hpp"
 

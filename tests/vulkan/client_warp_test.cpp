@@ -1,4 +1,4 @@
-// Prediction (warp) pass: the GPU result equals the CPU reference (warp_reference) exactly, for camera
+// Warp pass: the GPU result equals the CPU reference (warp_reference) exactly, for camera
 // translations, rotations, FOV changes, points behind the old eye, lookups outside the old buffer, missing
 // rows and every mask width; the identity warp returns the traced masks; far from the origin it is unchanged.
 #include <gtest/gtest.h>
@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "client_test_helpers.hpp"
-#include "core/visibility_synthetic.hpp"
+#include "metrics/visibility_synthetic.hpp"
 #include "render/gbuffer_pass.hpp"
-#include "render/prediction_pass.hpp"
+#include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "render/warp_reference.hpp"
 #include "vulkan_test_fixture.hpp"
@@ -21,7 +21,7 @@ namespace {
 using ClientWarpTest = vk::test::VulkanTest;
 
 constexpr Extent kExtent{96, 72};
-constexpr GuardBand kGuard{8, 6};
+constexpr GuardBand kGuard{4, 3};
 constexpr double kNear = kDefaultNearPlane;
 // Decisions closer than this to flipping (pixels) are removed from the test inputs (see warp_reference.hpp).
 constexpr double kMargin = 2e-3;
@@ -57,8 +57,8 @@ struct GpuWarp {
 class WarpRig {
  public:
   // Status and motion vectors on by default: the tests compare statuses with the CPU reference.
-  explicit WarpRig(vk::Context& ctx, PredictionOutputs outputs = {true, true})
-      : ctx_(ctx), pass_(ctx), targets_(PredictionTargets::create(ctx, kExtent, outputs)) {
+  explicit WarpRig(vk::Context& ctx, WarpOutputs outputs = {true, true})
+      : ctx_(ctx), pass_(ctx), targets_(WarpTargets::create(ctx, kExtent, outputs)) {
     depth_ = GBuffer::create(ctx, kExtent).depth;
   }
 
@@ -74,8 +74,8 @@ class WarpRig {
 
  private:
   vk::Context& ctx_;
-  PredictionPass pass_;
-  PredictionTargets targets_;
+  WarpPass pass_;
+  WarpTargets targets_;
   vk::Image depth_;
 };
 
@@ -188,7 +188,7 @@ TEST_F(ClientWarpTest, OptionalOutputsOffChangeNoMaskAndNoCount) {
   std::vector<float> depth = synthetic_depth();
   remove_ambiguous(depth, reference(depth, display, input));
   const WarpResult sanitized = reference(depth, display, input);
-  WarpRig bare_rig(ctx(), PredictionOutputs{});
+  WarpRig bare_rig(ctx(), WarpOutputs{});
   const GpuWarp bare = bare_rig.run(depth, display, input);
   EXPECT_TRUE(bare.status.empty());
   EXPECT_EQ(bare.masks, sanitized.masks);
@@ -196,10 +196,10 @@ TEST_F(ClientWarpTest, OptionalOutputsOffChangeNoMaskAndNoCount) {
 
   // Odd sizes: partial workgroups and a partial bucket on both axes; 1001x301 has more count words (1,216)
   // than read_counts reads at once (512).
-  PredictionPass pass(ctx());
+  WarpPass pass(ctx());
   for (const Extent odd : {Extent{1, 1}, Extent{67, 9}, Extent{131, 77}, Extent{1001, 301}}) {
     SCOPED_TRACE(std::to_string(odd.width) + "x" + std::to_string(odd.height));
-    PredictionTargets t = PredictionTargets::create(ctx(), odd, PredictionOutputs{});
+    WarpTargets t = WarpTargets::create(ctx(), odd, WarpOutputs{});
     vk::Image d = GBuffer::create(ctx(), odd).depth;
     std::vector<float> values(size_t{odd.width} * odd.height);
     for (size_t i = 0; i < values.size(); ++i) values[i] = i % 7 == 0 ? 0.0f : 0.05f;  // some background
@@ -265,7 +265,7 @@ TEST_F(ClientWarpTest, IdentityReturnsTheTracedMasks) {
         ASSERT_EQ(gpu.masks[p], vis.light_bits());
       } else {
         ASSERT_EQ(gpu.status[p], static_cast<uint32_t>(WarpStatus::kKnown)) << i << "," << j;
-        ASSERT_EQ(gpu.masks[p], vis.get(i + kGuard.x / 2, j + kGuard.y / 2)) << i << "," << j;
+        ASSERT_EQ(gpu.masks[p], vis.get(i + kGuard.x, j + kGuard.y)) << i << "," << j;
       }
     }
   }
@@ -296,8 +296,8 @@ TEST_F(ClientWarpTest, UnusableVisibilityIsIgnoredNotFatal) {
   input.buffer = &wrong_size;
   input.traced = traced;
   EXPECT_TRUE(validate_visibility_input(traced, wrong_size, {}).has_value());
-  PredictionPass pass(ctx());
-  PredictionTargets targets = PredictionTargets::create(ctx(), kExtent, PredictionOutputs{true, false});
+  WarpPass pass(ctx());
+  WarpTargets targets = WarpTargets::create(ctx(), kExtent, WarpOutputs{true, false});
   vk::Image depth = GBuffer::create(ctx(), kExtent).depth;
   const std::vector<float> values = synthetic_depth();
   vk::upload_image(ctx(), depth, values.data(), values.size() * sizeof(float));

@@ -46,7 +46,7 @@ TEST_F(VulkanTracerTest, AgreesWithEmbreeOnEveryOtherRealScene) {
   std::sort(paths.begin(), paths.end());
   ASSERT_GE(paths.size(), 8u) << "the MANIFEST lists 9 scenes";
   const Extent eye{64, 48};
-  const GuardBand guard = scale_guard_band({64, 36}, {1920, 1080}, eye);
+  const GuardBand guard = paper_guard_band(eye);
   for (const std::string& path : paths) {
     SCOPED_TRACE(path);
     const Scene scene = load_scene_or_fail(path);

@@ -20,7 +20,7 @@ std::optional<Extent> parse_extent(const std::string& text, std::string* out_err
   return Extent{w, h};
 }
 
-GuardBand default_guard_band(Extent eye) { return scale_guard_band(GuardBand{64, 36}, Extent{1920, 1080}, eye); }
+GuardBand default_guard_band(Extent eye) { return paper_guard_band(eye); }
 
 namespace {
 
@@ -92,9 +92,10 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   app.add_option("--snapshot-dir", out.snapshot_dir,
                  "OpenXR: also write the presented eyes as PNG every --png-every frames");
   app.add_option("--stats-jsonl", out.stats_jsonl, "Per-frame statistics as JSON lines into FILE");
-  app.add_option("--schedule", schedule, "paper: show frame n-p+x; newest: always the newest pose")
+  app.add_option("--schedule", schedule,
+                 "paper: show frame n-p+x; newest: always the newest pose; stale: no warp (reference)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"paper", "newest"}));
+      ->check(CLI::IsMember({"paper", "newest", "stale"}));
   app.add_option("--x-max", out.x_max, "Paper schedule: frames predicted at most")->capture_default_str();
   app.add_option("--record-trace", out.record_trace, "OpenXR: record the session's views as a canonical trace");
   app.add_option("--connect-timeout", out.connect_timeout_s, "Give up on the server after this many seconds")

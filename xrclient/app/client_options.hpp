@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "core/projection.hpp"
-#include "core/schedule.hpp"
+#include "math/projection.hpp"
+#include "plan/schedule.hpp"
 #include "net/impairment.hpp"
 #include "smoke.hpp"
 

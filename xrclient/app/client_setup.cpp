@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "app/run_modes.hpp"
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "net/peer_address.hpp"
 
 namespace dhr::client {
@@ -27,10 +27,7 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
     throw std::runtime_error("--server: expected HOST:PORT, got '" + options.server + "'");
   }
   VisibilityClientConfig config;
-  config.eye_width = static_cast<uint16_t>(eye.width);
-  config.eye_height = static_cast<uint16_t>(eye.height);
-  config.guard_x = static_cast<uint16_t>(guard.x / 2);
-  config.guard_y = static_cast<uint16_t>(guard.y / 2);
+  config.format = TracedFormat{eye, guard};
   config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);
   auto link = std::make_unique<UdpVisibilityClient>();
   link->connect(config, host, port, options.impairment);
@@ -71,7 +68,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   j["pose_source"] = run.pose_source;
   j["elapsed_s"] = run.elapsed_s;
   j["eye_size"] = {run.eye.width, run.eye.height};
-  j["guard"] = {run.guard.x, run.guard.y};
+  j["guard"] = {2 * run.guard.x, 2 * run.guard.y};  // both sides together, as --guard
   if (const auto w = link.client().welcome()) {
     j["buffer_size"] = {w->buffer_width, w->buffer_height};
     j["lights"] = w->light_count;
@@ -83,7 +80,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   j["age_frames_median"] = opt(frames.age_median());
   j["responses"] = frames.responses();
   j["gbuffer_ms_median"] = opt(frames.gbuffer_ms_median());
-  j["prediction_ms_median"] = opt(frames.prediction_ms_median());
+  j["warp_ms_median"] = opt(frames.warp_ms_median());
   j["shading_ms_median"] = opt(frames.shading_ms_median());
   j["poses_rejected"] = run.poses_rejected;
   j["png_files"] = run.png_files;
@@ -100,20 +97,18 @@ PoseGuard make_pose_guard(const EyeModel& eyes) {
   return PoseGuard(eyes.views(Pose{glm::dvec3(0.0, kDefaultEyeHeightMetres, 0.0), glm::dquat(1, 0, 0, 0)}));
 }
 
-FrameInput frame_input(const PoseSample& sample, PoseGuard& guard) {
+FrameInput frame_input(const FramePose& sample, PoseGuard& guard) {
   FrameInput input;
-  input.frame = sample.frame;
-  input.display_time_ns = sample.display_time_ns;
-  input.views = sample.views;
-  input.pose_reused = guard.filter(sample.frame, input.views);
+  input.pose = sample;
+  input.pose_reused = guard.filter(sample.frame, input.pose.views);
   return input;
 }
 
 CoordinatorOptions coordinator_options(const ClientOptions& options) {
   using render::ShadingView;
   CoordinatorOptions out;
-  out.schedule = options.schedule;
-  out.x_max = options.x_max;
+  out.plan.schedule = options.schedule;
+  out.plan.x_max = options.x_max;
   const std::pair<const char*, ShadingView> views[] = {
       {"shaded", ShadingView::kShaded}, {"light", ShadingView::kLightVisibility}, {"unknown", ShadingView::kUnknown},
       {"motion", ShadingView::kMotion}, {"albedo", ShadingView::kAlbedo},         {"normal", ShadingView::kNormal}};
@@ -121,7 +116,7 @@ CoordinatorOptions coordinator_options(const ClientOptions& options) {
     if (options.view == name) out.eye.shading.view = view;
   }
   out.eye.shading.debug_light = options.view_light;
-  const render::PredictionOutputs needed = render::prediction_outputs_for(out.eye.shading.view);
+  const render::WarpOutputs needed = render::warp_outputs_for(out.eye.shading.view);
   out.eye.warp_status = needed.status;
   out.eye.motion_vectors = needed.motion;
   return out;

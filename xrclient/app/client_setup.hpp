@@ -5,12 +5,12 @@
 #include <string>
 
 #include "app/client_options.hpp"
-#include "core/eye_model.hpp"
-#include "core/frame_coordinator.hpp"
-#include "core/frame_record.hpp"
-#include "core/visibility_source.hpp"
-#include "core/scene.hpp"
-#include "net/udp_visibility_client.hpp"
+#include "traces/eye_model.hpp"
+#include "frame/frame_coordinator.hpp"
+#include "frame/frame_record.hpp"
+#include "frame/visibility_source.hpp"
+#include "scene/scene.hpp"
+#include "link/udp_visibility_client.hpp"
 #include "pose/pose_guard.hpp"
 #include "pose/pose_source.hpp"
 
@@ -27,10 +27,10 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
 PoseGuard make_pose_guard(const EyeModel& eyes);
 
 // One frame's input: the sample's views through the pose guard (an unusable pose reuses the last good one).
-FrameInput frame_input(const PoseSample& sample, PoseGuard& guard);
+FrameInput frame_input(const FramePose& sample, PoseGuard& guard);
 
 // The frame loop's options from the command line: schedule, x_max and the shading view (a debug view also
-// turns on the prediction outputs it reads).
+// turns on the warp outputs it reads).
 CoordinatorOptions coordinator_options(const ClientOptions& options);
 
 // Logs the visibility source's failure the first time it is seen (`warned` remembers it); rendering goes on.

@@ -5,10 +5,10 @@
 
 #include "app/client_setup.hpp"
 #include "app/run_modes.hpp"
-#include "core/eye_model.hpp"
-#include "core/frame_coordinator.hpp"
-#include "core/log.hpp"
-#include "core/network_visibility_source.hpp"
+#include "traces/eye_model.hpp"
+#include "frame/frame_coordinator.hpp"
+#include "log/log.hpp"
+#include "frame/network_visibility_source.hpp"
 #include "exit_signal.hpp"
 #include "pose/orbit_pose_source.hpp"
 #include "pose/pose_guard.hpp"
@@ -71,7 +71,7 @@ int run_offscreen(const ClientOptions& options) {
   // number of frames as on a headset; never waiting for the network.
   const SteadyClock::time_point start = SteadyClock::now();
   bool warned_failure = false;
-  PoseSample sample;
+  FramePose sample;
   while (run.frames < max_frames && poses->next(sample)) {
     if (exit_signal_received()) {
       run.exit = "signal";

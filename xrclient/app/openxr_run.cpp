@@ -4,10 +4,10 @@
 
 #include "app/client_setup.hpp"
 #include "app/run_modes.hpp"
-#include "core/eye_model.hpp"
-#include "core/frame_coordinator.hpp"
-#include "core/log.hpp"
-#include "core/network_visibility_source.hpp"
+#include "traces/eye_model.hpp"
+#include "frame/frame_coordinator.hpp"
+#include "log/log.hpp"
+#include "frame/network_visibility_source.hpp"
 #include "pose/openxr_pose_source.hpp"
 #include "pose/pose_guard.hpp"
 #include "render/client_scene.hpp"
@@ -17,6 +17,7 @@
 #include "sink/swapchain_sink.hpp"
 #include "watchdog.hpp"
 #include "xr/headset.hpp"
+#include "xr/pose_convert.hpp"
 
 namespace dhr::client {
 
@@ -81,15 +82,21 @@ int run_openxr(const ClientOptions& options) {
   run.pose_source = poses.describe();
   bool warned_failure = false;
 
-  const xr::RenderFn render = [&](const xr::FrameState& frame, const std::array<xr::EyeTarget, xr::kEyeCount>& t) {
+  const xr::RenderFn render = [&](const xr::FrameState& frame,
+                                  const std::array<xr::EyeTarget, xr::kEyeCount>& t) -> xr::RenderedViews {
     poses.set_frame(frame);
-    PoseSample sample;
+    FramePose sample;
     poses.next(sample);
     note_source_failure(source, warned_failure);
     const FrameInput input = frame_input(sample, guard_poses);
     swapchain.set_targets(t);
     // A failure is reported after the frame (after_frame below) so the session can be walked down.
-    if (coordinator.run_frame(input, sinks)) ++run.frames;
+    if (!coordinator.run_frame(input, sinks)) return std::nullopt;
+    ++run.frames;
+    // The paper's schedule may have rendered an older frame's views: the compositor gets exactly those.
+    std::array<XrView, xr::kEyeCount> rendered{};
+    for (uint32_t e = 0; e < xr::kEyeCount; ++e) rendered[e] = xr::to_xr_view(coordinator.rendered_views()[e]);
+    return rendered;
   };
   SessionLoopOptions loop_options;
   loop_options.frames = options.frames.value_or(300);

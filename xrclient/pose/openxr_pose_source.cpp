@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "xr/pose_convert.hpp"
 
 namespace dhr::client {
@@ -32,14 +32,14 @@ void OpenXrPoseSource::record_to(const std::string& path) {
 }
 
 void OpenXrPoseSource::set_frame(const xr::FrameState& frame) {
-  PoseSample s;
+  FramePose s;
   s.frame = frame.index;
   s.display_time_ns = frame.predicted_display_time;
   for (uint32_t e = 0; e < 2; ++e) s.views[e] = xr::to_view(frame.views[e]);
   pending_ = s;
 }
 
-bool OpenXrPoseSource::next(PoseSample& out) {
+bool OpenXrPoseSource::next(FramePose& out) {
   if (!pending_) return false;
   out = *pending_;
   pending_.reset();

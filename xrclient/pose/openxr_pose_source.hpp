@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "core/pose_trace.hpp"
+#include "traces/pose_trace.hpp"
 #include "pose/pose_source.hpp"
 #include "xr/frame_loop.hpp"
 
@@ -22,13 +22,13 @@ class OpenXrPoseSource final : public PoseSource {
   void set_frame(const xr::FrameState& frame);
 
   // The frame set last (false when none is pending). Recording failures are logged once and stop recording.
-  bool next(PoseSample& out) override;
+  bool next(FramePose& out) override;
   std::string describe() const override { return "OpenXR views"; }
   size_t rows_recorded() const { return writer_.rows(); }
   bool close_recording(std::string* out_error);
 
  private:
-  std::optional<PoseSample> pending_;
+  std::optional<FramePose> pending_;
   PoseTraceWriter writer_;
   std::optional<int64_t> first_time_ns_;
   uint64_t rows_skipped_ = 0;  // logged for the first few only

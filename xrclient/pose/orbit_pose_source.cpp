@@ -24,7 +24,7 @@ Pose OrbitPoseSource::head_at(double seconds) const {
   return head;
 }
 
-bool OrbitPoseSource::next(PoseSample& out) {
+bool OrbitPoseSource::next(FramePose& out) {
   const int64_t t_ns = static_cast<int64_t>(next_frame_) * period_ns_;
   out.frame = next_frame_;
   out.display_time_ns = t_ns;

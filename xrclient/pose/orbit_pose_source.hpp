@@ -2,7 +2,7 @@
 // viewpoint (TracePlacement), looking down at the room, swaying sideways and turning the head slowly,
 // periodic and deterministic (a function of the frame number only) on the 90 Hz virtual clock.
 #pragma once
-#include "core/eye_model.hpp"
+#include "traces/eye_model.hpp"
 #include "pose/pose_source.hpp"
 
 namespace dhr::client {
@@ -18,7 +18,7 @@ class OrbitPoseSource final : public PoseSource {
  public:
   OrbitPoseSource(const TracePlacement& placement, const EyeModel& eyes, const OrbitParams& params = {},
                   int64_t frame_period_ns = kVirtualFramePeriodNs);
-  bool next(PoseSample& out) override;  // never ends
+  bool next(FramePose& out) override;  // never ends
   std::string describe() const override { return "scripted orbit"; }
   Pose head_at(double seconds) const;
 

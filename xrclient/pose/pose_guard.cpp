@@ -2,13 +2,12 @@
 
 #include <cmath>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 
 namespace dhr::client {
 
 std::optional<std::string> PoseGuard::check(const View& view) {
-  if (auto err = validate_pose(view.pose)) return err;
-  return validate_fov(view.fov);
+  return validate_view(view);
 }
 
 bool PoseGuard::filter(uint64_t frame, std::array<View, 2>& views) {

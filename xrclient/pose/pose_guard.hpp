@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "core/pose.hpp"
+#include "math/pose.hpp"
 
 namespace dhr::client {
 

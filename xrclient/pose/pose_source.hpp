@@ -6,21 +6,15 @@
 #include <cstdint>
 #include <string>
 
-#include "core/pose.hpp"
+#include "math/pose.hpp"
 
 namespace dhr::client {
-
-struct PoseSample {
-  uint64_t frame = 0;
-  int64_t display_time_ns = 0;  // predicted display time (OpenXR XrTime, or virtual time from 0)
-  std::array<View, 2> views{};  // 0 = left
-};
 
 class PoseSource {
  public:
   virtual ~PoseSource() = default;
   // The next frame's pose; false when the source has no more (a trace ended).
-  virtual bool next(PoseSample& out) = 0;
+  virtual bool next(FramePose& out) = 0;
   virtual std::string describe() const = 0;
 };
 

@@ -27,7 +27,7 @@ uint64_t TracePoseSource::frame_count() const {
   return static_cast<uint64_t>(std::floor(trace_.duration() / period_s + 1e-9)) + 1;
 }
 
-bool TracePoseSource::next(PoseSample& out) {
+bool TracePoseSource::next(FramePose& out) {
   if (next_frame_ >= frame_count()) return false;
   const int64_t t_ns = static_cast<int64_t>(next_frame_) * period_ns_;
   const TraceSample sample = trace_.sample(trace_.start_time() + static_cast<double>(t_ns) * 1e-9);

@@ -4,8 +4,8 @@
 #pragma once
 #include <string>
 
-#include "core/eye_model.hpp"
-#include "core/pose_trace.hpp"
+#include "traces/eye_model.hpp"
+#include "traces/pose_trace.hpp"
 #include "pose/pose_source.hpp"
 
 namespace dhr::client {
@@ -20,7 +20,7 @@ class TracePoseSource final : public PoseSource {
   // "<file>: empty trace".
   static PoseTrace load(const std::string& path);
 
-  bool next(PoseSample& out) override;
+  bool next(FramePose& out) override;
   std::string describe() const override;
   uint64_t frame_count() const;  // frames until the trace ends
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/scene.hpp"
+#include "scene/scene.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"

@@ -9,7 +9,7 @@
 namespace dhr::render {
 namespace {
 
-enum Timestamp : uint32_t { kStart = 0, kAfterGBuffer, kAfterPrediction, kAfterShading, kTimestampCount };
+enum Timestamp : uint32_t { kStart = 0, kAfterGBuffer, kAfterWarp, kAfterShading, kTimestampCount };
 
 uint32_t checked_slots(const EyePipelineOptions& options) {
   if (options.frames_in_flight == 0) throw std::invalid_argument("EyePipeline needs frames_in_flight >= 1");
@@ -25,7 +25,7 @@ EyePipeline::EyePipeline(const vk::Context& context, const ClientScene& scene, E
       extent_(extent),
       options_(options),
       gbuffer_pass_(context, scene),
-      prediction_pass_(context, checked_slots(options)),
+      warp_pass_(context, checked_slots(options)),
       shading_pass_(context, checked_slots(options)) {
   if (extent.width == 0 || extent.height == 0) throw std::invalid_argument("EyePipeline: zero extent");
   create_images();
@@ -37,8 +37,8 @@ EyePipeline::~EyePipeline() = default;
 
 void EyePipeline::create_images() {
   gbuffer_ = GBuffer::create(*context_, extent_);
-  prediction_ = PredictionTargets::create(*context_, extent_,
-                                          PredictionOutputs{options_.warp_status, options_.motion_vectors});
+  warp_ = WarpTargets::create(*context_, extent_,
+                                          WarpOutputs{options_.warp_status, options_.motion_vectors});
   output_ = create_shading_output(*context_, extent_);
 }
 
@@ -61,11 +61,11 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
   slot.timestamps.write(cmd, kStart);
   slot.draws = gbuffer_pass_.record(cmd, gbuffer_, camera, near_plane);
   slot.timestamps.write(cmd, kAfterGBuffer);
-  slot.visibility_used = prediction_pass_.record(cmd, slot_index, gbuffer_.depth, camera, near_plane, visibility,
-                                                 prediction_) &&
+  slot.visibility_used = warp_pass_.record(cmd, slot_index, gbuffer_.depth, camera, near_plane, visibility,
+                                                 warp_) &&
                          visibility.buffer != nullptr;
-  slot.timestamps.write(cmd, kAfterPrediction);
-  shading_pass_.record(cmd, slot_index, gbuffer_, prediction_, camera, near_plane, scene_->lights(),
+  slot.timestamps.write(cmd, kAfterWarp);
+  shading_pass_.record(cmd, slot_index, gbuffer_, warp_, camera, near_plane, scene_->lights(),
                        options_.shading, output_);
   slot.timestamps.write(cmd, kAfterShading);
   slot.recorded = true;
@@ -79,13 +79,13 @@ EyeStats EyePipeline::read_stats(uint32_t slot_index) const {
   if (!slot.recorded) return stats;
   stats.draws = slot.draws;
   stats.visibility_used = slot.visibility_used;
-  stats.warp = prediction_pass_.read_counts(slot_index);
+  stats.warp = warp_pass_.read_counts(slot_index);
   const std::vector<double> ns = slot.timestamps.read_ns();
   if (ns.size() == kTimestampCount) {
     stats.gpu.valid = true;
     stats.gpu.gbuffer_ms = (ns[kAfterGBuffer] - ns[kStart]) * 1e-6;
-    stats.gpu.prediction_ms = (ns[kAfterPrediction] - ns[kAfterGBuffer]) * 1e-6;
-    stats.gpu.shading_ms = (ns[kAfterShading] - ns[kAfterPrediction]) * 1e-6;
+    stats.gpu.warp_ms = (ns[kAfterWarp] - ns[kAfterGBuffer]) * 1e-6;
+    stats.gpu.shading_ms = (ns[kAfterShading] - ns[kAfterWarp]) * 1e-6;
     stats.gpu.total_ms = (ns[kAfterShading] - ns[kStart]) * 1e-6;
   }
   return stats;

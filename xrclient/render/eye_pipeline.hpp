@@ -1,4 +1,4 @@
-// The per-eye visibility pipeline: G-buffer -> prediction (warp) -> shading, into this eye's own images,
+// The per-eye visibility pipeline: G-buffer -> warp -> shading, into this eye's own images,
 // recorded into a command buffer the caller owns and submits. GPU timestamps around each pass.
 //
 // Frames in flight: host-written per-frame resources (visibility upload, lights, counters, timestamps) exist
@@ -12,9 +12,9 @@
 #include <memory>
 #include <vector>
 
-#include "core/projection.hpp"
+#include "math/projection.hpp"
 #include "render/gbuffer_pass.hpp"
-#include "render/prediction_pass.hpp"
+#include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "render/shading_pass.hpp"
 #include "vk/image.hpp"
@@ -31,15 +31,15 @@ class ClientScene;
 struct EyePipelineOptions {
   uint32_t frames_in_flight = 2;  // slots
   double near_plane = kDefaultNearPlane;
-  bool motion_vectors = false;    // allocate and write the prediction's motion vectors (debug)
-  bool warp_status = false;       // allocate and write the prediction's per-pixel status (debug, tests)
+  bool motion_vectors = false;    // allocate and write the warp's motion vectors (debug)
+  bool warp_status = false;       // allocate and write the warp's per-pixel status (debug, tests)
   ShadingSettings shading;
 };
 
 struct EyePassTimes {
   bool valid = false;  // false without timestamp support or before the slot's first frame
   double gbuffer_ms = 0.0;
-  double prediction_ms = 0.0;
+  double warp_ms = 0.0;
   double shading_ms = 0.0;
   double total_ms = 0.0;
 };
@@ -47,7 +47,7 @@ struct EyePassTimes {
 struct EyeStats {
   Extent extent;
   EyePassTimes gpu;
-  WarpCounts warp;              // per-status pixel counts of the prediction
+  WarpCounts warp;              // per-status pixel counts of the warp
   GBufferDrawStats draws;
   bool visibility_used = false;  // a usable visibility buffer was given
   uint64_t unknown_pixels() const { return warp.unknown_surface(); }
@@ -82,7 +82,7 @@ class EyePipeline {
 
   vk::Image& output() { return output_; }  // R8G8B8A8_UNORM, sRGB-encoded bytes
   GBuffer& gbuffer() { return gbuffer_; }
-  PredictionTargets& prediction() { return prediction_; }
+  WarpTargets& warp() { return warp_; }
 
  private:
   struct Slot {
@@ -98,10 +98,10 @@ class EyePipeline {
   Extent extent_;
   EyePipelineOptions options_;
   GBufferPass gbuffer_pass_;
-  PredictionPass prediction_pass_;
+  WarpPass warp_pass_;
   ShadingPass shading_pass_;
   GBuffer gbuffer_;
-  PredictionTargets prediction_;
+  WarpTargets warp_;
   vk::Image output_;
   std::vector<Slot> slots_;
 };

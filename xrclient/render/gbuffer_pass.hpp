@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/projection.hpp"
+#include "math/projection.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
 

@@ -6,7 +6,7 @@
 #include <system_error>
 #include <utility>
 
-#include "core/png_writer.hpp"
+#include "image/png_writer.hpp"
 #include "vk/context.hpp"
 
 namespace dhr::render {

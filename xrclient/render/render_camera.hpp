@@ -14,14 +14,14 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "core/projection.hpp"
+#include "math/projection.hpp"
 
 namespace dhr::render {
 
 // Near plane of the G-buffer's projection (metres).
 inline constexpr double kDefaultNearPlane = 0.05;
 // Points whose depth in the old eye is at or below this (metres) are "behind the old eye" in the warp.
-inline constexpr double kPredictionMinDepth = 1e-3;
+inline constexpr double kWarpMinDepth = 1e-3;
 
 // The display camera: the view's FOV over `extent` pixels, no guard band.
 Camera display_camera(const View& view, Extent extent);

@@ -4,11 +4,11 @@
 #include <array>
 #include <stdexcept>
 
-#include "core/lighting.hpp"
+#include "scene/lighting.hpp"
 #include "dhr_shaders_client.hpp"
 #include "render/gbuffer_pass.hpp"
 #include "render/pass_util.hpp"
-#include "render/prediction_pass.hpp"
+#include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "shader_interface.h"
 #include "vk/barriers.hpp"
@@ -29,13 +29,13 @@ bool same_extent(const vk::Image& image, const Extent& extent) {
 
 }  // namespace
 
-PredictionOutputs prediction_outputs_for(ShadingView view) {
-  return PredictionOutputs{view == ShadingView::kLightVisibility || view == ShadingView::kUnknown,
+WarpOutputs warp_outputs_for(ShadingView view) {
+  return WarpOutputs{view == ShadingView::kLightVisibility || view == ShadingView::kUnknown,
                            view == ShadingView::kMotion};
 }
 
-bool debug_outputs_available(ShadingView view, const PredictionTargets& targets) {
-  const PredictionOutputs needed = prediction_outputs_for(view);
+bool debug_outputs_available(ShadingView view, const WarpTargets& targets) {
+  const WarpOutputs needed = warp_outputs_for(view);
   return (!needed.status || targets.has_status()) && (!needed.motion || targets.has_motion());
 }
 
@@ -65,17 +65,17 @@ ShadingPass::ShadingPass(const vk::Context& context, uint32_t slots) : context_(
   }
 }
 
-void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuffer, PredictionTargets& prediction,
+void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuffer, WarpTargets& warp,
                          const Camera& display, double near_plane, std::span<const SceneLight> lights,
                          const ShadingSettings& settings, vk::Image& output) {
   if (slot_index >= slots_.size()) throw std::invalid_argument("shading pass: slot out of range");
   if (lights.size() > kMaxSceneLights) throw std::invalid_argument("shading pass: more than 32 lights");
   const Extent extent = display.extent;
-  if (!same_extent(gbuffer.depth, extent) || !same_extent(prediction.mask, extent) || !same_extent(output, extent)) {
-    throw std::invalid_argument("shading pass: display camera, G-buffer, prediction and output differ in size");
+  if (!same_extent(gbuffer.depth, extent) || !same_extent(warp.mask, extent) || !same_extent(output, extent)) {
+    throw std::invalid_argument("shading pass: display camera, G-buffer, warp and output differ in size");
   }
-  if (!debug_outputs_available(settings.view, prediction)) {
-    throw std::invalid_argument("shading pass: the debug view needs prediction outputs that were not allocated");
+  if (!debug_outputs_available(settings.view, warp)) {
+    throw std::invalid_argument("shading pass: the debug view needs warp outputs that were not allocated");
   }
   Slot& slot = slots_[slot_index];
 
@@ -94,11 +94,11 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
                              core_.sampler.get());
   vk::write_image_descriptor(device, slot.set, kClientShadingBindingAlbedo, kSampled, gbuffer.albedo.view(), kRead,
                              core_.sampler.get());
-  vk::write_image_descriptor(device, slot.set, kClientShadingBindingMask, kStorage, prediction.mask.view(),
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingMask, kStorage, warp.mask.view(),
                              VK_IMAGE_LAYOUT_GENERAL);
-  vk::write_image_descriptor(device, slot.set, kClientShadingBindingStatus, kStorage, prediction.status.view(),
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingStatus, kStorage, warp.status.view(),
                              VK_IMAGE_LAYOUT_GENERAL);
-  vk::write_image_descriptor(device, slot.set, kClientShadingBindingMotion, kStorage, prediction.motion.view(),
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingMotion, kStorage, warp.motion.view(),
                              VK_IMAGE_LAYOUT_GENERAL);
   vk::write_buffer_descriptor(device, slot.set, kClientShadingBindingLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                               slot.lights.handle());
@@ -106,7 +106,7 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
                              VK_IMAGE_LAYOUT_GENERAL);
 
   for (vk::Image* image : {&gbuffer.depth, &gbuffer.normal, &gbuffer.albedo}) ensure_layout(cmd, *image, kRead);
-  for (vk::Image* image : {&prediction.mask, &prediction.status, &prediction.motion}) {
+  for (vk::Image* image : {&warp.mask, &warp.status, &warp.motion}) {
     ensure_layout(cmd, *image, VK_IMAGE_LAYOUT_GENERAL);
   }
   discard_to_layout(cmd, output, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,

@@ -13,10 +13,10 @@
 #include <span>
 #include <vector>
 
-#include "core/projection.hpp"
-#include "core/scene.hpp"
+#include "math/projection.hpp"
+#include "scene/scene.hpp"
 #include "render/pass_util.hpp"
-#include "render/prediction_pass.hpp"
+#include "render/warp_pass.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
@@ -38,13 +38,13 @@ enum class ShadingView : uint32_t {
   kUnknown = 2,          // shaded, unknown surface pixels tinted magenta
   kAlbedo = 3,
   kNormal = 4,
-  kMotion = 5,           // needs prediction motion vectors
+  kMotion = 5,           // needs warp motion vectors
 };
 
-// The optional prediction outputs a view reads (light visibility and unknown: status; motion: motion vectors).
-PredictionOutputs prediction_outputs_for(ShadingView view);
+// The optional warp outputs a view reads (light visibility and unknown: status; motion: motion vectors).
+WarpOutputs warp_outputs_for(ShadingView view);
 // Whether `targets` has what `view` reads.
-bool debug_outputs_available(ShadingView view, const PredictionTargets& targets);
+bool debug_outputs_available(ShadingView view, const WarpTargets& targets);
 
 struct ShadingSettings {
   float exposure = 1.0f;  // linear scale of the radiance before the tonemap
@@ -65,10 +65,10 @@ class ShadingPass {
 
   // Writes the lights (packed relative to the eye, in double) into the slot's buffer (the GPU must have
   // finished the slot's previous use) and records the pass. The G-buffer must be in SHADER_READ_ONLY_OPTIMAL
-  // and the prediction targets in GENERAL (as their passes leave them); `output` ends in GENERAL with its
+  // and the warp targets in GENERAL (as their passes leave them); `output` ends in GENERAL with its
   // writes visible to later shaders and transfers. Throws std::invalid_argument for mismatched sizes,
-  // more than kMaxSceneLights lights, a bad slot, or a debug view whose prediction outputs are placeholders.
-  void record(VkCommandBuffer cmd, uint32_t slot, GBuffer& gbuffer, PredictionTargets& prediction,
+  // more than kMaxSceneLights lights, a bad slot, or a debug view whose warp outputs are placeholders.
+  void record(VkCommandBuffer cmd, uint32_t slot, GBuffer& gbuffer, WarpTargets& warp,
               const Camera& display, double near_plane, std::span<const SceneLight> lights,
               const ShadingSettings& settings, vk::Image& output);
 

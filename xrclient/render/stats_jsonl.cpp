@@ -34,7 +34,7 @@ std::string eye_stats_json(uint64_t frame, uint32_t eye, const EyeStats& stats) 
   j["height"] = stats.extent.height;
   j["gpu_valid"] = stats.gpu.valid;
   j["gbuffer_ms"] = stats.gpu.gbuffer_ms;
-  j["prediction_ms"] = stats.gpu.prediction_ms;
+  j["warp_ms"] = stats.gpu.warp_ms;
   j["shading_ms"] = stats.gpu.shading_ms;
   j["total_ms"] = stats.gpu.total_ms;
   for (size_t s = 0; s < kWarpStatusCount; ++s) j[to_string(static_cast<WarpStatus>(s))] = stats.warp.by_status[s];

@@ -29,7 +29,7 @@ class JsonLinesWriter {
   uint64_t lines_ = 0;
 };
 
-// {"frame":N,"eye":E,"width":..,"height":..,"gpu_valid":..,"gbuffer_ms":..,"prediction_ms":..,
+// {"frame":N,"eye":E,"width":..,"height":..,"gpu_valid":..,"gbuffer_ms":..,"warp_ms":..,
 //  "shading_ms":..,"total_ms":..,"known":..,"background":..,"behind":..,"outside":..,"missing_row":..,
 //  "no_data":..,"unknown":..,"meshes_drawn":..,"meshes_culled":..,"triangles":..,"visibility_used":..}
 std::string eye_stats_json(uint64_t frame, uint32_t eye, const EyeStats& stats);

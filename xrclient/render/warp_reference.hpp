@@ -1,5 +1,5 @@
-// CPU reference of the prediction (warp) pass, in double, on plain arrays. The GPU pass
-// (shaders/client/prediction.comp) makes the same decisions in the same order:
+// CPU reference of the warp pass, in double, on plain arrays. The GPU pass
+// (shaders/client/warp.comp) makes the same decisions in the same order:
 //   depth == 0 (background)               -> unknown (kBackground)
 //   no visibility buffer                  -> unknown (kNoData)
 //   p = surface point of the pixel centre (depth -> eye space of the display camera -> world)
@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "core/projection.hpp"
-#include "core/visibility.hpp"
+#include "math/projection.hpp"
+#include "visibility/visibility.hpp"
 #include "render/render_camera.hpp"
 
 namespace dhr::render {
@@ -65,7 +65,7 @@ struct WarpInput {
   Camera display;                // the camera the depth was rendered with
   Camera traced;                 // the guard-banded camera the visibility was traced for
   double near_plane = kDefaultNearPlane;
-  double min_depth = kPredictionMinDepth;
+  double min_depth = kWarpMinDepth;
   const VisibilityBuffer* visibility = nullptr;  // null: nothing received yet
   std::span<const uint8_t> row_valid;            // empty (all rows) or one entry per old row, 0 = missing
 };

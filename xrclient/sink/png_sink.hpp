@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "core/frame_sink.hpp"
+#include "frame/frame_sink.hpp"
 #include "render/offscreen_sink.hpp"
 
 namespace dhr::client {

@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 
-#include "core/frame_record.hpp"
+#include "frame/frame_record.hpp"
 #include "render/stats_jsonl.hpp"
 
 namespace dhr::client {

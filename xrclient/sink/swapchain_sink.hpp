@@ -4,7 +4,7 @@
 #pragma once
 #include <array>
 
-#include "core/frame_sink.hpp"
+#include "frame/frame_sink.hpp"
 #include "xr/frame_loop.hpp"
 
 namespace dhr::client {

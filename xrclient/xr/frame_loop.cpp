@@ -1,6 +1,6 @@
 #include "xr/frame_loop.hpp"
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "xr/session.hpp"
 #include "xr/spaces.hpp"
 #include "xr/swapchain.hpp"
@@ -17,6 +17,10 @@ FrameLoop::FrameLoop(const Session& session, const ReferenceSpaces& spaces,
       swapchains_(swapchains),
       blend_mode_(blend_mode),
       options_(options) {}
+
+std::array<XrView, kEyeCount> submitted_views(const FrameState& frame, const RenderedViews& rendered) {
+  return rendered ? *rendered : frame.views;
+}
 
 XrResult FrameLoop::locate_views(FrameState& frame) const {
   auto locate_info = make_xr<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
@@ -79,13 +83,13 @@ XrResult FrameLoop::run_frame(const RenderFn& render, FrameState* out_frame) {
   if (present) {
     std::array<EyeTarget, kEyeCount> eyes{};
     DHR_XR_TRY(acquire_images(eyes));
-    render(frame, eyes);
+    const std::array<XrView, kEyeCount> submitted = submitted_views(frame, render(frame, eyes));
     for (uint32_t eye = 0; eye < kEyeCount; ++eye) {
       DHR_XR_TRY(swapchains_[eye]->release());
       XrCompositionLayerProjectionView& view = projection_views[eye];
       view = make_xr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
-      view.pose = frame.views[eye].pose;
-      view.fov = frame.views[eye].fov;
+      view.pose = submitted[eye].pose;
+      view.fov = submitted[eye].fov;
       view.subImage.swapchain = swapchains_[eye]->handle();
       view.subImage.imageRect.offset = {0, 0};
       view.subImage.imageRect.extent = {static_cast<int32_t>(eyes[eye].extent.width),

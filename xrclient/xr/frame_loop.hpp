@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 #include "xr/openxr_vulkan.hpp"
 #include "xr/system.hpp"
@@ -42,9 +43,18 @@ struct FrameLoopOptions {
   uint32_t image_wait_attempts = 4;
 };
 
-// Draws into the acquired eye images (both acquired and waited). May throw; the frame is then
-// left unfinished and the caller is expected to shut the session down.
-using RenderFn = std::function<void(const FrameState& frame, const std::array<EyeTarget, kEyeCount>& eyes)>;
+// The views eye images were rendered with, when they are not the views located for this frame (a schedule
+// that shows an older frame's pose). The projection layer must carry the rendered views, or the compositor
+// reprojects the image from the wrong pose.
+using RenderedViews = std::optional<std::array<XrView, kEyeCount>>;
+
+// Draws into the acquired eye images (both acquired and waited) and says which views it drew them with
+// (std::nullopt: the frame's located views). May throw; the frame is then left unfinished and the caller is
+// expected to shut the session down.
+using RenderFn = std::function<RenderedViews(const FrameState& frame, const std::array<EyeTarget, kEyeCount>& eyes)>;
+
+// The projection layer's views: the rendered views where given, else the located ones.
+std::array<XrView, kEyeCount> submitted_views(const FrameState& frame, const RenderedViews& rendered);
 
 class FrameLoop {
  public:

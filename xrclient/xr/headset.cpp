@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "xr/xr_check.hpp"
 
 namespace dhr::xr {

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "xr/openxr_vulkan.hpp"
 #include "xr/xr_check.hpp"
 #include "xr/xr_struct.hpp"

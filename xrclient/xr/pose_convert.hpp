@@ -2,7 +2,7 @@
 #pragma once
 #include <openxr/openxr.h>
 
-#include "core/pose.hpp"
+#include "math/pose.hpp"
 
 namespace dhr::xr {
 
@@ -19,5 +19,17 @@ inline Fov to_fov(const XrFovf& fov) {
 }
 
 inline View to_view(const XrView& view) { return View{to_pose(view.pose), to_fov(view.fov)}; }
+
+// dhr::View -> XrView (float precision, as the runtime takes it).
+inline XrView to_xr_view(const View& view) {
+  XrView out{};
+  out.type = XR_TYPE_VIEW;
+  out.pose.position = {static_cast<float>(view.pose.position.x), static_cast<float>(view.pose.position.y),
+                       static_cast<float>(view.pose.position.z)};
+  out.pose.orientation = {static_cast<float>(view.pose.orientation.x), static_cast<float>(view.pose.orientation.y),
+                          static_cast<float>(view.pose.orientation.z), static_cast<float>(view.pose.orientation.w)};
+  out.fov = XrFovf{view.fov.angle_left, view.fov.angle_right, view.fov.angle_up, view.fov.angle_down};
+  return out;
+}
 
 }  // namespace dhr::xr

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "xr/xr_check.hpp"
 #include "xr/xr_struct.hpp"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <array>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "xr/xr_check.hpp"
 #include "xr/xr_struct.hpp"
 

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "xr/xr_check.hpp"
 #include "xr/xr_struct.hpp"
 

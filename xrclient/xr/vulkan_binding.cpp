@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 #include "vk/check.hpp"
 #include "xr/instance.hpp"
 #include "xr/xr_check.hpp"

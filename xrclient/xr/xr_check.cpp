@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "core/log.hpp"
+#include "log/log.hpp"
 
 namespace dhr::xr {
 

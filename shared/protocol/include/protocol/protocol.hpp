@@ -1,0 +1,176 @@
+// The DHR wire protocol: message structs and their explicit little-endian encoding (docs/protocol.md
+// has the byte layout, the handshake and what a receiver does with a datagram that fails validation).
+// One message per UDP datagram; every datagram starts with the same 20-byte header.
+#pragma once
+#include "math/pose.hpp"
+#include "math/projection.hpp"
+#include "protocol/protocol_error.hpp"
+#include "visibility/visibility.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace dhr {
+
+inline constexpr std::array<uint8_t, 4> kProtocolMagic = {'D', 'H', 'R', 'X'};
+inline constexpr uint8_t kProtocolVersion = 1;
+
+inline constexpr size_t kHeaderSize = 20;
+inline constexpr size_t kViewWireSize = 56;  // f64 x3 position, f32 x4 quaternion (x,y,z,w), f32 x4 FOV
+// Largest datagram either side sends or accepts: fits the IPv6 minimum MTU path with room to spare
+// over Ethernet (1280 + 8 UDP + 20 IPv4 < 1500), so no IP fragmentation.
+inline constexpr size_t kMaxDatagramSize = 1280;
+inline constexpr size_t kShardFixedSize = kHeaderSize + 28 + kViewWireSize;  // everything but the payload
+inline constexpr size_t kMaxShardPayload = kMaxDatagramSize - kShardFixedSize;  // 1176
+static_assert(kMaxShardPayload <= 1200);
+inline constexpr size_t kMaxSceneIdLength = 128;
+// |q|^2 of a decoded quaternion must be within this of 1 (float rounding is ~1e-7); then renormalized.
+inline constexpr double kQuaternionNormTolerance = 1e-3;
+
+enum class MessageType : uint8_t {
+  kHello = 1,            // client -> server, token 0
+  kWelcome = 2,          // server -> client, carries the new token
+  kPoseUpdate = 3,       // client -> server, every frame
+  kVisibilityShard = 4,  // server -> client, many per traced eye
+  kHeartbeat = 5,        // both ways, ~1 Hz: liveness, clock-offset samples, counters
+  kBye = 6,              // either way: session ends
+};
+
+enum class Eye : uint8_t { kLeft = 0, kRight = 1 };
+
+enum class ByeReason : uint8_t {
+  kNormal = 0,           // the sender is done
+  kTimeout = 1,          // no datagram from the peer within the session timeout
+  kProtocolError = 2,    // the peer kept sending invalid datagrams
+  kShutdown = 3,         // the server is shutting down
+  kVersionMismatch = 4,  // the Hello spoke another protocol version
+  kUnknownSession = 5,   // the token is not (or no longer) known: the client must send Hello again
+  kBadHello = 6,         // Hello parameters unacceptable (size, lights, capabilities)
+  kUnknownScene = 7,     // the requested scene id is not available
+};
+inline constexpr uint8_t kMaxByeReason = 7;
+
+// Capability bits (Hello: what the client supports; Welcome: what the server will use).
+inline constexpr uint32_t kCapabilityLz4RowShards = 1u << 0;  // the visibility codec of this version
+
+struct Hello {
+  uint64_t client_nonce = 0;  // random per attempt; Welcome echoes it
+  uint32_t capabilities = kCapabilityLz4RowShards;
+  uint16_t eye_width = 0;   // displayed size per eye, without guard band
+  uint16_t eye_height = 0;
+  uint16_t guard_x = 0;  // guard band per side, pixels: traced width = eye_width + 2 * guard_x
+  uint16_t guard_y = 0;
+  uint8_t light_count_wanted = 0;  // at most this many lights (1..32); 0 = as many as the scene has, up to 32
+  std::string scene_id;            // <= kMaxSceneIdLength bytes, no control characters; empty = default
+  TracedFormat format() const { return TracedFormat{Extent{eye_width, eye_height}, GuardBand{guard_x, guard_y}}; }
+  bool operator==(const Hello&) const = default;
+};
+
+struct Welcome {
+  uint64_t client_nonce = 0;  // echo of the Hello being answered
+  uint32_t capabilities = kCapabilityLz4RowShards;
+  uint64_t scene_hash = 0;   // identifies the scene content the server traces
+  uint8_t light_count = 0;   // lights in every mask (0..32)
+  MaskWidth mask_bits = MaskWidth::k8;  // must equal mask_width_for_light_count(light_count)
+  uint16_t buffer_width = 0;   // traced size per eye, guard band included
+  uint16_t buffer_height = 0;
+  uint16_t guard_x = 0;  // guard band per side actually used
+  uint16_t guard_y = 0;
+  uint16_t heartbeat_interval_ms = 1000;
+  uint32_t session_timeout_ms = 5000;
+  // The granted format: the buffer minus the guard band on both sides is the displayed size.
+  TracedFormat format() const {
+    const auto display = [](uint32_t buffer, uint32_t guard) { return buffer > 2 * guard ? buffer - 2 * guard : 0u; };
+    return TracedFormat{Extent{display(buffer_width, guard_x), display(buffer_height, guard_y)}, GuardBand{guard_x, guard_y}};
+  }
+  bool operator==(const Welcome&) const = default;
+};
+
+struct PoseUpdate {
+  uint64_t frame_number = 0;
+  int64_t display_time_ns = 0;  // predicted display time, client clock (XrTime), >= 0
+  std::array<View, 2> views{};  // [Eye::kLeft], [Eye::kRight]
+};
+
+struct VisibilityShard {
+  uint64_t frame_number = 0;  // the client frame whose pose was traced
+  Eye eye = Eye::kLeft;
+  MaskWidth mask_bits = MaskWidth::k8;
+  uint16_t shard_index = 0;  // < shard_count
+  uint16_t shard_count = 1;  // shards of this (frame, eye)
+  uint16_t buffer_width = 0;
+  uint16_t buffer_height = 0;
+  uint32_t first_pixel = 0;  // region: pixels [first_pixel, first_pixel + pixel_count), row-major
+  uint32_t pixel_count = 0;
+  View view;                 // the view this eye was traced for (every shard carries it)
+  uint16_t payload_size = 0;  // 1..kMaxShardPayload
+  std::array<uint8_t, kMaxShardPayload> payload{};  // codec chunks (core/codec.hpp)
+
+  std::span<const uint8_t> payload_bytes() const { return std::span(payload).first(payload_size); }
+};
+
+struct Heartbeat {
+  int64_t send_time_ns = 0;   // sender's clock when sent
+  int64_t echo_time_ns = 0;   // send_time_ns of the newest Heartbeat received from the peer, 0 = none yet
+  int64_t echo_delay_ns = 0;  // time between receiving that Heartbeat and sending this one
+  uint64_t newest_frame = 0;  // client: newest complete visibility frame; server: newest frame traced
+  uint32_t datagrams_sent = 0;
+  uint32_t datagrams_received = 0;
+  uint32_t datagrams_rejected = 0;
+  uint32_t frames_done = 0;     // client: frames completed; server: frames traced and sent
+  uint32_t frames_dropped = 0;  // client: frames evicted incomplete; server: poses skipped
+  bool operator==(const Heartbeat&) const = default;
+};
+
+struct Bye {
+  ByeReason reason = ByeReason::kNormal;
+  bool operator==(const Bye&) const = default;
+};
+
+using Message = std::variant<Hello, Welcome, PoseUpdate, VisibilityShard, Heartbeat, Bye>;
+
+struct Datagram {
+  uint64_t session_token = 0;  // 0 only in Hello (and in a Bye answering a Hello)
+  uint32_t sequence = 0;       // per-sender datagram counter, for loss statistics
+  Message message;
+};
+
+struct DatagramHeader {
+  uint8_t version = 0;
+  MessageType type = MessageType::kHello;
+  uint64_t session_token = 0;
+  uint32_t sequence = 0;
+};
+
+MessageType message_type(const Message& message);
+const char* to_string(MessageType type);
+const char* to_string(ByeReason reason);
+
+// Exact encoded size of a message (header included).
+size_t encoded_size(const Message& message);
+
+// Writes the datagram into `out`; returns the byte count, or 0 when `out` is too small or the message
+// cannot be represented (scene id too long, payload_size above kMaxShardPayload). Values are not
+// validated here: the receiver validates.
+size_t encode_datagram(const Datagram& datagram, std::span<uint8_t> out);
+std::vector<uint8_t> encode_datagram(const Datagram& datagram);  // empty on failure
+
+// Validates size bounds, magic, version, type and the reserved field. On kWrongVersion, out.version
+// holds the peer's version (for a helpful log line).
+DecodeError decode_header(std::span<const uint8_t> bytes, DatagramHeader& out);
+
+// Full decode and validation of one datagram. Never throws on any input; on error `out` is unspecified.
+// Poses are validated (finite, unit quaternion within tolerance, position range) and renormalized.
+DecodeError decode_datagram(std::span<const uint8_t> bytes, Datagram& out);
+
+// Fuzz-friendly entry point, same as decode_datagram.
+inline DecodeError decode_datagram(const uint8_t* data, size_t size, Datagram& out) {
+  return decode_datagram(std::span<const uint8_t>(data, size), out);
+}
+
+}  // namespace dhr

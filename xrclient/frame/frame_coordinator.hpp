@@ -1,0 +1,101 @@
+// The client's per-frame coordinator (DESIGN.md, data flow), a thin layer over the passes:
+//   pose -> VisibilitySource::send_pose -> newest visibility per eye -> FramePlanner (which visibility, which
+//   view to render and submit) -> EyePipeline::record per eye (G-buffer, warp, shading) -> FrameSink::record
+//   -> submit -> FrameSink::after_submit.
+// It never waits for the network; it waits only for the GPU slot it is about to reuse (frames in flight).
+// Each frame's statistics become available when that slot is reused (or at finish()), through on_frame.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "frame/frame_record.hpp"
+#include "frame/frame_sink.hpp"
+#include "frame/visibility_source.hpp"
+#include "plan/frame_planner.hpp"
+#include "render/eye_pipeline.hpp"
+#include "vk/handle.hpp"
+
+namespace dhr::vk {
+class Context;
+}
+namespace dhr::render {
+class ClientScene;
+}
+
+namespace dhr::client {
+
+struct CoordinatorOptions {
+  PlannerSettings plan;            // schedule, x_max, pose history
+  render::EyePipelineOptions eye;  // frames_in_flight: GPU slots
+  uint64_t gpu_wait_timeout_ns = 5'000'000'000;  // a slot's fence; beyond it the frame fails
+};
+
+struct FrameInput {
+  FramePose pose;  // validated by the pose layer (PoseGuard: finite, unit quaternions)
+  bool pose_reused = false;
+};
+
+class FrameCoordinator {
+ public:
+  using FrameCallback = std::function<void(const FrameRecord&)>;
+
+  // Keeps references to everything: they must outlive the coordinator.
+  FrameCoordinator(const vk::Context& context, const render::ClientScene& scene, Extent eye_extent,
+                   VisibilitySource& visibility, const CoordinatorOptions& options = {});
+  ~FrameCoordinator();
+  FrameCoordinator(const FrameCoordinator&) = delete;
+  FrameCoordinator& operator=(const FrameCoordinator&) = delete;
+
+  // Called with each frame's record once its GPU work completed (in frame order).
+  void set_on_frame(FrameCallback callback) { on_frame_ = std::move(callback); }
+
+  // Renders one frame into the sink. False (with the reason in last_error()) when the GPU failed or a slot
+  // did not complete in time; the coordinator is unusable afterwards.
+  bool run_frame(const FrameInput& input, FrameSink& sink);
+  // Waits for every frame in flight and reports them. Safe to call more than once.
+  bool finish();
+
+  const FrameSummary& summary() const { return summary_; }
+  const std::string& last_error() const { return error_; }
+  Extent eye_extent() const { return extent_; }
+  render::EyePipeline& eye(uint32_t index) { return *eyes_[index]; }
+  const ViewHistory& history() const { return planner_.history(); }
+  // The newest visibility held for an eye (what the next frame will use), if any.
+  const std::optional<VisibilityFrame>& visibility(uint32_t eye) const { return planner_.held(eye); }
+  // The views the last frame's eye images were rendered with (the planner's choice): what the compositor
+  // must be given with those images.
+  const std::array<View, 2>& rendered_views() const { return rendered_views_; }
+
+ private:
+  struct Slot {
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    vk::Fence fence;
+    bool pending = false;
+    FrameRecord record;
+  };
+  bool record_and_submit(const FrameInput& input, FrameSink& sink);
+  bool complete_slot(uint32_t slot_index);
+  void take_visibility();
+
+  const vk::Context* context_;
+  VisibilitySource* visibility_;
+  CoordinatorOptions options_;
+  Extent extent_;
+  std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
+  FramePlanner planner_;
+  std::array<View, 2> rendered_views_{};
+  vk::CommandPool pool_;
+  std::vector<Slot> slots_;
+  uint64_t submitted_ = 0;
+  FrameCallback on_frame_;
+  FrameSummary summary_;
+  std::string error_;
+};
+
+}  // namespace dhr::client

@@ -1,0 +1,213 @@
+// VisibilityClient: the headset's side of the DHR protocol (docs/protocol.md), independent of the
+// transport: datagrams come in through on_datagram() (a socket's receive thread, or a simulated link's
+// delivery loop) and go out through a net::DatagramSender (a socket, an impaired socket, a SimulatedLink).
+//
+// Threads: on_datagram() runs on the receive thread; tick(), send_pose() and take_newest() on the render
+// thread; stats() anywhere. One mutex guards the session and the reassembler (held for one datagram's
+// decode at most); the render loop gets visibility through one LatestSlot per eye, so take_newest() never
+// waits for the receive side.
+//
+// Publication (per eye, newest wins, frame numbers never go back): a frame is published when it completes;
+// an incomplete frame is published (usable row by row, see row_valid) when shards of a newer frame start
+// arriving, or when nothing arrived for it for partial_publish_after_ns; a frame published incomplete is
+// published again when more of it arrives and it goes quiet again, or when it completes.
+// docs/network.md ("Client side") describes the counters and the response-time measurement.
+#pragma once
+#include "protocol/protocol.hpp"
+#include "codec/reassembly.hpp"
+#include "codec/visibility_frame.hpp"
+#include "visibility/visibility.hpp"
+#include "math/projection.hpp"
+#include "net/clock.hpp"
+#include "net/clock_sync.hpp"
+#include "net/latest_slot.hpp"
+#include "link/response_tracker.hpp"
+#include "link/sequence_tracker.hpp"
+#include "net/udp_socket.hpp"
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace dhr::client {
+
+struct VisibilityClientConfig {
+  // Displayed size per eye (>= 1x1) and guard band per side, as the Hello asks for them; the server may grant
+  // a smaller guard band (Welcome).
+  TracedFormat format;
+  uint8_t light_count_wanted = 0;  // 0 = as many as the scene has (up to 32)
+  std::string scene_id;            // empty = the server's default scene
+  int64_t hello_retry_ns = 250 * net::kNsPerMs;
+  int64_t hello_give_up_ns = 5 * net::kNsPerSecond;
+  size_t max_frames_in_flight = 4;  // reassembler frames per eye, 2..64
+  // Publish an incomplete frame once nothing arrived for it this long: the rest is probably lost.
+  int64_t partial_publish_after_ns = 20 * net::kNsPerMs;
+  uint64_t nonce_seed = 1;     // Hello nonces are drawn from this (deterministic runs)
+  net::PeerAddress server;     // passed to DatagramSender::send_to (ignored by senders bound to the server)
+  size_t response_history = ResponseTracker::kDefaultCapacity;  // frames whose response time is kept
+};
+
+struct ClientNetStats {
+  // Datagrams in: received = rejected + foreign + unexpected + handled.
+  uint64_t datagrams_received = 0;    // handed to on_datagram
+  uint64_t datagrams_rejected = 0;    // failed decoding: by code in `rejections`
+  uint64_t datagrams_foreign = 0;     // valid, but not for the current session (token, state)
+  uint64_t datagrams_unexpected = 0;  // valid, but a message the client never takes (Hello, PoseUpdate)
+  uint64_t datagrams_handled = 0;
+  DecodeErrorCounts rejections;       // decode errors of datagrams, plus shards the reassembler rejected
+  // From the server's sequence numbers (current session's datagrams): exact within an 8192 window.
+  uint64_t server_datagrams_unique = 0;
+  uint64_t server_datagrams_duplicate = 0;
+  uint64_t server_datagrams_missing = 0;  // gaps so far (lost, or still in flight)
+  // Datagrams out.
+  uint64_t datagrams_sent = 0;
+  uint64_t send_failures = 0;  // the sender refused (queue full, not running) or encoding failed
+  // Session.
+  uint64_t hellos_sent = 0;
+  uint64_t welcomes_ignored = 0;   // nonce not the outstanding one
+  uint64_t welcomes_repeated = 0;  // answers to a retried Hello after the session started
+  uint64_t sessions_started = 0;   // Welcomes adopted
+  uint64_t sessions_restarted = 0; // back to Hello after a timeout or Bye
+  uint64_t session_timeouts = 0;
+  uint64_t byes_received = 0;
+  uint64_t heartbeats_sent = 0;
+  uint64_t heartbeats_received = 0;
+  std::optional<Heartbeat> last_server_heartbeat;  // the server's own counters
+  // Poses.
+  uint64_t poses_sent = 0;
+  uint64_t poses_not_connected = 0;  // send_pose() before the handshake finished
+  uint64_t poses_refused = 0;        // frame number not increasing, or negative display time
+  // Shards (of the current session).
+  uint64_t shards_received = 0;
+  uint64_t shards_accepted = 0;
+  uint64_t shards_late = 0;
+  uint64_t shards_duplicate = 0;
+  uint64_t shards_rejected = 0;  // by code in `rejections` (session mismatch, inconsistent, future frame...)
+  // Frames.
+  uint64_t frames_completed = 0;
+  uint64_t frames_evicted = 0;     // incomplete, pushed out by newer frames
+  uint64_t frames_superseded = 0;  // incomplete, released when a newer frame completed
+  uint64_t frames_published_complete = 0;
+  uint64_t frames_published_partial = 0;
+  uint64_t frames_overwritten = 0;  // published, replaced by a newer one before take_newest() saw it
+  uint64_t frames_taken = 0;
+  std::array<std::optional<uint64_t>, 2> newest_frame_received;  // per eye, any accepted shard
+  std::array<std::optional<uint64_t>, 2> newest_frame_complete;
+  size_t reassembler_memory_bytes = 0;
+  // Clock offset (server - client) from Heartbeat echoes.
+  bool clock_offset_valid = false;
+  int64_t clock_offset_ns = 0;
+  int64_t clock_rtt_ns = 0;
+  int64_t clock_uncertainty_ns = 0;
+  uint64_t clock_samples = 0;
+  uint64_t clock_samples_rejected = 0;
+  // Response time: pose sent -> both eyes complete (client clock).
+  ResponseSummary response;
+};
+
+class VisibilityClient {
+ public:
+  // `to_server` and `clock` must outlive the client. Throws std::invalid_argument for a bad config.
+  VisibilityClient(const VisibilityClientConfig& config, net::DatagramSender& to_server, const net::Clock& clock);
+  ~VisibilityClient();
+  VisibilityClient(const VisibilityClient&) = delete;
+  VisibilityClient& operator=(const VisibilityClient&) = delete;
+
+  // Receive side, one thread at a time. Never throws on any input (bad input is counted and dropped).
+  void on_datagram(std::span<const uint8_t> bytes);
+  void on_datagram(std::span<const uint8_t> bytes, int64_t receive_ns);  // receive time, client clock
+
+  // Render thread: the first call sends Hello; then Hello retries and give-up, heartbeats, the session
+  // timeout, and publication of incomplete frames that went quiet.
+  void tick();
+
+  bool connected() const;
+  std::optional<Welcome> welcome() const;  // the current session's, while connected
+  bool failed() const;                     // terminal: gave up on Hello, or the server refused it
+  std::string failure() const;             // one line, empty unless failed()
+
+  // Render thread: sends a PoseUpdate (when connected; frame numbers strictly increasing) and remembers
+  // its send time. False when not sent (not connected, frame not newer, negative time, send refused).
+  bool send_pose(uint64_t frame, int64_t display_time_ns, const std::array<View, 2>& views);
+
+  // Render thread: the newest visibility of that eye published since the last call, swapped into `out`
+  // (no copy; out's old storage is recycled). False, leaving `out` untouched, when nothing newer arrived.
+  // Never blocks.
+  bool take_newest(Eye eye, VisibilityFrame& out);
+
+  // Pose sent -> both eyes of that frame complete, client clock; nullopt when unknown or not (yet)
+  // complete. The newest response_history frames are remembered.
+  std::optional<int64_t> response_ns(uint64_t frame) const;
+
+  // Sends Bye(normal) when connected and stops the session (tick() no longer sends anything).
+  void close();
+
+  ClientNetStats stats() const;
+  // The reassembler's bound: (2 * max_frames_in_flight + 1) buffers plus per-slot bookkeeping.
+  size_t memory_bound_bytes() const;
+
+ private:
+  enum class State : uint8_t { kIdle, kHandshaking, kConnected, kFailed, kClosed };
+  struct EyeState {
+    net::LatestSlot<VisibilityFrame> slot;
+    std::optional<uint64_t> published_frame;
+    size_t published_pixels = 0;
+    int64_t last_shard_ns = 0;
+  };
+
+  void start_handshake(int64_t now);
+  void send_hello(int64_t now);
+  void send_heartbeat(int64_t now);
+  bool send(const Message& message, uint64_t token);
+  void fail(std::string reason);
+  void restart_session(int64_t now, const char* why);
+
+  void handle_welcome(const Datagram& datagram, int64_t now);
+  void handle_bye(const Datagram& datagram, int64_t now);
+  void handle_heartbeat(const Heartbeat& heartbeat, int64_t now);
+  void handle_shard(const VisibilityShard& shard, int64_t now);
+  void adopt_session(const Datagram& datagram, int64_t now);
+  void publish(Eye eye, const ReassembledFrame& frame, int64_t now);
+  void publish_quiet_partials(int64_t now);
+  void count_rejection(DecodeError error, int64_t now);
+
+  const VisibilityClientConfig config_;
+  net::DatagramSender& sender_;
+  const net::Clock& clock_;
+
+  mutable std::mutex mutex_;
+  State state_ = State::kIdle;
+  std::string failure_;
+  uint64_t rng_state_;
+  uint64_t nonce_ = 0;
+  uint64_t token_ = 0;
+  std::optional<Welcome> welcome_;
+  int64_t handshake_start_ns_ = 0;
+  int64_t last_hello_ns_ = 0;
+  int64_t last_receive_ns_ = 0;  // newest valid datagram of the session
+  std::optional<int64_t> last_heartbeat_sent_ns_;
+  std::optional<Heartbeat> peer_heartbeat_;  // newest from the server, for the echo
+  int64_t peer_heartbeat_receive_ns_ = 0;
+  uint32_t tx_sequence_ = 0;
+  std::optional<uint64_t> newest_requested_;
+  std::unique_ptr<VisibilityReassembler> reassembler_;
+  ReassemblerStats retired_reassembler_stats_;  // of reassemblers replaced by a new session's geometry
+  std::array<EyeState, 2> eyes_;
+  net::ClockOffsetEstimator clock_sync_;
+  ResponseTracker responses_;
+  SequenceTracker sequences_;
+  ClientNetStats stats_;
+  std::array<int64_t, kDecodeErrorCount> last_log_ns_{};
+  Datagram rx_;                                    // decode target (a shard is ~1.3 KB)
+  std::array<uint8_t, kMaxDatagramSize> tx_{};     // encode buffer
+  std::atomic<uint64_t> frames_taken_{0};
+};
+
+}  // namespace dhr::client
