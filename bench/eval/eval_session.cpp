@@ -229,7 +229,7 @@ void SettingSession::advance(const FramePose& sample) {
   run_until(t, false);
   client_->tick();
   service_->tick();
-  client_->send_pose(sample.frame, t, sample.views);
+  client_->send_pose(FramePose{sample.frame, t, sample.views});  // display time on the setting's clock
   run_until(t, true);
 }
 

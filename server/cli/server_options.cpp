@@ -90,7 +90,7 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   app.add_option("--backend", backend, "tracer backend: auto (Vulkan on a ray-tracing GPU, else Embree), embree, vulkan")
       ->capture_default_str();
   app.add_option("--eye-size", eye_size, "displayed size per eye, WxH")->capture_default_str()->type_name("WxH");
-  app.add_option("--guard", guard, "guard band in pixels, WxH (default: 64x36 at 1920x1080, scaled to the eye size)")
+  app.add_option("--guard", guard, "guard band in pixels, WxH, both sides together, even (default: 64x36 at 1920x1080, scaled to the eye size)")
       ->type_name("WxH");
   app.add_option("--camera", out.cameras,
                  "camera x,y,z:tx,ty,tz (repeatable); default: <scene>.cameras.json beside the scene")

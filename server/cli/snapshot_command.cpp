@@ -116,7 +116,7 @@ int run_snapshot(const ServerOptions& options) {
         {"backend", tracer_backend_name(tracer->backend())},
         {"device", tracer->device_description()},
         {"eye_size", {options.eye_size.width, options.eye_size.height}},
-        {"guard", {guard.x, guard.y}},
+        {"guard", {2 * guard.x, 2 * guard.y}},  // both sides together, as --guard
         {"extent", {w, h}},
         {"fov_deg", options.fov_deg},
         {"lights", tracer->light_count()},

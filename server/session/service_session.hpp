@@ -49,10 +49,11 @@ struct VisibilityService::Session {
   SessionInfo info() const { return SessionInfo{token, peer, welcome, newest_frame_traced}; }
 };
 
+// One frame to trace: the client's frame number and display time with the views to trace (the pose's own, or
+// the predicted ones).
 struct VisibilityService::Work {
   std::shared_ptr<Session> session;
-  PoseUpdate pose;
-  std::array<View, 2> views{};  // traced: the pose's views, or the predicted ones
+  FramePose traced;
 };
 
 namespace session_detail {

@@ -171,12 +171,12 @@ void VisibilityService::handle_session_message(const Datagram& datagram, const n
       s.last_receive_ns = now;
       ++s.datagrams_received;
       ++stats_.poses_received;
-      if (s.have_frame && pose->frame_number <= s.newest_frame_received) {
+      if (s.have_frame && pose->frame <= s.newest_frame_received) {
         ++stats_.poses_stale;
         return;
       }
       s.have_frame = true;
-      s.newest_frame_received = pose->frame_number;
+      s.newest_frame_received = pose->frame;
       if (s.pending) {
         ++stats_.poses_superseded;
         ++s.frames_dropped;

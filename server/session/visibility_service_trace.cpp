@@ -28,7 +28,7 @@ size_t VisibilityService::process_pending() {
       s->have_traced = true;
       s->traced_views = pose.views;
       s->last_trace_ns = now;
-      Work w{s, pose, pose.views};
+      Work w{s, pose};
       if (config_.predict) {
         int64_t horizon = config_.predict_horizon_ns;
         if (horizon < 0) {
@@ -36,7 +36,7 @@ size_t VisibilityService::process_pending() {
           if (config_.horizon_on_frame_grid) horizon = round_up_to_frame_grid(horizon, s->predictor.frame_period_ns());
         }
         const PredictedViews predicted = s->predictor.predict(pose.display_time_ns + horizon);
-        w.views = predicted.views;
+        w.traced.views = predicted.views;
         ++stats_.frames_predicted;
         if (predicted.fell_back) ++stats_.prediction_fallbacks;
         stats_.prediction_horizon_ms += static_cast<double>(predicted.horizon_ns) / 1e6;
@@ -66,7 +66,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
   bool ok = true;
   const int64_t start_ns = clock_.now_ns();
   for (int e = 0; e < 2 && ok; ++e) {
-    const View& view = work.views[e];
+    const View& view = work.traced.views[e];
     const Camera camera = format.camera(view);
     TraceStats trace_stats;
     try {
@@ -74,14 +74,14 @@ bool VisibilityService::trace_and_send(const Work& work) {
       tracer_.trace_lights(camera, light_count, traced_, trace_stats);
     } catch (const std::exception& ex) {
       log::warn("session %016llx frame %llu: trace failed: %s", static_cast<unsigned long long>(s.token),
-                static_cast<unsigned long long>(work.pose.frame_number), ex.what());
+                static_cast<unsigned long long>(work.traced.frame), ex.what());
       ok = false;
       break;
     }
     trace_ms += trace_stats.trace_ms;
     const int64_t encode_start = net::steady_now_ns();
     const std::vector<VisibilityShard> encoded =
-        make_visibility_shards(traced_, work.pose.frame_number, static_cast<Eye>(e), view, config_.encode);
+        make_visibility_shards(traced_, work.traced.frame, static_cast<Eye>(e), view, config_.encode);
     if (encoded.empty()) {
       ok = false;
       break;
@@ -102,7 +102,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
   ++stats_.frames_traced;
   s.last_process_ns = std::max<int64_t>(clock_.now_ns() - start_ns, 0);
   s.frames_done.fetch_add(1, std::memory_order_relaxed);
-  s.newest_frame_traced = std::max(s.newest_frame_traced, work.pose.frame_number);
+  s.newest_frame_traced = std::max(s.newest_frame_traced, work.traced.frame);
   return true;
 }
 

@@ -31,7 +31,7 @@ void expect_rows_equal(const VisibilityFrame& v, const VisibilityBuffer& expecte
 TEST(ClientReceive, CompleteFrameIsPublishedWithItsViewAndExactContent) {
   Harness h;
   h.connect();
-  ASSERT_TRUE(h.client.send_pose(1, 0, views_for(1)));
+  ASSERT_TRUE(h.client.send_pose(FramePose{1, 0, views_for(1)}));
   const int64_t sent = h.clock.now_ns();  // the links have no delay: delivered at the send time
   h.send_frame(1, Eye::kLeft);
   h.run_for(kMs);
@@ -50,7 +50,7 @@ TEST(ClientReceive, CompleteFrameIsPublishedWithItsViewAndExactContent) {
 TEST(ClientReceive, NewestWinsPerEyeAndFrameNumbersNeverGoBack) {
   Harness h;
   h.connect();
-  for (uint64_t f = 1; f <= 4; ++f) ASSERT_TRUE(h.client.send_pose(f, 0, views_for(f)));
+  for (uint64_t f = 1; f <= 4; ++f) ASSERT_TRUE(h.client.send_pose(FramePose{f, 0, views_for(f)}));
   ASSERT_GT(shards_for(2, Eye::kLeft).size(), 2u);
   h.send_frame(2, Eye::kLeft);
   h.send_frame(3, Eye::kLeft);
@@ -84,7 +84,7 @@ TEST(ClientReceive, NewestWinsPerEyeAndFrameNumbersNeverGoBack) {
 TEST(ClientReceive, IncompleteFrameIsPublishedWhenItGoesQuietWithRowValid) {
   Harness h;
   h.connect();
-  ASSERT_TRUE(h.client.send_pose(1, 0, views_for(1)));
+  ASSERT_TRUE(h.client.send_pose(FramePose{1, 0, views_for(1)}));
   const auto shards = shards_for(1, Eye::kLeft);
   ASSERT_GE(shards.size(), 4u);
   std::vector<size_t> sent;
@@ -120,7 +120,7 @@ TEST(ClientReceive, IncompleteFrameIsPublishedWhenItGoesQuietWithRowValid) {
 TEST(ClientReceive, IncompleteFrameIsPublishedWhenANewerFrameStarts) {
   Harness h;
   h.connect();
-  for (uint64_t f = 1; f <= 2; ++f) ASSERT_TRUE(h.client.send_pose(f, 0, views_for(f)));
+  for (uint64_t f = 1; f <= 2; ++f) ASSERT_TRUE(h.client.send_pose(FramePose{f, 0, views_for(f)}));
   const auto first = shards_for(1, Eye::kRight);
   const auto second = shards_for(2, Eye::kRight);
   std::vector<size_t> sent;
@@ -148,7 +148,7 @@ TEST(ClientReceive, IncompleteFrameIsPublishedWhenANewerFrameStarts) {
 TEST(ClientReceive, DuplicatesAreCountedAtShardAndDatagramLevel) {
   Harness h;
   h.connect();
-  ASSERT_TRUE(h.client.send_pose(1, 0, views_for(1)));
+  ASSERT_TRUE(h.client.send_pose(FramePose{1, 0, views_for(1)}));
   const auto shards = shards_for(1, Eye::kLeft);
   h.send_shard(shards[0]);
   const std::vector<uint8_t> copy = encode_datagram(Datagram{kToken, h.server_sequence - 1, shards[0]});
@@ -168,7 +168,7 @@ TEST(ClientReceive, DuplicatesAreCountedAtShardAndDatagramLevel) {
 TEST(ClientReceive, BadDatagramsAreCountedByReasonAndDropped) {
   Harness h;
   h.connect();
-  ASSERT_TRUE(h.client.send_pose(3, 0, views_for(3)));
+  ASSERT_TRUE(h.client.send_pose(FramePose{3, 0, views_for(3)}));
   const auto shards = shards_for(3, Eye::kLeft);
   const std::vector<uint8_t> good = encode_datagram(Datagram{kToken, 100, shards[0]});
 
@@ -222,7 +222,7 @@ TEST(ClientReceive, MutatedDatagramsNeverCrashAndMemoryStaysBounded) {
   uint64_t frame = 0;
   for (int round = 0; round < 200; ++round) {
     ++frame;
-    ASSERT_TRUE(h.client.send_pose(frame, 0, views_for(frame)));
+    ASSERT_TRUE(h.client.send_pose(FramePose{frame, 0, views_for(frame)}));
     const Eye eye = (round % 2) ? Eye::kLeft : Eye::kRight;
     for (const VisibilityShard& shard : shards_for(frame, eye)) {
       std::vector<uint8_t> bytes = encode_datagram(Datagram{kToken, h.server_sequence++, shard});

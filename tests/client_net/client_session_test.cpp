@@ -59,7 +59,7 @@ TEST(ClientSession, RetriesHelloWithTheSameNonceThenGivesUp) {
   const size_t sent = h.from_client.size();
   h.run_for(1'000 * kMs);
   EXPECT_EQ(h.from_client.size(), sent);
-  EXPECT_FALSE(h.client.send_pose(1, 0, views_for(1)));
+  EXPECT_FALSE(h.client.send_pose(FramePose{1, 0, views_for(1)}));
 }
 
 TEST(ClientSession, AWelcomeAfterARetryStillConnects) {
@@ -169,18 +169,18 @@ TEST(ClientSession, HeartbeatsEveryIntervalAndTheyKeepTheSessionAlive) {
 TEST(ClientSession, PosesOnlyWhenConnectedAndWithIncreasingFrameNumbers) {
   Harness h;
   h.client.tick();
-  EXPECT_FALSE(h.client.send_pose(1, 100, views_for(1)));
+  EXPECT_FALSE(h.client.send_pose(FramePose{1, 100, views_for(1)}));
   h.connect();
-  EXPECT_TRUE(h.client.send_pose(5, 100, views_for(5)));
-  EXPECT_FALSE(h.client.send_pose(5, 100, views_for(5)));
-  EXPECT_FALSE(h.client.send_pose(4, 100, views_for(4)));
-  EXPECT_FALSE(h.client.send_pose(6, -1, views_for(6)));
-  EXPECT_TRUE(h.client.send_pose(6, 200, views_for(6)));
+  EXPECT_TRUE(h.client.send_pose(FramePose{5, 100, views_for(5)}));
+  EXPECT_FALSE(h.client.send_pose(FramePose{5, 100, views_for(5)}));
+  EXPECT_FALSE(h.client.send_pose(FramePose{4, 100, views_for(4)}));
+  EXPECT_FALSE(h.client.send_pose(FramePose{6, -1, views_for(6)}));
+  EXPECT_TRUE(h.client.send_pose(FramePose{6, 200, views_for(6)}));
   h.run_for(kMs);
   const auto poses = h.received<PoseUpdate>();
   ASSERT_EQ(poses.size(), 2u);
-  EXPECT_EQ(poses[0].frame_number, 5u);
-  EXPECT_EQ(poses[1].frame_number, 6u);
+  EXPECT_EQ(poses[0].frame, 5u);
+  EXPECT_EQ(poses[1].frame, 6u);
   EXPECT_EQ(poses[1].display_time_ns, 200);
   EXPECT_EQ(poses[1].views[1].pose.position, views_for(6)[1].pose.position);
   const ClientNetStats s = h.client.stats();

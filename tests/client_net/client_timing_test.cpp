@@ -9,7 +9,7 @@ TEST(ClientTiming, ResponseTimeIsPoseSentToBothEyesComplete) {
   Harness h(test_config(), Harness::delay(10.0), Harness::delay(10.0));
   h.connect();
   const int64_t sent = h.clock.now_ns();
-  ASSERT_TRUE(h.client.send_pose(1, 0, views_for(1)));
+  ASSERT_TRUE(h.client.send_pose(FramePose{1, 0, views_for(1)}));
   while (h.received<PoseUpdate>().empty()) h.run_for(kMs);
   EXPECT_EQ(h.from_client.back().receive_ns, sent + 10 * kMs);
   h.run_for(5 * kMs);  // the "trace"
@@ -30,7 +30,7 @@ TEST(ClientTiming, ResponseTimeIsPoseSentToBothEyesComplete) {
 TEST(ClientTiming, IncompleteFramesHaveNoResponseTime) {
   Harness h(test_config(), Harness::delay(10.0), Harness::delay(10.0));
   h.connect();
-  ASSERT_TRUE(h.client.send_pose(1, 0, views_for(1)));
+  ASSERT_TRUE(h.client.send_pose(FramePose{1, 0, views_for(1)}));
   h.run_for(15 * kMs);
   h.send_frame(1, Eye::kLeft);
   const auto right = shards_for(1, Eye::kRight);

@@ -39,7 +39,7 @@ std::vector<Datagram> sample_datagrams() {
   welcome.guard_y = 18;
   out.push_back({kSampleToken, 2, welcome});
   PoseUpdate pose;
-  pose.frame_number = 1234;
+  pose.frame = 1234;
   pose.display_time_ns = 987654321;
   pose.views = {sample_view(-0.032), sample_view(0.032)};
   out.push_back({kSampleToken, 3, pose});

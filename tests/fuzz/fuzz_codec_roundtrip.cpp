@@ -126,7 +126,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   DHR_FUZZ_CHECK(last == dhr::InsertStatus::kCompleted);
   const dhr::ReassembledFrame* frame = reassembler.latest_complete(dhr::Eye::kRight);
-  DHR_FUZZ_CHECK(frame != nullptr && frame->frame_number == 7);
-  DHR_FUZZ_CHECK_MSG(frame->buffer.data == buffer.data, "reassembled buffer differs");
+  DHR_FUZZ_CHECK(frame != nullptr && frame->visibility.frame_number == 7);
+  DHR_FUZZ_CHECK_MSG(frame->visibility.buffer.data == buffer.data, "reassembled buffer differs");
   return 0;
 }

@@ -135,8 +135,8 @@ VisibilityShard forged_shard(fuzz::Reader& r, const ReassemblerParams& p, RealFr
 
 void check_frame(const ReassembledFrame& f, const ReassemblerParams& p, RealFrames& real) {
   const size_t n = size_t{p.width} * p.height;
-  DHR_FUZZ_CHECK(f.buffer.width == p.width && f.buffer.height == p.height && f.buffer.pixel_count() == n);
-  DHR_FUZZ_CHECK(f.buffer.data.size() == f.buffer.size_bytes());
+  DHR_FUZZ_CHECK(f.visibility.buffer.width == p.width && f.visibility.buffer.height == p.height && f.visibility.buffer.pixel_count() == n);
+  DHR_FUZZ_CHECK(f.visibility.buffer.data.size() == f.visibility.buffer.size_bytes());
   DHR_FUZZ_CHECK(f.shards_received >= 1 && f.shards_received <= f.shard_count);
   size_t sum = 0, prev_end = 0;
   std::vector<uint32_t> row_pixels(p.height, 0);
@@ -151,15 +151,15 @@ void check_frame(const ReassembledFrame& f, const ReassemblerParams& p, RealFram
   uint32_t rows = 0;
   for (uint32_t y = 0; y < p.height; ++y) {
     const bool full = row_pixels[y] == p.width;
-    DHR_FUZZ_CHECK_MSG((f.row_valid[y] != 0) == full, "row_valid disagrees with the received ranges");
+    DHR_FUZZ_CHECK_MSG((f.visibility.row_valid[y] != 0) == full, "row_valid disagrees with the received ranges");
     rows += full ? 1 : 0;
   }
-  DHR_FUZZ_CHECK(f.rows_valid == rows);
-  if (f.view.pose.position.x != 0.0) return;  // forged frame: contents are whatever was sent
-  const VisibilityBuffer& truth = real.get(f.frame_number, f.eye).buffer;
+  DHR_FUZZ_CHECK(f.visibility.rows_valid == rows);
+  if (f.visibility.view.pose.position.x != 0.0) return;  // forged frame: contents are whatever was sent
+  const VisibilityBuffer& truth = real.get(f.visibility.frame_number, f.visibility.eye).buffer;
   const size_t mb = truth.bytes_per_mask();
   for (const auto& [first, end] : f.received_ranges)
-    DHR_FUZZ_CHECK_MSG(std::memcmp(f.buffer.data.data() + first * mb, truth.data.data() + first * mb,
+    DHR_FUZZ_CHECK_MSG(std::memcmp(f.visibility.buffer.data.data() + first * mb, truth.data.data() + first * mb,
                                    (end - first) * mb) == 0,
                        "a real frame holds other masks than were sent");
 }
@@ -222,7 +222,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       DHR_FUZZ_CHECK((result.status == InsertStatus::kRejected) == (result.error != DecodeError::kNone));
       if (result.status == InsertStatus::kCompleted) {
         const ReassembledFrame* done = reassembler.latest_complete(shard->eye);
-        DHR_FUZZ_CHECK_MSG(done && done->frame_number == shard->frame_number && done->complete(),
+        DHR_FUZZ_CHECK_MSG(done && done->visibility.frame_number == shard->frame_number && done->complete(),
                            "kCompleted but the frame is not the newest complete one");
       }
     }
@@ -237,16 +237,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       auto& newest = newest_complete[static_cast<int>(eye)];
       if (newest) {
         DHR_FUZZ_CHECK_MSG(complete != nullptr, "the newest complete frame disappeared");
-        DHR_FUZZ_CHECK_MSG(complete->frame_number >= *newest, "the newest complete frame went back");
+        DHR_FUZZ_CHECK_MSG(complete->visibility.frame_number >= *newest, "the newest complete frame went back");
       }
       if (complete) {
-        newest = complete->frame_number;
-        DHR_FUZZ_CHECK(complete->complete() && complete->eye == eye);
-        DHR_FUZZ_CHECK(latest && latest->frame_number >= complete->frame_number);
+        newest = complete->visibility.frame_number;
+        DHR_FUZZ_CHECK(complete->complete() && complete->visibility.eye == eye);
+        DHR_FUZZ_CHECK(latest && latest->visibility.frame_number >= complete->visibility.frame_number);
         check_frame(*complete, p, real);
       }
       if (latest) {
-        DHR_FUZZ_CHECK(latest->eye == eye);
+        DHR_FUZZ_CHECK(latest->visibility.eye == eye);
         if (latest != complete) check_frame(*latest, p, real);
       }
     }

@@ -144,9 +144,10 @@ class DelayedTracerSource final : public VisibilitySource {
   std::optional<VisibilityFormat> format() const override { return format_; }
   bool failed() const override { return false; }
   std::string failure() const override { return {}; }
-  void send_pose(uint64_t frame, int64_t, const std::array<View, 2>& views) override {
-    current_ = frame;
-    Sent s{frame, views, {}};
+  void send_pose(const FramePose& pose) override {
+    current_ = pose.frame;
+    const std::array<View, 2>& views = pose.views;
+    Sent s{pose.frame, views, {}};
     for (uint32_t e = 0; e < 2; ++e) {
       server::TraceStats stats;
       tracer_.trace(format_.traced.camera(views[e]), s.buffers[e], stats);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # dhr-xrclient's offscreen trace playback from the command line, as a user runs it: the summary contract
 # (last stdout line, one JSON object), PNGs of both eyes, per-frame JSON lines, the light-visibility debug
-# view (--view light:N), and clear errors for a bad --view.
+# view (--view light:N), --guard as both sides together, and clear errors for a bad --view or an odd --guard.
 # Usage: client_offscreen_cli.sh DHR_SERVER DHR_XRCLIENT SOURCE_DIR
 set -euo pipefail
 server_exe="$1" client_exe="$2" src="$3"
@@ -23,7 +23,7 @@ run_client() {  # name, then extra arguments
 }
 
 run_client shaded --net-delay 20 || { tail -n 20 "$tmp/shaded.err"; echo "FAIL: shaded run"; exit 1; }
-run_client light --view light:0 || { tail -n 20 "$tmp/light.err"; echo "FAIL: --view light:0 run"; exit 1; }
+run_client light --view light:0 --guard 8x6 || { tail -n 20 "$tmp/light.err"; echo "FAIL: --view light:0 run"; exit 1; }
 
 python3 - "$tmp" <<'PY'
 import json, os, sys
@@ -41,6 +41,8 @@ for name in ("shaded", "light"):
     for line in lines: json.loads(line)
     pngs = sorted(f for f in os.listdir(f"{tmp}/{name}") if f.endswith(".png"))
     assert len(pngs) == 4, f"{name}: PNGs {pngs}"  # frames 0 and 44, both eyes
+    # --guard counts both sides together; the default is the paper's 64x36 at 1920x1080, scaled (4x2 at 96x72).
+    assert summary["guard"] == ([8, 6] if name == "light" else [4, 2]), summary["guard"]
     print(name, summary["view"], "frames", summary["frames"], "predicted", round(summary["predicted_frac"], 3))
 
 # The light view of the last frame: lit (230), shadowed (26), unknown (red) or background; both lit and
@@ -62,4 +64,11 @@ if "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --view sideways >/d
 grep -q -- "--view 'sideways'" "$tmp/bad1.err" || { cat "$tmp/bad1.err"; echo "FAIL: no --view message"; exit 1; }
 if run_client badlight --view light:9; then echo "FAIL: --view light:9 accepted for 3 lights"; exit 1; fi
 grep -q -- "--view light:9" "$tmp/badlight.err" || { cat "$tmp/badlight.err"; echo "FAIL: no light message"; exit 1; }
+# An odd guard band cannot be split evenly between the sides: a usage error, exit 2.
+set +e
+"$client_exe" --scene "$scene" --server "127.0.0.1:$port" --guard 7x6 >/dev/null 2>"$tmp/badguard.err"
+rc=$?
+set -e
+[ "$rc" -eq 2 ] || { cat "$tmp/badguard.err"; echo "FAIL: --guard 7x6 exit $rc, expected 2"; exit 1; }
+grep -q "even" "$tmp/badguard.err" || { cat "$tmp/badguard.err"; echo "FAIL: no even-guard message"; exit 1; }
 echo PASS

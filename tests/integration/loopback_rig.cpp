@@ -97,7 +97,7 @@ namespace {
 
 std::array<View, 2> as_decoded_by_server(uint64_t frame, const std::array<View, 2>& views) {
   PoseUpdate pose;
-  pose.frame_number = frame;
+  pose.frame = frame;
   pose.views = views;
   Datagram decoded;
   if (decode_datagram(encode_datagram(Datagram{1, 0, pose}), decoded) != DecodeError::kNone)
@@ -135,7 +135,7 @@ void run_frames(client::UdpVisibilityClient& client, uint64_t frames, RunRecord&
     client.client().tick();
     if (client.client().connected()) {
       const std::array<View, 2> views = views_for_frame(frame + 1, record.size);
-      if (client.client().send_pose(frame + 1, client.clock().now_ns(), views)) {
+      if (client.client().send_pose(FramePose{frame + 1, client.clock().now_ns(), views})) {
         ++frame;
         record.traced_views[frame] = as_decoded_by_server(frame, views);
         record.last_frame_sent = frame;

@@ -70,13 +70,13 @@ TEST(CodecRealBuffers, RoundTripThroughTheWireAndTheReassembler) {
       }
       const ReassembledFrame* full = lossless.latest_complete(Eye::kLeft);
       ASSERT_NE(full, nullptr);
-      EXPECT_EQ(full->buffer, b);
+      EXPECT_EQ(full->visibility.buffer, b);
       const ReassembledFrame* partial = lossy.latest(Eye::kLeft);
       ASSERT_NE(partial, nullptr);
       for (uint32_t y = 0; y < b.height; ++y) {
-        ASSERT_EQ(partial->row_valid[y], lost_rows[y] ? 0 : 1) << "row " << y;
-        if (!partial->row_valid[y]) continue;
-        for (uint32_t x = 0; x < b.width; ++x) ASSERT_EQ(partial->buffer.get(x, y), b.get(x, y));
+        ASSERT_EQ(partial->visibility.row_valid[y], lost_rows[y] ? 0 : 1) << "row " << y;
+        if (!partial->visibility.row_valid[y]) continue;
+        for (uint32_t x = 0; x < b.width; ++x) ASSERT_EQ(partial->visibility.buffer.get(x, y), b.get(x, y));
       }
     }
     ++frame;

@@ -117,7 +117,7 @@ class VisibilityServiceTest : public ::testing::Test {
   std::array<View, 2> send_pose(uint64_t token, const net::PeerAddress& from, uint64_t frame,
                                 const std::array<View, 2>& views) {
     PoseUpdate p;
-    p.frame_number = frame;
+    p.frame = frame;
     p.display_time_ns = static_cast<int64_t>(frame) * 11'000'000;
     p.views = views;
     const std::vector<uint8_t> bytes = encode_datagram(Datagram{token, static_cast<uint32_t>(frame), p});
@@ -157,9 +157,9 @@ class VisibilityServiceTest : public ::testing::Test {
       const ReassembledFrame* f = reassembler.latest_complete(static_cast<Eye>(e));
       EXPECT_NE(f, nullptr);
       if (!f) continue;
-      EXPECT_EQ(f->frame_number, frame);
-      out[e] = f->buffer;
-      if (out_views) (*out_views)[e] = f->view;
+      EXPECT_EQ(f->visibility.frame_number, frame);
+      out[e] = f->visibility.buffer;
+      if (out_views) (*out_views)[e] = f->visibility.view;
     }
     return out;
   }

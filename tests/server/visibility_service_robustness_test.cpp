@@ -13,7 +13,7 @@ TEST_F(VisibilityServiceTest, BadDatagramsAreCountedAndDropped) {
   const uint64_t t = connect(peer(1), 1);
   const auto views = bookmark_views(0);
   PoseUpdate pose;
-  pose.frame_number = 1;
+  pose.frame = 1;
   pose.views = views;
   // Unknown token: Bye(unknown session) with that token, no state change.
   send(Datagram{t + 1, 0, pose}, peer(1));
@@ -158,7 +158,7 @@ TEST_F(VisibilityServiceTest, HelloFloodIsBoundedByMaxSessions) {
   EXPECT_EQ(byes, config_.max_unsolicited_replies_per_second);
   // Poses from a flood of unknown tokens leave nothing pending.
   PoseUpdate pose;
-  pose.frame_number = 1;
+  pose.frame = 1;
   pose.views = bookmark_views(0);
   for (uint64_t i = 0; i < 1000; ++i) send(Datagram{0x1000 + i, 0, pose}, peer(9));
   EXPECT_EQ(service_->process_pending(), 0u);

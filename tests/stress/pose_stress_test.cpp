@@ -134,7 +134,7 @@ TEST(StressPoses, BadPosesInDatagramsAreRejectedAndCounted) {
   for (const BadPose& b : bad_poses()) {
     for (const int eye : {0, 1}) {
       PoseUpdate u;
-      u.frame_number = 7;
+      u.frame = 7;
       u.display_time_ns = 1'000'000;
       u.views[0].pose.position = {0.0, 1.6, 0.0};
       u.views[1].pose.position = {0.06, 1.6, 0.0};

@@ -71,7 +71,7 @@ struct Rig {
   // Sends the pose, lets the server trace, delivers every shard to the reassembler.
   void step(uint64_t frame, const std::array<View, 2>& views) {
     PoseUpdate p;
-    p.frame_number = frame;
+    p.frame = frame;
     p.display_time_ns = int64_t(frame) * 11'000'000;
     p.views = views;
     service->on_datagram(encode_datagram(Datagram{token, uint32_t(frame), p}), peer);
@@ -101,7 +101,7 @@ TEST(SkipEquivalence, IdenticalPoseSkipChangesNoBitTheClientSees) {
       const ReassembledFrame* a = skipping.reassembler->latest_complete(eye);
       const ReassembledFrame* b = exhaustive.reassembler->latest_complete(eye);
       ASSERT_TRUE(a != nullptr && b != nullptr) << "frame " << n + 1;
-      differing += differing_bits(a->buffer, b->buffer);
+      differing += differing_bits(a->visibility.buffer, b->visibility.buffer);
     }
   }
   const server::ServiceStats sa = skipping.service->stats(), sb = exhaustive.service->stats();

@@ -144,7 +144,7 @@ TEST(ProtocolGolden, Welcome) {
 
 TEST(ProtocolGolden, PoseUpdate) {
   PoseUpdate m;
-  m.frame_number = 42;
+  m.frame = 42;
   m.display_time_ns = 1000000000;
   m.views = {left_view(), right_view()};
   const Bytes expected = cat({
@@ -161,7 +161,7 @@ TEST(ProtocolGolden, PoseUpdate) {
   Datagram back;
   ASSERT_EQ(decode_datagram(expected, back), DecodeError::kNone);
   const auto& p = std::get<PoseUpdate>(back.message);
-  EXPECT_EQ(p.frame_number, 42u);
+  EXPECT_EQ(p.frame, 42u);
   EXPECT_EQ(p.display_time_ns, 1000000000);
   expect_views_near(p.views[0], left_view());
   expect_views_near(p.views[1], right_view());

@@ -52,14 +52,14 @@ void expect_rows_match(const ReassembledFrame& got, const Frame& f, const std::s
     const VisibilityShard& s = f.shards[i];
     for (size_t y = s.first_pixel / kW; y <= (s.first_pixel + s.pixel_count - 1) / kW; ++y) expected_valid[y] = 0;
   }
-  EXPECT_EQ(got.row_valid, expected_valid);
+  EXPECT_EQ(got.visibility.row_valid, expected_valid);
   uint32_t valid = 0;
   for (uint32_t y = 0; y < kH; ++y) {
-    if (!got.row_valid[y]) continue;
+    if (!got.visibility.row_valid[y]) continue;
     ++valid;
-    for (uint32_t x = 0; x < kW; ++x) ASSERT_EQ(got.buffer.get(x, y), f.buffer.get(x, y)) << x << "," << y;
+    for (uint32_t x = 0; x < kW; ++x) ASSERT_EQ(got.visibility.buffer.get(x, y), f.buffer.get(x, y)) << x << "," << y;
   }
-  EXPECT_EQ(got.rows_valid, valid);
+  EXPECT_EQ(got.visibility.rows_valid, valid);
 }
 
 TEST(Reassembly, InOrderShardsCompleteTheFrame) {
@@ -74,10 +74,10 @@ TEST(Reassembly, InOrderShardsCompleteTheFrame) {
   ASSERT_NE(got, nullptr);
   EXPECT_EQ(got, r.latest(Eye::kLeft));
   EXPECT_TRUE(got->complete());
-  EXPECT_EQ(got->frame_number, 1u);
-  EXPECT_EQ(got->buffer, f.buffer);
-  EXPECT_EQ(got->rows_valid, kH);
-  EXPECT_EQ(got->view.pose.position, view_for(1).pose.position);
+  EXPECT_EQ(got->visibility.frame_number, 1u);
+  EXPECT_EQ(got->visibility.buffer, f.buffer);
+  EXPECT_EQ(got->visibility.rows_valid, kH);
+  EXPECT_EQ(got->visibility.view.pose.position, view_for(1).pose.position);
   EXPECT_EQ(got->shards_received, f.shards.size());
   EXPECT_EQ(r.latest(Eye::kRight), nullptr);
   EXPECT_EQ(r.stats().frames_completed, 1u);
@@ -99,7 +99,7 @@ TEST(Reassembly, ReorderingAndDuplicatesAreHandled) {
     ++duplicates;
   }
   ASSERT_NE(r.latest_complete(Eye::kLeft), nullptr);
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->buffer, f.buffer);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.buffer, f.buffer);
   EXPECT_EQ(r.stats().shards_duplicate, duplicates);
 }
 
@@ -117,7 +117,7 @@ TEST(Reassembly, LostShardsCostOnlyTheirRegions) {
   EXPECT_FALSE(got->complete());
   EXPECT_EQ(got->shards_received, f.shards.size() - missing.size());
   expect_rows_match(*got, f, missing);
-  EXPECT_GT(got->rows_valid, kH / 2);
+  EXPECT_GT(got->visibility.rows_valid, kH / 2);
   std::vector<std::pair<uint32_t, uint32_t>> expected_ranges;
   for (size_t i = 0; i < f.shards.size(); ++i)
     if (!missing.count(i))
@@ -126,7 +126,7 @@ TEST(Reassembly, LostShardsCostOnlyTheirRegions) {
   // The missing shards arrive late (but before a newer frame completes): the frame completes.
   for (size_t i : missing) r.insert(f.shards[i]);
   ASSERT_NE(r.latest_complete(Eye::kLeft), nullptr);
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->buffer, f.buffer);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.buffer, f.buffer);
 }
 
 TEST(Reassembly, NewestFrameWinsAndLateShardsAreDropped) {
@@ -136,14 +136,14 @@ TEST(Reassembly, NewestFrameWinsAndLateShardsAreDropped) {
   for (size_t i = 0; i < f5.shards.size() / 2; ++i) r.insert(f5.shards[i]);
   for (const auto& s : f7.shards) r.insert(s);
   ASSERT_NE(r.latest_complete(Eye::kLeft), nullptr);
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->frame_number, 7u);
-  EXPECT_EQ(r.latest(Eye::kLeft)->frame_number, 7u);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.frame_number, 7u);
+  EXPECT_EQ(r.latest(Eye::kLeft)->visibility.frame_number, 7u);
   EXPECT_EQ(r.stats().frames_superseded, 1u);  // frame 5 released incomplete
   for (size_t i = f5.shards.size() / 2; i < f5.shards.size(); ++i)
     EXPECT_EQ(r.insert(f5.shards[i]).status, InsertStatus::kLate);
   for (const auto& s : f6.shards) EXPECT_EQ(r.insert(s).status, InsertStatus::kLate);
   EXPECT_EQ(r.insert(f7.shards[0]).status, InsertStatus::kDuplicate);
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->buffer, f7.buffer);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.buffer, f7.buffer);
   EXPECT_EQ(r.stats().shards_late, f5.shards.size() - f5.shards.size() / 2 + f6.shards.size());
 }
 
@@ -153,15 +153,15 @@ TEST(Reassembly, NewerIncompleteFramesCoexistWithTheNewestComplete) {
   for (const auto& s : f1.shards) r.insert(s);
   for (size_t i = 0; i + 1 < f3.shards.size(); ++i) r.insert(f3.shards[i]);  // 3 lacks its last shard
   for (size_t i = 1; i < f2.shards.size(); ++i) r.insert(f2.shards[i]);      // 2 lacks its first shard
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->frame_number, 1u);
-  EXPECT_EQ(r.latest(Eye::kLeft)->frame_number, 3u);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.frame_number, 1u);
+  EXPECT_EQ(r.latest(Eye::kLeft)->visibility.frame_number, 3u);
   // 2 completes: 1 is released, 3 stays.
   EXPECT_EQ(r.insert(f2.shards[0]).status, InsertStatus::kCompleted);
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->frame_number, 2u);
-  EXPECT_EQ(r.latest(Eye::kLeft)->frame_number, 3u);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.frame_number, 2u);
+  EXPECT_EQ(r.latest(Eye::kLeft)->visibility.frame_number, 3u);
   EXPECT_EQ(r.insert(f1.shards[0]).status, InsertStatus::kLate);
   EXPECT_EQ(r.insert(f3.shards.back()).status, InsertStatus::kCompleted);
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->buffer, f3.buffer);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.buffer, f3.buffer);
 }
 
 TEST(Reassembly, MemoryIsBoundedWhateverArrives) {
@@ -194,9 +194,9 @@ TEST(Reassembly, EyesAreIndependent) {
   const Frame left = make_frame(10, Eye::kLeft), right = make_frame(8, Eye::kRight);
   for (const auto& s : left.shards) r.insert(s);
   for (const auto& s : right.shards) EXPECT_NE(r.insert(s).status, InsertStatus::kLate);
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->frame_number, 10u);
-  EXPECT_EQ(r.latest_complete(Eye::kRight)->frame_number, 8u);
-  EXPECT_EQ(r.latest_complete(Eye::kRight)->buffer, right.buffer);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.frame_number, 10u);
+  EXPECT_EQ(r.latest_complete(Eye::kRight)->visibility.frame_number, 8u);
+  EXPECT_EQ(r.latest_complete(Eye::kRight)->visibility.buffer, right.buffer);
 }
 
 TEST(Reassembly, InvalidShardsAreRejectedWithoutSideEffects) {
@@ -242,7 +242,7 @@ TEST(Reassembly, InvalidShardsAreRejectedWithoutSideEffects) {
   s.payload_size = static_cast<uint16_t>(s.payload_size - 1);  // truncated payload
   expect_reject(s, DecodeError::kBadPayload);
   EXPECT_EQ(r.latest(Eye::kLeft)->shards_received, 1u);
-  EXPECT_EQ(r.latest(Eye::kLeft)->rows_valid, f.shards[0].pixel_count / kW);
+  EXPECT_EQ(r.latest(Eye::kLeft)->visibility.rows_valid, f.shards[0].pixel_count / kW);
 
   r.set_newest_requested_frame(4);
   s = f.shards[1];
@@ -253,7 +253,7 @@ TEST(Reassembly, InvalidShardsAreRejectedWithoutSideEffects) {
   // The frame still completes from the genuine shards.
   for (size_t i = 1; i < f.shards.size(); ++i) r.insert(f.shards[i]);
   ASSERT_NE(r.latest_complete(Eye::kLeft), nullptr);
-  EXPECT_EQ(r.latest_complete(Eye::kLeft)->buffer, f.buffer);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.buffer, f.buffer);
 }
 
 TEST(Reassembly, RejectsUnusableConfigurations) {
@@ -307,21 +307,21 @@ void run_impaired_stream(bool corrupt) {
     in_flight.swap(keep);
     if (const ReassembledFrame* c = r.latest_complete(Eye::kLeft)) {
       EXPECT_TRUE(c->complete());
-      EXPECT_EQ(c->rows_valid, kH);
+      EXPECT_EQ(c->visibility.rows_valid, kH);
       if (!corrupt) {
-        EXPECT_EQ(c->buffer, frames.at(c->frame_number).buffer) << "frame " << c->frame_number;
+        EXPECT_EQ(c->visibility.buffer, frames.at(c->visibility.frame_number).buffer) << "frame " << c->visibility.frame_number;
       }
     }
     if (const ReassembledFrame* l = r.latest(Eye::kLeft)) {
       uint32_t valid = 0;
-      for (uint8_t v : l->row_valid) valid += v;
-      EXPECT_EQ(valid, l->rows_valid);
+      for (uint8_t v : l->visibility.row_valid) valid += v;
+      EXPECT_EQ(valid, l->visibility.rows_valid);
       EXPECT_LE(l->pixels_received, size_t{kW} * kH);
-      const VisibilityBuffer& original = frames.at(l->frame_number).buffer;
+      const VisibilityBuffer& original = frames.at(l->visibility.frame_number).buffer;
       for (uint32_t y = 0; y < kH && !corrupt; ++y) {
-        if (!l->row_valid[y]) continue;
+        if (!l->visibility.row_valid[y]) continue;
         for (uint32_t x = 0; x < kW; ++x) {
-          ASSERT_EQ(l->buffer.get(x, y), original.get(x, y));
+          ASSERT_EQ(l->visibility.buffer.get(x, y), original.get(x, y));
         }
       }
     }

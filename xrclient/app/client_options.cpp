@@ -116,7 +116,8 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    *exit_code = app.exit(e);
+    const int code = app.exit(e);  // prints help (code 0) or the error
+    *exit_code = code == 0 ? 0 : 2;  // every usage error exits 2, as dhr-server's
     return ParseOutcome::kExit;
   }
   auto usage = [&](const std::string& message) {
@@ -128,7 +129,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   if (!eye_size.empty()) out.eye_size = *parse_extent(eye_size, nullptr);
   if (!guard.empty()) {
     const Extent g = *parse_extent(guard, nullptr);
-    out.guard = GuardBand{g.width, g.height};
+    out.guard = *guard_band_from_total(g.width, g.height);  // even: checked by the validator above
   }
   out.schedule = *parse_schedule(schedule);
   if (!parse_view(view, out)) {

@@ -23,7 +23,7 @@ struct ClientOptions {
   std::optional<uint32_t> frames;  // --frames N (default: 300, or the trace's length)
   double timeout_s = 120.0;        // wall-clock cap of the frame phase
   Extent eye_size{320, 240};       // --eye-size WxH (offscreen; OpenXR uses the runtime's size)
-  std::optional<GuardBand> guard;  // --guard WxH, extra pixels per axis (default: the paper's 64x36 at 1920x1080)
+  std::optional<GuardBand> guard;  // per side, from --guard WxH (both sides together, even)
   uint32_t png_every = 30;         // --png-every N (offscreen, --snapshot-dir; 0 = none)
   std::string snapshot_dir;        // --snapshot-dir DIR (OpenXR: PNGs of the presented images)
   std::string stats_jsonl;         // --stats-jsonl FILE

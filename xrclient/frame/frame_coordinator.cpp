@@ -89,7 +89,7 @@ bool FrameCoordinator::record_and_submit(const FrameInput& input, FrameSink& sin
 
   visibility_->tick();
   const FramePose& pose = input.pose;
-  visibility_->send_pose(pose.frame, pose.display_time_ns, pose.views);
+  visibility_->send_pose(pose);
   take_visibility();
   const std::optional<VisibilityFormat> format = visibility_->format();
   const FramePlan plan = planner_.plan(pose, format ? std::optional<TracedFormat>(format->traced) : std::nullopt,

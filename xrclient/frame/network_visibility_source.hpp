@@ -18,8 +18,8 @@ class NetworkVisibilitySource final : public VisibilitySource {
   std::optional<VisibilityFormat> format() const override;
   bool failed() const override { return client_->failed(); }
   std::string failure() const override { return client_->failure(); }
-  void send_pose(uint64_t frame, int64_t display_time_ns, const std::array<View, 2>& views) override {
-    client_->send_pose(frame, display_time_ns, views);
+  void send_pose(const FramePose& pose) override {
+    client_->send_pose(pose);
   }
   bool take_newest(uint32_t eye, VisibilityFrame& out) override;
   std::optional<int64_t> response_ns(uint64_t frame) const override { return client_->response_ns(frame); }

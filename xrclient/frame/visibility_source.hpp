@@ -38,7 +38,7 @@ class VisibilitySource {
   virtual bool failed() const = 0;
   virtual std::string failure() const = 0;
   // Fire and forget.
-  virtual void send_pose(uint64_t frame, int64_t display_time_ns, const std::array<View, 2>& views) = 0;
+  virtual void send_pose(const FramePose& pose) = 0;
   // The newest visibility of `eye` when it is newer than what was taken last time; false otherwise.
   virtual bool take_newest(uint32_t eye, VisibilityFrame& out) = 0;
   // Pose sent -> visibility of that frame complete (both eyes), nanoseconds; std::nullopt when unknown.

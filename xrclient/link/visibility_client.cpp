@@ -176,27 +176,23 @@ std::string VisibilityClient::failure() const {
   return failure_;
 }
 
-bool VisibilityClient::send_pose(uint64_t frame, int64_t display_time_ns, const std::array<View, 2>& views) {
+bool VisibilityClient::send_pose(const FramePose& pose) {
   const std::lock_guard lock(mutex_);
   if (state_ != State::kConnected) {
     ++stats_.poses_not_connected;
     return false;
   }
-  if ((newest_requested_ && frame <= *newest_requested_) || display_time_ns < 0) {
+  if ((newest_requested_ && pose.frame <= *newest_requested_) || pose.display_time_ns < 0) {
     ++stats_.poses_refused;
     return false;
   }
-  PoseUpdate pose;
-  pose.frame_number = frame;
-  pose.display_time_ns = display_time_ns;
-  pose.views = views;
   // Requested from now on even if the send is refused locally: a shard for it is then merely unexpected.
-  newest_requested_ = frame;
-  reassembler_->set_newest_requested_frame(frame);
+  newest_requested_ = pose.frame;
+  reassembler_->set_newest_requested_frame(pose.frame);
   const int64_t now = clock_.now_ns();
   if (!send(pose, token_)) return false;
   ++stats_.poses_sent;
-  responses_.on_pose_sent(frame, now);
+  responses_.on_pose_sent(pose.frame, now);
   return true;
 }
 

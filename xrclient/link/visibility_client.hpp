@@ -135,7 +135,7 @@ class VisibilityClient {
 
   // Render thread: sends a PoseUpdate (when connected; frame numbers strictly increasing) and remembers
   // its send time. False when not sent (not connected, frame not newer, negative time, send refused).
-  bool send_pose(uint64_t frame, int64_t display_time_ns, const std::array<View, 2>& views);
+  bool send_pose(const FramePose& pose);
 
   // Render thread: the newest visibility of that eye published since the last call, swapped into `out`
   // (no copy; out's old storage is recycled). False, leaving `out` untouched, when nothing newer arrived.

@@ -159,7 +159,7 @@ void VisibilityClient::handle_shard(const VisibilityShard& shard, int64_t now) {
     // A newer frame starts: the eye's newest frame so far, still incomplete, is published as it is
     // (before the insert, which may evict it).
     const ReassembledFrame* previous = reassembler_->latest(shard.eye);
-    if (previous && !previous->complete() && shard.frame_number > previous->frame_number)
+    if (previous && !previous->complete() && shard.frame_number > previous->visibility.frame_number)
       publish(shard.eye, *previous, now);
   }
   const InsertResult result = reassembler_->insert(shard);
@@ -189,22 +189,19 @@ void VisibilityClient::handle_shard(const VisibilityShard& shard, int64_t now) {
 
 void VisibilityClient::publish(Eye eye, const ReassembledFrame& frame, int64_t now) {
   EyeState& state = eyes_[static_cast<size_t>(eye)];
-  const bool newer = !state.published_frame || frame.frame_number > *state.published_frame;
-  const bool more = state.published_frame && frame.frame_number == *state.published_frame &&
+  const uint64_t number = frame.visibility.frame_number;
+  const bool newer = !state.published_frame || number > *state.published_frame;
+  const bool more = state.published_frame && number == *state.published_frame &&
                     frame.pixels_received > state.published_pixels;
   if (!newer && !more) return;  // frame numbers never go back
-  const bool complete = frame.complete();
-  VisibilityFrame& out = state.slot.write_buffer();  // recycled storage: no allocation in steady state
-  out.frame_number = frame.frame_number;
-  out.eye = eye;
-  out.view = frame.view;
-  out.buffer = frame.buffer;
-  out.row_valid = frame.row_valid;
-  out.rows_valid = frame.rows_valid;
-  out.complete = complete;
+  // The one copy on the way to the renderer: the reassembler keeps receiving into its own slot. The
+  // destination is recycled storage (no allocation in steady state).
+  VisibilityFrame& out = state.slot.write_buffer();
+  out = frame.visibility;
   out.received_ns = now;
+  const bool complete = out.complete;
   state.slot.publish();  // `out` belongs to the reader from here on
-  state.published_frame = frame.frame_number;
+  state.published_frame = number;
   state.published_pixels = frame.pixels_received;
   ++(complete ? stats_.frames_published_complete : stats_.frames_published_partial);
 }

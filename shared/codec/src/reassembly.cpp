@@ -50,7 +50,7 @@ InsertResult VisibilityReassembler::reject(DecodeError error) {
 
 VisibilityReassembler::Slot* VisibilityReassembler::find_slot(EyeState& eye, uint64_t frame) {
   for (Slot& s : eye.slots)
-    if (s.in_use && s.frame.frame_number == frame) return &s;
+    if (s.in_use && s.frame.visibility.frame_number == frame) return &s;
   return nullptr;
 }
 
@@ -59,10 +59,10 @@ VisibilityReassembler::Slot* VisibilityReassembler::claim_slot(EyeState& eye, ui
   Slot* oldest = nullptr;  // oldest incomplete frame: the eviction candidate
   for (Slot& s : eye.slots) {
     if (!s.in_use) return &s;
-    if (eye.complete_frame && s.frame.frame_number == *eye.complete_frame) continue;
-    if (!oldest || s.frame.frame_number < oldest->frame.frame_number) oldest = &s;
+    if (eye.complete_frame && s.frame.visibility.frame_number == *eye.complete_frame) continue;
+    if (!oldest || s.frame.visibility.frame_number < oldest->frame.visibility.frame_number) oldest = &s;
   }
-  if (!oldest || frame < oldest->frame.frame_number) {
+  if (!oldest || frame < oldest->frame.visibility.frame_number) {
     out_late = true;
     return nullptr;
   }
@@ -73,22 +73,23 @@ VisibilityReassembler::Slot* VisibilityReassembler::claim_slot(EyeState& eye, ui
 
 void VisibilityReassembler::start_frame(Slot& slot, const VisibilityShard& shard) {
   if (!slot.allocated) {
-    slot.frame.buffer = VisibilityBuffer::create(config_.width, config_.height, config_.light_count);
-    slot.frame.row_valid.assign(config_.height, 0);
+    slot.frame.visibility.buffer = VisibilityBuffer::create(config_.width, config_.height, config_.light_count);
+    slot.frame.visibility.row_valid.assign(config_.height, 0);
     slot.row_pixels.assign(config_.height, 0);
     slot.shard_received.reserve(max_shards_);
     slot.frame.received_ranges.reserve(64);
     slot.allocated = true;
   } else {
-    std::fill(slot.frame.buffer.data.begin(), slot.frame.buffer.data.end(), uint8_t{0});
-    std::fill(slot.frame.row_valid.begin(), slot.frame.row_valid.end(), uint8_t{0});
+    std::fill(slot.frame.visibility.buffer.data.begin(), slot.frame.visibility.buffer.data.end(), uint8_t{0});
+    std::fill(slot.frame.visibility.row_valid.begin(), slot.frame.visibility.row_valid.end(), uint8_t{0});
     std::fill(slot.row_pixels.begin(), slot.row_pixels.end(), 0u);
   }
   slot.in_use = true;
-  slot.frame.frame_number = shard.frame_number;
-  slot.frame.eye = shard.eye;
-  slot.frame.view = shard.view;
-  slot.frame.rows_valid = 0;
+  slot.frame.visibility.frame_number = shard.frame_number;
+  slot.frame.visibility.eye = shard.eye;
+  slot.frame.visibility.view = shard.view;
+  slot.frame.visibility.rows_valid = 0;
+  slot.frame.visibility.complete = false;
   slot.frame.pixels_received = 0;
   slot.frame.shard_count = shard.shard_count;
   slot.frame.shards_received = 0;
@@ -100,7 +101,7 @@ void VisibilityReassembler::start_frame(Slot& slot, const VisibilityShard& shard
 void VisibilityReassembler::commit(Slot& slot, const VisibilityShard& shard) {
   const size_t mb = mask_bytes(mask_bits_);
   const size_t first = shard.first_pixel, end = first + shard.pixel_count;
-  std::memcpy(slot.frame.buffer.data.data() + first * mb, scratch_.data() + first * mb, (end - first) * mb);
+  std::memcpy(slot.frame.visibility.buffer.data.data() + first * mb, scratch_.data() + first * mb, (end - first) * mb);
   slot.shard_received[shard.shard_index] = 1;
   const auto range = std::make_pair(shard.first_pixel, static_cast<uint32_t>(end));
   auto& ranges = slot.frame.received_ranges;
@@ -110,8 +111,8 @@ void VisibilityReassembler::commit(Slot& slot, const VisibilityShard& shard) {
     const size_t row_begin = y * w, row_end = row_begin + w;
     slot.row_pixels[y] += static_cast<uint32_t>(std::min(end, row_end) - std::max(first, row_begin));
     if (slot.row_pixels[y] == w) {
-      slot.frame.row_valid[y] = 1;
-      ++slot.frame.rows_valid;
+      slot.frame.visibility.row_valid[y] = 1;
+      ++slot.frame.visibility.rows_valid;
     }
   }
   slot.frame.pixels_received += shard.pixel_count;
@@ -120,7 +121,7 @@ void VisibilityReassembler::commit(Slot& slot, const VisibilityShard& shard) {
 
 void VisibilityReassembler::release_older(EyeState& eye, uint64_t frame) {
   for (Slot& s : eye.slots) {
-    if (!s.in_use || s.frame.frame_number >= frame) continue;
+    if (!s.in_use || s.frame.visibility.frame_number >= frame) continue;
     if (!s.frame.complete()) ++stats_.frames_superseded;
     s.in_use = false;
   }
@@ -151,7 +152,7 @@ InsertResult VisibilityReassembler::insert(const VisibilityShard& shard) {
 
   Slot* slot = find_slot(eye, shard.frame_number);
   if (slot) {
-    if (shard.shard_count != slot->frame.shard_count || !same_view(shard.view, slot->frame.view))
+    if (shard.shard_count != slot->frame.shard_count || !same_view(shard.view, slot->frame.visibility.view))
       return reject(DecodeError::kInconsistentFrame);
     if (slot->shard_received[shard.shard_index]) {
       ++stats_.shards_duplicate;
@@ -169,8 +170,8 @@ InsertResult VisibilityReassembler::insert(const VisibilityShard& shard) {
     if (!have_free) {
       uint64_t oldest = UINT64_MAX;
       for (const Slot& s : eye.slots)
-        if (!(eye.complete_frame && s.frame.frame_number == *eye.complete_frame))
-          oldest = std::min(oldest, s.frame.frame_number);
+        if (!(eye.complete_frame && s.frame.visibility.frame_number == *eye.complete_frame))
+          oldest = std::min(oldest, s.frame.visibility.frame_number);
       late = oldest == UINT64_MAX || shard.frame_number < oldest;
     }
     if (late) {
@@ -196,6 +197,7 @@ InsertResult VisibilityReassembler::insert(const VisibilityShard& shard) {
   commit(*slot, shard);
   ++stats_.shards_accepted;
   if (!slot->frame.complete()) return InsertResult{InsertStatus::kAccepted};
+  slot->frame.visibility.complete = true;
   ++stats_.frames_completed;
   eye.complete_frame = shard.frame_number;
   release_older(eye, shard.frame_number);
@@ -207,7 +209,7 @@ const ReassembledFrame* VisibilityReassembler::latest(Eye eye) const {
   if (index > 1) return nullptr;
   const ReassembledFrame* best = nullptr;
   for (const Slot& s : eyes_[index].slots)
-    if (s.in_use && (!best || s.frame.frame_number > best->frame_number)) best = &s.frame;
+    if (s.in_use && (!best || s.frame.visibility.frame_number > best->visibility.frame_number)) best = &s.frame;
   return best;
 }
 
@@ -215,7 +217,7 @@ const ReassembledFrame* VisibilityReassembler::latest_complete(Eye eye) const {
   const auto index = static_cast<size_t>(eye);
   if (index > 1 || !eyes_[index].complete_frame) return nullptr;
   for (const Slot& s : eyes_[index].slots)
-    if (s.in_use && s.frame.frame_number == *eyes_[index].complete_frame) return &s.frame;
+    if (s.in_use && s.frame.visibility.frame_number == *eyes_[index].complete_frame) return &s.frame;
   return nullptr;
 }
 
@@ -223,7 +225,7 @@ size_t VisibilityReassembler::memory_bytes() const {
   size_t bytes = scratch_.capacity();
   for (const EyeState& eye : eyes_)
     for (const Slot& s : eye.slots)
-      bytes += s.frame.buffer.data.capacity() + s.frame.row_valid.capacity() + s.row_pixels.capacity() * 4 +
+      bytes += s.frame.visibility.buffer.data.capacity() + s.frame.visibility.row_valid.capacity() + s.row_pixels.capacity() * 4 +
                s.shard_received.capacity() + s.frame.received_ranges.capacity() * sizeof(s.frame.received_ranges[0]);
   return bytes;
 }

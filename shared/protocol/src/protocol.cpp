@@ -47,7 +47,7 @@ RawView read_view(ByteReader& r) {
   return v;
 }
 
-DecodeError validate_view(const RawView& raw, View& out) {
+DecodeError decode_view(const RawView& raw, View& out) {
   for (double x : raw.p)
     if (!std::isfinite(x)) return DecodeError::kNonFinite;
   for (float x : raw.q)
@@ -98,7 +98,7 @@ void write_body(ByteWriter& w, const Welcome& m) {
 }
 
 void write_body(ByteWriter& w, const PoseUpdate& m) {
-  w.u64(m.frame_number);
+  w.u64(m.frame);
   w.i64(m.display_time_ns);
   write_view(w, m.views[0]);
   write_view(w, m.views[1]);
@@ -185,14 +185,14 @@ DecodeError read_body(ByteReader& r, Welcome& m) {
 }
 
 DecodeError read_body(ByteReader& r, PoseUpdate& m) {
-  m.frame_number = r.u64();
+  m.frame = r.u64();
   m.display_time_ns = r.i64();
   const RawView left = read_view(r);
   const RawView right = read_view(r);
   if (!r.ok()) return DecodeError::kTruncated;
   if (m.display_time_ns < 0) return DecodeError::kBadValue;
-  if (const DecodeError e = validate_view(left, m.views[0]); e != DecodeError::kNone) return e;
-  return validate_view(right, m.views[1]);
+  if (const DecodeError e = decode_view(left, m.views[0]); e != DecodeError::kNone) return e;
+  return decode_view(right, m.views[1]);
 }
 
 DecodeError read_body(ByteReader& r, VisibilityShard& m) {
@@ -222,7 +222,7 @@ DecodeError read_body(ByteReader& r, VisibilityShard& m) {
     return DecodeError::kBadValue;
   const uint64_t pixels = uint64_t{m.buffer_width} * m.buffer_height;
   if (m.pixel_count < 1 || uint64_t{m.first_pixel} + m.pixel_count > pixels) return DecodeError::kBadValue;
-  if (const DecodeError e = validate_view(view, m.view); e != DecodeError::kNone) return e;
+  if (const DecodeError e = decode_view(view, m.view); e != DecodeError::kNone) return e;
   for (size_t i = 0; i < payload.size(); ++i) m.payload[i] = payload[i];
   return DecodeError::kNone;
 }

@@ -9,6 +9,7 @@
 // bounded by (2 * max_frames_in_flight + 1) buffers whatever arrives. Deterministic; not thread-safe.
 #pragma once
 #include "codec/codec.hpp"
+#include "codec/visibility_frame.hpp"
 #include "math/pose.hpp"
 #include "protocol/protocol.hpp"
 #include "protocol/protocol_error.hpp"
@@ -31,20 +32,17 @@ struct ReassemblerConfig {
   size_t max_payload = kMaxShardPayload;  // the server's shard budget, for the shard-count bound
 };
 
+// A frame in the reassembler: the visibility frame itself (what the client publishes, VisibilityFrame) and
+// exactly what of it arrived.
 struct ReassembledFrame {
-  uint64_t frame_number = 0;
-  Eye eye = Eye::kLeft;
-  View view;                       // the view the server traced (from the shards)
-  VisibilityBuffer buffer;         // rows that did not arrive are zero
-  std::vector<uint8_t> row_valid;  // per row: 1 when every pixel of the row arrived
-  uint32_t rows_valid = 0;
+  VisibilityFrame visibility;  // rows that did not arrive are zero; row_valid has one entry per row
   // Exactly what arrived: disjoint pixel ranges [first, end), row-major, sorted (finer than row_valid
   // where a shard boundary falls inside a row).
   std::vector<std::pair<uint32_t, uint32_t>> received_ranges;
   size_t pixels_received = 0;
   uint16_t shard_count = 0;
   uint16_t shards_received = 0;
-  bool complete() const { return pixels_received == buffer.pixel_count(); }
+  bool complete() const { return pixels_received == visibility.buffer.pixel_count(); }
 };
 
 enum class InsertStatus : uint8_t {

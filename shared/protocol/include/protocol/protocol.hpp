@@ -91,11 +91,9 @@ struct Welcome {
   bool operator==(const Welcome&) const = default;
 };
 
-struct PoseUpdate {
-  uint64_t frame_number = 0;
-  int64_t display_time_ns = 0;  // predicted display time, client clock (XrTime), >= 0
-  std::array<View, 2> views{};  // [Eye::kLeft], [Eye::kRight]
-};
+// A frame's pose on the wire: frame number, predicted display time (client clock, XrTime, >= 0) and both
+// eyes' views ([Eye::kLeft], [Eye::kRight]). The same type the client's frame loop uses.
+using PoseUpdate = FramePose;
 
 struct VisibilityShard {
   uint64_t frame_number = 0;  // the client frame whose pose was traced
