@@ -1,5 +1,7 @@
 // codec_bench: the visibility codec on realistic buffers, printed as JSON (never asserts).
 //   codec_bench [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] [--threads N]
+//   codec_bench --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N]
+//               [--trace-start S] [--seed N] [--threads N]      sequence mode, v1 against v2 (codec_sequence.hpp)
 // Buffer sets: "traced" (the scene traced by the server's Embree tracer from each camera bookmark, both
 // eyes; only when built with dhr_server) and always "synthetic" (make_room_visibility, same size and
 // light count). Per set: encode/decode MB/s of raw mask bytes (one thread), compressed bytes per eye
@@ -13,6 +15,7 @@
 
 #include <lz4.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -21,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "codec_sequence.hpp"  // SequenceOptions; run_sequence needs the tracer
 #if defined(DHR_BENCH_HAVE_TRACER)
 #include "traced_buffers.hpp"
 #endif
@@ -38,6 +42,7 @@ struct Options {
   int lz4_seconds = 1;
   unsigned threads = 0;
   std::string out;
+  SequenceOptions sequence;  // used when --trace is given
 };
 
 constexpr uint32_t kDefaultLights = 3;
@@ -64,8 +69,10 @@ std::string cpu_model() {
 int usage(const char* argv0) {
   std::fprintf(stderr,
                "usage: %s [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] "
-               "[--threads N]\n",
-               argv0);
+               "[--threads N]\n"
+               "       %s --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N] "
+               "[--trace-start S] [--seed N] [--threads N]\n",
+               argv0, argv0);
   return 2;
 }
 
@@ -94,6 +101,24 @@ bool parse_args(int argc, char** argv, Options& o) {
       o.threads = static_cast<unsigned>(std::atoi(v));
     } else if (a == "--out") {
       o.out = v;
+    } else if (a == "--trace") {
+      o.sequence.trace = v;
+    } else if (a == "--frames") {
+      const int n = std::atoi(v);
+      if (n < 1 || n > 100000) return false;
+      o.sequence.frames = static_cast<uint32_t>(n);
+    } else if (a == "--rtt-ms" || a == "--loss" || a == "--trace-start") {
+      char* end = nullptr;
+      const double x = std::strtod(v, &end);
+      if (end == v || *end != '\0' || !std::isfinite(x) || x < 0.0) return false;
+      if (a == "--loss" && x > 1.0) return false;
+      (a == "--rtt-ms" ? o.sequence.rtt_ms : a == "--loss" ? o.sequence.loss : o.sequence.trace_start_s) = x;
+    } else if (a == "--lights") {
+      const int n = std::atoi(v);
+      if (n < 1 || n > static_cast<int>(kMaxLights)) return false;
+      o.sequence.lights = static_cast<uint32_t>(n);
+    } else if (a == "--seed") {
+      o.sequence.seed = std::strtoull(v, nullptr, 10);
     } else {
       return false;
     }
@@ -181,6 +206,17 @@ int main(int argc, char** argv) {
   Options o;
   if (!parse_args(argc, argv, o)) return usage(argv[0]);
   if (o.scene.empty()) o.scene = default_scene();
+  if (!o.sequence.trace.empty()) {
+#if defined(DHR_BENCH_HAVE_TRACER)
+    o.sequence.scene = o.scene;
+    o.sequence.size = Extent{o.width, o.height};
+    o.sequence.threads = o.threads;
+    return run_sequence(o.sequence);
+#else
+    std::fprintf(stderr, "codec_bench: sequence mode needs the tracer (built with DHR_BUILD_SERVER=OFF)\n");
+    return 1;
+#endif
+  }
 
   std::vector<BufferSet> sets;
   std::vector<std::string> notes;

@@ -1,0 +1,220 @@
+#include "codec_sequence.hpp"
+
+#include "codec/codec.hpp"
+#include "codec/codec_v2.hpp"
+#include "json_writer.hpp"
+#include "protocol/protocol.hpp"
+#include "scene/scene.hpp"
+#include "traced_buffers.hpp"
+#include "traces/eye_model.hpp"
+#include "traces/pose_trace.hpp"
+#include "visibility_tracer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <vector>
+
+namespace dhr::bench {
+namespace {
+
+constexpr double kFramePeriodS = 1.0 / 90.0;
+constexpr size_t kClientHeldFrames = 32;  // complete frames the client keeps per eye as references
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// Point lights spread over the scene's bounds below its top (many-light runs): added after the scene's own.
+void add_lights(Scene& scene, uint32_t total) {
+  const SceneBounds& b = scene.bounds;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<float> u(0.1f, 0.9f);
+  while (scene.lights.size() < total) {
+    SceneLight l;
+    l.name = "bench light " + std::to_string(scene.lights.size());
+    l.position = glm::vec3(b.min.x + u(rng) * (b.max.x - b.min.x), b.min.y + (0.6f + 0.3f * u(rng)) * (b.max.y - b.min.y),
+                           b.min.z + u(rng) * (b.max.z - b.min.z));
+    l.intensity = 20.0f;
+    scene.lights.push_back(l);
+  }
+}
+
+struct EyeState {
+  std::map<uint64_t, const VisibilityBuffer*> held;  // complete frames the client holds (newest kClientHeldFrames)
+};
+
+}  // namespace
+
+int run_sequence(const SequenceOptions& o) {
+  SceneLoadResult loaded = load_scene(o.scene);
+  if (!loaded) {
+    std::fprintf(stderr, "codec_bench: %s\n", loaded.error.c_str());
+    return 1;
+  }
+  Scene& scene = *loaded.scene;
+  if (o.lights > scene.lights.size()) add_lights(scene, std::min<uint32_t>(o.lights, kMaxLights));
+  TraceReadResult read = read_pose_trace(o.trace);
+  if (!read || read.trace->empty()) {
+    std::fprintf(stderr, "codec_bench: %s\n", read ? (o.trace + ": empty trace").c_str() : read.error.c_str());
+    return 1;
+  }
+  const PoseTrace& trace = *read.trace;
+  std::string placement_note;
+  const TracePlacement placement = default_trace_placement(o.scene, &placement_note);
+  const Pose T_scene_trace = placement_transform(placement, trace.samples.front().head);
+  const EyeModel eyes = EyeModel::typical_headset();
+  Extent display;
+  GuardBand guard;
+  split_guard_band(o.size, display, guard);
+  const TracedFormat format{display, guard};
+
+  server::TracerOptions tracer_options;
+  tracer_options.threads = o.threads;
+  const auto tracer = server::create_tracer(server::TracerBackend::kEmbree, scene, tracer_options);
+  const uint32_t lights = tracer->light_count();
+
+  // Trace every frame first (the codec is timed on its own afterwards).
+  std::vector<std::array<VisibilityBuffer, 2>> frames(o.frames);
+  std::vector<std::array<Camera, 2>> cameras(o.frames);
+  const auto trace_start = std::chrono::steady_clock::now();
+  for (uint32_t f = 0; f < o.frames; ++f) {
+    const double t = trace.start_time() + o.trace_start_s + f * kFramePeriodS;
+    const std::array<View, 2> views = trace_views(trace, trace.sample(t), eyes, T_scene_trace);
+    for (int e = 0; e < 2; ++e) {
+      cameras[f][e] = format.camera(views[e]);
+      server::TraceStats stats;
+      tracer->trace(cameras[f][e], frames[f][e], stats);
+    }
+    std::fprintf(stderr, "\rcodec_bench: traced %u/%u frames (%.0f s)", f + 1, o.frames, ms_since(trace_start) / 1e3);
+  }
+  std::fprintf(stderr, "\n");
+
+  const uint32_t ack_delay = static_cast<uint32_t>(std::ceil(o.rtt_ms / (kFramePeriodS * 1e3) - 1e-9));
+  std::mt19937_64 rng(o.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::array<EyeState, 2> state;
+  double v1_bytes = 0, v2_bytes = 0, v2_payload = 0, shards_v2 = 0;
+  std::vector<double> encode_ms, decode_ms;
+  bool lossless = true;
+  uint64_t pixels = 0, unavailable = 0, inter_frames = 0, fallback_rows = 0;
+  std::vector<EncodedShard> v1, v2;
+  for (uint32_t f = 0; f < o.frames; ++f) {
+    for (int e = 0; e < 2; ++e) {
+      const VisibilityBuffer& buffer = frames[f][e];
+      CodecStats s1;
+      encode_visibility(buffer, EncodeOptions{}, v1, &s1);
+      v1_bytes += static_cast<double>(s1.datagram_bytes);
+
+      // The newest frame whose acknowledgement has arrived: complete at the client, ack_delay frames ago.
+      // Wire frame numbers are f + 1 (a reference is at least one frame older).
+      const uint64_t number = f + 1;
+      EyeState& es = state[e];
+      V2Reference ref;
+      bool have_ref = false;
+      for (auto it = es.held.rbegin(); it != es.held.rend(); ++it) {
+        if (it->first + ack_delay <= number) {
+          ref = V2Reference{it->second, it->first, &cameras[f][e], &cameras[it->first - 1][e]};
+          have_ref = true;
+          break;
+        }
+      }
+      V2Stats s2;
+      const auto enc_start = std::chrono::steady_clock::now();
+      if (!encode_visibility_v2(buffer, number, have_ref ? &ref : nullptr, EncodeOptions{}, v2, &s2)) {
+        std::fprintf(stderr, "codec_bench: v2 encoding failed at frame %u\n", f);
+        return 1;
+      }
+      encode_ms.push_back(ms_since(enc_start));
+      inter_frames += have_ref ? 1 : 0;
+      fallback_rows += s2.v1_fallback_rows;
+      v2_bytes += static_cast<double>(s2.datagram_bytes);
+      v2_payload += static_cast<double>(s2.payload_bytes);
+      shards_v2 += static_cast<double>(s2.shards);
+
+      // The client: every shard that arrives is decoded against the frame it names and checked.
+      std::vector<uint8_t> decoded(buffer.data.size(), 0);
+      bool complete = true;
+      double dec_ms = 0.0;
+      for (const EncodedShard& shard : v2) {
+        if (o.loss > 0.0 && unit(rng) < o.loss) {
+          complete = false;
+          unavailable += shard.pixel_count;
+          continue;
+        }
+        const auto dec_start = std::chrono::steady_clock::now();
+        DecodeError err;
+        if (is_v2_payload(shard.payload)) {
+          const std::optional<uint64_t> need = v2_reference_frame(shard.payload, number);
+          const VisibilityBuffer* rb = nullptr;
+          if (need) {
+            const auto held = es.held.find(*need);
+            rb = held != es.held.end() ? held->second : nullptr;
+          }
+          err = (need && rb == nullptr) ? DecodeError::kBadPayload
+                                        : decode_shard_payload_v2(shard.payload, shard.first_pixel, shard.pixel_count,
+                                                                  buffer.width, buffer.height, lights, rb, decoded);
+        } else {
+          err = decode_shard_payload(shard.payload, shard.first_pixel, shard.pixel_count, buffer.mask_bits, decoded);
+        }
+        dec_ms += ms_since(dec_start);
+        const size_t mb = buffer.bytes_per_mask(), begin = size_t{shard.first_pixel} * mb,
+                     end = begin + size_t{shard.pixel_count} * mb;
+        if (err != DecodeError::kNone ||
+            !std::equal(decoded.begin() + begin, decoded.begin() + end, buffer.data.begin() + begin)) {
+          lossless = false;
+          complete = false;
+          unavailable += shard.pixel_count;
+        }
+      }
+      decode_ms.push_back(dec_ms);
+      pixels += buffer.pixel_count();
+      if (complete) {
+        es.held[number] = &buffer;
+        while (es.held.size() > kClientHeldFrames) es.held.erase(es.held.begin());
+      }
+    }
+    std::fprintf(stderr, "\rcodec_bench: coded %u/%u frames", f + 1, o.frames);
+  }
+  std::fprintf(stderr, "\n");
+
+  const double eye_frames = 2.0 * o.frames;
+  const auto mbit = [](double bytes_per_eye_frame) { return bytes_per_eye_frame * 2.0 * 90.0 * 8.0 / 1e6; };
+  JsonWriter j;
+  j.begin_object();
+  j.value("benchmark", "codec_bench").value("mode", "sequence");
+  j.value("scene", o.scene).value("trace", o.trace).value("placement", placement_note);
+  j.value("tracer", tracer->device_description());
+  j.value("frames", o.frames).value("width", o.size.width).value("height", o.size.height);
+  j.value("display", std::to_string(display.width) + "x" + std::to_string(display.height));
+  j.value("lights", lights).value("rtt_ms", o.rtt_ms, 1).value("ack_delay_frames", ack_delay);
+  j.value("loss", o.loss, 4).value("seed", static_cast<unsigned long long>(o.seed));
+  j.value("v1_bytes_per_eye_frame", v1_bytes / eye_frames, 1);
+  j.value("v2_bytes_per_eye_frame", v2_bytes / eye_frames, 1);
+  j.value("v2_payload_bytes_per_eye_frame", v2_payload / eye_frames, 1);
+  j.value("v2_shards_per_eye_frame", shards_v2 / eye_frames, 2);
+  j.value("v1_mbit_s", mbit(v1_bytes / eye_frames), 3);
+  j.value("v2_mbit_s", mbit(v2_bytes / eye_frames), 3);
+  j.value("v2_bytes_per_light", lights > 0 ? v2_bytes / eye_frames / lights : 0.0, 1);
+  j.value("v2_inter_frac", inter_frames / eye_frames, 3);
+  j.value("v2_v1_fallback_rows", static_cast<unsigned long long>(fallback_rows));
+  j.value("v2_encode_ms_per_eye", median(encode_ms), 3);
+  j.value("v2_decode_ms_per_eye", median(decode_ms), 3);
+  j.value("lossless", lossless);
+  j.value("unavailable_frac", pixels > 0 ? static_cast<double>(unavailable) / static_cast<double>(pixels) : 0.0, 5);
+  j.end_object();
+  std::printf("%s\n", j.str().c_str());
+  return lossless ? 0 : 1;
+}
+
+}  // namespace dhr::bench

@@ -1,0 +1,30 @@
+// codec_bench's sequence mode: N consecutive frames of a recorded head-motion trace (both eyes, 90 Hz),
+// traced by the server's Embree tracer, coded with v1 (LZ4 shards) and v2 (context-modelled, against the
+// newest frame the client has acknowledged holding) in the same run. Acknowledgements reach the encoder one
+// round trip after the frame; with --loss shards are dropped at random (seeded), a frame with a lost shard is
+// never acknowledged, and every decoded shard is compared with the traced bits.
+#pragma once
+#include "math/projection.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace dhr::bench {
+
+struct SequenceOptions {
+  std::string scene;
+  std::string trace;
+  uint32_t frames = 30;
+  Extent size{1984, 1116};  // traced per eye (display + guard band, in the paper's proportion)
+  double rtt_ms = 50.0;
+  double loss = 0.0;          // probability that a shard is lost
+  double trace_start_s = 2.0;
+  uint32_t lights = 0;        // 0: the scene's lights; more: point lights added around the scene (many-light runs)
+  unsigned threads = 0;       // tracer threads (the codec runs on one)
+  uint64_t seed = 1;
+};
+
+// Prints progress on stderr and one JSON object as the last stdout line. Returns the exit code.
+int run_sequence(const SequenceOptions& options);
+
+}  // namespace dhr::bench

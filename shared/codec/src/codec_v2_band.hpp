@@ -1,0 +1,323 @@
+// The v2 band coder (private to dhr_codec): one function template codes a shard's rows with either the
+// BitEncoder or the BitDecoder (range_coder.hpp), so the two sides cannot drift apart. The encoder supplies
+// its decisions (modes, vectors) per block; the decoder reads them from the stream and writes the pixels.
+#pragma once
+#include "range_coder.hpp"
+#include "visibility/visibility.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <vector>
+
+namespace dhr::codec_detail {
+
+enum BlockMode : uint8_t { kUniform0 = 0, kUniform1 = 1, kCopy = 2, kCoded = 3 };
+
+inline constexpr uint32_t kBlockW = 32;
+inline constexpr uint32_t kSub = 8;
+inline constexpr uint32_t kMaxSubBlocks = (kBlockW / kSub) * (32 / kSub);
+inline constexpr uint32_t kIntraContextBits = 11;
+inline constexpr uint32_t kInterContextBits = 16;
+inline constexpr uint32_t kVectorMagnitudeContexts = 16;
+
+struct BandGeometry {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  uint32_t y0 = 0;  // first row of the shard
+  uint32_t y1 = 0;  // one past its last row
+  uint32_t block_rows = 32;
+  uint32_t light_count = 0;
+  uint32_t mask_bytes = 1;
+};
+
+struct Vector {
+  int32_t x = 0;
+  int32_t y = 0;
+  bool operator==(const Vector&) const = default;
+};
+
+// One block's decisions: per light a mode, per light and 8x8 sub-block a mode (coded blocks), the vector.
+struct BlockPlan {
+  std::array<uint8_t, kMaxLights> mode{};
+  std::array<std::array<uint8_t, kMaxSubBlocks>, kMaxLights> sub{};
+  Vector vector;
+};
+
+// Adaptive models, reset at every shard's start.
+struct Models {
+  Probability coded[2][2][4][2];  // [sub-block level][inter][light bucket][left neighbour coded]
+  Probability copy[2][4];         // [level][light bucket]: copy vs uniform (inter)
+  Probability value[2][4][2];     // [level][light bucket][previous uniform value]
+  Probability vec_zero[2];
+  Probability vec_sign[2];
+  Probability vec_magnitude[2][kVectorMagnitudeContexts];
+  Probability vec_escape[9];
+  std::vector<Probability> intra = std::vector<Probability>(size_t{1} << kIntraContextBits);
+  std::vector<Probability> inter = std::vector<Probability>(size_t{1} << kInterContextBits);
+
+  void reset() {
+    Probability* groups[] = {&coded[0][0][0][0], &copy[0][0], &value[0][0][0], vec_zero, vec_sign,
+                             &vec_magnitude[0][0], vec_escape};
+    const size_t counts[] = {sizeof coded, sizeof copy, sizeof value, sizeof vec_zero, sizeof vec_sign,
+                             sizeof vec_magnitude, sizeof vec_escape};
+    for (size_t g = 0; g < 7; ++g) std::fill_n(groups[g], counts[g] / sizeof(Probability), Probability{});
+    std::fill(intra.begin(), intra.end(), Probability{});
+    std::fill(inter.begin(), inter.end(), Probability{});
+  }
+};
+
+// Counters the band coder keeps (the encoder reports them).
+struct BandCounts {
+  size_t blocks = 0, uniform = 0, copied = 0, coded = 0, pixels_coded = 0;
+};
+
+// The encoder's decision for the block at (x0, y0) of size w x h, given the previous block's vector and the
+// vector of the block above (both zero at the shard's start).
+using BlockDecider = std::function<BlockPlan(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, Vector previous,
+                                             Vector above)>;
+
+template <class Io>
+class BandCoder {
+ public:
+  // `cur`: the whole buffer's mask bytes (the encoder only reads it); `ref`: the reference's, or null (intra).
+  BandCoder(Io& io, const BandGeometry& g, uint8_t* cur, const uint8_t* ref, Models& models)
+      : io_(io), g_(g), cur_(cur), ref_(ref), m_(models) {}
+
+  // Codes every block of the band; false when the decoder met an impossible value (hostile input) or when
+  // `after_row` (called with the next block row's first row) asked to stop.
+  bool run(const BlockDecider* decide, BandCounts& counts, const std::function<bool(uint32_t)>& after_row = {}) {
+    std::vector<Vector> above((g_.width + kBlockW - 1) / kBlockW);
+    for (uint32_t by = g_.y0; by < g_.y1; by += g_.block_rows) {
+      Vector previous;
+      const uint32_t h = std::min(g_.block_rows, g_.y1 - by);
+      for (uint32_t bx = 0, col = 0; bx < g_.width; bx += kBlockW, ++col) {
+        const uint32_t w = std::min(kBlockW, g_.width - bx);
+        BlockPlan plan;
+        if constexpr (!Io::kDecoding) plan = (*decide)(bx, by, w, h, previous, above[col]);
+        if (!code_block(plan, bx, by, w, h, previous, counts)) return false;
+        if (uses_reference(plan)) previous = plan.vector;
+        above[col] = previous;
+      }
+      if (after_row && !after_row(by + h)) return false;
+    }
+    return true;
+  }
+
+ private:
+  bool uses_reference(const BlockPlan& plan) const {
+    if (ref_ == nullptr) return false;
+    for (uint32_t l = 0; l < g_.light_count; ++l)
+      if (plan.mode[l] == kCopy || plan.mode[l] == kCoded) return true;
+    return false;
+  }
+
+  // Mode of one block or sub-block: coded?; (inter) copy?; uniform value.
+  uint8_t code_mode(uint8_t mode, int level, uint32_t light, bool left_coded, uint8_t& last_value) {
+    const uint32_t lb = std::min<uint32_t>(light, 3);
+    const int inter = ref_ != nullptr ? 1 : 0;
+    if (io_.bit(m_.coded[level][inter][lb][left_coded ? 1 : 0], mode == kCoded)) return kCoded;
+    if (inter && io_.bit(m_.copy[level][lb], mode == kCopy)) return kCopy;
+    const bool one = io_.bit(m_.value[level][lb][last_value], mode == kUniform1);
+    last_value = one ? 1 : 0;
+    return one ? kUniform1 : kUniform0;
+  }
+
+  bool code_component(int32_t& value, int axis) {
+    const bool nonzero = io_.bit(m_.vec_zero[axis], value != 0);
+    if (!nonzero) {
+      value = 0;
+      return true;
+    }
+    const bool negative = io_.bit(m_.vec_sign[axis], value < 0);
+    const uint32_t magnitude = static_cast<uint32_t>(value < 0 ? -value : value);
+    uint32_t got = 1;
+    // Unary up to kVectorMagnitudeContexts, then 9 bits of escape (a delta spans at most 2 * 255).
+    while (got < kVectorMagnitudeContexts + 1) {
+      if (!io_.bit(m_.vec_magnitude[axis][got - 1], magnitude > got)) break;
+      ++got;
+    }
+    if (got == kVectorMagnitudeContexts + 1) {
+      const uint32_t rest = magnitude - got;
+      uint32_t decoded = 0;
+      for (int b = 8; b >= 0; --b)
+        decoded |= (io_.bit(m_.vec_escape[b], ((rest >> b) & 1u) != 0) ? 1u : 0u) << b;
+      got += decoded;
+    }
+    value = negative ? -static_cast<int32_t>(got) : static_cast<int32_t>(got);
+    return true;
+  }
+
+  bool code_vector(Vector& v, Vector predictor) {
+    Vector delta{v.x - predictor.x, v.y - predictor.y};
+    if (!code_component(delta.x, 0) || !code_component(delta.y, 1)) return false;
+    v = Vector{predictor.x + delta.x, predictor.y + delta.y};
+    return v.x >= -255 && v.x <= 255 && v.y >= -255 && v.y <= 255;
+  }
+
+  uint32_t cur_bit(uint32_t x, uint32_t y, uint32_t light) const {
+    return (load_mask(cur_ + (size_t{y} * g_.width + x) * g_.mask_bytes, g_.mask_bytes) >> light) & 1u;
+  }
+  uint32_t ref_bit(int64_t x, int64_t y, uint32_t light) const {
+    if (x < 0 || y < 0 || x >= g_.width || y >= g_.height) return 0;
+    return (load_mask(ref_ + (static_cast<size_t>(y) * g_.width + static_cast<size_t>(x)) * g_.mask_bytes,
+                      g_.mask_bytes) >> light) & 1u;
+  }
+  void set_bit(uint32_t x, uint32_t y, uint32_t light, uint32_t bit) {
+    uint8_t* p = cur_ + (size_t{y} * g_.width + x) * g_.mask_bytes;
+    store_mask(p, g_.mask_bytes, load_mask(p, g_.mask_bytes) | (bit << light));
+  }
+  // A neighbour of a pixel in the block [bx0, bx1) x [by0, ...) that both sides already know.
+  uint32_t known_bit(int64_t x, int64_t y, uint32_t light, uint32_t bx1, uint32_t by0) const {
+    if (x < 0 || x >= g_.width || y < g_.y0 || y >= g_.y1) return 0;
+    if (y >= by0 && x >= bx1) return 0;  // a block to the right in the current block row
+    return cur_bit(static_cast<uint32_t>(x), static_cast<uint32_t>(y), light);
+  }
+
+  // ORs into [x0, x0+w) x [y0, y0+h): `one` bits everywhere, `copy` bits from the reference displaced by v.
+  void fill(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t one, uint32_t copy, Vector v) {
+    if ((one | copy) == 0) return;
+    const uint32_t mb = g_.mask_bytes;
+    for (uint32_t y = y0; y < y0 + h; ++y) {
+      uint8_t* dst = cur_ + (size_t{y} * g_.width + x0) * mb;
+      const int64_t ry = int64_t{y} + v.y, rx0 = int64_t{x0} + v.x;
+      const bool row_inside = copy != 0 && ry >= 0 && ry < g_.height && rx0 >= 0 && rx0 + w <= g_.width;
+      if (mb == 1 && (copy == 0 || row_inside)) {
+        const uint8_t o = static_cast<uint8_t>(one), c = static_cast<uint8_t>(copy);
+        if (copy == 0) {
+          for (uint32_t i = 0; i < w; ++i) dst[i] |= o;
+        } else {
+          const uint8_t* src = ref_ + static_cast<size_t>(ry) * g_.width + static_cast<size_t>(rx0);
+          for (uint32_t i = 0; i < w; ++i) dst[i] = static_cast<uint8_t>(dst[i] | o | (src[i] & c));
+        }
+        continue;
+      }
+      for (uint32_t i = 0; i < w; ++i) {
+        const uint32_t r = copy != 0 ? load_ref(rx0 + i, ry) & copy : 0u;
+        store_mask(dst + size_t{i} * mb, mb, load_mask(dst + size_t{i} * mb, mb) | one | r);
+      }
+    }
+  }
+  uint32_t load_ref(int64_t x, int64_t y) const {
+    if (x < 0 || y < 0 || x >= g_.width || y >= g_.height) return 0;
+    return load_mask(ref_ + (static_cast<size_t>(y) * g_.width + static_cast<size_t>(x)) * g_.mask_bytes, g_.mask_bytes);
+  }
+
+  // The coded pixels of light l in a block, raster order, with the contexts read from local copies of the
+  // light's plane (2 rows above, 2 columns each side; unknown neighbours 0) and of the displaced reference.
+  void code_pixels(const BlockPlan& plan, uint32_t l, uint32_t bx, uint32_t by, uint32_t w, uint32_t h,
+                   uint32_t sub_cols, BandCounts& counts) {
+    const uint32_t lw = w + 4;  // local plane: columns bx-2 .. bx+w+1, rows by-2 .. by+h-1
+    plane_.assign(size_t{lw} * (h + 2), 0);
+    const uint32_t bx1 = bx + w;
+    for (uint32_t r = 0; r < h + 2; ++r) {
+      const int64_t y = int64_t{by} + r - 2;
+      for (uint32_t c = 0; c < lw; ++c) {
+        const int64_t x = int64_t{bx} + c - 2;
+        plane_[size_t{r} * lw + c] = static_cast<uint8_t>(known_bit(x, y, l, bx1, by));
+      }
+    }
+    const bool inter = ref_ != nullptr;
+    if (inter) {  // reference plane: rows by-1 .. by+h, columns bx-1 .. bx+w, displaced by the vector
+      ref_plane_.assign(size_t{w + 2} * (h + 2), 0);
+      for (uint32_t r = 0; r < h + 2; ++r)
+        for (uint32_t c = 0; c < w + 2; ++c)
+          ref_plane_[size_t{r} * (w + 2) + c] = static_cast<uint8_t>(
+              ref_bit(int64_t{bx} + c - 1 + plan.vector.x, int64_t{by} + r - 1 + plan.vector.y, l));
+    }
+    const uint32_t mb = g_.mask_bytes;
+    for (uint32_t j = 0; j < h; ++j) {
+      const uint8_t* row_modes = &plan.sub[l][(j / kSub) * sub_cols];
+      uint8_t* p0 = &plane_[size_t{j + 2} * lw + 2];  // this row, at column bx
+      const uint8_t* p1 = p0 - lw;                      // row above
+      const uint8_t* p2 = p1 - lw;                      // two rows above
+      const uint8_t* cur_row = cur_ + (size_t{by + j} * g_.width + bx) * mb;
+      for (uint32_t i = 0; i < w; ++i) {
+        if (row_modes[i / kSub] != kCoded) continue;
+        const ptrdiff_t k = i;  // signed: the taps reach two columns to the left
+        uint32_t c = (uint32_t{p0[k - 1]} << 9) | (uint32_t{p0[k - 2]} << 8) | (uint32_t{p1[k - 2]} << 7) |
+                     (uint32_t{p1[k - 1]} << 6) | (uint32_t{p1[k]} << 5) | (uint32_t{p1[k + 1]} << 4) |
+                     (uint32_t{p1[k + 2]} << 3) | (uint32_t{p2[k - 1]} << 2) | (uint32_t{p2[k]} << 1) |
+                     uint32_t{p2[k + 1]};
+        const uint32_t mask = load_mask(cur_row + size_t{i} * mb, mb);
+        c = (c << 1) | (l > 0 ? (mask >> (l - 1)) & 1u : 0u);
+        Probability* prob;
+        if (inter) {
+          const uint8_t* q = &ref_plane_[size_t{j + 1} * (w + 2) + i + 1];
+          const ptrdiff_t stride = w + 2;
+          c = (c << 5) | (uint32_t{q[0]} << 4) | (uint32_t{q[-1]} << 3) | (uint32_t{q[1]} << 2) |
+              (uint32_t{q[-stride]} << 1) | uint32_t{q[stride]};
+          prob = &m_.inter[c];
+        } else {
+          prob = &m_.intra[c];
+        }
+        const bool bit = io_.bit(*prob, ((mask >> l) & 1u) != 0);
+        p0[i] = bit ? 1 : 0;  // the encoder's plane already holds the truth there: the same value
+        if constexpr (Io::kDecoding) {
+          if (bit) set_bit(bx + i, by + j, l, 1u);
+        }
+        ++counts.pixels_coded;
+      }
+    }
+  }
+
+  bool code_block(BlockPlan& plan, uint32_t bx, uint32_t by, uint32_t w, uint32_t h, Vector previous,
+                  BandCounts& counts) {
+    if constexpr (Io::kDecoding) {
+      for (uint32_t y = by; y < by + h; ++y)
+        std::memset(cur_ + (size_t{y} * g_.width + bx) * g_.mask_bytes, 0, size_t{w} * g_.mask_bytes);
+    }
+    // 1. A mode per light; 2. the vector; 3. sub-block modes of coded lights; 4. (decoder) everything that is
+    // not coded pixel by pixel; 5. the coded pixels, light by light.
+    uint8_t last_value = 0;
+    bool left_coded = false;
+    for (uint32_t l = 0; l < g_.light_count; ++l) {
+      plan.mode[l] = code_mode(plan.mode[l], 0, l, left_coded, last_value);
+      left_coded = plan.mode[l] == kCoded;
+    }
+    if (uses_reference(plan) && !code_vector(plan.vector, previous)) return false;
+    const uint32_t sub_cols = (w + kSub - 1) / kSub, sub_rows = (h + kSub - 1) / kSub, subs = sub_cols * sub_rows;
+    uint32_t one = 0, copy = 0;
+    std::array<uint32_t, kMaxSubBlocks> sub_one{}, sub_copy{};
+    for (uint32_t l = 0; l < g_.light_count; ++l) {
+      ++counts.blocks;
+      if (plan.mode[l] != kCoded) {
+        ++(plan.mode[l] == kCopy ? counts.copied : counts.uniform);
+        one |= plan.mode[l] == kUniform1 ? 1u << l : 0u;
+        copy |= plan.mode[l] == kCopy ? 1u << l : 0u;
+        continue;
+      }
+      ++counts.coded;
+      uint8_t sub_value = 0;
+      for (uint32_t s = 0; s < subs; ++s) {
+        const bool left = s % sub_cols > 0 && plan.sub[l][s - 1] == kCoded;
+        plan.sub[l][s] = code_mode(plan.sub[l][s], 1, l, left, sub_value);
+        sub_one[s] |= plan.sub[l][s] == kUniform1 ? 1u << l : 0u;
+        sub_copy[s] |= plan.sub[l][s] == kCopy ? 1u << l : 0u;
+      }
+    }
+    if constexpr (Io::kDecoding) {
+      fill(bx, by, w, h, one, copy, plan.vector);
+      for (uint32_t s = 0; s < subs; ++s) {
+        const uint32_t sx = bx + (s % sub_cols) * kSub, sy = by + (s / sub_cols) * kSub;
+        fill(sx, sy, std::min(kSub, bx + w - sx), std::min(kSub, by + h - sy), sub_one[s], sub_copy[s], plan.vector);
+      }
+    }
+    for (uint32_t l = 0; l < g_.light_count; ++l) {
+      if (plan.mode[l] == kCoded) code_pixels(plan, l, bx, by, w, h, sub_cols, counts);
+    }
+    return true;
+  }
+
+  Io& io_;
+  const BandGeometry& g_;
+  uint8_t* cur_;
+  const uint8_t* ref_;
+  Models& m_;
+  std::vector<uint8_t> plane_;      // scratch of code_pixels
+  std::vector<uint8_t> ref_plane_;
+};
+
+}  // namespace dhr::codec_detail

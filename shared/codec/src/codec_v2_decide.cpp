@@ -1,0 +1,159 @@
+#include "codec_v2_decide.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace dhr::codec_detail {
+namespace {
+
+class Decider {
+ public:
+  Decider(const VisibilityBuffer& cur, const V2Reference* reference)
+      : cur_(cur),
+        ref_(reference != nullptr ? reference->buffer : nullptr),
+        current_camera_(reference != nullptr ? reference->current_camera : nullptr),
+        reference_camera_(reference != nullptr ? reference->reference_camera : nullptr),
+        mb_(cur.bytes_per_mask()) {}
+
+  // Memoized: the encoder codes a shard's blocks twice (measuring, then for good) with the same inputs.
+  BlockPlan operator()(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, Vector previous, Vector above) {
+    const Key key{x0, y0, w, h, previous.x, previous.y, above.x, above.y};
+    const auto found = memo_.find(key);
+    if (found != memo_.end()) return found->second;
+    return memo_.emplace(key, decide(x0, y0, w, h, previous, above)).first->second;
+  }
+
+ private:
+  using Key = std::array<int64_t, 8>;
+
+  BlockPlan decide(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, Vector previous, Vector above) const {
+    BlockPlan plan;
+    const uint32_t sub_cols = (w + kSub - 1) / kSub, sub_rows = (h + kSub - 1) / kSub;
+    std::array<uint32_t, kMaxSubBlocks> all{}, any{}, diff{};
+    all.fill(0xFFFFFFFFu);
+    for (uint32_t y = y0; y < y0 + h; ++y) {
+      for (uint32_t x = x0; x < x0 + w; ++x) {
+        const uint32_t s = ((y - y0) / kSub) * sub_cols + (x - x0) / kSub, m = cur_mask(x, y);
+        all[s] &= m;
+        any[s] |= m;
+      }
+    }
+    uint32_t block_all = 0xFFFFFFFFu, block_any = 0, block_diff = 0;
+    for (uint32_t s = 0; s < sub_cols * sub_rows; ++s) {
+      block_all &= all[s];
+      block_any |= any[s];
+    }
+    const uint32_t mixed = (block_all ^ block_any) & cur_.light_bits();
+    if (ref_ != nullptr && mixed != 0) {
+      plan.vector = search(x0, y0, w, h, mixed, {previous, above, Vector{}, hint(x0, y0, w, h)});
+      for (uint32_t y = y0; y < y0 + h; ++y) {
+        for (uint32_t x = x0; x < x0 + w; ++x) {
+          const uint32_t d = cur_mask(x, y) ^ ref_mask(int64_t{x} + plan.vector.x, int64_t{y} + plan.vector.y);
+          diff[((y - y0) / kSub) * sub_cols + (x - x0) / kSub] |= d;
+          block_diff |= d;
+        }
+      }
+    }
+    for (uint32_t l = 0; l < cur_.light_count; ++l) {
+      const uint32_t bit = 1u << l;
+      if (!(mixed & bit)) {
+        plan.mode[l] = (block_any & bit) ? kUniform1 : kUniform0;
+      } else if (ref_ != nullptr && !(block_diff & bit)) {
+        plan.mode[l] = kCopy;
+      } else {
+        plan.mode[l] = kCoded;
+        for (uint32_t s = 0; s < sub_cols * sub_rows; ++s) {
+          plan.sub[l][s] = !((all[s] ^ any[s]) & bit)     ? ((any[s] & bit) ? kUniform1 : kUniform0)
+                           : ref_ != nullptr && !(diff[s] & bit) ? kCopy
+                                                                 : kCoded;
+        }
+      }
+    }
+    return plan;
+  }
+
+  uint32_t cur_mask(uint32_t x, uint32_t y) const {
+    return load_mask(&cur_.data[(size_t{y} * cur_.width + x) * mb_], mb_);
+  }
+  uint32_t ref_mask(int64_t x, int64_t y) const {
+    if (x < 0 || y < 0 || x >= ref_->width || y >= ref_->height) return 0;
+    return load_mask(&ref_->data[(static_cast<size_t>(y) * ref_->width + static_cast<size_t>(x)) * mb_], mb_);
+  }
+
+  // Pixels whose `bits` differ from the reference displaced by v; stops counting past `limit`.
+  uint64_t cost(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t bits, Vector v, uint64_t limit) const {
+    uint64_t n = 0;
+    for (uint32_t y = y0; y < y0 + h; ++y) {
+      for (uint32_t x = x0; x < x0 + w; ++x)
+        n += ((cur_mask(x, y) ^ ref_mask(int64_t{x} + v.x, int64_t{y} + v.y)) & bits) != 0 ? 1 : 0;
+      if (n > limit) return n;
+    }
+    return n;
+  }
+
+  static Vector clamp(Vector v) {
+    return Vector{std::clamp(v.x, -kV2MaxVector, kV2MaxVector), std::clamp(v.y, -kV2MaxVector, kV2MaxVector)};
+  }
+
+  // Where the block's centre direction lands in the reference camera (rotation only: a point far away).
+  Vector hint(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) const {
+    if (current_camera_ == nullptr || reference_camera_ == nullptr) return Vector{};
+    const double cx = x0 + 0.5 * w, cy = y0 + 0.5 * h;
+    const glm::dvec3 far_point = current_camera_->T_world_eye.position + current_camera_->world_ray(cx, cy) * 1.0e4;
+    const Reprojection r = reproject(*reference_camera_, far_point);
+    if (r.status == Reprojection::Status::kBehind) return Vector{};
+    const double dx = r.pixel.x - cx, dy = r.pixel.y - cy;
+    if (!std::isfinite(dx) || !std::isfinite(dy) || std::fabs(dx) > 1e6 || std::fabs(dy) > 1e6) return Vector{};
+    return clamp(Vector{static_cast<int32_t>(std::lround(dx)), static_cast<int32_t>(std::lround(dy))});
+  }
+
+  // The candidate with the fewest mismatching pixels, then a descent over the 8 neighbours.
+  Vector search(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t bits,
+                std::initializer_list<Vector> candidates) const {
+    Vector best;
+    uint64_t best_cost = std::numeric_limits<uint64_t>::max();
+    for (const Vector c : candidates) {
+      const Vector v = clamp(c);
+      const uint64_t n = cost(x0, y0, w, h, bits, v, best_cost);
+      if (n < best_cost) {
+        best_cost = n;
+        best = v;
+      }
+      if (best_cost == 0) return best;
+    }
+    for (int step = 0; step < 3 && best_cost > 0; ++step) {
+      const Vector centre = best;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (dx == 0 && dy == 0) continue;
+          const Vector v = clamp(Vector{centre.x + dx, centre.y + dy});
+          const uint64_t n = cost(x0, y0, w, h, bits, v, best_cost);
+          if (n < best_cost) {
+            best_cost = n;
+            best = v;
+          }
+        }
+      }
+      if (best == centre) break;
+    }
+    return best;
+  }
+
+  const VisibilityBuffer& cur_;
+  const VisibilityBuffer* ref_;
+  const Camera* current_camera_;
+  const Camera* reference_camera_;
+  uint32_t mb_;
+  std::map<Key, BlockPlan> memo_;
+};
+
+}  // namespace
+
+BlockDecider make_block_decider(const VisibilityBuffer& buffer, const V2Reference* reference) {
+  return Decider(buffer, reference);
+}
+
+}  // namespace dhr::codec_detail

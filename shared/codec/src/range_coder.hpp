@@ -1,0 +1,128 @@
+// Adaptive binary range coder (private to dhr_codec): 11-bit probabilities adapted by a shift of 5 after every
+// bit, a 32-bit range renormalized bytewise, carries propagated through a pending-byte counter. The scheme is
+// the classic one of LZMA's range coder; this is an independent implementation. Integer arithmetic only, so
+// encoder and decoder agree bit for bit on every machine.
+//
+// BitEncoder and BitDecoder share one interface, `bool bit(Probability& p, bool value)`: the encoder codes
+// `value` and returns it, the decoder ignores it and returns the decoded bit. Code written once against that
+// interface therefore encodes and decodes symmetrically.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dhr::codec_detail {
+
+inline constexpr uint32_t kProbabilityBits = 11;
+inline constexpr uint16_t kProbabilityOne = 1u << kProbabilityBits;
+inline constexpr uint16_t kProbabilityHalf = kProbabilityOne / 2;
+inline constexpr uint32_t kAdaptShift = 5;
+inline constexpr uint32_t kTopValue = 1u << 24;
+
+// Probability that the next bit is 0, in units of 1/2048.
+struct Probability {
+  uint16_t p0 = kProbabilityHalf;
+};
+
+class BitEncoder {
+ public:
+  static constexpr bool kDecoding = false;
+
+  explicit BitEncoder(std::vector<uint8_t>& out) : out_(out) {}
+
+  bool bit(Probability& prob, bool value) {
+    const uint32_t bound = (range_ >> kProbabilityBits) * prob.p0;
+    if (!value) {
+      range_ = bound;
+      prob.p0 = static_cast<uint16_t>(prob.p0 + ((kProbabilityOne - prob.p0) >> kAdaptShift));
+    } else {
+      low_ += bound;
+      range_ -= bound;
+      prob.p0 = static_cast<uint16_t>(prob.p0 - (prob.p0 >> kAdaptShift));
+    }
+    while (range_ < kTopValue) {
+      range_ <<= 8;
+      shift_low();
+    }
+    return value;
+  }
+
+  // Writes the remaining state; the coder must not be used afterwards.
+  void finish() {
+    for (int i = 0; i < 5; ++i) shift_low();
+  }
+  // Bytes the stream will have after finish() if no further bit is coded (an upper bound by at most one).
+  size_t size_if_finished() const { return out_.size() - start_ + pending_ + 5; }
+
+ private:
+  void shift_low() {
+    if (static_cast<uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {
+      const uint8_t carry = static_cast<uint8_t>(low_ >> 32);
+      if (have_cache_) out_.push_back(static_cast<uint8_t>(cache_ + carry));
+      for (; pending_ > 0; --pending_) out_.push_back(static_cast<uint8_t>(0xFF + carry));
+      cache_ = static_cast<uint8_t>(low_ >> 24);
+      have_cache_ = true;
+    } else {
+      ++pending_;
+    }
+    low_ = (low_ & 0x00FFFFFFu) << 8;
+  }
+
+  std::vector<uint8_t>& out_;
+  size_t start_ = out_.size();
+  uint64_t low_ = 0;
+  uint32_t range_ = 0xFFFFFFFFu;
+  uint8_t cache_ = 0;
+  bool have_cache_ = false;
+  size_t pending_ = 0;
+};
+
+class BitDecoder {
+ public:
+  static constexpr bool kDecoding = true;
+
+  // The encoder never writes LZMA's always-zero first byte, so the code starts with the stream's first four
+  // bytes. Reading past the end yields zero bytes (counted in overrun()): hostile input costs bounded time and
+  // decodes to garbage that the caller's checksum rejects.
+  explicit BitDecoder(std::span<const uint8_t> in) : in_(in) {
+    for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();
+  }
+
+  bool bit(Probability& prob, bool /*value*/) {
+    const uint32_t bound = (range_ >> kProbabilityBits) * prob.p0;
+    bool value;
+    if (code_ < bound) {
+      range_ = bound;
+      prob.p0 = static_cast<uint16_t>(prob.p0 + ((kProbabilityOne - prob.p0) >> kAdaptShift));
+      value = false;
+    } else {
+      code_ -= bound;
+      range_ -= bound;
+      prob.p0 = static_cast<uint16_t>(prob.p0 - (prob.p0 >> kAdaptShift));
+      value = true;
+    }
+    while (range_ < kTopValue) {
+      range_ <<= 8;
+      code_ = (code_ << 8) | next_byte();
+    }
+    return value;
+  }
+
+  size_t overrun() const { return overrun_; }
+
+ private:
+  uint8_t next_byte() {
+    if (pos_ < in_.size()) return in_[pos_++];
+    ++overrun_;
+    return 0;
+  }
+
+  std::span<const uint8_t> in_;
+  size_t pos_ = 0;
+  size_t overrun_ = 0;
+  uint32_t code_ = 0;
+  uint32_t range_ = 0xFFFFFFFFu;
+};
+
+}  // namespace dhr::codec_detail

@@ -1,0 +1,198 @@
+// Visibility codec v2: lossless round trips (intra and against a reference), every shard decodable on its own,
+// a wrong or missing reference and corrupted payloads rejected, hostile bytes never written outside a shard's
+// rows, the v1 fallback for noise, determinism.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <random>
+
+#include "codec/codec.hpp"
+#include "codec/codec_v2.hpp"
+#include "metrics/visibility_synthetic.hpp"
+
+namespace dhr {
+namespace {
+
+// A buffer shifted by (dx, dy) (pixels entering from outside are 0): a reference for motion.
+VisibilityBuffer shifted(const VisibilityBuffer& b, int dx, int dy) {
+  VisibilityBuffer out = VisibilityBuffer::create(b.width, b.height, b.light_count);
+  for (uint32_t y = 0; y < b.height; ++y)
+    for (uint32_t x = 0; x < b.width; ++x) {
+      const int sx = int(x) - dx, sy = int(y) - dy;
+      if (sx >= 0 && sy >= 0 && sx < int(b.width) && sy < int(b.height)) out.set(x, y, b.get(uint32_t(sx), uint32_t(sy)));
+    }
+  return out;
+}
+
+// Decodes every shard into a fresh frame (v2 or v1 payloads); returns the frame, and the error of the first
+// shard that failed in out_error.
+std::vector<uint8_t> decode_all(const VisibilityBuffer& like, const std::vector<EncodedShard>& shards,
+                                const VisibilityBuffer* ref, DecodeError* out_error, uint8_t fill = 0xA5) {
+  std::vector<uint8_t> frame(like.data.size(), fill);
+  *out_error = DecodeError::kNone;
+  for (const EncodedShard& s : shards) {
+    const DecodeError e = is_v2_payload(s.payload)
+                              ? decode_shard_payload_v2(s.payload, s.first_pixel, s.pixel_count, like.width,
+                                                        like.height, like.light_count, ref, frame)
+                              : decode_shard_payload(s.payload, s.first_pixel, s.pixel_count, like.mask_bits, frame);
+    if (e != DecodeError::kNone && *out_error == DecodeError::kNone) *out_error = e;
+  }
+  return frame;
+}
+
+void expect_shards_tile_rows(const VisibilityBuffer& b, const std::vector<EncodedShard>& shards, size_t max_payload) {
+  uint32_t next = 0;
+  for (const EncodedShard& s : shards) {
+    EXPECT_EQ(s.first_pixel, next);
+    EXPECT_LE(s.payload.size(), max_payload);
+    EXPECT_FALSE(s.payload.empty());
+    next = s.first_pixel + s.pixel_count;
+  }
+  EXPECT_EQ(next, b.pixel_count());
+}
+
+TEST(CodecV2, IntraRoundTripsExactlyForEveryMaskWidth) {
+  for (const uint32_t lights : {1u, 3u, 8u, 9u, 17u, 32u}) {
+    for (const auto& [w, h] : {std::pair{200u, 120u}, std::pair{67u, 45u}, std::pair{1u, 1u}, std::pair{33u, 9u}}) {
+      const VisibilityBuffer b = make_room_visibility(w, h, lights, 7 + lights);
+      std::vector<EncodedShard> shards;
+      V2Stats stats;
+      ASSERT_TRUE(encode_visibility_v2(b, 10, nullptr, EncodeOptions{}, shards, &stats)) << lights << " " << w;
+      expect_shards_tile_rows(b, shards, kMaxShardPayload);
+      DecodeError e;
+      EXPECT_EQ(decode_all(b, shards, nullptr, &e), b.data) << lights << " lights " << w << "x" << h;
+      EXPECT_EQ(e, DecodeError::kNone);
+      EXPECT_EQ(stats.shards, shards.size());
+    }
+  }
+}
+
+TEST(CodecV2, InterRoundTripsAndIsSmallerThanIntraForAShiftedReference) {
+  const VisibilityBuffer b = make_room_visibility(320, 240, 3, 11);
+  const VisibilityBuffer ref = shifted(b, 3, -2);
+  std::vector<EncodedShard> intra, inter;
+  ASSERT_TRUE(encode_visibility_v2(b, 20, nullptr, EncodeOptions{}, intra));
+  const V2Reference r{&ref, 17};
+  V2Stats stats;
+  ASSERT_TRUE(encode_visibility_v2(b, 20, &r, EncodeOptions{}, inter, &stats));
+  expect_shards_tile_rows(b, inter, kMaxShardPayload);
+  DecodeError e;
+  EXPECT_EQ(decode_all(b, inter, &ref, &e), b.data);
+  EXPECT_EQ(e, DecodeError::kNone);
+  size_t intra_bytes = 0, inter_bytes = 0;
+  for (const auto& s : intra) intra_bytes += s.payload.size();
+  for (const auto& s : inter) inter_bytes += s.payload.size();
+  EXPECT_LT(inter_bytes, intra_bytes);
+  EXPECT_GT(stats.blocks_copied, 0u);
+  for (const auto& s : inter) EXPECT_EQ(v2_reference_frame(s.payload, 20), std::optional<uint64_t>(17));
+}
+
+TEST(CodecV2, EveryShardDecodesOnItsOwn) {
+  const VisibilityBuffer b = make_room_visibility(640, 480, 3, 5);
+  const VisibilityBuffer ref = make_room_visibility(640, 480, 3, 6);  // another room: much to code
+  const V2Reference r{&ref, 1};
+  std::vector<EncodedShard> shards;
+  ASSERT_TRUE(encode_visibility_v2(b, 2, &r, EncodeOptions{.max_payload = 120}, shards));
+  ASSERT_GT(shards.size(), 3u);
+  for (size_t keep = 0; keep < shards.size(); ++keep) {
+    std::vector<uint8_t> frame(b.data.size(), 0x5A);
+    const EncodedShard& s = shards[keep];
+    const DecodeError e = is_v2_payload(s.payload)
+                              ? decode_shard_payload_v2(s.payload, s.first_pixel, s.pixel_count, b.width, b.height,
+                                                        b.light_count, &ref, frame)
+                              : decode_shard_payload(s.payload, s.first_pixel, s.pixel_count, b.mask_bits, frame);
+    ASSERT_EQ(e, DecodeError::kNone) << "shard " << keep << (is_v2_payload(s.payload) ? " (v2)" : " (v1)");
+    const size_t begin = size_t{s.first_pixel} * b.bytes_per_mask(), end = begin + size_t{s.pixel_count} * b.bytes_per_mask();
+    EXPECT_TRUE(std::equal(frame.begin() + begin, frame.begin() + end, b.data.begin() + begin)) << "shard " << keep;
+    EXPECT_TRUE(std::all_of(frame.begin(), frame.begin() + begin, [](uint8_t v) { return v == 0x5A; }));
+    EXPECT_TRUE(std::all_of(frame.begin() + end, frame.end(), [](uint8_t v) { return v == 0x5A; }));
+  }
+}
+
+TEST(CodecV2, AWrongOrMissingReferenceIsRejectedNotShown) {
+  const VisibilityBuffer b = make_room_visibility(160, 120, 3, 3);
+  const VisibilityBuffer ref = shifted(b, 2, 0);
+  const VisibilityBuffer other = shifted(b, 0, 5);
+  const V2Reference r{&ref, 4};
+  std::vector<EncodedShard> shards;
+  ASSERT_TRUE(encode_visibility_v2(b, 5, &r, EncodeOptions{}, shards));
+  DecodeError e;
+  decode_all(b, shards, &other, &e);
+  EXPECT_EQ(e, DecodeError::kBadPayload);
+  decode_all(b, shards, nullptr, &e);
+  EXPECT_EQ(e, DecodeError::kBadPayload);
+}
+
+TEST(CodecV2, NoiseFallsBackToV1ChunksAndStillRoundTrips) {
+  const VisibilityBuffer b = make_random_visibility(300, 40, 8, 99);
+  std::vector<EncodedShard> shards;
+  V2Stats stats;
+  ASSERT_TRUE(encode_visibility_v2(b, 1, nullptr, EncodeOptions{}, shards, &stats));
+  EXPECT_GT(stats.v1_fallback_rows, 0u);
+  DecodeError e;
+  EXPECT_EQ(decode_all(b, shards, nullptr, &e), b.data);
+  EXPECT_EQ(e, DecodeError::kNone);
+}
+
+TEST(CodecV2, EncodingIsDeterministic) {
+  const VisibilityBuffer b = make_room_visibility(256, 128, 5, 8);
+  const VisibilityBuffer ref = shifted(b, 1, 1);
+  const V2Reference r{&ref, 9};
+  std::vector<EncodedShard> a, c;
+  ASSERT_TRUE(encode_visibility_v2(b, 10, &r, EncodeOptions{}, a));
+  ASSERT_TRUE(encode_visibility_v2(b, 10, &r, EncodeOptions{}, c));
+  ASSERT_EQ(a.size(), c.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].payload, c[i].payload);
+}
+
+TEST(CodecV2, RejectsInconsistentInput) {
+  const VisibilityBuffer b = make_room_visibility(64, 32, 3, 1);
+  const VisibilityBuffer small = make_room_visibility(32, 32, 3, 1);
+  std::vector<EncodedShard> shards;
+  V2Reference r{&small, 1};
+  EXPECT_FALSE(encode_visibility_v2(b, 2, &r, EncodeOptions{}, shards));
+  r.buffer = &b;
+  r.frame_number = 5;
+  EXPECT_FALSE(encode_visibility_v2(b, 5, &r, EncodeOptions{}, shards));  // not older
+  EXPECT_FALSE(encode_visibility_v2(b, 70000, &r, EncodeOptions{}, shards));  // too old
+  VisibilityBuffer broken = b;
+  broken.data.pop_back();
+  EXPECT_FALSE(encode_visibility_v2(broken, 2, nullptr, EncodeOptions{}, shards));
+  EXPECT_TRUE(shards.empty());
+}
+
+TEST(CodecV2, HostilePayloadsNeverCrashOrWriteOutsideTheirRows) {
+  const VisibilityBuffer b = make_room_visibility(96, 64, 3, 2);
+  const VisibilityBuffer ref = shifted(b, 1, 0);
+  const V2Reference r{&ref, 1};
+  std::vector<EncodedShard> shards;
+  ASSERT_TRUE(encode_visibility_v2(b, 2, &r, EncodeOptions{.max_payload = 200}, shards));
+  std::mt19937_64 rng(1234);
+  for (int trial = 0; trial < 3000; ++trial) {
+    const EncodedShard& s = shards[rng() % shards.size()];
+    std::vector<uint8_t> p = s.payload;
+    switch (trial % 4) {
+      case 0: p.resize(rng() % (p.size() + 1)); break;                     // truncated
+      case 1: p[rng() % p.size()] ^= uint8_t(1u << (rng() % 8)); break;     // one bit flipped
+      case 2: for (auto& v : p) v = uint8_t(rng()); p[0] = trial % 8 < 4 ? kV2TagIntra : kV2TagInter; break;
+      default: p.insert(p.end(), rng() % 64, uint8_t(rng())); break;         // trailing garbage
+    }
+    std::vector<uint8_t> frame(b.data.size(), 0x77);
+    (void)decode_shard_payload_v2(p, s.first_pixel, s.pixel_count, b.width, b.height, b.light_count, &ref, frame);
+    const size_t begin = size_t{s.first_pixel} * b.bytes_per_mask(), end = begin + size_t{s.pixel_count} * b.bytes_per_mask();
+    ASSERT_TRUE(std::all_of(frame.begin(), frame.begin() + begin, [](uint8_t v) { return v == 0x77; }));
+    ASSERT_TRUE(std::all_of(frame.begin() + end, frame.end(), [](uint8_t v) { return v == 0x77; }));
+  }
+  // Geometry that does not fit the frame.
+  std::vector<uint8_t> frame(b.data.size());
+  const auto& p = shards[0].payload;
+  EXPECT_EQ(decode_shard_payload_v2(p, 1, b.width, b.width, b.height, 3, &ref, frame), DecodeError::kBadPayload);
+  EXPECT_EQ(decode_shard_payload_v2(p, 0, b.width * (b.height + 1), b.width, b.height, 3, &ref, frame), DecodeError::kBadPayload);
+  EXPECT_EQ(decode_shard_payload_v2(p, 0, b.width, b.width, b.height, 33, &ref, frame), DecodeError::kBadPayload);
+  EXPECT_EQ(decode_shard_payload_v2(p, 0, b.width, b.width, b.height, 3, &ref, std::span<uint8_t>(frame).first(10)),
+            DecodeError::kBadPayload);
+}
+
+}  // namespace
+}  // namespace dhr
