@@ -50,6 +50,30 @@ void add_lights(Scene& scene, uint32_t total) {
   }
 }
 
+// The writer's indented JSON on one line (the sequence mode's contract: the last stdout line is the object).
+std::string one_line(const std::string& json) {
+  std::string out;
+  bool in_string = false, skipping = false;
+  for (size_t i = 0; i < json.size(); ++i) {
+    const char c = json[i];
+    if (in_string) {
+      out += c;
+      if (c == '\\' && i + 1 < json.size()) out += json[++i];
+      else if (c == '"') in_string = false;
+      continue;
+    }
+    if (c == '\n') {
+      skipping = true;
+      continue;
+    }
+    if (skipping && c == ' ') continue;
+    skipping = false;
+    if (c == '"') in_string = true;
+    out += c;
+  }
+  return out;
+}
+
 struct EyeState {
   std::map<uint64_t, const VisibilityBuffer*> held;  // complete frames the client holds (newest kClientHeldFrames)
 };
@@ -107,7 +131,8 @@ int run_sequence(const SequenceOptions& o) {
   double v1_bytes = 0, v2_bytes = 0, v2_payload = 0, shards_v2 = 0;
   std::vector<double> encode_ms, decode_ms;
   bool lossless = true;
-  uint64_t pixels = 0, unavailable = 0, inter_frames = 0, fallback_rows = 0;
+  uint64_t pixels = 0, unavailable = 0, inter_frames = 0, fallback_rows = 0, pixels_coded = 0, blocks = 0,
+           blocks_copied = 0, blocks_coded = 0;
   std::vector<EncodedShard> v1, v2;
   for (uint32_t f = 0; f < o.frames; ++f) {
     for (int e = 0; e < 2; ++e) {
@@ -138,6 +163,10 @@ int run_sequence(const SequenceOptions& o) {
       encode_ms.push_back(ms_since(enc_start));
       inter_frames += have_ref ? 1 : 0;
       fallback_rows += s2.v1_fallback_rows;
+      pixels_coded += s2.pixels_coded;
+      blocks += s2.blocks;
+      blocks_copied += s2.blocks_copied;
+      blocks_coded += s2.blocks_coded;
       v2_bytes += static_cast<double>(s2.datagram_bytes);
       v2_payload += static_cast<double>(s2.payload_bytes);
       shards_v2 += static_cast<double>(s2.shards);
@@ -208,12 +237,15 @@ int run_sequence(const SequenceOptions& o) {
   j.value("v2_bytes_per_light", lights > 0 ? v2_bytes / eye_frames / lights : 0.0, 1);
   j.value("v2_inter_frac", inter_frames / eye_frames, 3);
   j.value("v2_v1_fallback_rows", static_cast<unsigned long long>(fallback_rows));
+  j.value("v2_pixel_bits_coded_per_eye_frame", static_cast<double>(pixels_coded) / eye_frames, 0);
+  j.value("v2_block_lights_copied_frac", blocks > 0 ? static_cast<double>(blocks_copied) / blocks : 0.0, 4);
+  j.value("v2_block_lights_coded_frac", blocks > 0 ? static_cast<double>(blocks_coded) / blocks : 0.0, 4);
   j.value("v2_encode_ms_per_eye", median(encode_ms), 3);
   j.value("v2_decode_ms_per_eye", median(decode_ms), 3);
   j.value("lossless", lossless);
   j.value("unavailable_frac", pixels > 0 ? static_cast<double>(unavailable) / static_cast<double>(pixels) : 0.0, 5);
   j.end_object();
-  std::printf("%s\n", j.str().c_str());
+  std::printf("%s\n", one_line(j.str()).c_str());
   return lossless ? 0 : 1;
 }
 

@@ -48,6 +48,60 @@ struct ShardPayloadParams {
   }
 };
 
+// fuzz_shard_payload_v2: u8 mode, u8 width-1, u8 height-1, u8 first_row, u8 rows-1, payload. Mode bits 0-1:
+// lights 3, 9, 17 or 32; bit 2: decode against the reference below (else none); bit 3: rows taken raw
+// (unbounded, exercises the range checks).
+struct ShardPayloadV2Params {
+  static constexpr uint32_t kMaxWidth = 128;
+  static constexpr uint32_t kMaxHeight = 64;
+  uint8_t mode = 0;
+  uint32_t width = 1;
+  uint32_t height = 1;
+  uint32_t first_row = 0;
+  uint32_t rows = 1;
+
+  uint32_t light_count() const {
+    const uint32_t counts[4] = {3, 9, 17, 32};
+    return counts[mode & 3u];
+  }
+  static ShardPayloadV2Params read(Reader& r) {
+    ShardPayloadV2Params p;
+    p.mode = r.u8();
+    p.width = 1 + r.u8() % kMaxWidth;
+    p.height = 1 + r.u8() % kMaxHeight;
+    const uint32_t first = r.u8(), rows = r.u8();
+    if (p.mode & 8) {
+      p.first_row = first;
+      p.rows = rows + 1;
+    } else {
+      p.first_row = first % p.height;
+      p.rows = 1 + rows % (p.height - p.first_row);
+    }
+    return p;
+  }
+  void write(Bytes& out) const {
+    put_u8(out, mode);
+    put_u8(out, static_cast<uint8_t>(width - 1));
+    put_u8(out, static_cast<uint8_t>(height - 1));
+    put_u8(out, static_cast<uint8_t>(first_row));
+    put_u8(out, static_cast<uint8_t>(rows - 1));
+  }
+};
+
+// The reference frame of fuzz_shard_payload_v2 (and of its seeds): a deterministic pattern of soft-edged
+// blobs, different per light.
+inline VisibilityBuffer v2_fuzz_reference(uint32_t width, uint32_t height, uint32_t light_count) {
+  VisibilityBuffer b = VisibilityBuffer::create(width, height, light_count);
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      uint32_t m = 0;
+      for (uint32_t l = 0; l < light_count; ++l)
+        m |= ((x + 3 * l) / (5 + l % 4) + (y + l) / (4 + l % 3)) % 3 == 0 ? 1u << l : 0u;
+      b.set(x, y, m);
+    }
+  return b;
+}
+
 // fuzz_codec_roundtrip: u8 lights, u16 width-1, u16 height-1, u16 max_payload, u16 uniform_min_bytes,
 // u8 flags, then fill bytes.
 struct CodecRoundTripParams {

@@ -1,6 +1,7 @@
 // Seed inputs for the fuzz targets, made with the project's own encoders (so they follow the current
 // wire format without committed binary files). Scene seeds are in fuzz_seeds_scene.cpp.
 #include "codec/codec.hpp"
+#include "codec/codec_v2.hpp"
 #include "traces/pose_trace.hpp"
 #include "protocol/protocol.hpp"
 #include "metrics/visibility_synthetic.hpp"
@@ -73,6 +74,36 @@ std::vector<Seed> shard_payload_seeds() {
       p.write(b);
       put_bytes(b, shards[i].payload);
       out.push_back({std::string(t.name) + "_" + std::to_string(i), std::move(b)});
+    }
+  }
+  return out;
+}
+
+std::vector<Seed> shard_payload_v2_seeds() {
+  std::vector<Seed> out;
+  for (const uint8_t mode : {uint8_t{0}, uint8_t{4}, uint8_t{1}, uint8_t{5}}) {  // 3 / 9 lights, intra / inter
+    ShardPayloadV2Params p;
+    p.mode = mode;
+    p.width = 100;
+    p.height = 40;
+    const VisibilityBuffer ref = v2_fuzz_reference(p.width, p.height, p.light_count());
+    VisibilityBuffer cur = VisibilityBuffer::create(p.width, p.height, p.light_count());
+    for (uint32_t y = 0; y < p.height; ++y)  // the reference moved one pixel right, plus a square of light
+      for (uint32_t x = 0; x < p.width; ++x)
+        cur.set(x, y, (x > 0 ? ref.get(x - 1, y) : 0u) | (x > 40 && x < 60 && y > 10 && y < 30 ? 1u : 0u));
+    const V2Reference r{&ref, 1};
+    EncodeOptions options;
+    options.max_payload = 120;
+    std::vector<EncodedShard> shards;
+    if (!encode_visibility_v2(cur, 2, (mode & 4) ? &r : nullptr, options, shards)) continue;
+    for (size_t i = 0; i < shards.size() && i < 3; ++i) {
+      if (!is_v2_payload(shards[i].payload)) continue;
+      p.first_row = shards[i].first_pixel / p.width;
+      p.rows = shards[i].pixel_count / p.width;
+      Bytes b;
+      p.write(b);
+      put_bytes(b, shards[i].payload);
+      out.push_back({"v2_mode" + std::to_string(mode) + "_" + std::to_string(i), std::move(b)});
     }
   }
   return out;
@@ -210,12 +241,13 @@ std::vector<Seed> pose_trace_seeds() {
 }  // namespace
 
 std::vector<std::string> seed_targets() {
-  return {"datagram", "shard_payload", "codec_roundtrip", "reassembler", "scene", "pose_trace"};
+  return {"datagram", "shard_payload", "shard_payload_v2", "codec_roundtrip", "reassembler", "scene", "pose_trace"};
 }
 
 std::vector<Seed> seeds_for(const std::string& target) {
   if (target == "datagram") return datagram_seeds();
   if (target == "shard_payload") return shard_payload_seeds();
+  if (target == "shard_payload_v2") return shard_payload_v2_seeds();
   if (target == "codec_roundtrip") return codec_roundtrip_seeds();
   if (target == "reassembler") return reassembler_seeds();
   if (target == "scene") return scene_seeds();

@@ -212,12 +212,17 @@ class BandCoder {
     const uint32_t lw = w + 4;  // local plane: columns bx-2 .. bx+w+1, rows by-2 .. by+h-1
     plane_.assign(size_t{lw} * (h + 2), 0);
     const uint32_t bx1 = bx + w;
+    const uint32_t mb = g_.mask_bytes;
     for (uint32_t r = 0; r < h + 2; ++r) {
       const int64_t y = int64_t{by} + r - 2;
-      for (uint32_t c = 0; c < lw; ++c) {
-        const int64_t x = int64_t{bx} + c - 2;
-        plane_[size_t{r} * lw + c] = static_cast<uint8_t>(known_bit(x, y, l, bx1, by));
-      }
+      if (y < g_.y0 || y >= g_.y1) continue;  // other shards' rows: unknown, 0
+      // Known columns: inside the image, and left of the block's right edge in the current block row.
+      const int64_t x_begin = std::max<int64_t>(int64_t{bx} - 2, 0);
+      const int64_t x_end = std::min<int64_t>(y >= by ? int64_t{bx1} : int64_t{bx1} + 2, g_.width);
+      const uint8_t* row = cur_ + static_cast<size_t>(y) * g_.width * mb;
+      uint8_t* out = &plane_[size_t{r} * lw + 2 - bx];  // indexed by x
+      for (int64_t x = x_begin; x < x_end; ++x)
+        out[x] = static_cast<uint8_t>((load_mask(row + static_cast<size_t>(x) * mb, mb) >> l) & 1u);
     }
     const bool inter = ref_ != nullptr;
     if (inter) {  // reference plane: rows by-1 .. by+h, columns bx-1 .. bx+w, displaced by the vector
@@ -227,7 +232,6 @@ class BandCoder {
           ref_plane_[size_t{r} * (w + 2) + c] = static_cast<uint8_t>(
               ref_bit(int64_t{bx} + c - 1 + plan.vector.x, int64_t{by} + r - 1 + plan.vector.y, l));
     }
-    const uint32_t mb = g_.mask_bytes;
     for (uint32_t j = 0; j < h; ++j) {
       const uint8_t* row_modes = &plan.sub[l][(j / kSub) * sub_cols];
       uint8_t* p0 = &plane_[size_t{j + 2} * lw + 2];  // this row, at column bx

@@ -35,8 +35,23 @@ class Decider {
     std::array<uint32_t, kMaxSubBlocks> all{}, any{}, diff{};
     all.fill(0xFFFFFFFFu);
     for (uint32_t y = y0; y < y0 + h; ++y) {
+      const uint32_t srow = ((y - y0) / kSub) * sub_cols;
+      if (mb_ == 1) {  // 8-bit masks: 8 pixels per sub-block row, plain byte loops
+        const uint8_t* row = &cur_.data[size_t{y} * cur_.width + x0];
+        for (uint32_t sc = 0; sc < sub_cols; ++sc) {
+          const uint32_t n = std::min(kSub, w - sc * kSub);
+          uint8_t a = 0xFF, o = 0;
+          for (uint32_t i = 0; i < n; ++i) {
+            a &= row[sc * kSub + i];
+            o |= row[sc * kSub + i];
+          }
+          all[srow + sc] &= 0xFFFFFF00u | a;
+          any[srow + sc] |= o;
+        }
+        continue;
+      }
       for (uint32_t x = x0; x < x0 + w; ++x) {
-        const uint32_t s = ((y - y0) / kSub) * sub_cols + (x - x0) / kSub, m = cur_mask(x, y);
+        const uint32_t s = srow + (x - x0) / kSub, m = cur_mask(x, y);
         all[s] &= m;
         any[s] |= m;
       }
@@ -50,9 +65,22 @@ class Decider {
     if (ref_ != nullptr && mixed != 0) {
       plan.vector = search(x0, y0, w, h, mixed, {previous, above, Vector{}, hint(x0, y0, w, h)});
       for (uint32_t y = y0; y < y0 + h; ++y) {
+        const uint32_t srow = ((y - y0) / kSub) * sub_cols;
+        const int64_t ry = int64_t{y} + plan.vector.y, rx = int64_t{x0} + plan.vector.x;
+        if (mb_ == 1 && ry >= 0 && ry < ref_->height && rx >= 0 && rx + w <= ref_->width) {
+          const uint8_t* a = &cur_.data[size_t{y} * cur_.width + x0];
+          const uint8_t* r = &ref_->data[static_cast<size_t>(ry) * ref_->width + static_cast<size_t>(rx)];
+          for (uint32_t sc = 0; sc < sub_cols; ++sc) {
+            uint8_t d = 0;
+            for (uint32_t i = sc * kSub; i < std::min(w, (sc + 1) * kSub); ++i) d |= a[i] ^ r[i];
+            diff[srow + sc] |= d;
+            block_diff |= d;
+          }
+          continue;
+        }
         for (uint32_t x = x0; x < x0 + w; ++x) {
-          const uint32_t d = cur_mask(x, y) ^ ref_mask(int64_t{x} + plan.vector.x, int64_t{y} + plan.vector.y);
-          diff[((y - y0) / kSub) * sub_cols + (x - x0) / kSub] |= d;
+          const uint32_t d = cur_mask(x, y) ^ ref_mask(int64_t{x} + plan.vector.x, ry);
+          diff[srow + (x - x0) / kSub] |= d;
           block_diff |= d;
         }
       }
@@ -87,6 +115,17 @@ class Decider {
   uint64_t cost(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t bits, Vector v, uint64_t limit) const {
     uint64_t n = 0;
     for (uint32_t y = y0; y < y0 + h; ++y) {
+      const int64_t ry = int64_t{y} + v.y, rx = int64_t{x0} + v.x;
+      if (mb_ == 1 && ry >= 0 && ry < ref_->height && rx >= 0 && rx + w <= ref_->width) {
+        const uint8_t* a = &cur_.data[size_t{y} * cur_.width + x0];
+        const uint8_t* b = &ref_->data[static_cast<size_t>(ry) * ref_->width + static_cast<size_t>(rx)];
+        const uint8_t m = static_cast<uint8_t>(bits);
+        uint32_t row = 0;
+        for (uint32_t i = 0; i < w; ++i) row += ((a[i] ^ b[i]) & m) != 0 ? 1u : 0u;
+        n += row;
+        if (n > limit) return n;
+        continue;
+      }
       for (uint32_t x = x0; x < x0 + w; ++x)
         n += ((cur_mask(x, y) ^ ref_mask(int64_t{x} + v.x, int64_t{y} + v.y)) & bits) != 0 ? 1 : 0;
       if (n > limit) return n;
