@@ -37,7 +37,7 @@ std::vector<Seed> datagram_seeds() {
   }
   out.push_back({"bye_to_hello", datagram(0, Bye{ByeReason::kVersionMismatch})});
   Bytes other_version = encode_datagram(samples.front());
-  if (other_version.size() > 4) other_version[4] = 2;
+  if (other_version.size() > 4) other_version[4] = kProtocolVersion + 1;
   out.push_back({"hello_version2", other_version});
   return out;
 }

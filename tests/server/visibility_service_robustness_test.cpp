@@ -27,7 +27,7 @@ TEST_F(VisibilityServiceTest, BadDatagramsAreCountedAndDropped) {
   send_raw({1, 2, 3}, peer(1));
   // Another protocol version's Hello: Bye(version mismatch).
   std::vector<uint8_t> v2 = encode_datagram(Datagram{0, 0, make_hello(5)});
-  v2[4] = 2;
+  v2[4] = kProtocolVersion + 1;
   send_raw(v2, peer(3));
   // A server-to-client message from the client: dropped.
   Welcome welcome;

@@ -1,5 +1,6 @@
 // Client-side reassembly: loss, reordering, duplicates, newest-frame-wins, late shards, bounded memory.
 #include "codec/codec.hpp"
+#include "codec/codec_v2.hpp"
 #include "codec/reassembly.hpp"
 #include "metrics/visibility_synthetic.hpp"
 
@@ -337,6 +338,58 @@ void run_impaired_stream(bool corrupt) {
 
 TEST(Reassembly, ImpairedStreamIsExactWhereValid) { run_impaired_stream(false); }
 TEST(Reassembly, CorruptingStreamKeepsInvariants) { run_impaired_stream(true); }
+
+// Codec v2 shards: intra frames complete and become references; an inter frame decodes against the exact
+// frame it names; a frame the reassembler does not hold (never received whole, or pushed out of the ring)
+// is rejected with kMissingReference and nothing of it is shown.
+TEST(Reassembly, V2InterShardsDecodeOnlyAgainstAHeldReference) {
+  ReassemblerConfig c = config();
+  c.reference_frames = 2;
+  VisibilityReassembler r(c);
+  const auto v2_shards = [](const VisibilityBuffer& b, uint64_t frame, const VisibilityBuffer* ref, uint64_t ref_frame) {
+    std::vector<EncodedShard> encoded;
+    const V2Reference reference{ref, ref_frame};
+    EncodeOptions options;
+    options.max_payload = 200;
+    EXPECT_TRUE(encode_visibility_v2(b, frame, ref != nullptr ? &reference : nullptr, options, encoded));
+    return shards_as_messages(b, frame, Eye::kLeft, view_for(frame), encoded);
+  };
+  const VisibilityBuffer f1 = make_room_visibility(kW, kH, kLights, 1);
+  for (const VisibilityShard& s : v2_shards(f1, 1, nullptr, 0)) ASSERT_NE(r.insert(s).status, InsertStatus::kRejected);
+  ASSERT_NE(r.latest_complete(Eye::kLeft), nullptr);
+  EXPECT_EQ(r.newest_reference(Eye::kLeft), std::optional<uint64_t>(1));
+  EXPECT_FALSE(r.newest_reference(Eye::kRight).has_value());
+
+  // Frame 2 against frame 1: decodes exactly.
+  VisibilityBuffer f2 = f1;
+  for (uint32_t y = 40; y < 80; ++y)
+    for (uint32_t x = 100; x < 180; ++x) f2.set(x, y, 5);
+  InsertStatus last = InsertStatus::kRejected;
+  for (const VisibilityShard& s : v2_shards(f2, 2, &f1, 1)) last = r.insert(s).status;
+  EXPECT_EQ(last, InsertStatus::kCompleted);
+  EXPECT_EQ(r.latest_complete(Eye::kLeft)->visibility.buffer, f2);
+
+  // Frame 3 against frame 0, which never arrived: every shard rejected, nothing published.
+  const uint64_t rejected_before = r.stats().rejections[DecodeError::kMissingReference];
+  const auto orphans = v2_shards(f2, 3, &f1, 0);
+  for (const VisibilityShard& s : orphans) {
+    const InsertResult res = r.insert(s);
+    EXPECT_EQ(res.status, InsertStatus::kRejected);
+    EXPECT_EQ(res.error, DecodeError::kMissingReference);
+  }
+  EXPECT_EQ(r.stats().rejections[DecodeError::kMissingReference], rejected_before + orphans.size());
+  EXPECT_EQ(r.latest(Eye::kLeft)->visibility.frame_number, 2u);
+
+  // Frames 3 and 4 complete: with a ring of 2, frame 1 is no longer held.
+  for (uint64_t f = 3; f <= 4; ++f)
+    for (const VisibilityShard& s : v2_shards(f2, f, nullptr, 0)) r.insert(s);
+  const auto too_old = v2_shards(f2, 5, &f1, 1);
+  EXPECT_EQ(r.insert(too_old.front()).error, DecodeError::kMissingReference);
+  EXPECT_EQ(r.newest_reference(Eye::kLeft), std::optional<uint64_t>(4));
+  // After reset() (a new session) no reference survives.
+  r.reset();
+  EXPECT_FALSE(r.newest_reference(Eye::kLeft).has_value());
+}
 
 }  // namespace
 }  // namespace dhr

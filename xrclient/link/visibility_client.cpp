@@ -189,8 +189,16 @@ bool VisibilityClient::send_pose(const FramePose& pose) {
   // Requested from now on even if the send is refused locally: a shard for it is then merely unexpected.
   newest_requested_ = pose.frame;
   reassembler_->set_newest_requested_frame(pose.frame);
+  PoseUpdate update;
+  static_cast<FramePose&>(update) = pose;
+  // Acknowledgements for codec v2: the newest complete frame kept as a reference, per eye.
+  for (size_t e = 0; e < 2; ++e) {
+    const std::optional<uint64_t> held = reassembler_->newest_reference(static_cast<Eye>(e));
+    if (held && *held < pose.frame && pose.frame - *held <= 65535)
+      update.held_distance[e] = static_cast<uint16_t>(pose.frame - *held);
+  }
   const int64_t now = clock_.now_ns();
-  if (!send(pose, token_)) return false;
+  if (!send(update, token_)) return false;
   ++stats_.poses_sent;
   responses_.on_pose_sent(pose.frame, now);
   return true;
@@ -254,7 +262,7 @@ size_t VisibilityClient::memory_bound_bytes() const {
   // index, and the received ranges (<= one per shard, 8 B each; reserved 64, grown by doubling).
   const size_t shards = reassembler_->max_shards_per_frame();
   const size_t per_slot = buffer + size_t{c.height} * 5 + shards + std::max<size_t>(64, 2 * shards) * 8;
-  return 2 * c.max_frames_in_flight * per_slot + buffer;
+  return 2 * c.max_frames_in_flight * per_slot + buffer + 2 * c.reference_frames * buffer;  // + v2 references
 }
 
 }  // namespace dhr::client

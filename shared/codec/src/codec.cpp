@@ -332,13 +332,9 @@ size_t whole_frame_lz4_size(std::span<const uint8_t> bytes) {
   return n > 0 ? static_cast<size_t>(n) : 0;
 }
 
-std::vector<VisibilityShard> make_visibility_shards(const VisibilityBuffer& buffer, uint64_t frame_number, Eye eye,
-                                                    const View& view, const EncodeOptions& options,
-                                                    CodecStats* out_stats) {
-  std::vector<EncodedShard> encoded;
-  std::vector<VisibilityShard> shards;
-  if (!encode_visibility(buffer, options, encoded, out_stats)) return shards;
-  shards.resize(encoded.size());
+std::vector<VisibilityShard> shards_as_messages(const VisibilityBuffer& buffer, uint64_t frame_number, Eye eye,
+                                                const View& view, const std::vector<EncodedShard>& encoded) {
+  std::vector<VisibilityShard> shards(encoded.size());
   for (size_t i = 0; i < encoded.size(); ++i) {
     VisibilityShard& s = shards[i];
     s.frame_number = frame_number;
@@ -355,6 +351,14 @@ std::vector<VisibilityShard> make_visibility_shards(const VisibilityBuffer& buff
     std::copy(encoded[i].payload.begin(), encoded[i].payload.end(), s.payload.begin());
   }
   return shards;
+}
+
+std::vector<VisibilityShard> make_visibility_shards(const VisibilityBuffer& buffer, uint64_t frame_number, Eye eye,
+                                                    const View& view, const EncodeOptions& options,
+                                                    CodecStats* out_stats) {
+  std::vector<EncodedShard> encoded;
+  if (!encode_visibility(buffer, options, encoded, out_stats)) return {};
+  return shards_as_messages(buffer, frame_number, eye, view, encoded);
 }
 
 }  // namespace dhr

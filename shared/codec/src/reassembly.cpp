@@ -38,6 +38,7 @@ VisibilityReassembler::VisibilityReassembler(const ReassemblerConfig& config)
     throw std::invalid_argument("reassembler: " + std::to_string(config.light_count) + " lights");
   if (config.max_frames_in_flight < 2 || config.max_frames_in_flight > 64)
     throw std::invalid_argument("reassembler: max_frames_in_flight must be in 2..64");
+  if (config.reference_frames > 64) throw std::invalid_argument("reassembler: reference_frames must be in 0..64");
   max_shards_ = std::min<size_t>(65535, codec_bound(config.width, config.height, mask_bits_, config.max_payload).max_shards);
   for (EyeState& eye : eyes_) eye.slots.resize(config.max_frames_in_flight);
 }
@@ -127,6 +128,30 @@ void VisibilityReassembler::release_older(EyeState& eye, uint64_t frame) {
   }
 }
 
+const VisibilityBuffer* VisibilityReassembler::find_reference(const EyeState& eye, uint64_t frame) const {
+  for (size_t i = 0; i < eye.references_used; ++i)
+    if (eye.references[i].frame == frame) return &eye.references[i].buffer;
+  return nullptr;
+}
+
+void VisibilityReassembler::keep_reference(EyeState& eye, const ReassembledFrame& frame) {
+  if (config_.reference_frames == 0) return;
+  if (eye.references.size() < config_.reference_frames) eye.references.resize(config_.reference_frames);
+  Reference& r = eye.references[eye.next_reference];
+  r.frame = frame.visibility.frame_number;
+  r.buffer = frame.visibility.buffer;  // recycled storage after the ring's first round: no allocation
+  eye.next_reference = (eye.next_reference + 1) % config_.reference_frames;
+  eye.references_used = std::min(eye.references_used + 1, config_.reference_frames);
+}
+
+std::optional<uint64_t> VisibilityReassembler::newest_reference(Eye eye) const {
+  const EyeState& e = eyes_[static_cast<size_t>(eye) & 1u];
+  if (e.references_used == 0) return std::nullopt;
+  uint64_t newest = 0;
+  for (size_t i = 0; i < e.references_used; ++i) newest = std::max(newest, e.references[i].frame);
+  return newest;
+}
+
 InsertResult VisibilityReassembler::insert(const VisibilityShard& shard) {
   // Session checks: a shard may come from the wire decoder or be built in-process, so check everything.
   const uint8_t eye_index = static_cast<uint8_t>(shard.eye);
@@ -181,8 +206,17 @@ InsertResult VisibilityReassembler::insert(const VisibilityShard& shard) {
   }
 
   if (scratch_.empty()) scratch_.resize(static_cast<size_t>(total) * mask_bytes(mask_bits_));
-  const DecodeError e =
-      decode_shard_payload(shard.payload_bytes(), shard.first_pixel, shard.pixel_count, mask_bits_, scratch_);
+  DecodeError e;
+  if (is_v2_payload(shard.payload_bytes())) {
+    // Inter shards decode only against the exact frame they name; a frame not held is never substituted.
+    const std::optional<uint64_t> need = v2_reference_frame(shard.payload_bytes(), shard.frame_number);
+    const VisibilityBuffer* reference = need ? find_reference(eye, *need) : nullptr;
+    if (need && reference == nullptr) return reject(DecodeError::kMissingReference);
+    e = decode_shard_payload_v2(shard.payload_bytes(), shard.first_pixel, shard.pixel_count, config_.width,
+                                config_.height, config_.light_count, reference, scratch_);
+  } else {
+    e = decode_shard_payload(shard.payload_bytes(), shard.first_pixel, shard.pixel_count, mask_bits_, scratch_);
+  }
   if (e != DecodeError::kNone) return reject(e);
 
   if (!slot) {
@@ -200,6 +234,7 @@ InsertResult VisibilityReassembler::insert(const VisibilityShard& shard) {
   slot->frame.visibility.complete = true;
   ++stats_.frames_completed;
   eye.complete_frame = shard.frame_number;
+  keep_reference(eye, slot->frame);
   release_older(eye, shard.frame_number);
   return InsertResult{InsertStatus::kCompleted};
 }
@@ -227,6 +262,8 @@ size_t VisibilityReassembler::memory_bytes() const {
     for (const Slot& s : eye.slots)
       bytes += s.frame.visibility.buffer.data.capacity() + s.frame.visibility.row_valid.capacity() + s.row_pixels.capacity() * 4 +
                s.shard_received.capacity() + s.frame.received_ranges.capacity() * sizeof(s.frame.received_ranges[0]);
+  for (const EyeState& eye : eyes_)
+    for (const Reference& r : eye.references) bytes += r.buffer.data.capacity();
   return bytes;
 }
 
@@ -234,6 +271,8 @@ void VisibilityReassembler::reset() {
   for (EyeState& eye : eyes_) {
     for (Slot& s : eye.slots) s.in_use = false;
     eye.complete_frame.reset();
+    eye.references_used = 0;  // a new session's frames never decode against an old one's
+    eye.next_reference = 0;
   }
 }
 

@@ -10,7 +10,7 @@ namespace {
 
 constexpr size_t kHelloFixed = 22;
 constexpr size_t kWelcomeBody = 36;
-constexpr size_t kPoseUpdateBody = 16 + 2 * kViewWireSize;
+constexpr size_t kPoseUpdateBody = 16 + 2 * kViewWireSize + 4;
 constexpr size_t kShardBodyFixed = 28 + kViewWireSize;
 constexpr size_t kHeartbeatBody = 52;
 constexpr size_t kByeBody = 1;
@@ -102,6 +102,8 @@ void write_body(ByteWriter& w, const PoseUpdate& m) {
   w.i64(m.display_time_ns);
   write_view(w, m.views[0]);
   write_view(w, m.views[1]);
+  w.u16(m.held_distance[0]);
+  w.u16(m.held_distance[1]);
 }
 
 void write_body(ByteWriter& w, const VisibilityShard& m) {
@@ -189,6 +191,8 @@ DecodeError read_body(ByteReader& r, PoseUpdate& m) {
   m.display_time_ns = r.i64();
   const RawView left = read_view(r);
   const RawView right = read_view(r);
+  m.held_distance[0] = r.u16();
+  m.held_distance[1] = r.u16();
   if (!r.ok()) return DecodeError::kTruncated;
   if (m.display_time_ns < 0) return DecodeError::kBadValue;
   if (const DecodeError e = decode_view(left, m.views[0]); e != DecodeError::kNone) return e;

@@ -22,6 +22,7 @@ const char* to_string(DecodeError error) {
     case DecodeError::kSessionMismatch: return "shard does not match the session";
     case DecodeError::kInconsistentFrame: return "shard inconsistent with its frame";
     case DecodeError::kFutureFrame: return "shard for a frame not yet requested";
+    case DecodeError::kMissingReference: return "shard coded against a frame not held";
     case DecodeError::kCount: break;
   }
   return "unknown error";

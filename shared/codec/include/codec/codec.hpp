@@ -81,6 +81,10 @@ DecodeError decode_shard_payload(std::span<const uint8_t> payload, uint32_t firs
 // scheme is measured against. 0 on failure.
 size_t whole_frame_lz4_size(std::span<const uint8_t> bytes);
 
+// Encoded shards (of either codec) as protocol messages for one (frame, eye), every shard carrying `view`.
+std::vector<VisibilityShard> shards_as_messages(const VisibilityBuffer& buffer, uint64_t frame_number, Eye eye,
+                                                const View& view, const std::vector<EncodedShard>& encoded);
+
 // The encoded buffer as protocol messages for one (frame, eye), every shard carrying `view`.
 // Empty when encode_visibility fails.
 std::vector<VisibilityShard> make_visibility_shards(const VisibilityBuffer& buffer, uint64_t frame_number, Eye eye,

@@ -6,9 +6,12 @@
 // older than every held incomplete frame is dropped. When a frame completes, older frames are released.
 // Incomplete frames are usable region by region: row_valid says which rows fully arrived (and
 // received_ranges exactly which pixels), so the client falls back to prediction for the rest. Memory is allocated at most once per slot, never per shard, and is
-// bounded by (2 * max_frames_in_flight + 1) buffers whatever arrives. Deterministic; not thread-safe.
+// bounded by (2 * max_frames_in_flight + 1 + 2 * reference_frames) buffers whatever arrives. Complete frames are
+// kept (reference_frames per eye) as references for codec v2 inter shards, which decode only against the
+// exact frame they name (else kMissingReference). Deterministic; not thread-safe.
 #pragma once
 #include "codec/codec.hpp"
+#include "codec/codec_v2.hpp"
 #include "codec/visibility_frame.hpp"
 #include "math/pose.hpp"
 #include "protocol/protocol.hpp"
@@ -30,6 +33,9 @@ struct ReassemblerConfig {
   uint32_t light_count = 0;          // the mask width follows (Welcome::light_count)
   size_t max_frames_in_flight = 4;   // per eye, >= 2
   size_t max_payload = kMaxShardPayload;  // the server's shard budget, for the shard-count bound
+  // Complete frames kept per eye as references for codec v2 shards (0: v1 only; a v2 inter shard is then
+  // rejected with kMissingReference).
+  size_t reference_frames = 0;
 };
 
 // A frame in the reassembler: the visibility frame itself (what the client publishes, VisibilityFrame) and
@@ -90,6 +96,8 @@ class VisibilityReassembler {
   const ReassembledFrame* latest(Eye eye) const;
   // Newest complete frame, or null. Valid until the next insert()/reset().
   const ReassembledFrame* latest_complete(Eye eye) const;
+  // The newest complete frame kept as a v2 reference (what the client acknowledges), if any.
+  std::optional<uint64_t> newest_reference(Eye eye) const;
 
   const ReassemblerStats& stats() const { return stats_; }
   const ReassemblerConfig& config() const { return config_; }
@@ -105,10 +113,19 @@ class VisibilityReassembler {
     std::vector<uint8_t> shard_received;  // per shard index
     std::vector<uint32_t> row_pixels;     // received pixels per row
   };
+  struct Reference {
+    uint64_t frame = 0;
+    VisibilityBuffer buffer;
+  };
   struct EyeState {
     std::vector<Slot> slots;
     std::optional<uint64_t> complete_frame;  // newest complete frame number
+    std::vector<Reference> references;       // ring of the newest complete frames (reference_frames)
+    size_t references_used = 0;
+    size_t next_reference = 0;
   };
+  const VisibilityBuffer* find_reference(const EyeState& eye, uint64_t frame) const;
+  void keep_reference(EyeState& eye, const ReassembledFrame& frame);
 
   Slot* find_slot(EyeState& eye, uint64_t frame);
   Slot* claim_slot(EyeState& eye, uint64_t frame, bool& out_late);

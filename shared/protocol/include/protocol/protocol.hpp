@@ -8,6 +8,7 @@
 #include "visibility/visibility.hpp"
 
 #include <array>
+#include <optional>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -18,7 +19,7 @@
 namespace dhr {
 
 inline constexpr std::array<uint8_t, 4> kProtocolMagic = {'D', 'H', 'R', 'X'};
-inline constexpr uint8_t kProtocolVersion = 1;
+inline constexpr uint8_t kProtocolVersion = 2;  // 2: codec v2 capability, acknowledgements in PoseUpdate
 
 inline constexpr size_t kHeaderSize = 20;
 inline constexpr size_t kViewWireSize = 56;  // f64 x3 position, f32 x4 quaternion (x,y,z,w), f32 x4 FOV
@@ -56,7 +57,8 @@ enum class ByeReason : uint8_t {
 inline constexpr uint8_t kMaxByeReason = 7;
 
 // Capability bits (Hello: what the client supports; Welcome: what the server will use).
-inline constexpr uint32_t kCapabilityLz4RowShards = 1u << 0;  // the visibility codec of this version
+inline constexpr uint32_t kCapabilityLz4RowShards = 1u << 0;  // codec v1: LZ4 chunk shards (always supported)
+inline constexpr uint32_t kCapabilityCodecV2 = 1u << 1;       // codec v2 (codec/codec_v2.hpp), intra and inter
 
 struct Hello {
   uint64_t client_nonce = 0;  // random per attempt; Welcome echoes it
@@ -91,9 +93,18 @@ struct Welcome {
   bool operator==(const Welcome&) const = default;
 };
 
-// A frame's pose on the wire: frame number, predicted display time (client clock, XrTime, >= 0) and both
-// eyes' views ([Eye::kLeft], [Eye::kRight]). The same type the client's frame loop uses.
-using PoseUpdate = FramePose;
+// A frame's pose on the wire (frame number, predicted display time on the client clock, XrTime, >= 0, and both
+// eyes' views, [Eye::kLeft], [Eye::kRight]: the FramePose the client's frame loop uses), plus the client's
+// acknowledgements for codec v2: per eye, the newest complete frame it holds as a reference.
+struct PoseUpdate : FramePose {
+  // frame - held frame, per eye; 0: nothing held (or held frames more than 65535 frames old).
+  std::array<uint16_t, 2> held_distance{};
+
+  std::optional<uint64_t> held_frame(size_t eye) const {
+    if (eye > 1 || held_distance[eye] == 0 || held_distance[eye] > frame) return std::nullopt;
+    return frame - held_distance[eye];
+  }
+};
 
 struct VisibilityShard {
   uint64_t frame_number = 0;  // the client frame whose pose was traced

@@ -26,6 +26,7 @@ enum class DecodeError : uint8_t {
   kSessionMismatch,    // shard disagrees with the negotiated session (size, mask width)
   kInconsistentFrame,  // shard disagrees with earlier shards of its frame (count, view, overlap)
   kFutureFrame,        // shard for a frame the client has not requested yet
+  kMissingReference,   // v2 shard coded against a frame the client does not hold (never decoded against another)
   kCount
 };
 
