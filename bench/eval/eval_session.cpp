@@ -37,6 +37,7 @@ server::ServiceConfig service_config(const Setting& setting, const RunOptions& o
   c.token_seed = options.seed * 2 + 1;  // never 0 (0 would draw tokens from std::random_device)
   c.predict = setting.method == Method::kPaperPred;
   c.predict_horizon_ns = -1;  // automatic: the session's measured RTT + queueing + the last trace time
+  c.codec_v2 = options.codec_v2;
   return c;
 }
 
@@ -44,6 +45,7 @@ client::VisibilityClientConfig client_config(const Setting& setting, const RunOp
                                              const SessionShared& shared) {
   client::VisibilityClientConfig c;
   c.format = TracedFormat{shared.eye, setting.guard_band};
+  c.codec_v2 = options.codec_v2;
   c.max_frames_in_flight = 8;
   c.nonce_seed = options.seed;
   return c;

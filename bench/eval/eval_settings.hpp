@@ -42,6 +42,7 @@ struct RunOptions {
   double loss = 0.0;             // per datagram, both directions
   double server_ms = 0.0;        // modelled server compute per traced frame (both eyes), virtual time
   uint64_t seed = 1;
+  bool codec_v2 = true;          // --codec v2 (default) or v1
   uint32_t threads = 0;          // Embree threads (0: all cores)
   bool progress = true;
 };

@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1000.0));
   run->add_option("--seed", options.seed, "network impairment seed");
+  std::string codec = "v2";
+  run->add_option("--codec", codec, "visibility codec: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"v1", "v2"}));
   run->add_option("--threads", options.threads, "Embree threads (0: all cores)");
   bool no_progress = false;
   run->add_flag("--no-progress", no_progress, "no progress bar on stderr");
@@ -70,6 +74,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "dhr-eval: --eye-size: expected WxH between 16 and 4096, got '%s'\n", eye_size.c_str());
       return 2;
     }
+    options.codec_v2 = codec == "v2";
     if (!(options.jitter_ms >= 0.0 && options.jitter_ms <= 1000.0) || !(options.loss >= 0.0 && options.loss < 1.0)) {
       std::fprintf(stderr, "dhr-eval: --jitter-ms must be in [0, 1000] and --loss in [0, 1)\n");
       return 2;

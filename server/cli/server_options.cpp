@@ -135,6 +135,11 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   app.add_flag("--trace-identical-poses", trace_identical,
                "trace every pose, even one identical to the last traced (default: skip, refresh once a second)")
       ->group(kServeGroup);
+  std::string codec = "v2";
+  app.add_option("--codec", codec,
+                 "visibility codec for clients that offer v2: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"v1", "v2"}));
   app.add_flag("--predict", out.predict,
                "trace the views predicted for when the result is displayed (constant velocity from the "
                "client's last poses) instead of the poses as sent")
@@ -179,6 +184,7 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       return fail("--guard: eye size plus guard band exceeds " + std::to_string(kMaxBufferDimension) + " pixels");
   }
   if (no_skip) out.tracer.skip = SkipOptions::none();
+  out.codec_v2 = codec == "v2";
   out.skip_identical_pose = !trace_identical;
   if (*serve) {
     const auto p = parse_port(port);

@@ -34,6 +34,7 @@ struct ServerOptions {
   uint32_t session_timeout_ms = 5000;
   uint32_t heartbeat_ms = 1000;
   bool skip_identical_pose = true;
+  bool codec_v2 = true;                 // --codec v2 (default) or v1, for clients that offer v2
   bool predict = false;                 // server-side pose prediction
   double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
   net::ImpairmentParams impairment;     // on everything the server sends

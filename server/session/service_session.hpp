@@ -8,6 +8,9 @@
 #include <array>
 #include <atomic>
 #include <optional>
+#include <vector>
+
+#include "codec/codec_v2.hpp"
 
 namespace dhr::server {
 
@@ -32,6 +35,21 @@ struct VisibilityService::Session {
   std::array<View, 2> traced_views{};
   int64_t last_trace_ns = 0;
   uint64_t newest_frame_traced = 0;
+  // Codec v2, per eye: the frames traced and sent (the newest kV2ReferenceFrames), the newest frame the client
+  // acknowledged holding, and when the eye was last coded intra.
+  struct SentFrame {
+    uint64_t frame = 0;
+    VisibilityBuffer buffer;
+    Camera camera;
+  };
+  struct EyeCodec {
+    std::vector<SentFrame> sent;  // ring, kV2ReferenceFrames
+    size_t next = 0;
+    std::optional<uint64_t> acked;
+    int64_t last_intra_ns = 0;
+    bool had_intra = false;
+  };
+  std::array<EyeCodec, 2> codec;
   // The client's newest Heartbeat (echoed back) and the offset estimate from its echoes of ours.
   bool have_peer_heartbeat = false;
   int64_t peer_heartbeat_send_ns = 0;
@@ -54,6 +72,7 @@ struct VisibilityService::Session {
 struct VisibilityService::Work {
   std::shared_ptr<Session> session;
   FramePose traced;
+  std::array<std::optional<uint64_t>, 2> acked;  // codec v2: the client's acknowledgements when taken
 };
 
 namespace session_detail {

@@ -183,6 +183,10 @@ void VisibilityService::handle_session_message(const Datagram& datagram, const n
       }
       s.pending = *pose;
       s.pending_receive_ns = now;
+      for (size_t e = 0; e < 2; ++e) {  // acknowledgements only move forward
+        const std::optional<uint64_t> held = pose->held_frame(e);
+        if (held && (!s.codec[e].acked || *held > *s.codec[e].acked)) s.codec[e].acked = held;
+      }
       if (config_.predict) s.predictor.add(pose->display_time_ns, pose->views);
       work_ready_.notify_one();
     } else if (const auto* hb = std::get_if<Heartbeat>(&datagram.message)) {

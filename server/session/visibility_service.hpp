@@ -39,6 +39,10 @@ struct ServiceConfig {
   int64_t session_timeout_ns = 5 * net::kNsPerSecond;
   int64_t heartbeat_interval_ns = net::kNsPerSecond;
   EncodeOptions encode;
+  // Codec v2 (codec/codec_v2.hpp) for clients that offer it: each eye coded against the newest frame the client
+  // acknowledged holding, intra when there is none and at least every v2_intra_refresh_ns. false: codec v1.
+  bool codec_v2 = true;
+  int64_t v2_intra_refresh_ns = 2 * net::kNsPerSecond;
   // A pose bit-identical (both eyes) to the last traced one is not traced again, except once every
   // identical_refresh_ns (so a lost shard of a still scene is repaired); 0 = never refresh.
   bool skip_identical_pose = true;
@@ -97,6 +101,8 @@ struct ServiceStats {
   uint64_t frames_predicted = 0;         // traced for predicted views (ServiceConfig::predict)
   uint64_t prediction_fallbacks = 0;     // the predictor fell back to the pose as sent
   double prediction_horizon_ms = 0.0;    // sum of the horizons used
+  uint64_t eyes_coded_v2_inter = 0;      // eyes sent with codec v2 against an acknowledged reference
+  uint64_t eyes_coded_v2_intra = 0;      // eyes sent with codec v2 on their own
   double trace_ms = 0.0;                 // sums over all eyes traced (tracer wall time)
   double encode_ms = 0.0;                // sums: light-count repacking, codec, datagram encoding and send
 };
@@ -169,6 +175,8 @@ class VisibilityService {
                      std::vector<std::pair<SessionInfo, ByeReason>>& closed);
   void notify(const std::vector<std::pair<SessionInfo, ByeReason>>& closed, const SessionInfo* opened);
   bool trace_and_send(const Work& work);
+  std::vector<VisibilityShard> encode_v2(Session& s, Eye eye, const Work& work, const Camera& camera,
+                                         uint64_t& inter_eyes, uint64_t& intra_eyes);
 
   VisibilityTracer& tracer_;
   const ServiceConfig config_;

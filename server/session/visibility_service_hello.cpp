@@ -48,7 +48,8 @@ bool VisibilityService::reject_hello(const Hello& hello, std::string& out_reason
 Welcome VisibilityService::make_welcome(const Hello& hello) const {
   Welcome w;
   w.client_nonce = hello.client_nonce;
-  w.capabilities = kCapabilityLz4RowShards;
+  w.capabilities = kCapabilityLz4RowShards |
+                   (config_.codec_v2 && (hello.capabilities & kCapabilityCodecV2) ? kCapabilityCodecV2 : 0u);
   w.scene_hash = config_.scene_hash;
   const uint32_t wanted = hello.light_count_wanted == 0 ? scene_light_count_ : hello.light_count_wanted;
   w.light_count = static_cast<uint8_t>(std::min(wanted, scene_light_count_));

@@ -28,7 +28,7 @@ size_t VisibilityService::process_pending() {
       s->have_traced = true;
       s->traced_views = pose.views;
       s->last_trace_ns = now;
-      Work w{s, pose};
+      Work w{s, pose, {s->codec[0].acked, s->codec[1].acked}};
       if (config_.predict) {
         int64_t horizon = config_.predict_horizon_ns;
         if (horizon < 0) {
@@ -57,12 +57,45 @@ size_t VisibilityService::process_pending() {
   return traced;
 }
 
+// Codec v2 for one eye: against the frame the client acknowledged, if this eye's ring of sent frames still has
+// it (then fewer than kV2ReferenceFrames newer frames were sent, so the client still holds it), unless an intra
+// refresh is due; then remembers the traced buffer as a future reference. Worker only (trace_mutex_).
+std::vector<VisibilityShard> VisibilityService::encode_v2(Session& s, Eye eye, const Work& work, const Camera& camera,
+                                                         uint64_t& inter_eyes, uint64_t& intra_eyes) {
+  Session::EyeCodec& ec = s.codec[static_cast<size_t>(eye)];
+  if (ec.sent.empty()) ec.sent.resize(kV2ReferenceFrames);
+  const int64_t now = clock_.now_ns();
+  const bool refresh_due = !ec.had_intra || now - ec.last_intra_ns >= config_.v2_intra_refresh_ns;
+  const std::optional<uint64_t> acked = work.acked[static_cast<size_t>(eye)];
+  const Session::SentFrame* ref = nullptr;
+  if (!refresh_due && acked && *acked < work.traced.frame && work.traced.frame - *acked <= 65535) {
+    for (const Session::SentFrame& f : ec.sent)
+      if (!f.buffer.data.empty() && f.frame == *acked) ref = &f;
+  }
+  const V2Reference reference{ref ? &ref->buffer : nullptr, ref ? ref->frame : 0, &camera, ref ? &ref->camera : nullptr};
+  std::vector<EncodedShard> encoded;
+  if (!encode_visibility_v2(traced_, work.traced.frame, ref ? &reference : nullptr, config_.encode, encoded)) return {};
+  if (ref) {
+    ++inter_eyes;
+  } else {
+    ++intra_eyes;
+    ec.had_intra = true;
+    ec.last_intra_ns = now;
+  }
+  Session::SentFrame& slot = ec.sent[ec.next];
+  slot.frame = work.traced.frame;
+  slot.buffer = traced_;  // recycled storage after the ring's first round
+  slot.camera = camera;
+  ec.next = (ec.next + 1) % ec.sent.size();
+  return shards_as_messages(traced_, work.traced.frame, eye, work.traced.views[static_cast<size_t>(eye)], encoded);
+}
+
 bool VisibilityService::trace_and_send(const Work& work) {
   Session& s = *work.session;
   const TracedFormat format = s.welcome.format();
   const uint32_t light_count = s.welcome.light_count;
   double trace_ms = 0.0, encode_ms = 0.0;
-  uint64_t shards = 0;
+  uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0;
   bool ok = true;
   const int64_t start_ns = clock_.now_ns();
   for (int e = 0; e < 2 && ok; ++e) {
@@ -81,7 +114,9 @@ bool VisibilityService::trace_and_send(const Work& work) {
     trace_ms += trace_stats.trace_ms;
     const int64_t encode_start = net::steady_now_ns();
     const std::vector<VisibilityShard> encoded =
-        make_visibility_shards(traced_, work.traced.frame, static_cast<Eye>(e), view, config_.encode);
+        (s.welcome.capabilities & kCapabilityCodecV2)
+            ? encode_v2(s, static_cast<Eye>(e), work, camera, inter_eyes, intra_eyes)
+            : make_visibility_shards(traced_, work.traced.frame, static_cast<Eye>(e), view, config_.encode);
     if (encoded.empty()) {
       ok = false;
       break;
@@ -95,6 +130,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
   std::lock_guard lock(mutex_);
   stats_.trace_ms += trace_ms;
   stats_.encode_ms += encode_ms;
+  stats_.eyes_coded_v2_inter += inter_eyes;
+  stats_.eyes_coded_v2_intra += intra_eyes;
   if (!ok) {
     ++stats_.trace_errors;
     return false;

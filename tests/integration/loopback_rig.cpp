@@ -24,13 +24,15 @@ TracedScene& TracedScene::get() {
   return *instance;
 }
 
-LoopbackServer::LoopbackServer(server::VisibilityTracer& tracer, const net::ImpairmentParams& impairment) {
+LoopbackServer::LoopbackServer(server::VisibilityTracer& tracer, const net::ImpairmentParams& impairment,
+                               const std::function<void(server::ServiceConfig&)>& tweak) {
   if (impairment.active()) impaired_ = std::make_unique<net::ImpairedSender>(endpoint_, impairment);
   net::DatagramSender& sender = impaired_ ? static_cast<net::DatagramSender&>(*impaired_) : endpoint_;
   server::ServiceConfig config;
   config.scene_id = "default_room";
   config.scene_hash = server::scene_content_hash(TracedScene::get().scene);
   config.token_seed = 99;
+  if (tweak) tweak(config);
   service_ = std::make_unique<server::VisibilityService>(tracer, config, sender, clock_);
   net::ServerEndpointConfig endpoint_config;
   endpoint_config.bind_address = "127.0.0.1";

@@ -3,6 +3,7 @@
 // send side) with the Embree tracer on the default room, and a render-loop driver for the real client
 // (UdpVisibilityClient) that sends a pose sequence and records everything take_newest() hands out.
 #pragma once
+#include <functional>
 #include "protocol/protocol.hpp"
 #include "scene/scene.hpp"
 #include "net/endpoints.hpp"
@@ -37,7 +38,9 @@ struct TracedScene {
 
 class LoopbackServer {
  public:
-  LoopbackServer(server::VisibilityTracer& tracer, const net::ImpairmentParams& impairment = {});
+  // `tweak` may change the service's configuration (codec, shard size) before it starts.
+  LoopbackServer(server::VisibilityTracer& tracer, const net::ImpairmentParams& impairment = {},
+                 const std::function<void(server::ServiceConfig&)>& tweak = {});
   ~LoopbackServer();  // stop()
   // Joins the worker (nothing new is sent), lets the impairment layer and the socket's send queue drain
   // (bounded waits), then stops the socket. No Bye: the tests check the client's counters afterwards.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <random>
 
@@ -192,6 +193,28 @@ TEST(CodecV2, HostilePayloadsNeverCrashOrWriteOutsideTheirRows) {
   EXPECT_EQ(decode_shard_payload_v2(p, 0, b.width, b.width, b.height, 33, &ref, frame), DecodeError::kBadPayload);
   EXPECT_EQ(decode_shard_payload_v2(p, 0, b.width, b.width, b.height, 3, &ref, std::span<uint8_t>(frame).first(10)),
             DecodeError::kBadPayload);
+}
+
+// Golden bytes: a 16x8 buffer, 3 lights (light 0 lit on the left half, light 1 on the top rows, light 2 on
+// a diagonal), intra, one shard. A failure means the bitstream changed: bump kProtocolVersion and say so in
+// docs/protocol.md.
+TEST(CodecV2, GoldenIntraPayload) {
+  VisibilityBuffer b = VisibilityBuffer::create(16, 8, 3);
+  for (uint32_t y = 0; y < 8; ++y)
+    for (uint32_t x = 0; x < 16; ++x) b.set(x, y, (x < 8 ? 1u : 0u) | (y < 3 ? 2u : 0u) | (x == 2 * y ? 4u : 0u));
+  std::vector<EncodedShard> shards;
+  ASSERT_TRUE(encode_visibility_v2(b, 1, nullptr, EncodeOptions{}, shards));
+  ASSERT_EQ(shards.size(), 1u);
+  std::string hex;
+  for (uint8_t v : shards[0].payload) {
+    char t[4];
+    std::snprintf(t, sizeof t, "%02x", v);
+    hex += t;
+  }
+  // tag 0x20 (intra), block rows 0x20, checksum, then the coded bits.
+  EXPECT_EQ(hex, "202089524eeeea0ffbfffffffda7c8a0000000000f9d1a9eb3c7df783c82ad6e00");
+  DecodeError e;
+  EXPECT_EQ(decode_all(b, shards, nullptr, &e), b.data);
 }
 
 }  // namespace

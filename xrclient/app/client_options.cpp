@@ -96,6 +96,10 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "paper: show frame n-p+x; newest: always the newest pose; stale: no warp (reference)")
       ->capture_default_str()
       ->check(CLI::IsMember({"paper", "newest", "stale"}));
+  std::string codec = "v2";
+  app.add_option("--codec", codec, "visibility codec to offer: v2 (the server may still choose v1) or v1")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"v1", "v2"}));
   app.add_option("--x-max", out.x_max, "Paper schedule: frames predicted at most")->capture_default_str();
   app.add_option("--record-trace", out.record_trace, "OpenXR: record the session's views as a canonical trace");
   app.add_option("--connect-timeout", out.connect_timeout_s, "Give up on the server after this many seconds")
@@ -132,6 +136,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
     out.guard = *guard_band_from_total(g.width, g.height);  // even: checked by the validator above
   }
   out.schedule = *parse_schedule(schedule);
+  out.codec_v2 = codec == "v2";
   if (!parse_view(view, out)) {
     return usage("--view '" + view + "': expected shaded, light:N (N 0..31), unknown, motion, albedo or normal");
   }

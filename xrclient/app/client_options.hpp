@@ -29,6 +29,7 @@ struct ClientOptions {
   std::string stats_jsonl;         // --stats-jsonl FILE
   Schedule schedule = Schedule::kNewest;
   uint32_t x_max = 3;
+  bool codec_v2 = true;  // --codec v2 (offer v2; the server decides) or v1 (LZ4 only)
   std::string record_trace;  // --record-trace FILE (OpenXR path)
   double connect_timeout_s = 5.0;
   std::string vk_device = "auto";

@@ -28,6 +28,7 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
   }
   VisibilityClientConfig config;
   config.format = TracedFormat{eye, guard};
+  config.codec_v2 = options.codec_v2;
   config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);
   auto link = std::make_unique<UdpVisibilityClient>();
   link->connect(config, host, port, options.impairment);
@@ -72,6 +73,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   if (const auto w = link.client().welcome()) {
     j["buffer_size"] = {w->buffer_width, w->buffer_height};
     j["lights"] = w->light_count;
+    j["codec"] = (w->capabilities & kCapabilityCodecV2) ? "v2" : "v1";
   }
   j["schedule"] = schedule_name(options.schedule);
   j["x_max"] = options.x_max;

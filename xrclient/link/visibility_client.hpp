@@ -44,6 +44,7 @@ struct VisibilityClientConfig {
   TracedFormat format;
   uint8_t light_count_wanted = 0;  // 0 = as many as the scene has (up to 32)
   std::string scene_id;            // empty = the server's default scene
+  bool codec_v2 = true;            // offer codec v2 (the server decides; v1 is always offered)
   int64_t hello_retry_ns = 250 * net::kNsPerMs;
   int64_t hello_give_up_ns = 5 * net::kNsPerSecond;
   size_t max_frames_in_flight = 4;  // reassembler frames per eye, 2..64

@@ -77,6 +77,8 @@ void VisibilityClient::handle_welcome(const Datagram& datagram, int64_t now) {
   }
   ++stats_.datagrams_handled;
   if (!(w.capabilities & kCapabilityLz4RowShards)) return fail("the server does not offer the LZ4 shard codec");
+  if ((w.capabilities & kCapabilityCodecV2) && !config_.codec_v2)
+    return fail("the server granted codec v2, which this client did not offer");
   if (w.format().display != config_.format.display)
     return fail("the server's buffer " + std::to_string(w.buffer_width) + "x" + std::to_string(w.buffer_height) +
                 " is not the eye size " + std::to_string(config_.format.display.width) + "x" +
@@ -95,9 +97,12 @@ void VisibilityClient::adopt_session(const Datagram& datagram, int64_t now) {
   rc.height = w.buffer_height;
   rc.light_count = w.light_count;
   rc.max_frames_in_flight = config_.max_frames_in_flight;
+  // Codec v2 granted: keep the newest complete frames as references (the count both sides assume).
+  rc.reference_frames = (w.capabilities & kCapabilityCodecV2) ? kV2ReferenceFrames : 0;
   const bool same_geometry = reassembler_ && reassembler_->config().width == rc.width &&
                              reassembler_->config().height == rc.height &&
-                             reassembler_->config().light_count == rc.light_count;
+                             reassembler_->config().light_count == rc.light_count &&
+                             reassembler_->config().reference_frames == rc.reference_frames;
   if (same_geometry) {
     reassembler_->reset();
   } else {

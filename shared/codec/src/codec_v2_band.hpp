@@ -205,6 +205,18 @@ class BandCoder {
     return load_mask(ref_ + (static_cast<size_t>(y) * g_.width + static_cast<size_t>(x)) * g_.mask_bytes, g_.mask_bytes);
   }
 
+  // out[i] = bit `light` of the mask at row column x_begin + i, for i < count.
+  void extract_bits(const uint8_t* row, int64_t x_begin, int64_t count, uint32_t light, uint8_t* out) const {
+    const uint32_t mb = g_.mask_bytes;
+    const uint8_t* in = row + static_cast<size_t>(x_begin) * mb;
+    if (mb == 1) {
+      for (int64_t i = 0; i < count; ++i) out[i] = static_cast<uint8_t>((in[i] >> light) & 1u);
+      return;
+    }
+    for (int64_t i = 0; i < count; ++i)
+      out[i] = static_cast<uint8_t>((load_mask(in + static_cast<size_t>(i) * mb, mb) >> light) & 1u);
+  }
+
   // The coded pixels of light l in a block, raster order, with the contexts read from local copies of the
   // light's plane (2 rows above, 2 columns each side; unknown neighbours 0) and of the displaced reference.
   void code_pixels(const BlockPlan& plan, uint32_t l, uint32_t bx, uint32_t by, uint32_t w, uint32_t h,
@@ -220,17 +232,21 @@ class BandCoder {
       const int64_t x_begin = std::max<int64_t>(int64_t{bx} - 2, 0);
       const int64_t x_end = std::min<int64_t>(y >= by ? int64_t{bx1} : int64_t{bx1} + 2, g_.width);
       const uint8_t* row = cur_ + static_cast<size_t>(y) * g_.width * mb;
-      uint8_t* out = &plane_[size_t{r} * lw + 2 - bx];  // indexed by x
-      for (int64_t x = x_begin; x < x_end; ++x)
-        out[x] = static_cast<uint8_t>((load_mask(row + static_cast<size_t>(x) * mb, mb) >> l) & 1u);
+      if (x_begin < x_end)  // local column of image column x: x - bx + 2
+        extract_bits(row, x_begin, x_end - x_begin, l, &plane_[size_t{r} * lw + static_cast<size_t>(x_begin - bx + 2)]);
     }
     const bool inter = ref_ != nullptr;
     if (inter) {  // reference plane: rows by-1 .. by+h, columns bx-1 .. bx+w, displaced by the vector
       ref_plane_.assign(size_t{w + 2} * (h + 2), 0);
-      for (uint32_t r = 0; r < h + 2; ++r)
-        for (uint32_t c = 0; c < w + 2; ++c)
-          ref_plane_[size_t{r} * (w + 2) + c] = static_cast<uint8_t>(
-              ref_bit(int64_t{bx} + c - 1 + plan.vector.x, int64_t{by} + r - 1 + plan.vector.y, l));
+      for (uint32_t r = 0; r < h + 2; ++r) {
+        const int64_t y = int64_t{by} + r - 1 + plan.vector.y;
+        if (y < 0 || y >= g_.height) continue;  // outside the reference: 0
+        const int64_t x0 = int64_t{bx} - 1 + plan.vector.x;  // reference column of local column 0
+        const int64_t x_begin = std::max<int64_t>(x0, 0), x_end = std::min<int64_t>(x0 + w + 2, g_.width);
+        if (x_begin >= x_end) continue;
+        extract_bits(ref_ + static_cast<size_t>(y) * g_.width * mb, x_begin, x_end - x_begin, l,
+                     &ref_plane_[size_t{r} * (w + 2) + static_cast<size_t>(x_begin - x0)]);
+      }
     }
     for (uint32_t j = 0; j < h; ++j) {
       const uint8_t* row_modes = &plan.sub[l][(j / kSub) * sub_cols];
@@ -239,7 +255,10 @@ class BandCoder {
       const uint8_t* p2 = p1 - lw;                      // two rows above
       const uint8_t* cur_row = cur_ + (size_t{by + j} * g_.width + bx) * mb;
       for (uint32_t i = 0; i < w; ++i) {
-        if (row_modes[i / kSub] != kCoded) continue;
+        if (row_modes[i / kSub] != kCoded) {
+          i = (i / kSub) * kSub + kSub - 1;  // skip the rest of this sub-block's row
+          continue;
+        }
         const ptrdiff_t k = i;  // signed: the taps reach two columns to the left
         uint32_t c = (uint32_t{p0[k - 1]} << 9) | (uint32_t{p0[k - 2]} << 8) | (uint32_t{p1[k - 2]} << 7) |
                      (uint32_t{p1[k - 1]} << 6) | (uint32_t{p1[k]} << 5) | (uint32_t{p1[k + 1]} << 4) |

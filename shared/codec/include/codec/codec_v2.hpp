@@ -37,6 +37,9 @@ inline constexpr size_t kV2IntraHeaderSize = 6;
 inline constexpr size_t kV2InterHeaderSize = 8;
 inline constexpr uint32_t kV2BlockWidth = 32;
 inline constexpr int32_t kV2MaxVector = 255;  // per component, pixels
+// Complete frames a client keeps per eye as references (the wire's contract: a server references an
+// acknowledged frame only while fewer than this many newer frames of that eye were sent after it).
+inline constexpr size_t kV2ReferenceFrames = 16;
 
 // What a frame may be coded against: a frame the client has acknowledged holding in full.
 struct V2Reference {
