@@ -40,7 +40,7 @@ bool extrapolate(const Pose& a, const Pose& b, double dt, double horizon, const 
 
 PosePredictor::PosePredictor(const PosePredictorConfig& config) : config_(config) {
   if (config.history < 2 || config.max_horizon_ns < 0 || !(config.max_speed_mps > 0.0) ||
-      !(config.max_angular_speed_rps > 0.0) || config.min_interval_ns < 0) {
+      !(config.max_angular_speed_rps > 0.0) || config.min_interval_ns < 0 || config.velocity_window_ns < 0) {
     throw std::invalid_argument("PosePredictorConfig: history >= 2, non-negative horizon, positive limits");
   }
 }
@@ -61,7 +61,9 @@ PredictedViews PosePredictor::predict(int64_t target_time_ns) const {
   const Sample& last = samples_.back();
   out.views = last.views;
   if (samples_.size() < 2) return out;
-  const Sample& prev = samples_[samples_.size() - 2];
+  size_t base = samples_.size() - 2;
+  while (base > 0 && last.time_ns - samples_[base - 1].time_ns <= config_.velocity_window_ns) --base;
+  const Sample& prev = samples_[base];
   const int64_t interval = last.time_ns - prev.time_ns;
   if (interval < config_.min_interval_ns) return out;
 

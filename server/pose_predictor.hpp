@@ -1,6 +1,7 @@
 // Server-side pose prediction: the server traces each eye for the pose it predicts at the time the result
 // will be displayed, extrapolated from the client's recent poses. Model: constant linear velocity and
-// constant angular velocity (about a world-frame axis) per eye, estimated from the two newest poses.
+// constant angular velocity (about a world-frame axis) per eye, estimated from the newest pose and the oldest
+// one within velocity_window_ns (the two newest by default).
 // The horizon (target time - newest pose's time) is capped at max_horizon_ns and reported; a prediction
 // that is non-finite or implausible (speed or angular speed above the limits) falls back to the newest
 // real pose, and so does a history of fewer than two poses. Deterministic; not thread-safe.
@@ -15,12 +16,18 @@
 namespace dhr::server {
 
 struct PosePredictorConfig {
-  int64_t max_horizon_ns = 100'000'000;  // 100 ms: the horizon is clamped to [0, this]
+  // The horizon is clamped to [0, this]. A longer cap helps some traces and hurts others (docs/evaluation.md,
+  // "Horizon cap": the sweep that kept 100 ms).
+  int64_t max_horizon_ns = 100'000'000;
   size_t history = 16;                   // poses kept (for the frame-period estimate); >= 2
   double max_speed_mps = 5.0;            // faster eye motion is treated as a glitch (fall back)
   double max_angular_speed_rps = 12.6;   // ~720 deg/s, above the fastest head turns measured in XR
   // Poses closer in time than this are too close for a velocity estimate (clock jitter dominates).
   int64_t min_interval_ns = 1'000'000;
+  // Velocities are measured from the newest pose back to the oldest pose held that is at most this much
+  // older (a longer baseline averages out tracking noise and the trace's resampling steps); 0: the two
+  // newest poses.
+  int64_t velocity_window_ns = 0;
 };
 
 struct PredictedViews {

@@ -38,6 +38,8 @@ server::ServiceConfig service_config(const Setting& setting, const RunOptions& o
   c.predict = setting.method == Method::kPaperPred;
   c.predict_horizon_ns = -1;  // automatic: the session's measured RTT + queueing + the last trace time
   c.codec_v2 = options.codec_v2;
+  c.predictor.velocity_window_ns = static_cast<int64_t>(std::llround(options.predict_window_ms * 1e6));
+  c.predictor.max_horizon_ns = static_cast<int64_t>(std::llround(options.predict_max_horizon_ms * 1e6));
   return c;
 }
 
@@ -126,6 +128,7 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
       tracer_(*shared.tracer, server_clock_, server_ns_per_eye(options)),
       planner_(planner_settings(setting, shared)) {
   totals_.bit_error_per_light.assign(shared.light_count, 0.0);
+  cap_ms_ = options.predict_max_horizon_ms;
   service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options), server_out_,
                                                          server_clock_);
   client_ = std::make_unique<client::VisibilityClient>(client_config(setting, options, shared), uplink_, clock_);
@@ -212,7 +215,7 @@ void SettingSession::process_on_server(int64_t t_ns) {
   const server::ServiceStats after = service_->stats();
   if (after.frames_predicted == before.frames_predicted) return;
   const double horizon_ms = after.prediction_horizon_ms - before.prediction_horizon_ms;
-  const double cap_ms = static_cast<double>(server::PosePredictorConfig{}.max_horizon_ns) * 1e-6;
+  const double cap_ms = cap_ms_;
   if (after.prediction_fallbacks == before.prediction_fallbacks && horizon_ms >= cap_ms - 1e-6) {
     totals_.prediction_capped += 1;
   }

@@ -150,6 +150,7 @@ class SettingSession {
 
   Setting setting_;
   SessionShared shared_;
+  double cap_ms_ = 0.0;  // the predictor's horizon cap (paper+pred)
   TracedFormat format_;  // the eye size and guard band, as the Welcome must grant them
   net::VirtualClock clock_;
   ServerClock server_clock_;

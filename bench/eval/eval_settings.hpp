@@ -43,6 +43,8 @@ struct RunOptions {
   double server_ms = 0.0;        // modelled server compute per traced frame (both eyes), virtual time
   uint64_t seed = 1;
   bool codec_v2 = true;          // --codec v2 (default) or v1
+  double predict_window_ms = 0.0;       // paper+pred: velocity baseline (0: the two newest poses)
+  double predict_max_horizon_ms = 100.0;  // paper+pred: the prediction horizon's cap (PosePredictorConfig's)
   uint32_t threads = 0;          // Embree threads (0: all cores)
   bool progress = true;
 };

@@ -39,6 +39,13 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1000.0));
   run->add_option("--seed", options.seed, "network impairment seed");
+  run->add_option("--predict-window-ms", options.predict_window_ms,
+                  "paper+pred: velocity from the newest pose and the oldest within this window (0: two newest)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1000.0));
+  run->add_option("--predict-max-horizon-ms", options.predict_max_horizon_ms, "paper+pred: cap of the horizon")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 2000.0));
   std::string codec = "v2";
   run->add_option("--codec", codec, "visibility codec: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
       ->capture_default_str()
