@@ -40,7 +40,8 @@ bool extrapolate(const Pose& a, const Pose& b, double dt, double horizon, const 
 
 PosePredictor::PosePredictor(const PosePredictorConfig& config) : config_(config) {
   if (config.history < 2 || config.max_horizon_ns < 0 || !(config.max_speed_mps > 0.0) ||
-      !(config.max_angular_speed_rps > 0.0) || config.min_interval_ns < 0 || config.velocity_window_ns < 0) {
+      !(config.max_angular_speed_rps > 0.0) || config.min_interval_ns < 0 || config.velocity_window_ns < 0 ||
+      config.soft_horizon_ns < 0 || config.damping_tau_ns < 0) {
     throw std::invalid_argument("PosePredictorConfig: history >= 2, non-negative horizon, positive limits");
   }
 }
@@ -68,6 +69,11 @@ PredictedViews PosePredictor::predict(int64_t target_time_ns) const {
   if (interval < config_.min_interval_ns) return out;
 
   int64_t horizon = std::max<int64_t>(0, target_time_ns - last.time_ns);
+  if (config_.damping_tau_ns > 0 && horizon > config_.soft_horizon_ns) {
+    const double tau = static_cast<double>(config_.damping_tau_ns);
+    const double beyond = static_cast<double>(horizon - config_.soft_horizon_ns);
+    horizon = config_.soft_horizon_ns + static_cast<int64_t>(std::llround(tau * (1.0 - std::exp(-beyond / tau))));
+  }
   if (horizon > config_.max_horizon_ns) {
     horizon = config_.max_horizon_ns;
     out.capped = true;

@@ -28,6 +28,11 @@ struct PosePredictorConfig {
   // older (a longer baseline averages out tracking noise and the trace's resampling steps); 0: the two
   // newest poses.
   int64_t velocity_window_ns = 0;
+  // Beyond soft_horizon_ns the extrapolation is damped: a horizon h > soft becomes
+  // soft + damping_tau_ns * (1 - exp(-(h - soft) / damping_tau_ns)), then capped at max_horizon_ns. 0: off.
+  // Off by default: dhr-eval measured a big gain at 200 ms RTT but a loss at 100 ms (docs/evaluation.md).
+  int64_t soft_horizon_ns = 0;
+  int64_t damping_tau_ns = 0;
 };
 
 struct PredictedViews {

@@ -45,6 +45,8 @@ struct RunOptions {
   bool codec_v2 = true;          // --codec v2 (default) or v1
   double predict_window_ms = 0.0;       // paper+pred: velocity baseline (0: the two newest poses)
   double predict_max_horizon_ms = 100.0;  // paper+pred: the prediction horizon's cap (PosePredictorConfig's)
+  double predict_soft_horizon_ms = 0.0;   // paper+pred: damping starts here (with predict_damping_ms > 0)
+  double predict_damping_ms = 0.0;        // paper+pred: damping time constant beyond the soft horizon; 0: off
   uint32_t threads = 0;          // Embree threads (0: all cores)
   bool progress = true;
 };

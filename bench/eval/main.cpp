@@ -46,6 +46,14 @@ int main(int argc, char** argv) {
   run->add_option("--predict-max-horizon-ms", options.predict_max_horizon_ms, "paper+pred: cap of the horizon")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 2000.0));
+  run->add_option("--predict-soft-horizon-ms", options.predict_soft_horizon_ms,
+                  "paper+pred: horizons beyond this are damped (with --predict-damping-ms)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 2000.0));
+  run->add_option("--predict-damping-ms", options.predict_damping_ms,
+                  "paper+pred: damping time constant beyond the soft horizon (0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 2000.0));
   std::string codec = "v2";
   run->add_option("--codec", codec, "visibility codec: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
       ->capture_default_str()

@@ -44,7 +44,9 @@ void expect_pose_near(const Pose& actual, const Pose& expected, double tolerance
 }
 
 TEST(PosePredictorTest, ExactOnConstantLinearAndAngularVelocity) {
-  PosePredictor predictor;
+  PosePredictorConfig undamped;  // the model itself: no damping of long horizons (the default)
+  undamped.damping_tau_ns = 0;
+  PosePredictor predictor(undamped);
   for (int i = 0; i < 5; ++i) EXPECT_TRUE(predictor.add(i * kFrame, moving_views(i * kFrame)));
   const int64_t last = 4 * kFrame;
   for (const int64_t horizon : {int64_t{0}, 11 * kMs, 50 * kMs, 100 * kMs}) {
@@ -188,6 +190,31 @@ TEST(PosePredictor, VelocityWindowAveragesOutTrackingNoise) {
   PosePredictorConfig bad;
   bad.velocity_window_ns = -1;
   EXPECT_THROW(PosePredictor{bad}, std::invalid_argument);
+}
+
+// Damping beyond the soft horizon: a horizon up to soft_horizon_ns is used as asked; beyond it the extra time
+// counts less and less (soft + tau * (1 - exp(-(h - soft) / tau))), never more than max_horizon_ns.
+TEST(PosePredictor, HorizonsBeyondTheSoftHorizonAreDamped) {
+  PosePredictorConfig config;
+  config.soft_horizon_ns = 50 * kMs;
+  config.damping_tau_ns = 150 * kMs;
+  config.max_horizon_ns = 250 * kMs;
+  PosePredictor predictor(config);
+  predictor.add(0, moving_views(0));
+  predictor.add(kFrame, moving_views(kFrame));
+  const auto used = [&](int64_t h) { return predictor.predict(kFrame + h).horizon_ns; };
+  EXPECT_EQ(used(30 * kMs), 30 * kMs);
+  EXPECT_EQ(used(50 * kMs), 50 * kMs);
+  const double expected_111 = 50e6 + 150e6 * (1.0 - std::exp(-61.0 / 150.0));
+  EXPECT_NEAR(static_cast<double>(used(111 * kMs)), expected_111, 1.0);
+  int64_t previous = 0;
+  for (int64_t h = 0; h <= 2000 * kMs; h += 10 * kMs) {  // monotonic, and below the soft horizon + tau
+    EXPECT_GE(used(h), previous);
+    previous = used(h);
+    EXPECT_LT(used(h), 200 * kMs);
+  }
+  config.damping_tau_ns = -1;
+  EXPECT_THROW(PosePredictor{config}, std::invalid_argument);
 }
 
 }  // namespace
