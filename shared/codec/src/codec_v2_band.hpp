@@ -157,24 +157,11 @@ class BandCoder {
     return v.x >= -255 && v.x <= 255 && v.y >= -255 && v.y <= 255;
   }
 
-  uint32_t cur_bit(uint32_t x, uint32_t y, uint32_t light) const {
-    return (load_mask(cur_ + (size_t{y} * g_.width + x) * g_.mask_bytes, g_.mask_bytes) >> light) & 1u;
-  }
-  uint32_t ref_bit(int64_t x, int64_t y, uint32_t light) const {
-    if (x < 0 || y < 0 || x >= g_.width || y >= g_.height) return 0;
-    return (load_mask(ref_ + (static_cast<size_t>(y) * g_.width + static_cast<size_t>(x)) * g_.mask_bytes,
-                      g_.mask_bytes) >> light) & 1u;
-  }
   void set_bit(uint32_t x, uint32_t y, uint32_t light, uint32_t bit) {
     uint8_t* p = cur_ + (size_t{y} * g_.width + x) * g_.mask_bytes;
     store_mask(p, g_.mask_bytes, load_mask(p, g_.mask_bytes) | (bit << light));
   }
-  // A neighbour of a pixel in the block [bx0, bx1) x [by0, ...) that both sides already know.
-  uint32_t known_bit(int64_t x, int64_t y, uint32_t light, uint32_t bx1, uint32_t by0) const {
-    if (x < 0 || x >= g_.width || y < g_.y0 || y >= g_.y1) return 0;
-    if (y >= by0 && x >= bx1) return 0;  // a block to the right in the current block row
-    return cur_bit(static_cast<uint32_t>(x), static_cast<uint32_t>(y), light);
-  }
+
 
   // ORs into [x0, x0+w) x [y0, y0+h): `one` bits everywhere, `copy` bits from the reference displaced by v.
   void fill(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t one, uint32_t copy, Vector v) {
