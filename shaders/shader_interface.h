@@ -130,59 +130,123 @@ struct ClientGBufferPush {
   uint pad2;
 };
 
-// Warp (compute, 8x8 groups): per display pixel, the light mask looked up in the old buffer.
+// Warp (compute, 8x8 groups): per display pixel, the light mask from the newest visibility of this eye
+// (source 0), else of the other eye (source 1), else from the client's shadow maps, else all bits (lit).
 DHR_CONST uint kClientWarpGroupSize = 8u;
-DHR_CONST uint kClientWarpBindingDepth = 0;       // sampler2D: G-buffer depth (reversed-Z)
-DHR_CONST uint kClientWarpBindingVisibility = 1;  // storage buffer uint[]: packed masks, little endian
-DHR_CONST uint kClientWarpBindingRowValid = 2;    // storage buffer uint[]: bit r%32 of word r/32 = row r valid
-DHR_CONST uint kClientWarpBindingMask = 3;        // r32ui image: predicted mask
-DHR_CONST uint kClientWarpBindingStatus = 4;      // r32ui image: kClientStatus* (debug, optional)
-DHR_CONST uint kClientWarpBindingMotion = 5;      // rg32f image: lookup - lookup without motion (debug)
-DHR_CONST uint kClientWarpBindingCounters = 6;    // storage buffer: per bucket two words of 10-bit counts
+DHR_CONST uint kClientWarpBindingDepth = 0;        // sampler2D: G-buffer depth (reversed-Z)
+DHR_CONST uint kClientWarpBindingVisibility0 = 1;  // storage buffer uint[]: source 0's packed masks
+DHR_CONST uint kClientWarpBindingRowValid0 = 2;    // storage buffer uint[]: bit r%32 of word r/32 = row r valid
+DHR_CONST uint kClientWarpBindingMask = 3;         // r32ui image: predicted mask
+DHR_CONST uint kClientWarpBindingStatus = 4;       // r32ui image: status | fill << 8 (debug, optional)
+DHR_CONST uint kClientWarpBindingMotion = 5;       // rg32f image: lookup - lookup without motion (debug)
+DHR_CONST uint kClientWarpBindingCounters = 6;     // storage buffer: per bucket kClientCountWords words
+DHR_CONST uint kClientWarpBindingNormal = 7;       // sampler2D: G-buffer world normal
+DHR_CONST uint kClientWarpBindingOldDepth0 = 8;    // sampler2D: depth of source 0's traced camera
+DHR_CONST uint kClientWarpBindingVisibility1 = 9;  // source 1 (the other eye)
+DHR_CONST uint kClientWarpBindingRowValid1 = 10;
+DHR_CONST uint kClientWarpBindingOldDepth1 = 11;
+DHR_CONST uint kClientWarpBindingParams = 12;      // storage buffer ClientWarpParams
+DHR_CONST uint kClientWarpBindingShadowMap = 13;   // sampler2D: shadow map atlas (ClientShadowLight tiles)
+DHR_CONST uint kClientWarpBindingShadowLights = 14;  // storage buffer ClientShadowLight[]
+DHR_CONST uint kClientWarpBindingLights = 15;      // storage buffer PackedLight[] (display-eye-relative)
 
-// Per-pixel outcome of the warp; every status but kKnown is "unknown" and takes all light bits.
-DHR_CONST uint kClientStatusKnown = 0u;       // fetched from the old buffer
-DHR_CONST uint kClientStatusBackground = 1u;  // no surface (depth == 0)
-DHR_CONST uint kClientStatusBehind = 2u;      // at or behind the old eye plane
-DHR_CONST uint kClientStatusOutside = 3u;     // outside the old (guard-banded) buffer
-DHR_CONST uint kClientStatusMissingRow = 4u;  // the old buffer's row did not arrive
-DHR_CONST uint kClientStatusNoData = 5u;      // no visibility buffer at all yet
-DHR_CONST uint kClientStatusCount = 6u;
+// Per-pixel outcome for source 0; every status but kKnown means this eye's buffer gave no mask.
+DHR_CONST uint kClientStatusKnown = 0u;        // from source 0's buffer
+DHR_CONST uint kClientStatusBackground = 1u;   // no surface (depth == 0)
+DHR_CONST uint kClientStatusBehind = 2u;       // at or behind the old eye plane
+DHR_CONST uint kClientStatusOutside = 3u;      // outside the old (guard-banded) buffer
+DHR_CONST uint kClientStatusMissingRow = 4u;   // every looked-up row of the old buffer is missing
+DHR_CONST uint kClientStatusNoData = 5u;       // no visibility buffer at all
+DHR_CONST uint kClientStatusDisoccluded = 6u;  // the old buffer saw other surfaces there (depth test)
+DHR_CONST uint kClientStatusCount = 7u;
+// How a surface pixel without a mask from source 0 was filled (status image bits 8-15).
+DHR_CONST uint kClientFillNone = 0u;       // known, background, or unfilled (all bits: lit)
+DHR_CONST uint kClientFillOtherEye = 1u;   // from source 1
+DHR_CONST uint kClientFillShadowMap = 2u;  // from the shadow maps
+// Counted fields: statuses 0-6, then the fills and the pixels whose undecided bits took the shadow maps.
+DHR_CONST uint kClientCountOtherEye = 7u;
+DHR_CONST uint kClientCountShadowMap = 8u;
+DHR_CONST uint kClientCountEdgeShadowMap = 9u;
+DHR_CONST uint kClientCountFields = 10u;
+DHR_CONST uint kClientCountWords = 4u;  // three 10-bit fields per word
 
-DHR_CONST uint kClientWarpHasVisibility = 1u;
-DHR_CONST uint kClientWarpHasRowValidity = 2u;
+// ClientWarpParams::flags
 DHR_CONST uint kClientWarpWriteMotion = 4u;
 DHR_CONST uint kClientWarpWriteStatus = 8u;
+DHR_CONST uint kClientWarpBilinear = 16u;        // 2x2 samples around the lookup, bilinear vote
+DHR_CONST uint kClientWarpDepthTest = 32u;       // samples off the pixel's tangent plane are rejected
+DHR_CONST uint kClientWarpShadowFill = 64u;      // pixels without a source take the shadow maps
+DHR_CONST uint kClientWarpShadowEdges = 128u;    // bits the samples disagree on take the shadow maps
+// ClientWarpSource::flags
+DHR_CONST uint kClientSourceHasVisibility = 1u;
+DHR_CONST uint kClientSourceHasRowValidity = 2u;
+DHR_CONST uint kClientSourceHasDepth = 4u;
 // Status counts are gathered per bucket of this many horizontally adjacent workgroups (8 x 64 pixels fit
-// the 10-bit fields); statuses 0-2 in the bucket's first word, 3-5 in its second, field s % 3.
+// the 10-bit fields); field f is in the bucket's word f / 3, bits 10 * (f % 3).
 DHR_CONST uint kClientCountBucketGroups = 8u;
 
-// The pixel (i, j) of the new camera with depth-buffer value d is, in the old eye's space,
+// One source (a visibility buffer and the camera it was traced for). The pixel (i, j) of the display camera
+// with depth-buffer value d is, in the old eye's space,
 //   p_old = (near_plane / d) * (ray0 + (i + 0.5) * ray_dx + (j + 0.5) * ray_dy) + trans
-// (ray0/ray_dx/ray_dy: R_old^T R_new applied to the new camera's tangent-plane point (tx, ty, -1) and its
+// (ray0/ray_dx/ray_dy: R_old^T R_new applied to the display camera's tangent-plane point (tx, ty, -1) and its
 // per-pixel steps), and lands at px = old_px_scale * p_old.x / -p_old.z + old_px_offset (same for y).
-struct ClientWarpPush {
+// The old pixel (a, b) looks along (old_tan_left + (a + 0.5) * old_tan_step_x, old_tan_up - (b + 0.5) *
+// old_tan_step_y, -1); `rot` (row-major R_old^T) takes world normals into the old eye's space.
+struct ClientWarpSource {
   float ray0[3];
   float ray_dx[3];
   float ray_dy[3];
   float trans[3];        // R_old^T * (eye_new - eye_old)
-  float ident_px_scale;  // lookup without any pose change (motion vectors only):
-  float ident_px_offset; //   px = ident_px_scale * (i + 0.5) + ident_px_offset
-  float ident_py_scale;
-  float ident_py_offset;
+  float rot[9];
   float old_px_scale;
   float old_px_offset;
   float old_py_scale;
   float old_py_offset;
-  float near_plane;      // depth = near_plane / distance along the view axis
-  float min_depth;       // old-eye depth at or below this: behind
-  uint width;            // display (G-buffer) size
-  uint height;
+  float old_tan_left;
+  float old_tan_up;
+  float old_tan_step_x;
+  float old_tan_step_y;
   uint old_width;        // old buffer size (guard band included); 1x1 without visibility
   uint old_height;
   uint mask_bits;        // 8, 16 or 32
-  uint unknown_mask;     // mask for unknown pixels: all light bits
+  uint flags;            // kClientSource*
+};
+
+// Shadow lookups: p_rel = (near_plane / d) * (world_ray0 + (i + 0.5) * world_ray_dx + (j + 0.5) * world_ray_dy)
+// is the surface point relative to the display eye in world axes; the lights (kClientWarpBindingShadowLights)
+// are relative to the same eye.
+struct ClientWarpParams {
+  ClientWarpSource source[2];
+  float world_ray0[3];
+  float world_ray_dx[3];
+  float world_ray_dy[3];
+  float ident_px_scale;  // lookup without any pose change (motion vectors only):
+  float ident_px_offset; //   px = ident_px_scale * (i + 0.5) + ident_px_offset
+  float ident_py_scale;
+  float ident_py_offset;
+  float near_plane;      // depth = near_plane / distance along the view axis
+  float min_depth;       // old-eye depth at or below this: behind
+  float plane_tolerance_rel;  // depth test: |distance to the tangent plane| <= rel * depth + abs
+  float plane_tolerance_abs;
+  float shadow_near;          // the shadow maps' near plane
+  float shadow_bias_rel;      // lit when stored >= distance - (rel * distance + abs)
+  float shadow_bias_abs;
+  float shadow_normal_offset; // texels (at the point's distance) along the normal before the lookup
+  uint shadow_size;           // texels per face side
+  uint width;            // display (G-buffer) size
+  uint height;
+  uint light_count;
+  uint unknown_mask;     // mask for unfilled pixels: all light bits
   uint flags;            // kClientWarp*
+};
+
+// A light as the warp's shadow lookup sees it: position relative to the display eye (world axes) and the
+// first tile of its six cube faces in the atlas (row `tile_row`, faces in columns 0-5); kClientNoShadowMap
+// where the light has none (directional lights: such bits are taken as lit).
+DHR_CONST uint kClientNoShadowMap = 0xFFFFFFFFu;
+struct ClientShadowLight {
+  float position[3];
+  uint tile_row;
 };
 
 // Shading (compute, 8x8 groups).
@@ -197,7 +261,7 @@ DHR_CONST uint kClientShadingBindingOutput = 7;  // rgba8 image (sRGB-encoded by
 
 DHR_CONST uint kClientViewShaded = 0u;         // the shading equation, exposure, tonemap, sRGB
 DHR_CONST uint kClientViewLightVisibility = 1u;  // light debug_light: white lit, black shadowed, red unknown
-DHR_CONST uint kClientViewUnknown = 2u;        // shaded, unknown surface pixels tinted magenta
+DHR_CONST uint kClientViewUnknown = 2u;        // shaded; pixels not from their own eye tinted by fill (magenta: lit)
 DHR_CONST uint kClientViewAlbedo = 3u;
 DHR_CONST uint kClientViewNormal = 4u;         // world normal * 0.5 + 0.5
 DHR_CONST uint kClientViewMotion = 5u;         // motion vectors: red/green = +x/+y pixels (scaled)
@@ -228,7 +292,9 @@ struct ClientShadingPush {
 static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the GLSL layout");
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
-static_assert(sizeof(ClientWarpPush) == 116, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientWarpSource) == 132, "ClientWarpSource must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 2 * 132 + 4 * 27, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientShadowLight) == 16, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
 static_assert(sizeof(VisPushConstants) == 88, "push constants must match the GLSL layout");

@@ -17,20 +17,42 @@ EyeRenderer::EyeRenderer(const vk::Context& context, const Scene& scene, Extent 
   for (auto& pipeline : eyes_) pipeline = std::make_unique<render::EyePipeline>(context, scene_, eye, options);
 }
 
-EyeRender EyeRenderer::render(int eye, const View& view, const VisibilityInput& input) {
-  render::EyePipeline& pipeline = *eyes_[static_cast<size_t>(eye)];
-  EyeRender out;
+std::array<EyeRender, 2> EyeRenderer::render(const std::array<View, 2>& views,
+                                             const std::array<VisibilityInput, 2>& inputs,
+                                             const render::WarpSettings& settings) {
+  if ((settings.shadow_fill || settings.shadow_edges) && !shadow_maps_) {
+    shadow_maps_ = std::make_unique<render::ShadowMaps>(*context_, scene_);
+  }
+  std::array<EyeRender, 2> out;
   const auto start = std::chrono::steady_clock::now();
-  context_->submit_and_wait([&](VkCommandBuffer cmd) { pipeline.record(cmd, 0, view, input); });
-  out.host_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  out.stats = pipeline.read_stats(0);
-  out.rgba = render::read_rgba8(*context_, pipeline.output());
-  const Extent extent = pipeline.extent();
-  std::vector<uint32_t> masks(static_cast<size_t>(extent.width) * extent.height);
-  vk::read_image(*context_, pipeline.warp().mask, masks.data(), masks.size() * sizeof(uint32_t));
-  out.mask = VisibilityBuffer::create(extent.width, extent.height, light_count_);
-  const uint32_t bits = out.mask.light_bits();
-  for (size_t p = 0; p < masks.size(); ++p) out.mask.set_mask_at(p, masks[p] & bits);
+  context_->submit_and_wait([&](VkCommandBuffer cmd) {
+    for (size_t e = 0; e < 2; ++e) {
+      eyes_[e]->warp_settings() = settings;
+      eyes_[e]->prepare(cmd, 0, inputs[e]);
+    }
+    for (size_t e = 0; e < 2; ++e) {
+      const VisibilityInput& other = inputs[1 - e];
+      render::WarpSourceInput source;
+      source.visibility = &other;
+      if (other.buffer != nullptr) source.traced_depth = eyes_[1 - e]->traced_depth(other.traced);
+      eyes_[e]->record(cmd, 0, views[e], inputs[e], source, shadow_maps_.get());
+    }
+  });
+  const double host_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / 2.0;
+  for (size_t e = 0; e < 2; ++e) {
+    render::EyePipeline& pipeline = *eyes_[e];
+    EyeRender& r = out[e];
+    r.host_ms = host_ms;
+    r.stats = pipeline.read_stats(0);
+    r.rgba = render::read_rgba8(*context_, pipeline.output());
+    const Extent extent = pipeline.extent();
+    std::vector<uint32_t> masks(static_cast<size_t>(extent.width) * extent.height);
+    vk::read_image(*context_, pipeline.warp().mask, masks.data(), masks.size() * sizeof(uint32_t));
+    r.mask = VisibilityBuffer::create(extent.width, extent.height, light_count_);
+    const uint32_t bits = r.mask.light_bits();
+    for (size_t p = 0; p < masks.size(); ++p) r.mask.set_mask_at(p, masks[p] & bits);
+  }
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include "visibility/visibility.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
+#include "render/shadow_maps.hpp"
 
 #include <array>
 #include <cstdint>
@@ -30,13 +31,17 @@ class EyeRenderer {
  public:
   // Throws (setup) when the scene cannot be uploaded.
   EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye);
-  EyeRender render(int eye, const View& view, const VisibilityInput& input);
+  // Renders both eyes with the given warp settings (each eye's input is the other's source 1); shadow maps
+  // are rendered the first time settings need them.
+  std::array<EyeRender, 2> render(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs,
+                                   const render::WarpSettings& settings = {});
   uint32_t light_count() const { return light_count_; }
 
  private:
   const vk::Context* context_;
   render::ClientScene scene_;
   std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
+  std::unique_ptr<render::ShadowMaps> shadow_maps_;
   uint32_t light_count_ = 0;
 };
 

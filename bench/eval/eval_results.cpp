@@ -35,6 +35,13 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   r.psnr = r.mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / r.mse) : std::numeric_limits<double>::infinity();
   r.unknown_frac = mean(t.unknown_frac, t.eye_frames);
   r.no_data_frac = mean(static_cast<double>(t.eye_frames_without_data), t.eye_frames);
+  r.filled_other_eye_frac = mean(t.filled_other_eye, t.eye_frames);
+  r.filled_shadow_map_frac = mean(t.filled_shadow_map, t.eye_frames);
+  r.unfilled_frac = mean(t.unfilled, t.eye_frames);
+  r.disoccluded_frac = mean(t.disoccluded, t.eye_frames);
+  r.edges_shadow_map_frac = mean(t.edges_shadow_map, t.eye_frames);
+  r.traced_depth_ms = mean(t.traced_depth_ms, t.eye_frames);
+  r.warp_ms = mean(t.warp_ms, t.eye_frames);
   r.client_ms = mean(t.client_ms, t.eye_frames);
   r.client_gpu_timed = t.eye_frames > 0 && t.client_gpu_timed == t.eye_frames;
   r.server_ms = mean(t.server_ms, t.traces);
@@ -76,6 +83,13 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("flip", r.flip.value_or(std::numeric_limits<double>::quiet_NaN()), 8);  // null: not computed
     w.value("unknown_frac", r.unknown_frac, 8);
     w.value("no_data_frac", r.no_data_frac, 6);
+    w.value("filled_other_eye_frac", r.filled_other_eye_frac, 8);
+    w.value("filled_shadow_map_frac", r.filled_shadow_map_frac, 8);
+    w.value("unfilled_frac", r.unfilled_frac, 8);
+    w.value("disoccluded_frac", r.disoccluded_frac, 8);
+    w.value("edges_shadow_map_frac", r.edges_shadow_map_frac, 8);
+    w.value("traced_depth_ms", r.traced_depth_ms, 4);
+    w.value("warp_ms", r.warp_ms, 4);
     w.value("client_ms", r.client_ms, 4);
     w.value("client_gpu_timed", r.client_gpu_timed);
     w.value("server_ms", r.server_ms, 4);
@@ -123,7 +137,7 @@ std::string results_table(const std::vector<SettingResult>& results) {
   out += line;
   for (const SettingResult& r : results) {
     std::snprintf(line, sizeof line, "%-11s %7.1f %5s %7s %9.5f %7.4f %7s %7s %8.5f %9.3f %9.3f %9.0f %9.1f\n",
-                  method_name(r.setting.method), r.setting.rtt_ms, x_max_text(r.setting.x_max).c_str(),
+                  method_name(r.setting.method).c_str(), r.setting.rtt_ms, x_max_text(r.setting.x_max).c_str(),
                   r.setting.guard.c_str(), r.bit_error, r.ssim, number(r.psnr, 2).c_str(),
                   r.flip ? number(*r.flip, 4).c_str() : "-", r.unknown_frac,
                   r.client_ms, r.server_ms, r.bytes_per_frame, r.response_ms);

@@ -19,7 +19,17 @@ struct SettingResult {
   double mse = 0.0;
   std::optional<double> flip;  // mean FLIP (LDR) over frames and eyes; nullopt when not computed
   double unknown_frac = 0.0;
-  double no_data_frac = 0.0;  // eye-frames with nothing received yet
+  double no_data_frac = 0.0;  // eye-frames with nothing received yet (local: all)
+  // Shares of the display pixels (means over eye-frames): how pixels without a mask from their own eye's
+  // buffer were filled, the depth test's disoccluded share, and known pixels whose undecided bits took the
+  // shadow maps.
+  double filled_other_eye_frac = 0.0;
+  double filled_shadow_map_frac = 0.0;
+  double unfilled_frac = 0.0;  // shaded lit
+  double disoccluded_frac = 0.0;
+  double edges_shadow_map_frac = 0.0;
+  double traced_depth_ms = 0.0;  // per eye-frame: GPU time of the traced camera's depth (0 when timestamps are off)
+  double warp_ms = 0.0;          // per eye-frame: GPU time of the warp pass
   double client_ms = 0.0;     // per eye
   bool client_gpu_timed = false;
   double server_ms = 0.0;     // per traced eye

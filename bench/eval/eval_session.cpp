@@ -35,7 +35,7 @@ int64_t server_ns_per_eye(const RunOptions& options) {
 server::ServiceConfig service_config(const Setting& setting, const RunOptions& options) {
   server::ServiceConfig c;
   c.token_seed = options.seed * 2 + 1;  // never 0 (0 would draw tokens from std::random_device)
-  c.predict = setting.method == Method::kPaperPred;
+  c.predict = server_predicts(setting.method);
   c.predict_horizon_ns = -1;  // automatic: the session's measured RTT + queueing + the last trace time
   c.codec_v2 = options.codec_v2;
   c.predictor.velocity_window_ns = static_cast<int64_t>(std::llround(options.predict_window_ms * 1e6));
@@ -78,7 +78,7 @@ bool same_views(const std::array<View, 2>& a, const std::array<View, 2>& b) {
 // (all: the newest pose, the client's default schedule); paper+pred differs on the server only.
 client::PlannerSettings planner_settings(const Setting& setting, const SessionShared& shared) {
   client::PlannerSettings s;
-  if (setting.method == Method::kStale) {
+  if (setting.method.method == Method::kStale) {
     s.schedule = client::Schedule::kStale;
   } else if (setting.x_max < 0) {
     s.schedule = client::Schedule::kNewest;
@@ -207,7 +207,7 @@ void SettingSession::run_until(int64_t t_ns, bool inclusive) {
 
 void SettingSession::process_on_server(int64_t t_ns) {
   server_work_ = false;
-  const bool predict = setting_.method == Method::kPaperPred;
+  const bool predict = server_predicts(setting_.method);
   const server::ServiceStats before = predict ? service_->stats() : server::ServiceStats{};
   service_->process_pending();
   server_free_ns_ = t_ns + server_clock_.take_busy_ns();
@@ -247,15 +247,31 @@ void SettingSession::measure(const Truth& truth) {
     if (client_->take_newest(static_cast<Eye>(eye), incoming)) planner_.offer(eye, std::move(incoming));
   }
   const client::FramePlan plan = planner_.plan(now, format_);
+  const bool server = uses_server_visibility(setting_.method);
+  std::array<View, 2> views;
+  std::array<VisibilityInput, 2> inputs;
+  for (int eye = 0; eye < 2; ++eye) {
+    views[eye] = plan.eyes[eye].view;
+    if (server) inputs[eye] = plan.eyes[eye].visibility;  // local: the client's shadow maps only
+  }
+  const std::array<EyeRender, 2> renders = shared_.renderer->render(views, inputs, warp_settings(setting_.method));
   for (int eye = 0; eye < 2; ++eye) {
     const client::EyePlan& p = plan.eyes[eye];
-    if (!p.has_visibility) totals_.eye_frames_without_data += 1;
-    if (p.first_use) {
+    if (!p.has_visibility || !server) totals_.eye_frames_without_data += 1;
+    if (p.first_use && server) {
       totals_.responses += 1;
       totals_.response_ms += static_cast<double>(p.visibility_age_ns.value_or(0)) * 1e-6;
     }
-    const EyeRender rendered = shared_.renderer->render(eye, p.view, p.visibility);
+    const EyeRender& rendered = renders[eye];
     add_image_errors(rendered, truth, eye);
+    totals_.filled_other_eye += static_cast<double>(rendered.stats.warp.filled_other_eye) / pixels_per_eye();
+    totals_.filled_shadow_map += static_cast<double>(rendered.stats.warp.filled_shadow_map) / pixels_per_eye();
+    totals_.edges_shadow_map += static_cast<double>(rendered.stats.warp.edges_shadow_map) / pixels_per_eye();
+    totals_.unfilled += static_cast<double>(rendered.stats.warp.unfilled()) / pixels_per_eye();
+    totals_.disoccluded +=
+        static_cast<double>(rendered.stats.warp[render::WarpStatus::kDisoccluded]) / pixels_per_eye();
+    totals_.traced_depth_ms += rendered.stats.gpu.traced_depth_ms;
+    totals_.warp_ms += rendered.stats.gpu.warp_ms;
     const double pixels = static_cast<double>(shared_.eye.width) * shared_.eye.height;
     totals_.unknown_frac += static_cast<double>(rendered.stats.unknown_pixels()) / pixels;
     totals_.client_ms += rendered.stats.gpu.valid ? rendered.stats.gpu.total_ms : rendered.host_ms;

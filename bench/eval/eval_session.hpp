@@ -44,7 +44,14 @@ struct SettingTotals {
   double mse = 0.0;
   double flip = 0.0;
   uint64_t flip_frames = 0;     // eye-frames with a FLIP value
-  double unknown_frac = 0.0;
+  double unknown_frac = 0.0;     // surface pixels without a mask from their own eye's buffer (filled or not)
+  double filled_other_eye = 0.0;  // shares of the display pixels, summed over eye-frames
+  double filled_shadow_map = 0.0;
+  double edges_shadow_map = 0.0;  // known pixels whose undecided bits took the shadow maps
+  double unfilled = 0.0;          // shaded lit
+  double disoccluded = 0.0;       // the depth test's share (part of unknown_frac)
+  double traced_depth_ms = 0.0;   // GPU time of the traced cameras' depth (full's depth test)
+  double warp_ms = 0.0;           // GPU time of the warp pass
   double client_ms = 0.0;       // GPU timestamps (all three passes) where valid, else host time
   uint64_t client_gpu_timed = 0;
   double frames_behind = 0.0;   // p
@@ -147,6 +154,7 @@ class SettingSession {
   void deliver_to_client(const net::SimulatedDelivery& delivery);
   void add_image_errors(const EyeRender& rendered, const Truth& truth, int eye);
   int64_t display_ns(const FramePose& sample) const { return time_offset_ns_ + sample.display_time_ns; }
+  double pixels_per_eye() const { return static_cast<double>(shared_.eye.width) * shared_.eye.height; }
 
   Setting setting_;
   SessionShared shared_;

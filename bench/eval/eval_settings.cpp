@@ -4,23 +4,90 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <array>
+#include <utility>
 
 namespace dhr::eval {
+
+namespace {
+
+constexpr std::array<std::pair<Ingredient, const char*>, 6> kIngredients = {{
+    {kIngredientBilinear, "bilinear"},
+    {kIngredientDepthTest, "depth"},
+    {kIngredientOtherEye, "other-eye"},
+    {kIngredientShadowFill, "shadow-fill"},
+    {kIngredientShadowEdges, "shadow-edges"},
+    {kIngredientPrediction, "pred"},
+}};
+
+}  // namespace
 
 const char* method_name(Method method) {
   switch (method) {
     case Method::kStale: return "stale";
     case Method::kPaper: return "paper";
     case Method::kPaperPred: return "paper+pred";
+    case Method::kLocal: return "local";
+    case Method::kFull: return "full";
   }
   return "unknown";
 }
 
-std::optional<Method> parse_method(const std::string& text) {
-  for (const Method m : {Method::kStale, Method::kPaper, Method::kPaperPred}) {
-    if (text == method_name(m)) return m;
+std::string method_name(const MethodSpec& spec) {
+  std::string name = method_name(spec.method);
+  if (spec.method != Method::kFull) return name;
+  for (const auto& [bit, text] : kIngredients) {
+    if ((spec.without & bit) != 0) name += std::string("-no-") + text;
   }
-  return std::nullopt;
+  return name;
+}
+
+std::optional<MethodSpec> parse_method(const std::string& text) {
+  for (const Method m : {Method::kStale, Method::kPaper, Method::kPaperPred, Method::kLocal, Method::kFull}) {
+    if (text == method_name(m)) return MethodSpec{m, 0};
+  }
+  const std::string prefix = "full";
+  if (text.rfind(prefix, 0) != 0) return std::nullopt;
+  MethodSpec spec{Method::kFull, 0};
+  std::string rest = text.substr(prefix.size());
+  while (!rest.empty()) {
+    bool matched = false;
+    for (const auto& [bit, name] : kIngredients) {
+      const std::string item = std::string("-no-") + name;
+      if (rest.rfind(item, 0) == 0 && (rest.size() == item.size() || rest[item.size()] == '-')) {
+        if ((spec.without & bit) != 0) return std::nullopt;
+        spec.without |= bit;
+        rest = rest.substr(item.size());
+        matched = true;
+        break;
+      }
+    }
+    if (!matched) return std::nullopt;
+  }
+  return spec;
+}
+
+bool server_predicts(const MethodSpec& spec) {
+  return spec.method == Method::kPaperPred ||
+         (spec.method == Method::kFull && (spec.without & kIngredientPrediction) == 0);
+}
+
+bool uses_server_visibility(const MethodSpec& spec) { return spec.method != Method::kLocal; }
+
+render::WarpSettings warp_settings(const MethodSpec& spec) {
+  render::WarpSettings s;
+  if (spec.method == Method::kLocal) {
+    s.shadow_fill = true;
+    return s;
+  }
+  if (spec.method != Method::kFull) return s;
+  s = render::WarpSettings::full();
+  s.bilinear = (spec.without & kIngredientBilinear) == 0;
+  s.depth_test = (spec.without & kIngredientDepthTest) == 0;
+  s.other_eye = (spec.without & kIngredientOtherEye) == 0;
+  s.shadow_fill = (spec.without & kIngredientShadowFill) == 0;
+  s.shadow_edges = (spec.without & kIngredientShadowEdges) == 0;
+  return s;
 }
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -114,12 +181,13 @@ std::optional<std::vector<std::string>> parse_guard_list(const std::string& text
   return out;
 }
 
-std::optional<std::vector<Method>> parse_method_list(const std::string& text, std::string* out_error) {
-  std::vector<Method> out;
+std::optional<std::vector<MethodSpec>> parse_method_list(const std::string& text, std::string* out_error) {
+  std::vector<MethodSpec> out;
   for (const std::string& item : split_list(text)) {
-    const std::optional<Method> m = parse_method(item);
+    const std::optional<MethodSpec> m = parse_method(item);
     if (!m) {
-      fail(out_error, "--method: expected stale, paper or paper+pred, got '" + item + "'");
+      fail(out_error, "--method: expected stale, paper, paper+pred, local, full or full-no-<ingredient>... "
+                      "(bilinear, depth, other-eye, shadow-fill, shadow-edges, pred), got '" + item + "'");
       return std::nullopt;
     }
     out.push_back(*m);
@@ -145,8 +213,8 @@ std::vector<Setting> expand_settings(const RunOptions& options) {
   std::vector<Setting> out;
   for (const std::string& guard : options.guard) {
     for (const double rtt : options.rtt_ms) {
-      for (const Method method : options.methods) {
-        if (method == Method::kStale) {
+      for (const MethodSpec& method : options.methods) {
+        if (method.method == Method::kStale || method.method == Method::kLocal) {
           out.push_back(Setting{method, rtt, -1, guard, guard_for_eye(guard, options.eye)});
           continue;
         }

@@ -1,6 +1,7 @@
 // dhr-eval's run options and the settings it sweeps (the cartesian product of the option lists).
 #pragma once
 #include "math/projection.hpp"
+#include "render/warp_reference.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -13,12 +14,34 @@ namespace dhr::eval {
 //   kStale     the newest received buffer used as if it had been traced for the displayed pose (no warp)
 //   kPaper     the paper's warp: the newest buffer reprojected from the pose it was traced for
 //   kPaperPred kPaper, with the server tracing the pose its PosePredictor predicts for the display time
-enum class Method { kStale, kPaper, kPaperPred };
+//   kLocal     no server: the client's own shadow maps shade every pixel (a standalone headset without DHR)
+//   kFull      kPaperPred with every ingredient of the client's warp (render::WarpSettings::full()); single
+//              ingredients can be switched off for an ablation ("full-no-depth", see Ingredient)
+enum class Method { kStale, kPaper, kPaperPred, kLocal, kFull };
 const char* method_name(Method method);
-std::optional<Method> parse_method(const std::string& text);
+
+// The parts of `full` an ablation can switch off (bits of MethodSpec::without).
+enum Ingredient : uint32_t {
+  kIngredientBilinear = 1u,     // "bilinear": 2x2 samples and a vote
+  kIngredientDepthTest = 2u,    // "depth": the disocclusion test
+  kIngredientOtherEye = 4u,     // "other-eye": fill from the other eye
+  kIngredientShadowFill = 8u,   // "shadow-fill": fill from the shadow maps
+  kIngredientShadowEdges = 16u, // "shadow-edges": undecided bits from the shadow maps
+  kIngredientPrediction = 32u,  // "pred": the server's pose prediction
+};
+
+// A method and, for kFull, the ingredients switched off.
+struct MethodSpec {
+  Method method = Method::kPaper;
+  uint32_t without = 0;  // Ingredient bits (kFull only)
+  bool operator==(const MethodSpec&) const = default;
+};
+std::string method_name(const MethodSpec& spec);  // "full", "full-no-depth-no-pred"
+// "stale", "paper", "paper+pred", "local", "full", "full-no-<ingredient>[-no-<ingredient>...]".
+std::optional<MethodSpec> parse_method(const std::string& text);
 
 struct Setting {
-  Method method = Method::kPaper;
+  MethodSpec method;
   double rtt_ms = 0.0;
   int x_max = -1;          // frames predicted at most (x = min(x_max, p)); -1: unlimited (x = p)
   std::string guard;       // as given: "0", "64x36" (pixels at 1920x1080, scaled to the eye size)
@@ -34,7 +57,7 @@ struct RunOptions {
   std::vector<double> rtt_ms{0.0, 25.0, 50.0, 100.0, 200.0};
   std::vector<int> x_max{-1};
   std::vector<std::string> guard{"64x36"};
-  std::vector<Method> methods{Method::kStale, Method::kPaper, Method::kPaperPred};
+  std::vector<MethodSpec> methods{{Method::kStale}, {Method::kPaper}, {Method::kPaperPred}};
   uint64_t frames = 0;           // measured frames; 0: as many as the trace holds after the warm-up
   Extent eye{160, 120};
   double trace_start_s = 0.0;    // skip this much of the trace
@@ -56,12 +79,17 @@ std::vector<std::string> split_list(const std::string& text);
 std::optional<std::vector<double>> parse_rtt_list(const std::string& text, std::string* out_error);
 std::optional<std::vector<int>> parse_x_max_list(const std::string& text, std::string* out_error);  // ints, "all"
 std::optional<std::vector<std::string>> parse_guard_list(const std::string& text, std::string* out_error);
-std::optional<std::vector<Method>> parse_method_list(const std::string& text, std::string* out_error);
+std::optional<std::vector<MethodSpec>> parse_method_list(const std::string& text, std::string* out_error);
 std::optional<Extent> parse_size(const std::string& text);  // "WxH", both >= 0
 // A guard label ("0" or "WxH" at 1920x1080) scaled to the eye size.
 GuardBand guard_for_eye(const std::string& label, Extent eye);
 
-// Every combination; kStale ignores x_max (one setting per rtt and guard, x_max = -1).
+// What a setting's method means for the server and the client.
+bool server_predicts(const MethodSpec& spec);        // paper+pred, full (unless without pred)
+render::WarpSettings warp_settings(const MethodSpec& spec);
+bool uses_server_visibility(const MethodSpec& spec);  // all but local
+
+// Every combination; kStale and kLocal ignore x_max (one setting per rtt and guard, x_max = -1).
 std::vector<Setting> expand_settings(const RunOptions& options);
 
 }  // namespace dhr::eval

@@ -48,12 +48,17 @@ void main() {
   vec3 display = encode_radiance(radiance, pc.exposure);
 
   if (pc.view_mode != kClientViewShaded) {
-    const uint status = imageLoad(status_image, pixel).x;
+    const uint packed = imageLoad(status_image, pixel).x;
+    const uint status = packed & 0xFFu;
+    const uint fill = packed >> 8;
     if (pc.view_mode == kClientViewLightVisibility) {
       display = status != kClientStatusKnown ? vec3(1.0, 0.0, 0.0)
                                              : vec3(((mask >> pc.debug_light) & 1u) != 0u ? 0.9 : 0.1);
     } else if (pc.view_mode == kClientViewUnknown) {
-      if (status != kClientStatusKnown) display = mix(display, vec3(1.0, 0.0, 1.0), 0.6);
+      // Unfilled (shaded lit): magenta; filled from the other eye: cyan; from the shadow maps: yellow.
+      const vec3 tint = fill == kClientFillOtherEye ? vec3(0.0, 1.0, 1.0)
+                      : fill == kClientFillShadowMap ? vec3(1.0, 1.0, 0.0) : vec3(1.0, 0.0, 1.0);
+      if (status != kClientStatusKnown) display = mix(display, tint, 0.6);
     } else if (pc.view_mode == kClientViewAlbedo) {
       display = vec3(srgb_encode(albedo.x), srgb_encode(albedo.y), srgb_encode(albedo.z));
     } else if (pc.view_mode == kClientViewNormal) {

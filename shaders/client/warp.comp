@@ -2,79 +2,258 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "shader_interface.h"
+#include "light_eval.h"
+#include "client/cube_face.h"
 
-// Warp (the paper's reprojection): each display pixel's surface point, reconstructed from this frame's depth,
-// is projected into the old guard-banded camera the visibility buffer was traced for, and the old mask at
-// the nearest pixel (floor of the continuous coordinate; centres at +0.5) is taken. Background, points at or
-// behind the old eye plane, lookups outside the old buffer and rows that did not arrive are unknown and
-// take all light bits ("taken as lit"). All positions are eye-relative: only small numbers reach the GPU.
+// Warp: each display pixel's surface point, reconstructed from this frame's depth, is projected into the old
+// guard-banded camera a visibility buffer was traced for, and that buffer's masks around the lookup are taken.
+//   nearest (the paper): the one old pixel under the lookup (floor of the continuous coordinate);
+//   bilinear: the 2x2 old pixels around it; bits they all agree on are taken, the others by a bilinear vote
+//     (or, with kClientWarpShadowEdges, from the shadow maps);
+//   depth test: an old pixel whose surface (its depth, rendered by the client for the traced camera) lies off
+//     the tangent plane of this pixel's surface saw something else there and is not used; when no sample is
+//     left the pixel is disoccluded.
+// Source 0 is this eye's newest buffer; a pixel it cannot fill tries source 1 (the other eye's), then the
+// shadow maps (kClientWarpShadowFill), else it takes all light bits ("taken as lit").
 // xrclient/render/warp_reference.cpp is the CPU reference; the decisions have the same precedence.
-// Branch-free on purpose: SIMD CPU implementations (lavapipe) run both sides of a divergent branch.
+// All positions are eye-relative: only small numbers reach the GPU.
 layout(local_size_x = kClientWarpGroupSize, local_size_y = kClientWarpGroupSize) in;
 
 layout(set = 0, binding = kClientWarpBindingDepth) uniform sampler2D depth_texture;
-layout(set = 0, binding = kClientWarpBindingVisibility, std430) readonly buffer Visibility { uint vis_words[]; };
-layout(set = 0, binding = kClientWarpBindingRowValid, std430) readonly buffer RowValid { uint row_words[]; };
+layout(set = 0, binding = kClientWarpBindingNormal) uniform sampler2D normal_texture;
+layout(set = 0, binding = kClientWarpBindingVisibility0, std430) readonly buffer Visibility0 { uint vis0[]; };
+layout(set = 0, binding = kClientWarpBindingRowValid0, std430) readonly buffer RowValid0 { uint rows0[]; };
+layout(set = 0, binding = kClientWarpBindingOldDepth0) uniform sampler2D old_depth0;
+layout(set = 0, binding = kClientWarpBindingVisibility1, std430) readonly buffer Visibility1 { uint vis1[]; };
+layout(set = 0, binding = kClientWarpBindingRowValid1, std430) readonly buffer RowValid1 { uint rows1[]; };
+layout(set = 0, binding = kClientWarpBindingOldDepth1) uniform sampler2D old_depth1;
 layout(set = 0, binding = kClientWarpBindingMask, r32ui) uniform writeonly uimage2D mask_image;
 layout(set = 0, binding = kClientWarpBindingStatus, r32ui) uniform writeonly uimage2D status_image;  // optional
 layout(set = 0, binding = kClientWarpBindingMotion, rg32f) uniform writeonly image2D motion_image;
 layout(set = 0, binding = kClientWarpBindingCounters, std430) buffer Counters { uint counters[]; };
-layout(push_constant, std430) uniform Push { ClientWarpPush pc; };
+layout(set = 0, binding = kClientWarpBindingParams, std430) readonly buffer Params { ClientWarpParams pc; };
+layout(set = 0, binding = kClientWarpBindingShadowMap) uniform sampler2D shadow_atlas;
+layout(set = 0, binding = kClientWarpBindingShadowLights, std430) readonly buffer ShadowLights {
+  ClientShadowLight shadow_lights[];
+};
+layout(set = 0, binding = kClientWarpBindingLights, std430) readonly buffer Lights { PackedLight lights[]; };
 
 vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
+
+// Source s is dynamically uniform: these selections do not diverge.
+uint vis_word(uint s, uint index) { return s == 0u ? vis0[index] : vis1[index]; }
+bool row_ok(uint s, uint row) {
+  if ((pc.source[s].flags & kClientSourceHasRowValidity) == 0u) return true;
+  const uint word = s == 0u ? rows0[row >> 5] : rows1[row >> 5];
+  return ((word >> (row & 31u)) & 1u) != 0u;
+}
+float old_depth_at(uint s, ivec2 c) {
+  return s == 0u ? texelFetch(old_depth0, c, 0).r : texelFetch(old_depth1, c, 0).r;
+}
+
+// What one source says about a pixel.
+struct Lookup {
+  uint status;  // kClientStatus*
+  uint agree;   // over the used samples: bits all of them agree on (their value is in `value`)
+  uint value;   // agreed bits: their value; other bits: the bilinear vote
+  vec2 pixel;   // continuous lookup coordinate
+};
+
+Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
+  const ClientWarpSource src = pc.source[s];
+  Lookup r;
+  r.agree = 0u;
+  r.value = 0u;
+  const vec3 ray = v3(src.ray0) + centre.x * v3(src.ray_dx) + centre.y * v3(src.ray_dy);
+  const vec3 p_old = (pc.near_plane / d) * ray + v3(src.trans);
+  const float depth_old = -p_old.z;
+  const float px = src.old_px_scale * (p_old.x / depth_old) + src.old_px_offset;
+  const float py = src.old_py_scale * (p_old.y / depth_old) + src.old_py_offset;
+  r.pixel = vec2(px, py);
+  const bool inside = px >= 0.0 && py >= 0.0 && px < float(src.old_width) && py < float(src.old_height);
+  if ((src.flags & kClientSourceHasVisibility) == 0u) {
+    r.status = kClientStatusNoData;
+    return r;
+  }
+  if (!(depth_old > pc.min_depth)) {
+    r.status = kClientStatusBehind;
+    return r;
+  }
+  if (!inside) {
+    r.status = kClientStatusOutside;
+    return r;
+  }
+  const bool bilinear = (pc.flags & kClientWarpBilinear) != 0u;
+  const bool depth_test = (pc.flags & kClientWarpDepthTest) != 0u && (src.flags & kClientSourceHasDepth) != 0u;
+  const vec3 n_old = vec3(src.rot[0] * n_world.x + src.rot[1] * n_world.y + src.rot[2] * n_world.z,
+                          src.rot[3] * n_world.x + src.rot[4] * n_world.y + src.rot[5] * n_world.z,
+                          src.rot[6] * n_world.x + src.rot[7] * n_world.y + src.rot[8] * n_world.z);
+  const float tolerance = pc.plane_tolerance_rel * depth_old + pc.plane_tolerance_abs;
+  // Nearest: the sample at the floor; bilinear: the four around px - 0.5 (one of them is that floor sample).
+  const float bx = bilinear ? px - 0.5 : px;
+  const float by = bilinear ? py - 0.5 : py;
+  const int i0 = int(floor(bx));
+  const int j0 = int(floor(by));
+  const float fx = bx - float(i0);
+  const float fy = by - float(j0);
+  const uint width_mask = src.mask_bits >= 32u ? 0xFFFFFFFFu : (1u << src.mask_bits) - 1u;
+  uint and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0u, used = 0u;
+  uint masks[4];
+  float weights[4];
+  const int n = bilinear ? 4 : 1;
+  for (int k = 0; k < n; ++k) {
+    const int a = i0 + (k & 1);
+    const int b = j0 + (k >> 1);
+    weights[k] = bilinear ? ((k & 1) != 0 ? fx : 1.0 - fx) * ((k >> 1) != 0 ? fy : 1.0 - fy) : 1.0;
+    masks[k] = 0u;
+    if (a < 0 || b < 0 || a >= int(src.old_width) || b >= int(src.old_height)) continue;
+    if (!row_ok(s, uint(b))) continue;
+    ++rows;
+    if (depth_test) {
+      const float ds = old_depth_at(s, ivec2(a, b));
+      if (!(ds > 0.0)) continue;
+      const vec3 q = (pc.near_plane / ds) *
+                     vec3(src.old_tan_left + (float(a) + 0.5) * src.old_tan_step_x,
+                          src.old_tan_up - (float(b) + 0.5) * src.old_tan_step_y, -1.0);
+      if (!(abs(dot(n_old, q - p_old)) <= tolerance)) continue;
+    }
+    const uint bit = (uint(b) * src.old_width + uint(a)) * src.mask_bits;
+    const uint m = (vis_word(s, bit >> 5) >> (bit & 31u)) & width_mask;
+    masks[k] = m;
+    used |= 1u << k;
+    and_m &= m;
+    or_m |= m;
+  }
+  if (rows == 0u) {
+    r.status = kClientStatusMissingRow;
+    return r;
+  }
+  if (used == 0u) {
+    r.status = kClientStatusDisoccluded;
+    return r;
+  }
+  r.status = kClientStatusKnown;
+  r.agree = ~(and_m ^ or_m);
+  r.value = and_m;
+  uint open = or_m & ~and_m;  // bits the samples disagree on: bilinear vote over the used samples
+  if (open != 0u) {
+    float total = 0.0;
+    for (int k = 0; k < n; ++k) total += ((used >> k) & 1u) != 0u ? weights[k] : 0.0;
+    while (open != 0u) {
+      const int bit = findLSB(open);
+      open &= open - 1u;
+      float set = 0.0;
+      for (int k = 0; k < n; ++k) set += (((used >> k) & 1u) != 0u && ((masks[k] >> bit) & 1u) != 0u) ? weights[k] : 0.0;
+      if (2.0 * set >= total) r.value |= 1u << bit;
+    }
+  }
+  return r;
+}
+
+// The shadow maps' mask at surface point p (display-eye-relative, world axes) with unit normal n: per light,
+// 0 where the light cannot contribute (light_test) or its shadow map holds a nearer surface, else 1.
+uint shadow_mask(vec3 p, vec3 n) {
+  uint m = 0u;
+  const float size = float(pc.shadow_size);
+  for (uint i = 0u; i < pc.light_count; ++i) {
+    vec3 l;
+    float dist;
+    if (light_test(lights[i], p, n, l, dist) != kLightContributes) continue;
+    const ClientShadowLight sl = shadow_lights[i];
+    if (sl.tile_row == kClientNoShadowMap) {
+      m |= 1u << i;
+      continue;
+    }
+    const vec3 light_pos = v3(sl.position);
+    const vec3 v0 = p - light_pos;
+    // Normal offset: a few texels (at this distance) along the normal, against acne on slopes.
+    const float texel = 2.0 * cube_face_distance(v0) / size;
+    const vec3 v = v0 + (pc.shadow_normal_offset * texel) * n;
+    const CubeLookup c = cube_lookup(v, pc.shadow_size);
+    const float stored = texelFetch(shadow_atlas, ivec2(c.face * pc.shadow_size + c.texel.x,
+                                                        sl.tile_row * pc.shadow_size + c.texel.y), 0).r;
+    const float occluder = stored > 0.0 ? pc.shadow_near / stored : 3.0e38;
+    if (occluder >= c.distance - (pc.shadow_bias_rel * c.distance + pc.shadow_bias_abs)) m |= 1u << i;
+  }
+  return m;
+}
 
 void main() {
   const uvec2 id = gl_GlobalInvocationID.xy;
   const bool in_image = id.x < pc.width && id.y < pc.height;
   uint status = kClientStatusCount;  // outside the image: counted nowhere
+  uint fill = kClientFillNone;
+  bool edge_from_shadow = false;
   if (in_image) {
     const float d = texelFetch(depth_texture, ivec2(id), 0).r;
     const vec2 centre = vec2(id) + 0.5;
-    const vec3 ray = v3(pc.ray0) + centre.x * v3(pc.ray_dx) + centre.y * v3(pc.ray_dy);
-    const vec3 p_old = (pc.near_plane / d) * ray + v3(pc.trans);
-    const float depth_old = -p_old.z;
-    const float px = pc.old_px_scale * (p_old.x / depth_old) + pc.old_px_offset;
-    const float py = pc.old_py_scale * (p_old.y / depth_old) + pc.old_py_offset;
-    const bool inside = px >= 0.0 && py >= 0.0 && px < float(pc.old_width) && py < float(pc.old_height);
-    // Clamped, so the loads below stay in bounds whatever the decision (NaN included).
-    const uint ix = min(uint(max(px, 0.0)), pc.old_width - 1u);
-    const uint iy = min(uint(max(py, 0.0)), pc.old_height - 1u);
-    const bool row_ok = (pc.flags & kClientWarpHasRowValidity) == 0u ||
-                        ((row_words[iy >> 5] >> (iy & 31u)) & 1u) != 0u;
-    const uint bit = (iy * pc.old_width + ix) * pc.mask_bits;
-    const uint width_mask = pc.mask_bits >= 32u ? 0xFFFFFFFFu : (1u << pc.mask_bits) - 1u;
-    const uint old_mask = (vis_words[bit >> 5] >> (bit & 31u)) & width_mask;
-
-    status = !(d > 0.0) ? kClientStatusBackground
-           : (pc.flags & kClientWarpHasVisibility) == 0u ? kClientStatusNoData
-           : !(depth_old > pc.min_depth) ? kClientStatusBehind
-           : !inside ? kClientStatusOutside
-           : !row_ok ? kClientStatusMissingRow
-           : kClientStatusKnown;
-    imageStore(mask_image, ivec2(id), uvec4(status == kClientStatusKnown ? old_mask : pc.unknown_mask, 0u, 0u, 0u));
+    uint mask = pc.unknown_mask;
+    vec2 motion = vec2(0.0);
+    if (!(d > 0.0)) {
+      status = kClientStatusBackground;
+    } else {
+      const vec3 n = normalize(texelFetch(normal_texture, ivec2(id), 0).xyz);
+      Lookup own = look_up(0u, d, centre, n);
+      status = own.status;
+      Lookup chosen = own;
+      if (own.status != kClientStatusKnown && (pc.source[1].flags & kClientSourceHasVisibility) != 0u) {
+        const Lookup other = look_up(1u, d, centre, n);
+        if (other.status == kClientStatusKnown) {
+          chosen = other;
+          fill = kClientFillOtherEye;
+        }
+      }
+      const bool have = status == kClientStatusKnown || fill == kClientFillOtherEye;
+      const bool need_shadow = have ? (pc.flags & kClientWarpShadowEdges) != 0u && (~chosen.agree & pc.unknown_mask) != 0u
+                                    : (pc.flags & kClientWarpShadowFill) != 0u;
+      uint shadow = 0u;
+      if (need_shadow) {
+        const vec3 p = (pc.near_plane / d) *
+                       (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
+        shadow = shadow_mask(p, n);
+      }
+      if (have) {
+        const uint undecided = ~chosen.agree & pc.unknown_mask;
+        mask = need_shadow ? (chosen.value & ~undecided) | (shadow & undecided) : chosen.value;
+        edge_from_shadow = need_shadow;
+      } else if (need_shadow) {
+        mask = shadow;
+        fill = kClientFillShadowMap;
+      }
+      const bool motion_valid = status == kClientStatusKnown || status == kClientStatusOutside ||
+                                status == kClientStatusMissingRow || status == kClientStatusDisoccluded;
+      if (motion_valid) {
+        const vec2 still = vec2(pc.ident_px_scale * centre.x + pc.ident_px_offset,
+                                pc.ident_py_scale * centre.y + pc.ident_py_offset);
+        motion = own.pixel - still;
+      }
+    }
+    imageStore(mask_image, ivec2(id), uvec4(mask, 0u, 0u, 0u));
     if ((pc.flags & kClientWarpWriteStatus) != 0u) {
-      imageStore(status_image, ivec2(id), uvec4(status, 0u, 0u, 0u));
+      imageStore(status_image, ivec2(id), uvec4(status | (fill << 8), 0u, 0u, 0u));
     }
     if ((pc.flags & kClientWarpWriteMotion) != 0u) {
-      const vec2 still = vec2(pc.ident_px_scale * centre.x + pc.ident_px_offset,
-                              pc.ident_py_scale * centre.y + pc.ident_py_offset);
-      const bool valid = status == kClientStatusKnown || status == kClientStatusOutside ||
-                         status == kClientStatusMissingRow;
-      imageStore(motion_image, ivec2(id), vec4(valid ? vec2(px, py) - still : vec2(0.0), 0.0, 0.0));
+      imageStore(motion_image, ivec2(id), vec4(motion, 0.0, 0.0));
     }
   }
 
-  // Per-status counts: two subgroup sums of one-hot values packed in 10-bit fields, then the elected lane
-  // adds them to its bucket (8 horizontally adjacent workgroups, at most 512 pixels: no field overflows); the
-  // host unpacks and sums the buckets. Buckets instead of one counter per status: with every workgroup
-  // hitting the same six words the atomics serialize (on lavapipe they cost a third of the pass).
-  const uint one_hot = status < kClientStatusCount ? 1u << (10u * (status % 3u)) : 0u;
-  const uint low = subgroupAdd(status < 3u ? one_hot : 0u);
-  const uint high = subgroupAdd(status >= 3u ? one_hot : 0u);
+  // Counts: one subgroup sum per word of one-hot values packed in 10-bit fields, then the elected lane adds
+  // them to its bucket (8 horizontally adjacent workgroups, at most 512 pixels: no field overflows); the
+  // host unpacks and sums the buckets. Buckets instead of one counter per field: with every workgroup
+  // hitting the same words the atomics serialize (on lavapipe they cost a third of the pass).
+  uint words[kClientCountWords];
+  for (uint w = 0u; w < kClientCountWords; ++w) words[w] = 0u;
+  if (status < kClientStatusCount) words[status / 3u] += 1u << (10u * (status % 3u));
+  if (fill == kClientFillOtherEye) words[kClientCountOtherEye / 3u] += 1u << (10u * (kClientCountOtherEye % 3u));
+  if (fill == kClientFillShadowMap) words[kClientCountShadowMap / 3u] += 1u << (10u * (kClientCountShadowMap % 3u));
+  if (edge_from_shadow) words[kClientCountEdgeShadowMap / 3u] += 1u << (10u * (kClientCountEdgeShadowMap % 3u));
+  uint sums[kClientCountWords];
+  for (uint w = 0u; w < kClientCountWords; ++w) sums[w] = subgroupAdd(words[w]);
   if (subgroupElect()) {
     const uint buckets_x = (gl_NumWorkGroups.x + kClientCountBucketGroups - 1u) / kClientCountBucketGroups;
-    const uint bucket = 2u * (gl_WorkGroupID.y * buckets_x + gl_WorkGroupID.x / kClientCountBucketGroups);
-    if (low != 0u) atomicAdd(counters[bucket], low);
-    if (high != 0u) atomicAdd(counters[bucket + 1u], high);
+    const uint bucket = kClientCountWords * (gl_WorkGroupID.y * buckets_x + gl_WorkGroupID.x / kClientCountBucketGroups);
+    for (uint w = 0u; w < kClientCountWords; ++w) {
+      if (sums[w] != 0u) atomicAdd(counters[bucket + w], sums[w]);
+    }
   }
 }

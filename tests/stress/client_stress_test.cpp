@@ -172,9 +172,9 @@ TEST_F(ClientStress, ExtremeProjectionWarpEqualsTheCpuReference) {
   render::WarpInput cpu_in;
   cpu_in.depth = gpu.depth;
   cpu_in.display = render::display_camera(view, extent);
-  cpu_in.traced = input.traced;
+  cpu_in.sources[0].traced = input.traced;
   cpu_in.near_plane = kNear;
-  cpu_in.visibility = &vis;
+  cpu_in.sources[0].visibility = &vis;
   const render::WarpResult cpu = render::warp_reference(cpu_in);
   uint64_t judged = 0, mismatched = 0;
   for (size_t i = 0; i < cpu.masks.size(); ++i) {

@@ -78,7 +78,12 @@ struct ShadingRig {
     const Camera camera = display_camera(view, kExtent);
     ctx.submit_and_wait([&](VkCommandBuffer cmd) {
       gbuffer_pass.record(cmd, gbuffer, camera, kNear);
-      warp_pass.record(cmd, 0, gbuffer.depth, camera, kNear, vis, warp);
+      WarpFrame frame;
+      frame.depth = &gbuffer.depth;
+      frame.display = camera;
+      frame.near_plane = kNear;
+      frame.sources[0].visibility = &vis;
+      warp_pass.record(cmd, 0, frame, warp);
       shading_pass.record(cmd, 0, gbuffer, warp, camera, kNear, gpu_scene.lights(), settings, output);
     });
   }

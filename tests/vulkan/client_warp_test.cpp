@@ -48,6 +48,17 @@ View base_view() {
   return view;
 }
 
+// The paper's warp of one source (the WarpFrame the old record() signature described).
+bool record_warp(VkCommandBuffer cmd, WarpPass& pass, vk::Image& depth, const Camera& display,
+                 const VisibilityInput& input, WarpTargets& targets) {
+  WarpFrame frame;
+  frame.depth = &depth;
+  frame.display = display;
+  frame.near_plane = kNear;
+  frame.sources[0].visibility = &input;
+  return pass.record(cmd, 0, frame, targets);
+}
+
 struct GpuWarp {
   std::vector<uint32_t> masks;
   std::vector<uint32_t> status;
@@ -64,7 +75,7 @@ class WarpRig {
 
   GpuWarp run(const std::vector<float>& depth, const Camera& display, const VisibilityInput& input) {
     vk::upload_image(ctx_, depth_, depth.data(), depth.size() * sizeof(float));
-    ctx_.submit_and_wait([&](VkCommandBuffer cmd) { pass_.record(cmd, 0, depth_, display, kNear, input, targets_); });
+    ctx_.submit_and_wait([&](VkCommandBuffer cmd) { record_warp(cmd, pass_, depth_, display, input, targets_); });
     GpuWarp out;
     out.masks = test::read_pixels<uint32_t>(ctx_, targets_.mask);
     if (targets_.has_status()) out.status = test::read_pixels<uint32_t>(ctx_, targets_.status);
@@ -83,10 +94,10 @@ WarpResult reference(const std::vector<float>& depth, const Camera& display, con
   WarpInput in;
   in.depth = depth;
   in.display = display;
-  in.traced = input.traced;
+  in.sources[0].traced = input.traced;
   in.near_plane = kNear;
-  in.visibility = input.buffer;
-  in.row_valid = input.row_valid;
+  in.sources[0].visibility = input.buffer;
+  in.sources[0].row_valid = input.row_valid;
   return warp_reference(in);
 }
 
@@ -205,7 +216,7 @@ TEST_F(ClientWarpTest, OptionalOutputsOffChangeNoMaskAndNoCount) {
     for (size_t i = 0; i < values.size(); ++i) values[i] = i % 7 == 0 ? 0.0f : 0.05f;  // some background
     vk::upload_image(ctx(), d, values.data(), values.size() * sizeof(float));
     const Camera odd_display = display_camera(now, odd);
-    ctx().submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, 0, d, odd_display, kNear, VisibilityInput{}, t); });
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { record_warp(cmd, pass, d, odd_display, VisibilityInput{}, t); });
     const WarpCounts counts = pass.read_counts(0);
     const uint64_t background = (values.size() + 6) / 7;
     EXPECT_EQ(counts[WarpStatus::kBackground], background);
@@ -303,7 +314,7 @@ TEST_F(ClientWarpTest, UnusableVisibilityIsIgnoredNotFatal) {
   vk::upload_image(ctx(), depth, values.data(), values.size() * sizeof(float));
   bool used = true;
   ctx().submit_and_wait([&](VkCommandBuffer cmd) {
-    used = pass.record(cmd, 0, depth, display_camera(now, kExtent), kNear, input, targets);
+    used = record_warp(cmd, pass, depth, display_camera(now, kExtent), input, targets);
   });
   EXPECT_FALSE(used);
   EXPECT_EQ(pass.read_counts(0)[WarpStatus::kKnown], 0u);
@@ -321,8 +332,8 @@ TEST_F(ClientWarpTest, UnusableVisibilityIsIgnoredNotFatal) {
   WarpInput in;
   in.depth = values;
   in.display = display_camera(now, kExtent);
-  in.traced = traced;
-  in.visibility = &wrong_size;
+  in.sources[0].traced = traced;
+  in.sources[0].visibility = &wrong_size;
   EXPECT_THROW(warp_reference(in), std::invalid_argument);
 }
 

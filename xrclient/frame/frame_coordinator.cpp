@@ -19,6 +19,11 @@ FrameCoordinator::FrameCoordinator(const vk::Context& context, const render::Cli
       extent_(eye_extent),
       planner_(options.plan) {
   for (auto& eye : eyes_) eye = std::make_unique<render::EyePipeline>(context, scene, eye_extent, options.eye);
+  if (options.eye.warp.shadow_fill || options.eye.warp.shadow_edges) {
+    shadow_maps_ = std::make_unique<render::ShadowMaps>(context, scene, options.shadow_maps);
+    log::info("shadow maps: %zu lights, %u texels per face, rendered in %.1f ms", shadow_maps_->tiles().size(),
+              shadow_maps_->face_size(), shadow_maps_->render_ms());
+  }
   VkCommandPoolCreateInfo pool_info{};
   pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -107,6 +112,15 @@ bool FrameCoordinator::record_and_submit(const FrameInput& input, FrameSink& sin
   begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   DHR_VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+  std::array<VisibilityInput, 2> inputs;
+  for (uint32_t e = 0; e < 2; ++e) {
+    const EyePlan& p = plan.eyes[e];
+    inputs[e] = p.visibility;
+    // Non-zero and unique per (frame, eye): an unchanged complete buffer is not uploaded again; a partial one
+    // may still fill in, so it is always uploaded.
+    inputs[e].key = p.has_visibility && p.complete ? p.visibility_frame * 2 + e + 1 : 0;
+    eyes_[e]->prepare(cmd, slot_index, inputs[e]);
+  }
   for (uint32_t e = 0; e < 2; ++e) {
     const EyePlan& p = plan.eyes[e];
     EyeFrameRecord& er = record.eyes[e];
@@ -116,11 +130,11 @@ bool FrameCoordinator::record_and_submit(const FrameInput& input, FrameSink& sin
     er.age = p.age;
     er.display_frame = p.display_frame;
     er.predicted = p.predicted;
-    VisibilityInput visibility = p.visibility;
-    // Non-zero and unique per (frame, eye): an unchanged complete buffer is not uploaded again; a partial one
-    // may still fill in, so it is always uploaded.
-    visibility.key = p.has_visibility && p.complete ? p.visibility_frame * 2 + e + 1 : 0;
-    eyes_[e]->record(cmd, slot_index, p.view, visibility);
+    const VisibilityInput& other = inputs[1 - e];
+    render::WarpSourceInput other_source;
+    other_source.visibility = &other;
+    if (other.buffer != nullptr) other_source.traced_depth = eyes_[1 - e]->traced_depth(other.traced);
+    eyes_[e]->record(cmd, slot_index, p.view, inputs[e], other_source, shadow_maps_.get());
     rendered_views_[e] = p.view;
   }
   const EyeImages images{&eyes_[0]->output(), &eyes_[1]->output()};

@@ -19,6 +19,7 @@
 #include "frame/visibility_source.hpp"
 #include "plan/frame_planner.hpp"
 #include "render/eye_pipeline.hpp"
+#include "render/shadow_maps.hpp"
 #include "vk/handle.hpp"
 
 namespace dhr::vk {
@@ -32,7 +33,8 @@ namespace dhr::client {
 
 struct CoordinatorOptions {
   PlannerSettings plan;            // schedule, x_max, pose history
-  render::EyePipelineOptions eye;  // frames_in_flight: GPU slots
+  render::EyePipelineOptions eye;  // frames_in_flight: GPU slots; eye.warp: the warp's ingredients
+  render::ShadowMapSettings shadow_maps;  // used when eye.warp needs shadow maps
   uint64_t gpu_wait_timeout_ns = 5'000'000'000;  // a slot's fence; beyond it the frame fails
 };
 
@@ -88,6 +90,7 @@ class FrameCoordinator {
   CoordinatorOptions options_;
   Extent extent_;
   std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
+  std::unique_ptr<render::ShadowMaps> shadow_maps_;  // when the warp settings need them
   FramePlanner planner_;
   std::array<View, 2> rendered_views_{};
   vk::CommandPool pool_;

@@ -10,6 +10,13 @@ namespace dhr::render {
 namespace {
 
 enum Timestamp : uint32_t { kStart = 0, kAfterGBuffer, kAfterWarp, kAfterShading, kTimestampCount };
+enum PrepareTimestamp : uint32_t { kPrepareStart = 0, kPrepareEnd, kPrepareCount };
+
+bool same_camera(const Camera& a, const Camera& b) {
+  return a.T_world_eye.position == b.T_world_eye.position && a.T_world_eye.orientation == b.T_world_eye.orientation &&
+         a.tangents.left == b.tangents.left && a.tangents.right == b.tangents.right &&
+         a.tangents.up == b.tangents.up && a.tangents.down == b.tangents.down && a.extent == b.extent;
+}
 
 uint32_t checked_slots(const EyePipelineOptions& options) {
   if (options.frames_in_flight == 0) throw std::invalid_argument("EyePipeline needs frames_in_flight >= 1");
@@ -30,7 +37,10 @@ EyePipeline::EyePipeline(const vk::Context& context, const ClientScene& scene, E
   if (extent.width == 0 || extent.height == 0) throw std::invalid_argument("EyePipeline: zero extent");
   create_images();
   slots_.resize(options.frames_in_flight);
-  for (Slot& s : slots_) s.timestamps = vk::TimestampQueries(context, kTimestampCount);
+  for (Slot& s : slots_) {
+    s.timestamps = vk::TimestampQueries(context, kTimestampCount);
+    s.prepare_timestamps = vk::TimestampQueries(context, kPrepareCount);
+  }
 }
 
 EyePipeline::~EyePipeline() = default;
@@ -50,8 +60,31 @@ void EyePipeline::resize(Extent extent) {
   create_images();
 }
 
+void EyePipeline::prepare(VkCommandBuffer cmd, uint32_t slot_index, const VisibilityInput& visibility) {
+  if (slot_index >= slots_.size()) throw std::invalid_argument("EyePipeline::prepare: slot out of range");
+  Slot& slot = slots_[slot_index];
+  slot.traced_depth_rendered = false;
+  if (!options_.warp.depth_test || visibility.buffer == nullptr) return;
+  if (validate_camera(visibility.traced)) return;  // the warp pass reports the unusable input
+  if (traced_camera_ && same_camera(*traced_camera_, visibility.traced)) return;
+  const Extent extent = visibility.traced.extent;
+  if (!traced_.depth || !(traced_.extent() == extent)) traced_ = GBuffer::create(*context_, extent);
+  slot.prepare_timestamps.reset(cmd);
+  slot.prepare_timestamps.write(cmd, kPrepareStart);
+  gbuffer_pass_.record(cmd, traced_, visibility.traced, options_.near_plane);
+  slot.prepare_timestamps.write(cmd, kPrepareEnd);
+  traced_camera_ = visibility.traced;
+  slot.traced_depth_rendered = true;
+}
+
+vk::Image* EyePipeline::traced_depth(const Camera& traced) {
+  if (!traced_camera_ || !same_camera(*traced_camera_, traced)) return nullptr;
+  return &traced_.depth;
+}
+
 void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& view,
-                         const VisibilityInput& visibility) {
+                         const VisibilityInput& visibility, const WarpSourceInput& other,
+                         const ShadowMaps* shadow_maps) {
   if (slot_index >= slots_.size()) throw std::invalid_argument("EyePipeline::record: slot out of range");
   Slot& slot = slots_[slot_index];
   const Camera camera = display_camera(view, extent_);
@@ -61,9 +94,19 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
   slot.timestamps.write(cmd, kStart);
   slot.draws = gbuffer_pass_.record(cmd, gbuffer_, camera, near_plane);
   slot.timestamps.write(cmd, kAfterGBuffer);
-  slot.visibility_used = warp_pass_.record(cmd, slot_index, gbuffer_.depth, camera, near_plane, visibility,
-                                                 warp_) &&
-                         visibility.buffer != nullptr;
+  WarpFrame frame;
+  frame.depth = &gbuffer_.depth;
+  frame.normal = &gbuffer_.normal;
+  frame.display = camera;
+  frame.near_plane = near_plane;
+  frame.sources[0].visibility = &visibility;
+  frame.sources[0].traced_depth =
+      options_.warp.depth_test && visibility.buffer != nullptr ? traced_depth(visibility.traced) : nullptr;
+  frame.sources[1] = other;
+  frame.shadow_maps = shadow_maps;
+  frame.lights = scene_->lights();
+  frame.settings = options_.warp;
+  slot.visibility_used = warp_pass_.record(cmd, slot_index, frame, warp_) && visibility.buffer != nullptr;
   slot.timestamps.write(cmd, kAfterWarp);
   shading_pass_.record(cmd, slot_index, gbuffer_, warp_, camera, near_plane, scene_->lights(),
                        options_.shading, output_);
@@ -80,13 +123,18 @@ EyeStats EyePipeline::read_stats(uint32_t slot_index) const {
   stats.draws = slot.draws;
   stats.visibility_used = slot.visibility_used;
   stats.warp = warp_pass_.read_counts(slot_index);
+  stats.traced_depth_rendered = slot.traced_depth_rendered;
+  if (slot.traced_depth_rendered) {
+    const std::vector<double> pns = slot.prepare_timestamps.read_ns();
+    if (pns.size() == kPrepareCount) stats.gpu.traced_depth_ms = (pns[kPrepareEnd] - pns[kPrepareStart]) * 1e-6;
+  }
   const std::vector<double> ns = slot.timestamps.read_ns();
   if (ns.size() == kTimestampCount) {
     stats.gpu.valid = true;
     stats.gpu.gbuffer_ms = (ns[kAfterGBuffer] - ns[kStart]) * 1e-6;
     stats.gpu.warp_ms = (ns[kAfterWarp] - ns[kAfterGBuffer]) * 1e-6;
     stats.gpu.shading_ms = (ns[kAfterShading] - ns[kAfterWarp]) * 1e-6;
-    stats.gpu.total_ms = (ns[kAfterShading] - ns[kStart]) * 1e-6;
+    stats.gpu.total_ms = (ns[kAfterShading] - ns[kStart]) * 1e-6 + stats.gpu.traced_depth_ms;
   }
   return stats;
 }

@@ -1,5 +1,7 @@
 // The per-eye visibility pipeline: G-buffer -> warp -> shading, into this eye's own images,
 // recorded into a command buffer the caller owns and submits. GPU timestamps around each pass.
+// With the warp's depth test on, prepare() first renders the depth of the camera this eye's newest
+// visibility was traced for (once per traced camera); the other eye's pipeline reads it as its source 1.
 //
 // Frames in flight: host-written per-frame resources (visibility upload, lights, counters, timestamps) exist
 // once per slot; the caller records frame n with slot n % frames_in_flight after waiting for that slot's
@@ -10,6 +12,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "math/projection.hpp"
@@ -33,11 +36,13 @@ struct EyePipelineOptions {
   double near_plane = kDefaultNearPlane;
   bool motion_vectors = false;    // allocate and write the warp's motion vectors (debug)
   bool warp_status = false;       // allocate and write the warp's per-pixel status (debug, tests)
+  WarpSettings warp;              // the warp's ingredients (default: the paper's warp)
   ShadingSettings shading;
 };
 
 struct EyePassTimes {
   bool valid = false;  // false without timestamp support or before the slot's first frame
+  double traced_depth_ms = 0.0;  // prepare(): the traced camera's depth (0 when nothing was rendered)
   double gbuffer_ms = 0.0;
   double warp_ms = 0.0;
   double shading_ms = 0.0;
@@ -50,6 +55,7 @@ struct EyeStats {
   WarpCounts warp;              // per-status pixel counts of the warp
   GBufferDrawStats draws;
   bool visibility_used = false;  // a usable visibility buffer was given
+  bool traced_depth_rendered = false;  // prepare() rendered a traced camera's depth this frame
   uint64_t unknown_pixels() const { return warp.unknown_surface(); }
 };
 
@@ -67,10 +73,19 @@ class EyePipeline {
   // (vkDeviceWaitIdle): call it from the thread that submits, between frames.
   void resize(Extent extent);
 
+  // With the depth test on: renders the depth of visibility.traced unless it is the camera last rendered
+  // (nothing without a buffer). Call for both eyes before recording either (record reads the other's).
+  void prepare(VkCommandBuffer cmd, uint32_t slot, const VisibilityInput& visibility);
+  // The depth prepare() rendered, when it was rendered for `traced`; null otherwise.
+  vk::Image* traced_depth(const Camera& traced);
+
   // Records the three passes for `view` (the display camera is the view's FOV over extent(), no guard band)
-  // and the newest visibility of this eye. Afterwards output() is in GENERAL layout with its writes visible
-  // to later transfers and shaders (the frame sink copies it from there).
-  void record(VkCommandBuffer cmd, uint32_t slot, const View& view, const VisibilityInput& visibility);
+  // and the newest visibility of this eye (source 0); `other` is the other eye's (source 1, used with
+  // WarpSettings::other_eye) and `shadow_maps` the client's (required by the shadow settings). Afterwards
+  // output() is in GENERAL layout with its writes visible to later transfers and shaders (the frame sink
+  // copies it from there).
+  void record(VkCommandBuffer cmd, uint32_t slot, const View& view, const VisibilityInput& visibility,
+              const WarpSourceInput& other = {}, const ShadowMaps* shadow_maps = nullptr);
 
   // Stats of the frame last recorded with `slot`; call after its submission completed.
   EyeStats read_stats(uint32_t slot) const;
@@ -78,6 +93,7 @@ class EyePipeline {
   Extent extent() const { return extent_; }
   uint32_t frames_in_flight() const { return options_.frames_in_flight; }
   ShadingSettings& shading() { return options_.shading; }
+  WarpSettings& warp_settings() { return options_.warp; }
   const EyePipelineOptions& options() const { return options_; }
 
   vk::Image& output() { return output_; }  // R8G8B8A8_UNORM, sRGB-encoded bytes
@@ -87,6 +103,8 @@ class EyePipeline {
  private:
   struct Slot {
     vk::TimestampQueries timestamps;
+    vk::TimestampQueries prepare_timestamps;
+    bool traced_depth_rendered = false;
     GBufferDrawStats draws;
     bool visibility_used = false;
     bool recorded = false;
@@ -101,6 +119,8 @@ class EyePipeline {
   WarpPass warp_pass_;
   ShadingPass shading_pass_;
   GBuffer gbuffer_;
+  GBuffer traced_;  // the traced camera's G-buffer (only its depth is read); empty until prepared
+  std::optional<Camera> traced_camera_;  // what traced_ holds
   WarpTargets warp_;
   vk::Image output_;
   std::vector<Slot> slots_;

@@ -10,6 +10,8 @@
 #include "dhr_shaders_client.hpp"
 #include "render/pass_util.hpp"
 #include "render/render_camera.hpp"
+#include "render/shadow_maps.hpp"
+#include "scene/lighting.hpp"
 #include "shader_interface.h"
 #include "vk/barriers.hpp"
 #include "vk/check.hpp"
@@ -25,15 +27,16 @@ constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK
 constexpr VkDeviceSize kRowWords = kMaxBufferDimension / 32;
 constexpr VkBufferUsageFlags kCounterUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 
-static_assert(kWarpStatusCount == kClientStatusCount && kClientStatusCount == 6, "two words of three fields");
+static_assert(kWarpStatusCount == kClientStatusCount, "WarpStatus mirrors kClientStatus*");
+static_assert(kClientCountWords * 3 >= kClientCountFields, "three 10-bit fields per word");
 static_assert(kClientCountBucketGroups * kClientWarpGroupSize * kClientWarpGroupSize <= 1023,
               "a bucket's count must fit a 10-bit field");
 
-// Words of packed status counts for a display size: two per bucket (see kClientCountBucketGroups).
+// Words of packed counts for a display size: kClientCountWords per bucket (see kClientCountBucketGroups).
 uint32_t count_words(Extent extent) {
   const uint32_t groups_x = (extent.width + kClientWarpGroupSize - 1) / kClientWarpGroupSize;
   const uint32_t groups_y = (extent.height + kClientWarpGroupSize - 1) / kClientWarpGroupSize;
-  return 2 * ((groups_x + kClientCountBucketGroups - 1) / kClientCountBucketGroups) * groups_y;
+  return kClientCountWords * ((groups_x + kClientCountBucketGroups - 1) / kClientCountBucketGroups) * groups_y;
 }
 
 // The per-status counts use subgroupAdd in compute shaders (Vulkan 1.1 subgroup arithmetic).
@@ -58,43 +61,67 @@ void copy3(const glm::dvec3& v, float* out) {
   out[2] = static_cast<float>(v.z);
 }
 
-// Push constants, computed in double: everything is relative to the new eye, so only small numbers reach
-// the GPU. `traced` is null without a usable visibility buffer.
-ClientWarpPush make_push(const Camera& display, const Camera* traced, double near_plane) {
-  ClientWarpPush push{};
+// A source's parameters, computed in double: everything is relative to the new eye, so only small numbers
+// reach the GPU. `traced` is null without a usable visibility buffer.
+ClientWarpSource make_source(const Camera& display, const Camera* traced) {
+  ClientWarpSource src{};
   const Camera& old_camera = traced != nullptr ? *traced : display;
   const glm::dmat3 r_old_t = glm::transpose(eye_to_world_rotation(old_camera));
   const glm::dmat3 m = r_old_t * eye_to_world_rotation(display);  // new eye space -> old eye space
   const Tangents& nt = display.tangents;
   const double dx = nt.width() / display.extent.width;
   const double dy = -nt.height() / display.extent.height;
-  copy3(m * glm::dvec3(nt.left, nt.up, -1.0), push.ray0);
-  copy3(m * glm::dvec3(dx, 0.0, 0.0), push.ray_dx);
-  copy3(m * glm::dvec3(0.0, dy, 0.0), push.ray_dy);
-  copy3(r_old_t * (display.T_world_eye.position - old_camera.T_world_eye.position), push.trans);
+  copy3(m * glm::dvec3(nt.left, nt.up, -1.0), src.ray0);
+  copy3(m * glm::dvec3(dx, 0.0, 0.0), src.ray_dx);
+  copy3(m * glm::dvec3(0.0, dy, 0.0), src.ray_dy);
+  copy3(r_old_t * (display.T_world_eye.position - old_camera.T_world_eye.position), src.trans);
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) src.rot[row * 3 + col] = static_cast<float>(r_old_t[col][row]);
+  }
+  const Tangents& ot = old_camera.tangents;
+  const double sx = old_camera.extent.width / ot.width();
+  const double sy = old_camera.extent.height / ot.height();
+  src.old_px_scale = static_cast<float>(sx);
+  src.old_px_offset = static_cast<float>(-ot.left * sx);
+  src.old_py_scale = static_cast<float>(-sy);
+  src.old_py_offset = static_cast<float>(ot.up * sy);
+  src.old_tan_left = static_cast<float>(ot.left);
+  src.old_tan_up = static_cast<float>(ot.up);
+  src.old_tan_step_x = static_cast<float>(ot.width() / old_camera.extent.width);
+  src.old_tan_step_y = static_cast<float>(ot.height() / old_camera.extent.height);
+  // Without visibility the (clamped) lookups read the 4-byte placeholder buffer's first word.
+  src.old_width = traced != nullptr ? traced->extent.width : 1u;
+  src.old_height = traced != nullptr ? traced->extent.height : 1u;
+  src.mask_bits = 32u;
+  return src;
+}
+
+// Display-level parameters (the sources are filled in by the caller).
+ClientWarpParams make_params(const Camera& display, const Camera* traced, double near_plane) {
+  ClientWarpParams params{};
+  const Camera& old_camera = traced != nullptr ? *traced : display;
+  const glm::dmat3 r_new = eye_to_world_rotation(display);
+  const Tangents& nt = display.tangents;
+  const double dx = nt.width() / display.extent.width;
+  const double dy = -nt.height() / display.extent.height;
+  copy3(r_new * glm::dvec3(nt.left, nt.up, -1.0), params.world_ray0);
+  copy3(r_new * glm::dvec3(dx, 0.0, 0.0), params.world_ray_dx);
+  copy3(r_new * glm::dvec3(0.0, dy, 0.0), params.world_ray_dy);
+  // Where pixel centre c would land with the new pose equal to source 0's (motion = lookup - this).
   const Tangents& ot = old_camera.tangents;
   const double sx = old_camera.extent.width / ot.width();
   const double sy = old_camera.extent.height / ot.height();
   const double ox = -ot.left * sx, oy = ot.up * sy;
-  push.old_px_scale = static_cast<float>(sx);
-  push.old_px_offset = static_cast<float>(ox);
-  push.old_py_scale = static_cast<float>(-sy);
-  push.old_py_offset = static_cast<float>(oy);
-  // Where pixel centre c would land with the new pose equal to the old one (motion = lookup - this).
-  push.ident_px_scale = static_cast<float>(sx * dx);
-  push.ident_px_offset = static_cast<float>(sx * nt.left + ox);
-  push.ident_py_scale = static_cast<float>(-sy * dy);
-  push.ident_py_offset = static_cast<float>(-sy * nt.up + oy);
-  push.near_plane = static_cast<float>(near_plane);
-  push.min_depth = static_cast<float>(kWarpMinDepth);
-  push.width = display.extent.width;
-  push.height = display.extent.height;
-  // Without visibility the (clamped) lookups read the 4-byte placeholder buffer's first word.
-  push.old_width = traced != nullptr ? traced->extent.width : 1u;
-  push.old_height = traced != nullptr ? traced->extent.height : 1u;
-  push.mask_bits = 32u;
-  push.unknown_mask = 0xFFFFFFFFu;
-  return push;
+  params.ident_px_scale = static_cast<float>(sx * dx);
+  params.ident_px_offset = static_cast<float>(sx * nt.left + ox);
+  params.ident_py_scale = static_cast<float>(-sy * dy);
+  params.ident_py_offset = static_cast<float>(-sy * nt.up + oy);
+  params.near_plane = static_cast<float>(near_plane);
+  params.min_depth = static_cast<float>(kWarpMinDepth);
+  params.width = display.extent.width;
+  params.height = display.extent.height;
+  params.unknown_mask = 0xFFFFFFFFu;
+  return params;
 }
 
 }  // namespace
@@ -115,42 +142,78 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
   if (slots == 0) throw std::invalid_argument("WarpPass needs at least one slot");
   require_subgroup_arithmetic(context);
   const VkDevice device = context.device();
-  const std::array<ComputeBinding, 7> bindings = {{
-      {kClientWarpBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
-      {kClientWarpBindingVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      {kClientWarpBindingRowValid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      {kClientWarpBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {kClientWarpBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {kClientWarpBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {kClientWarpBindingCounters, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+  constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  const std::array<ComputeBinding, 16> bindings = {{
+      {kClientWarpBindingDepth, kSampled},
+      {kClientWarpBindingVisibility0, kStorage},
+      {kClientWarpBindingRowValid0, kStorage},
+      {kClientWarpBindingMask, kImage},
+      {kClientWarpBindingStatus, kImage},
+      {kClientWarpBindingMotion, kImage},
+      {kClientWarpBindingCounters, kStorage},
+      {kClientWarpBindingNormal, kSampled},
+      {kClientWarpBindingOldDepth0, kSampled},
+      {kClientWarpBindingVisibility1, kStorage},
+      {kClientWarpBindingRowValid1, kStorage},
+      {kClientWarpBindingOldDepth1, kSampled},
+      {kClientWarpBindingParams, kStorage},
+      {kClientWarpBindingShadowMap, kSampled},
+      {kClientWarpBindingShadowLights, kStorage},
+      {kClientWarpBindingLights, kStorage},
   }};
-  core_ = ComputePassCore::create(device, bindings, sizeof(ClientWarpPush), "warp.comp", slots);
+  // The shader reads everything from the parameter buffer; the push range carries nothing it uses.
+  core_ = ComputePassCore::create(device, bindings, 4, "warp.comp", slots);
   slots_.resize(slots);
   for (Slot& s : slots_) {
-    s.visibility = vk::Buffer(context, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
-    s.rows = vk::Buffer(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    for (SourceBuffers& b : s.sources) {
+      b.visibility = vk::Buffer(context, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+      b.rows = vk::Buffer(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    }
+    s.params = vk::Buffer(context, sizeof(ClientWarpParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    s.shadow_lights = vk::Buffer(context, kMaxLights * sizeof(ClientShadowLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    s.lights = vk::Buffer(context, kMaxLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.counters = vk::Buffer(context, 4, kCounterUsage, kHost);
     s.set = core_.allocate_set(device);
   }
+  placeholder_depth_ = vk::Image(context, 1, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT);
+  placeholder_normal_ = vk::Image(context, 1, 1, VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT);
+  context.submit_and_wait([&](VkCommandBuffer cmd) {
+    placeholder_depth_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    placeholder_normal_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  });
 }
 
-void WarpPass::upload(Slot& slot, const VisibilityInput& visibility) {
+void WarpPass::upload(SourceBuffers& buffers, const VisibilityInput& visibility) {
   const VisibilityBuffer& buffer = *visibility.buffer;
-  if (visibility.key != 0 && visibility.key == slot.key) return;
+  if (visibility.key != 0 && visibility.key == buffers.key) return;
   const VkDeviceSize bytes = (buffer.size_bytes() + 3) / 4 * 4;
-  if (bytes > slot.visibility.size()) {
-    slot.visibility = vk::Buffer(*context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+  if (bytes > buffers.visibility.size()) {
+    buffers.visibility = vk::Buffer(*context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
   }
-  slot.visibility.write(buffer.data.data(), buffer.data.size());
-  slot.key = visibility.key;
+  buffers.visibility.write(buffer.data.data(), buffer.data.size());
+  buffers.key = visibility.key;
 }
 
-bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image& depth, const Camera& display,
-                            double near_plane, const VisibilityInput& visibility, WarpTargets& targets) {
+bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame& frame, WarpTargets& targets) {
   if (slot_index >= slots_.size()) throw std::invalid_argument("warp pass: slot out of range");
+  if (frame.depth == nullptr) throw std::invalid_argument("warp pass: no depth image");
   const Extent extent = targets.extent();
+  vk::Image& depth = *frame.depth;
+  const Camera& display = frame.display;
   if (!(display.extent == extent) || depth.width() != extent.width || depth.height() != extent.height) {
     throw std::invalid_argument("warp pass: display camera, depth and targets differ in size");
+  }
+  const WarpSettings& settings = frame.settings;
+  const bool shadows = settings.shadow_fill || settings.shadow_edges;
+  if (shadows && frame.shadow_maps == nullptr) {
+    throw std::invalid_argument("warp pass: shadow settings without shadow maps");
+  }
+  const bool needs_normal = settings.depth_test || shadows;
+  if (needs_normal && (frame.normal == nullptr || frame.normal->width() != extent.width ||
+                       frame.normal->height() != extent.height)) {
+    throw std::invalid_argument("warp pass: the depth test and shadow lookups need the display normals");
   }
   Slot& slot = slots_[slot_index];
   slot.count_words = count_words(extent);
@@ -158,48 +221,116 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image& depth
     slot.counters = vk::Buffer(*context_, VkDeviceSize{slot.count_words} * 4, kCounterUsage, kHost);
   }
 
-  bool usable = visibility.buffer != nullptr;
-  if (usable) {
-    if (auto err = validate_visibility_input(visibility.traced, *visibility.buffer, visibility.row_valid)) {
-      log::warn("warp pass: ignoring the visibility input (%s)", err->c_str());
-      usable = false;
+  // Which sources are usable.
+  std::array<bool, 2> usable{};
+  for (size_t s = 0; s < 2; ++s) {
+    const VisibilityInput* in = frame.sources[s].visibility;
+    if (s == 1 && !settings.other_eye) continue;
+    if (in == nullptr || in->buffer == nullptr) continue;
+    if (auto err = validate_visibility_input(in->traced, *in->buffer, in->row_valid)) {
+      log::warn("warp pass: ignoring the visibility input of source %zu (%s)", s, err->c_str());
+      continue;
     }
+    usable[s] = true;
   }
-  ClientWarpPush push = make_push(display, usable ? &visibility.traced : nullptr, near_plane);
-  push.flags = (targets.has_motion() ? kClientWarpWriteMotion : 0u) |
-               (targets.has_status() ? kClientWarpWriteStatus : 0u);
-  if (usable) {
-    push.unknown_mask = unknown_mask(visibility.buffer);
-    push.mask_bits = static_cast<uint32_t>(visibility.buffer->mask_bits);
-    upload(slot, visibility);
-    push.flags |= kClientWarpHasVisibility;
-    if (!visibility.row_valid.empty()) {
+  const VisibilityInput* own = frame.sources[0].visibility;
+  ClientWarpParams params = make_params(display, usable[0] ? &own->traced : nullptr, frame.near_plane);
+  params.flags = (targets.has_motion() ? kClientWarpWriteMotion : 0u) |
+                 (targets.has_status() ? kClientWarpWriteStatus : 0u) |
+                 (settings.bilinear ? kClientWarpBilinear : 0u) | (settings.depth_test ? kClientWarpDepthTest : 0u) |
+                 (settings.shadow_fill ? kClientWarpShadowFill : 0u) |
+                 (settings.shadow_edges ? kClientWarpShadowEdges : 0u);
+  params.plane_tolerance_rel = static_cast<float>(settings.plane_tolerance_rel);
+  params.plane_tolerance_abs = static_cast<float>(settings.plane_tolerance_abs);
+  std::array<vk::Image*, 2> old_depth{&placeholder_depth_, &placeholder_depth_};
+  for (size_t s = 0; s < 2; ++s) {
+    const VisibilityInput* in = frame.sources[s].visibility;
+    SourceBuffers& buffers = slot.sources[s];
+    params.source[s] = make_source(display, usable[s] ? &in->traced : nullptr);
+    if (!usable[s]) continue;
+    params.source[s].mask_bits = static_cast<uint32_t>(in->buffer->mask_bits);
+    params.source[s].flags |= kClientSourceHasVisibility;
+    upload(buffers, *in);
+    if (!in->row_valid.empty()) {
       std::array<uint32_t, kRowWords> words{};
-      for (size_t r = 0; r < visibility.row_valid.size(); ++r) {
-        if (visibility.row_valid[r] != 0) words[r / 32] |= 1u << (r % 32);
+      for (size_t r = 0; r < in->row_valid.size(); ++r) {
+        if (in->row_valid[r] != 0) words[r / 32] |= 1u << (r % 32);
       }
-      slot.rows.write(words.data(), words.size() * 4);
-      push.flags |= kClientWarpHasRowValidity;
+      buffers.rows.write(words.data(), words.size() * 4);
+      params.source[s].flags |= kClientSourceHasRowValidity;
+    }
+    vk::Image* traced_depth = frame.sources[s].traced_depth;
+    if (traced_depth != nullptr) {
+      if (traced_depth->width() != in->traced.extent.width || traced_depth->height() != in->traced.extent.height) {
+        throw std::invalid_argument("warp pass: a traced depth differs in size from its traced camera");
+      }
+      old_depth[s] = traced_depth;
+      params.source[s].flags |= kClientSourceHasDepth;
     }
   }
+  if (usable[0]) params.unknown_mask = unknown_mask(own->buffer);
+
+  const vk::Image* atlas = &placeholder_depth_;
+  if (shadows) {
+    const ShadowMaps& maps = *frame.shadow_maps;
+    if (frame.lights.size() > kMaxLights || frame.lights.size() != maps.tiles().size()) {
+      throw std::invalid_argument("warp pass: the lights differ from the shadow maps'");
+    }
+    const glm::dvec3 eye = display.T_world_eye.position;
+    std::array<ClientShadowLight, kMaxLights> shadow_lights{};
+    for (size_t i = 0; i < frame.lights.size(); ++i) {
+      const ShadowTile& tile = maps.tiles()[i];
+      copy3(tile.position - eye, shadow_lights[i].position);
+      shadow_lights[i].tile_row = tile.row ? *tile.row : kClientNoShadowMap;
+    }
+    slot.shadow_lights.write(shadow_lights.data(), frame.lights.size() * sizeof(ClientShadowLight));
+    const std::vector<PackedLight> packed =
+        pack_lights(std::vector<SceneLight>(frame.lights.begin(), frame.lights.end()), eye);
+    if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
+    params.light_count = static_cast<uint32_t>(packed.size());
+    params.shadow_size = maps.face_size();
+    params.shadow_near = static_cast<float>(maps.settings().near_plane);
+    params.shadow_bias_rel = static_cast<float>(maps.settings().bias_rel);
+    params.shadow_bias_abs = static_cast<float>(maps.settings().bias_abs);
+    params.shadow_normal_offset = static_cast<float>(maps.settings().normal_offset);
+    atlas = &maps.atlas();
+  }
+  slot.params.write(&params, sizeof(params));
 
   const VkDevice device = context_->device();
-  vk::write_image_descriptor(device, slot.set, kClientWarpBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                             depth.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, core_.sampler.get());
-  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                              slot.visibility.handle());
-  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingRowValid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                              slot.rows.handle());
+  const VkSampler sampler = core_.sampler.get();
+  constexpr VkImageLayout kRead = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  vk::write_image_descriptor(device, slot.set, kClientWarpBindingDepth, kSampled, depth.view(), kRead, sampler);
+  const vk::Image& normal = needs_normal ? *frame.normal : placeholder_normal_;
+  vk::write_image_descriptor(device, slot.set, kClientWarpBindingNormal, kSampled, normal.view(), kRead, sampler);
+  vk::write_image_descriptor(device, slot.set, kClientWarpBindingOldDepth0, kSampled, old_depth[0]->view(), kRead,
+                             sampler);
+  vk::write_image_descriptor(device, slot.set, kClientWarpBindingOldDepth1, kSampled, old_depth[1]->view(), kRead,
+                             sampler);
+  vk::write_image_descriptor(device, slot.set, kClientWarpBindingShadowMap, kSampled, atlas->view(), kRead, sampler);
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingVisibility0, kStorage,
+                              slot.sources[0].visibility.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingRowValid0, kStorage, slot.sources[0].rows.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingVisibility1, kStorage,
+                              slot.sources[1].visibility.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingRowValid1, kStorage, slot.sources[1].rows.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingParams, kStorage, slot.params.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingShadowLights, kStorage,
+                              slot.shadow_lights.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingLights, kStorage, slot.lights.handle());
   vk::write_image_descriptor(device, slot.set, kClientWarpBindingMask, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                              targets.mask.view(), VK_IMAGE_LAYOUT_GENERAL);
   vk::write_image_descriptor(device, slot.set, kClientWarpBindingStatus, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                              targets.status.view(), VK_IMAGE_LAYOUT_GENERAL);
   vk::write_image_descriptor(device, slot.set, kClientWarpBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                              targets.motion.view(), VK_IMAGE_LAYOUT_GENERAL);
-  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingCounters, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                              slot.counters.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingCounters, kStorage, slot.counters.handle());
 
-  ensure_layout(cmd, depth, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  ensure_layout(cmd, depth, kRead);
+  if (needs_normal) ensure_layout(cmd, *frame.normal, kRead);
+  for (vk::Image* image : old_depth) ensure_layout(cmd, *image, kRead);
   constexpr VkPipelineStageFlags2 kCs = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
   discard_to_layout(cmd, targets.mask, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   for (const auto& [image, written] : {std::pair{&targets.status, targets.has_status()},
@@ -215,32 +346,38 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, vk::Image& depth
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, kCs,
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 
-  core_.dispatch(cmd, slot.set, &push, sizeof(push), extent.width, extent.height, kClientWarpGroupSize);
+  const uint32_t no_push = 0;
+  core_.dispatch(cmd, slot.set, &no_push, sizeof(no_push), extent.width, extent.height, kClientWarpGroupSize);
 
   // Results feed the shading pass, transfers (readback, debug copies) and the host (counters).
   vk::memory_barrier(cmd, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                      kCs | VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT |
                          VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
-  return usable || visibility.buffer == nullptr;
+  return usable[0] || own == nullptr || own->buffer == nullptr;
 }
 
 WarpCounts WarpPass::read_counts(uint32_t slot_index) const {
   if (slot_index >= slots_.size()) throw std::invalid_argument("warp pass: slot out of range");
   const Slot& slot = slots_[slot_index];
   WarpCounts counts;
+  std::array<uint64_t, kClientCountWords * 3> fields{};
   // In chunks through a fixed array: no allocation per frame (thousands of buckets at headset sizes).
   std::array<uint32_t, 512> raw{};
+  static_assert(raw.size() % kClientCountWords == 0, "chunks hold whole buckets");
   for (uint32_t first = 0; first < slot.count_words; first += static_cast<uint32_t>(raw.size())) {
     const uint32_t n = std::min<uint32_t>(static_cast<uint32_t>(raw.size()), slot.count_words - first);
     slot.counters.read(raw.data(), VkDeviceSize{n} * 4, VkDeviceSize{first} * 4);
     for (uint32_t i = 0; i < n; ++i) {
-      // Even words hold statuses 0-2, odd words 3-5 (first is even: the chunk size is).
       for (uint32_t field = 0; field < 3; ++field) {
-        counts.by_status[(i % 2) * 3 + field] += (raw[i] >> (10 * field)) & 1023u;
+        fields[(i % kClientCountWords) * 3 + field] += (raw[i] >> (10 * field)) & 1023u;
       }
     }
   }
+  for (size_t s = 0; s < kWarpStatusCount; ++s) counts.by_status[s] = fields[s];
+  counts.filled_other_eye = fields[kClientCountOtherEye];
+  counts.filled_shadow_map = fields[kClientCountShadowMap];
+  counts.edges_shadow_map = fields[kClientCountEdgeShadowMap];
   return counts;
 }
 

@@ -1,6 +1,8 @@
 #include "render/warp_reference.hpp"
 
 #include <algorithm>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -30,13 +32,20 @@ const char* to_string(WarpStatus status) {
     case WarpStatus::kOutside: return "outside";
     case WarpStatus::kMissingRow: return "missing_row";
     case WarpStatus::kNoData: return "no_data";
+    case WarpStatus::kDisoccluded: return "disoccluded";
   }
   return "?";
 }
 
 uint64_t WarpCounts::unknown_surface() const {
   return (*this)[WarpStatus::kBehind] + (*this)[WarpStatus::kOutside] + (*this)[WarpStatus::kMissingRow] +
-         (*this)[WarpStatus::kNoData];
+         (*this)[WarpStatus::kNoData] + (*this)[WarpStatus::kDisoccluded];
+}
+
+WarpSettings WarpSettings::full() {
+  WarpSettings s;
+  s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = true;
+  return s;
 }
 
 uint64_t WarpCounts::surface() const { return unknown_surface() + (*this)[WarpStatus::kKnown]; }
@@ -71,61 +80,185 @@ std::optional<std::string> validate_visibility_input(const Camera& traced, const
   return std::nullopt;
 }
 
+namespace {
+
+// What one source says about one pixel (warp.comp's Lookup).
+struct SourceLookup {
+  WarpStatus status = WarpStatus::kNoData;
+  uint32_t agree = 0;
+  uint32_t value = 0;
+  glm::dvec2 pixel{0.0};
+  double margin = std::numeric_limits<double>::infinity();
+};
+
+SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::dvec3& p_world,
+                     const glm::dvec3& n_world) {
+  SourceLookup r;
+  if (src.visibility == nullptr) return r;
+  const Reprojection rep = reproject(src.traced, p_world, input.min_depth);
+  // A depth within 1e-6 m of the threshold may be decided either way in float.
+  r.margin = std::abs(rep.depth - input.min_depth) * 1e6;
+  if (rep.status == Reprojection::Status::kBehind) {
+    r.status = WarpStatus::kBehind;
+    return r;
+  }
+  r.pixel = rep.pixel;
+  r.margin = std::min(r.margin, lookup_margin(rep.pixel, src.traced.extent));
+  if (rep.status == Reprojection::Status::kOutside) {
+    r.status = WarpStatus::kOutside;
+    return r;
+  }
+  const WarpSettings& set = input.settings;
+  const Extent old = src.traced.extent;
+  const bool depth_test = set.depth_test && !src.traced_depth.empty();
+  const glm::dmat3 r_old_t = glm::transpose(eye_to_world_rotation(src.traced));
+  const glm::dvec3 p_old = r_old_t * (p_world - src.traced.T_world_eye.position);
+  const glm::dvec3 n_old = r_old_t * n_world;
+  const double depth_old = -p_old.z;
+  const double tolerance = set.plane_tolerance_rel * depth_old + set.plane_tolerance_abs;
+  const double bx = set.bilinear ? rep.pixel.x - 0.5 : rep.pixel.x;
+  const double by = set.bilinear ? rep.pixel.y - 0.5 : rep.pixel.y;
+  if (set.bilinear) r.margin = std::min(r.margin, std::min(boundary_distance(bx), boundary_distance(by)));
+  const int i0 = static_cast<int>(std::floor(bx));
+  const int j0 = static_cast<int>(std::floor(by));
+  const double fx = bx - i0, fy = by - j0;
+  const int n = set.bilinear ? 4 : 1;
+  std::array<uint32_t, 4> masks{};
+  std::array<double, 4> weights{};
+  uint32_t and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0, used = 0;
+  for (int k = 0; k < n; ++k) {
+    const int a = i0 + (k & 1);
+    const int b = j0 + (k >> 1);
+    weights[k] = set.bilinear ? ((k & 1) ? fx : 1.0 - fx) * ((k >> 1) ? fy : 1.0 - fy) : 1.0;
+    if (a < 0 || b < 0 || a >= static_cast<int>(old.width) || b >= static_cast<int>(old.height)) continue;
+    if (!src.row_valid.empty() && src.row_valid[static_cast<size_t>(b)] == 0) continue;
+    ++rows;
+    if (depth_test) {
+      const double ds = src.traced_depth[static_cast<size_t>(b) * old.width + static_cast<size_t>(a)];
+      if (!(ds > 0.0)) continue;
+      const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray(a + 0.5, b + 0.5);
+      const double dist = std::abs(glm::dot(n_old, q - p_old));
+      r.margin = std::min(r.margin, std::abs(dist - tolerance) / depth_old * 200.0);
+      if (!(dist <= tolerance)) continue;
+    }
+    const uint32_t m = src.visibility->get(static_cast<uint32_t>(a), static_cast<uint32_t>(b));
+    masks[k] = m;
+    used |= 1u << k;
+    and_m &= m;
+    or_m |= m;
+  }
+  if (rows == 0) {
+    r.status = WarpStatus::kMissingRow;
+    return r;
+  }
+  if (used == 0) {
+    r.status = WarpStatus::kDisoccluded;
+    return r;
+  }
+  r.status = WarpStatus::kKnown;
+  r.agree = ~(and_m ^ or_m);
+  r.value = and_m;
+  uint32_t open = or_m & ~and_m;
+  if (open != 0) {
+    double total = 0.0;
+    for (int k = 0; k < n; ++k) total += (used >> k) & 1u ? weights[k] : 0.0;
+    for (uint32_t bit = 0; bit < 32; ++bit) {
+      if (((open >> bit) & 1u) == 0) continue;
+      double set_weight = 0.0;
+      for (int k = 0; k < n; ++k) {
+        if (((used >> k) & 1u) && ((masks[k] >> bit) & 1u)) set_weight += weights[k];
+      }
+      r.margin = std::min(r.margin, std::abs(2.0 * set_weight - total));
+      if (2.0 * set_weight >= total) r.value |= 1u << bit;
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
 WarpResult warp_reference(const WarpInput& input) {
   if (auto err = validate_camera(input.display)) throw std::invalid_argument("display camera: " + *err);
   const Extent extent = input.display.extent;
-  if (input.depth.size() != size_t{extent.width} * extent.height) {
+  const size_t n = size_t{extent.width} * extent.height;
+  if (input.depth.size() != n) {
     throw std::invalid_argument("warp reference: depth has " + std::to_string(input.depth.size()) +
                                 " values for a " + std::to_string(extent.width) + "x" +
                                 std::to_string(extent.height) + " camera");
   }
-  if (input.visibility != nullptr) {
-    if (auto err = validate_visibility_input(input.traced, *input.visibility, input.row_valid)) {
-      throw std::invalid_argument("warp reference: " + *err);
+  const WarpSettings& set = input.settings;
+  const bool needs_normals = set.depth_test || set.shadow_fill || set.shadow_edges;
+  if (needs_normals && input.normals.size() != n) {
+    throw std::invalid_argument("warp reference: the depth test and shadow lookups need one normal per pixel");
+  }
+  if ((set.shadow_fill || set.shadow_edges) && input.shadow == nullptr) {
+    throw std::invalid_argument("warp reference: shadow settings without shadow maps");
+  }
+  std::array<WarpSource, 2> sources = input.sources;
+  if (!set.other_eye) sources[1].visibility = nullptr;
+  for (size_t s = 0; s < sources.size(); ++s) {
+    const WarpSource& src = sources[s];
+    if (src.visibility == nullptr) continue;
+    if (auto err = validate_visibility_input(src.traced, *src.visibility, src.row_valid)) {
+      throw std::invalid_argument("warp reference: source " + std::to_string(s) + ": " + *err);
+    }
+    if (!src.traced_depth.empty() &&
+        src.traced_depth.size() != size_t{src.traced.extent.width} * src.traced.extent.height) {
+      throw std::invalid_argument("warp reference: source " + std::to_string(s) + ": traced depth size");
     }
   }
-  const size_t n = input.depth.size();
+  const uint32_t unknown = unknown_mask(sources[0].visibility);
   WarpResult out;
   out.extent = extent;
-  out.masks.assign(n, unknown_mask(input.visibility));
+  out.masks.assign(n, unknown);
   out.status.assign(n, WarpStatus::kKnown);
+  out.fill.assign(n, WarpFill::kNone);
   out.lookup.assign(n, glm::dvec2(0.0));
   out.margin.assign(n, std::numeric_limits<double>::infinity());
 
   for (uint32_t y = 0; y < extent.height; ++y) {
     for (uint32_t x = 0; x < extent.width; ++x) {
       const size_t i = size_t{y} * extent.width + x;
-      WarpStatus& status = out.status[i];
       const double d = input.depth[i];
       if (!(d > 0.0)) {
-        status = WarpStatus::kBackground;
-      } else if (input.visibility == nullptr) {
-        status = WarpStatus::kNoData;
-      } else {
-        const glm::dvec3 p = world_point_from_depth(input.display, input.near_plane, x + 0.5, y + 0.5, d);
-        const Reprojection r = reproject(input.traced, p, input.min_depth);
-        // A depth within 1e-6 m of the threshold may be decided either way in float.
-        const double depth_margin = std::abs(r.depth - input.min_depth) * 1e6;
-        if (r.status == Reprojection::Status::kBehind) {
-          status = WarpStatus::kBehind;
-          out.margin[i] = depth_margin;
-        } else {
-          out.lookup[i] = r.pixel;
-          out.margin[i] = std::min(depth_margin, lookup_margin(r.pixel, input.traced.extent));
-          if (r.status == Reprojection::Status::kOutside) {
-            status = WarpStatus::kOutside;
-          } else {
-            const auto ix = static_cast<uint32_t>(std::floor(r.pixel.x));
-            const auto iy = static_cast<uint32_t>(std::floor(r.pixel.y));
-            if (!input.row_valid.empty() && input.row_valid[iy] == 0) {
-              status = WarpStatus::kMissingRow;
-            } else {
-              out.masks[i] = input.visibility->get(ix, iy);
-            }
-          }
+        out.status[i] = WarpStatus::kBackground;
+        ++out.counts.by_status[static_cast<size_t>(WarpStatus::kBackground)];
+        continue;
+      }
+      const glm::dvec3 p = world_point_from_depth(input.display, input.near_plane, x + 0.5, y + 0.5, d);
+      const glm::dvec3 nrm = needs_normals ? glm::normalize(glm::dvec3(input.normals[i])) : glm::dvec3(0.0);
+      const SourceLookup own = look_up(input, sources[0], p, nrm);
+      double margin = own.margin;
+      out.status[i] = own.status;
+      out.lookup[i] = own.pixel;
+      SourceLookup chosen = own;
+      if (own.status != WarpStatus::kKnown && sources[1].visibility != nullptr) {
+        const SourceLookup other = look_up(input, sources[1], p, nrm);
+        margin = std::min(margin, other.margin);
+        if (other.status == WarpStatus::kKnown) {
+          chosen = other;
+          out.fill[i] = WarpFill::kOtherEye;
         }
       }
-      ++out.counts.by_status[static_cast<size_t>(status)];
+      const bool have = own.status == WarpStatus::kKnown || out.fill[i] == WarpFill::kOtherEye;
+      const bool need_shadow = have ? set.shadow_edges && (~chosen.agree & unknown) != 0 : set.shadow_fill;
+      ShadowDecision shadow;
+      if (need_shadow) {
+        shadow = shadow_mask_reference(*input.shadow, input.lights, p, nrm);
+        margin = std::min(margin, shadow.margin);
+      }
+      if (have) {
+        const uint32_t undecided = ~chosen.agree & unknown;
+        out.masks[i] = need_shadow ? (chosen.value & ~undecided) | (shadow.mask & undecided) : chosen.value;
+        if (need_shadow) ++out.counts.edges_shadow_map;
+      } else if (need_shadow) {
+        out.masks[i] = shadow.mask;
+        out.fill[i] = WarpFill::kShadowMap;
+      }
+      out.margin[i] = margin;
+      ++out.counts.by_status[static_cast<size_t>(out.status[i])];
+      if (out.fill[i] == WarpFill::kOtherEye) ++out.counts.filled_other_eye;
+      if (out.fill[i] == WarpFill::kShadowMap) ++out.counts.filled_shadow_map;
     }
   }
   return out;

@@ -1,20 +1,30 @@
-// CPU reference of the warp pass, in double, on plain arrays. The GPU pass
-// (shaders/client/warp.comp) makes the same decisions in the same order:
-//   depth == 0 (background)               -> unknown (kBackground)
-//   no visibility buffer                  -> unknown (kNoData)
+// CPU reference of the warp pass, in double, on plain arrays. The GPU pass (shaders/client/warp.comp) makes
+// the same decisions in the same order. Per display pixel, for source 0 (this eye's newest buffer):
+//   depth == 0 (background)                  -> kBackground (all bits)
+//   no visibility buffer                     -> kNoData
 //   p = surface point of the pixel centre (depth -> eye space of the display camera -> world)
-//   depth of p in the old eye <= min_depth -> unknown (kBehind)
+//   depth of p in the old eye <= min_depth    -> kBehind
 //   (px, py) = p in the old camera's continuous pixel coordinates (centres at +0.5)
-//   outside [0, W') x [0, H')            -> unknown (kOutside)
-//   row floor(py) did not arrive          -> unknown (kMissingRow)
-//   otherwise                             -> the old mask at (floor(px), floor(py)) (kKnown)
-// Unknown pixels take every light bit of the buffer (all 32 without a buffer): the paper's "take as lit".
+//   outside [0, W') x [0, H')               -> kOutside
+//   samples: nearest (the paper): the old pixel (floor(px), floor(py)); bilinear: the 2x2 old pixels around
+//     (px - 0.5, py - 0.5) with bilinear weights. A sample is used when it lies in the buffer, its row
+//     arrived, and (depth test) the old surface there lies within plane_tolerance of the tangent plane of
+//     this pixel's surface (old depth from the traced camera's depth, the plane from the display normal).
+//   no sample in an arrived row              -> kMissingRow
+//   no sample used                           -> kDisoccluded
+//   otherwise kKnown: bits all used samples agree on take that value; the others the bilinear vote
+//     (set when 2 * weight of the samples with the bit >= weight of the used samples), or with shadow_edges
+//     the shadow maps' bit.
+// A surface pixel that source 0 does not fill tries source 1 (other_eye) the same way (fill kOtherEye), then
+// the shadow maps (shadow_fill: fill kShadowMap), else takes every light bit of source 0's buffer (all 32
+// without one): the paper's "take as lit".
 //
 // Exactness: the GPU computes in float (eye-relative, so the error does not grow with the distance from the
-// world origin), so a pixel whose continuous lookup coordinate lies within ~1e-4 px (test sizes; ~1e-3 px at
-// 2k pixels per axis) of a pixel boundary, or whose old-eye depth is within ~1e-6 m of min_depth, may round
-// the other way. `margin` reports, per pixel, how far the decision is from flipping; the tests make pixels
-// with a margin under 2e-3 background (depth 0; under 2% of them) and then require GPU == CPU on every pixel.
+// world origin), so a decision close to flipping (a lookup within ~1e-4 px of a pixel boundary or centre,
+// an old-eye depth within ~1e-6 m of min_depth, a plane distance at the tolerance, a vote tie, a shadow
+// decision at a face or texel boundary or the bias) may go the other way. `margin` reports, per pixel, how far
+// its decisions are from flipping; the tests make pixels with a margin under 2e-3 background and then require
+// GPU == CPU on every pixel.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -27,6 +37,8 @@
 #include "math/projection.hpp"
 #include "visibility/visibility.hpp"
 #include "render/render_camera.hpp"
+#include "render/shadow_maps.hpp"
+#include "scene/scene.hpp"
 
 namespace dhr::render {
 
@@ -38,18 +50,40 @@ enum class WarpStatus : uint8_t {
   kOutside = 3,
   kMissingRow = 4,
   kNoData = 5,
+  kDisoccluded = 6,
 };
-inline constexpr size_t kWarpStatusCount = 6;
+inline constexpr size_t kWarpStatusCount = 7;
 const char* to_string(WarpStatus status);
 
-// Per-status pixel counts, indexed by WarpStatus.
+// How a surface pixel without a mask from its own eye's buffer was filled (kClientFill*).
+enum class WarpFill : uint8_t { kNone = 0, kOtherEye = 1, kShadowMap = 2 };
+
+// Per-status pixel counts, indexed by WarpStatus, and the fills.
 struct WarpCounts {
   std::array<uint64_t, kWarpStatusCount> by_status{};
+  uint64_t filled_other_eye = 0;    // surface pixels source 0 could not fill, filled by the other eye
+  uint64_t filled_shadow_map = 0;   // ... by the shadow maps
+  uint64_t edges_shadow_map = 0;    // known pixels whose undecided bits took the shadow maps
   uint64_t operator[](WarpStatus s) const { return by_status[static_cast<size_t>(s)]; }
-  // Surface pixels without a mask from the buffer (behind, outside, missing row, no data).
+  // Surface pixels without a mask from their own eye's buffer (behind, outside, missing row, no data,
+  // disoccluded), filled or not.
   uint64_t unknown_surface() const;
+  uint64_t unfilled() const { return unknown_surface() - filled_other_eye - filled_shadow_map; }
   uint64_t surface() const;  // every pixel but background
   bool operator==(const WarpCounts&) const = default;
+};
+
+// Which of the warp's ingredients are on. Default: the paper's warp (nearest sample, no depth test, no fills).
+struct WarpSettings {
+  bool bilinear = false;      // 2x2 samples and a bilinear vote instead of the nearest old pixel
+  bool depth_test = false;    // reject samples whose old surface is off this pixel's tangent plane
+  bool other_eye = false;     // fill from the other eye's newest buffer
+  bool shadow_fill = false;   // fill the rest from the client's shadow maps
+  bool shadow_edges = false;  // bits the samples disagree on from the shadow maps
+  double plane_tolerance_rel = 0.02;  // metres per metre of depth
+  double plane_tolerance_abs = 0.01;  // metres
+  static WarpSettings full();  // every ingredient on
+  bool operator==(const WarpSettings&) const = default;
 };
 
 // Mask for unknown pixels: every light bit of the buffer, all 32 without one.
@@ -60,22 +94,33 @@ uint32_t unknown_mask(const VisibilityBuffer* visibility);
 std::optional<std::string> validate_visibility_input(const Camera& traced, const VisibilityBuffer& visibility,
                                                      std::span<const uint8_t> row_valid);
 
+// One visibility buffer as the warp reads it.
+struct WarpSource {
+  const VisibilityBuffer* visibility = nullptr;  // null: none
+  Camera traced;                                 // the guard-banded camera it was traced for
+  std::span<const uint8_t> row_valid;            // empty (all rows) or one entry per old row, 0 = missing
+  std::span<const float> traced_depth;           // the traced camera's depth (reversed-Z); empty: no depth test
+};
+
 struct WarpInput {
-  std::span<const float> depth;  // display width * height, row-major, reversed-Z (0 = background)
-  Camera display;                // the camera the depth was rendered with
-  Camera traced;                 // the guard-banded camera the visibility was traced for
+  std::span<const float> depth;        // display width * height, row-major, reversed-Z (0 = background)
+  std::span<const glm::vec3> normals;  // display width * height world normals; may be empty unless needed
+  Camera display;                      // the camera the depth was rendered with
   double near_plane = kDefaultNearPlane;
   double min_depth = kWarpMinDepth;
-  const VisibilityBuffer* visibility = nullptr;  // null: nothing received yet
-  std::span<const uint8_t> row_valid;            // empty (all rows) or one entry per old row, 0 = missing
+  std::array<WarpSource, 2> sources;   // this eye's newest buffer, the other eye's
+  WarpSettings settings;
+  const ShadowReference* shadow = nullptr;  // needed when a shadow setting is on
+  std::span<const SceneLight> lights;       // for the shadow lookups
 };
 
 struct WarpResult {
   Extent extent;
   std::vector<uint32_t> masks;       // per display pixel
   std::vector<WarpStatus> status;    // per display pixel
-  std::vector<glm::dvec2> lookup;    // continuous old pixel coordinate (0,0 where none was computed)
-  std::vector<double> margin;        // pixels (or 1e6 x metres for the behind test) to the nearest flip
+  std::vector<WarpFill> fill;        // per display pixel
+  std::vector<glm::dvec2> lookup;    // source 0's continuous old pixel coordinate (0,0 where none was computed)
+  std::vector<double> margin;        // distance to the nearest flip of any decision (see the header comment)
   WarpCounts counts;
 };
 

@@ -1,0 +1,253 @@
+#include "render/shadow_maps.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/mat3x3.hpp>
+#include <limits>
+#include <stdexcept>
+
+#include "dhr_shaders_client.hpp"
+#include "render/client_scene.hpp"
+#include "render/pass_util.hpp"
+#include "render/render_camera.hpp"
+#include "shader_interface.h"
+#include "vk/context.hpp"
+#include "vk/graphics_pipeline.hpp"
+#include "vk/pipeline.hpp"
+
+namespace dhr::render {
+namespace {
+
+// (right, up) of each face; forward = up x right (right x up = backward).
+constexpr std::array<std::array<glm::dvec3, 2>, 6> kFaceAxes = {{
+    {glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 0)},    // +X
+    {glm::dvec3(0, 0, -1), glm::dvec3(0, 1, 0)},   // -X
+    {glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1)},    // +Y
+    {glm::dvec3(1, 0, 0), glm::dvec3(0, 0, -1)},   // -Y
+    {glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0)},   // +Z
+    {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0)},    // -Z
+}};
+
+double boundary_distance(double v) { return std::abs(v - std::round(v)); }
+
+uint32_t max_image_dimension(const vk::Context& context) {
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(context.physical_device(), &properties);
+  return properties.limits.maxImageDimension2D;
+}
+
+}  // namespace
+
+double cube_face_distance(const glm::dvec3& v) {
+  return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z)));
+}
+
+CubeLookup cube_lookup(const glm::dvec3& v, uint32_t size) {
+  const glm::dvec3 a = glm::abs(v);
+  CubeLookup c;
+  double x = 0.0, y = 0.0, tie = 0.0;
+  if (a.x >= a.y && a.x >= a.z) {
+    c.distance = a.x;
+    c.face = v.x >= 0.0 ? 0u : 1u;
+    x = v.x >= 0.0 ? v.z : -v.z;
+    y = v.y;
+    tie = std::min(a.x - a.y, a.x - a.z);
+  } else if (a.y >= a.z) {
+    c.distance = a.y;
+    c.face = v.y >= 0.0 ? 2u : 3u;
+    x = v.x;
+    y = v.y >= 0.0 ? v.z : -v.z;
+    tie = std::min(a.y - a.x, a.y - a.z);
+  } else {
+    c.distance = a.z;
+    c.face = v.z >= 0.0 ? 4u : 5u;
+    x = v.z >= 0.0 ? -v.x : v.x;
+    y = v.y;
+    tie = std::min(a.z - a.x, a.z - a.y);
+  }
+  const double s = size;
+  c.position = glm::dvec2((x / c.distance + 1.0) * 0.5 * s, (1.0 - y / c.distance) * 0.5 * s);
+  const int last = static_cast<int>(size) - 1;
+  c.texel = glm::ivec2(std::clamp(static_cast<int>(std::floor(c.position.x)), 0, last),
+                       std::clamp(static_cast<int>(std::floor(c.position.y)), 0, last));
+  // Face ties in texels (a relative difference of the two largest components maps to about size/2 texels).
+  c.margin = tie / c.distance * 0.5 * s;
+  for (double p : {c.position.x, c.position.y}) {
+    if (p > 0.0 && p < s) c.margin = std::min(c.margin, boundary_distance(p));
+  }
+  return c;
+}
+
+Camera cube_face_camera(const glm::dvec3& light, uint32_t face, uint32_t size) {
+  if (face >= 6) throw std::invalid_argument("cube_face_camera: face must be 0-5");
+  const glm::dvec3 right = kFaceAxes[face][0];
+  const glm::dvec3 up = kFaceAxes[face][1];
+  const glm::dvec3 back = glm::cross(right, up);
+  Camera camera;
+  camera.T_world_eye.position = light;
+  camera.T_world_eye.orientation = glm::normalize(glm::quat_cast(glm::dmat3(right, up, back)));
+  camera.tangents = Tangents{-1.0, 1.0, 1.0, -1.0};
+  camera.extent = Extent{size, size};
+  return camera;
+}
+
+ShadowMaps::ShadowMaps(const vk::Context& context, const ClientScene& scene, const ShadowMapSettings& settings)
+    : context_(&context), scene_(&scene), settings_(settings) {
+  if (settings.size == 0) throw std::invalid_argument("shadow maps: the face size must be at least 1");
+  if (!(settings.near_plane > 0.0)) throw std::invalid_argument("shadow maps: the near plane must be > 0");
+  const VkDevice device = context.device();
+  const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::ClientGBufferPush)};
+  layout_ = vk::create_pipeline_layout(device, {}, std::span(&push, 1));
+  const std::array<VkVertexInputBindingDescription, 3> bindings = {{
+      {0, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX},
+      {1, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX},
+      {2, sizeof(float) * 2, VK_VERTEX_INPUT_RATE_VERTEX},
+  }};
+  const std::array<VkVertexInputAttributeDescription, 3> attributes = {{
+      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+      {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0},
+      {2, 2, VK_FORMAT_R32G32_SFLOAT, 0},
+  }};
+  vk::GraphicsPipelineDesc desc;
+  desc.vertex = &vk::find_spirv(dhr_shaders_client_modules(), "gbuffer.vert");
+  desc.vertex_bindings = bindings;
+  desc.vertex_attributes = attributes;
+  desc.depth_format = VK_FORMAT_D32_SFLOAT;
+  desc.depth_compare = VK_COMPARE_OP_GREATER;
+  desc.cull_mode = VK_CULL_MODE_NONE;  // shadow rays hit either side
+  pipeline_ = vk::create_graphics_pipeline(device, layout_.get(), desc);
+  render(scene.lights());
+}
+
+void ShadowMaps::render(std::span<const SceneLight> lights) {
+  const auto start = std::chrono::steady_clock::now();
+  tiles_.clear();
+  uint32_t rows = 0;
+  for (const SceneLight& light : lights) {
+    ShadowTile tile;
+    tile.position = glm::dvec3(light.position);
+    if (light.type != SceneLight::Type::kDirectional) tile.row = rows++;
+    tiles_.push_back(tile);
+  }
+  const uint32_t max_dim = max_image_dimension(*context_);
+  size_ = std::max<uint32_t>(1, std::min({settings_.size, max_dim / 6, rows > 0 ? max_dim / rows : max_dim}));
+  const uint32_t width = 6 * size_, height = std::max<uint32_t>(1, rows) * size_;
+  if (!atlas_ || atlas_.width() != width || atlas_.height() != height) {
+    atlas_ = vk::Image(*context_, width, height, VK_FORMAT_D32_SFLOAT,
+                       VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                           VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  }
+  const ClientScene& scene = *scene_;
+  context_->submit_and_wait([&](VkCommandBuffer cmd) {
+    discard_to_layout(cmd, atlas_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                      VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+    VkRenderingAttachmentInfo depth{};
+    depth.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
+    depth.imageView = atlas_.view();
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    depth.clearValue.depthStencil = {0.0f, 0};  // reversed-Z: nothing
+    VkRenderingInfo rendering{};
+    rendering.sType = VK_STRUCTURE_TYPE_RENDERING_INFO;
+    rendering.renderArea = {{0, 0}, {width, height}};
+    rendering.layerCount = 1;
+    rendering.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &rendering);
+    if (scene.indices() && rows > 0) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
+      const std::array<VkBuffer, 3> buffers = {scene.positions().handle(), scene.normals().handle(),
+                                               scene.texcoords().handle()};
+      const std::array<VkDeviceSize, 3> offsets = {0, 0, 0};
+      vkCmdBindVertexBuffers(cmd, 0, 3, buffers.data(), offsets.data());
+      vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
+      for (const ShadowTile& tile : tiles_) {
+        if (!tile.row) continue;
+        for (uint32_t face = 0; face < 6; ++face) {
+          const Camera camera = cube_face_camera(tile.position, face, size_);
+          const VkViewport viewport{static_cast<float>(face * size_), static_cast<float>(*tile.row * size_),
+                                    static_cast<float>(size_), static_cast<float>(size_), 0.0f, 1.0f};
+          const VkRect2D scissor{{static_cast<int32_t>(face * size_), static_cast<int32_t>(*tile.row * size_)},
+                                 {size_, size_}};
+          vkCmdSetViewport(cmd, 0, 1, &viewport);
+          vkCmdSetScissor(cmd, 0, 1, &scissor);
+          shader::ClientGBufferPush push{};
+          const std::array<float, 16> vp =
+              matrix_floats(camera_relative_view_projection(camera, settings_.near_plane));
+          std::copy(vp.begin(), vp.end(), push.view_proj);
+          for (const ClientMesh& mesh : scene.meshes()) {
+            if (!sphere_may_be_visible(camera, mesh.origin, mesh.radius)) continue;
+            const glm::vec3 t = camera_relative_offset(mesh.origin, camera);
+            push.translation_x = t.x;
+            push.translation_y = t.y;
+            push.translation_z = t.z;
+            vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
+            vkCmdDrawIndexed(cmd, mesh.index_count, 1, mesh.first_index, mesh.vertex_offset, 0);
+          }
+        }
+      }
+    }
+    vkCmdEndRendering(cmd);
+    atlas_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  });
+  render_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<const SceneLight> lights,
+                                     const glm::dvec3& p, const glm::dvec3& n) {
+  ShadowDecision out;
+  out.margin = std::numeric_limits<double>::infinity();
+  const uint32_t size = maps.face_size;
+  const size_t atlas_width = size_t{6} * size;
+  for (size_t i = 0; i < lights.size() && i < 32; ++i) {
+    const SceneLight& light = lights[i];
+    // light_test in double, with the margins of its decisions.
+    glm::dvec3 l;
+    double dist = std::numeric_limits<double>::infinity();
+    if (light.type == SceneLight::Type::kDirectional) {
+      l = -glm::dvec3(light.direction);
+    } else {
+      const glm::dvec3 d = glm::dvec3(light.position) - p;
+      dist = glm::length(d);
+      if (!(dist > 0.0)) continue;
+      l = d / dist;
+      const double range = light.range;
+      if (range > 0.0) {
+        out.margin = std::min(out.margin, std::abs(dist - range) / range * 1e3);
+        if (!(dist < range)) continue;
+      }
+      if (light.type == SceneLight::Type::kSpot) {
+        const double cd = glm::dot(-l, glm::dvec3(light.direction));
+        const double outer = std::cos(static_cast<double>(light.outer_cone));
+        out.margin = std::min(out.margin, std::abs(cd - outer) * 1e3);
+        if (!(cd > outer)) continue;
+      }
+    }
+    const double nl = glm::dot(n, l);
+    out.margin = std::min(out.margin, std::abs(nl) * 1e3);
+    if (!(nl > 0.0)) continue;
+    const ShadowTile& tile = maps.tiles.at(i);
+    if (!tile.row) {
+      out.mask |= 1u << i;
+      continue;
+    }
+    const glm::dvec3 v0 = p - tile.position;
+    const double texel = 2.0 * cube_face_distance(v0) / size;
+    const glm::dvec3 v = v0 + (maps.settings.normal_offset * texel) * n;
+    const CubeLookup c = cube_lookup(v, size);
+    out.margin = std::min(out.margin, c.margin);
+    const size_t index = (size_t{*tile.row} * size + static_cast<size_t>(c.texel.y)) * atlas_width +
+                         size_t{c.face} * size + static_cast<size_t>(c.texel.x);
+    const double stored = maps.atlas[index];
+    const double occluder = stored > 0.0 ? maps.settings.near_plane / stored : 3.0e38;
+    const double threshold = c.distance - (maps.settings.bias_rel * c.distance + maps.settings.bias_abs);
+    out.margin = std::min(out.margin, std::abs(occluder - threshold) / c.distance * 1e3);
+    if (occluder >= threshold) out.mask |= 1u << i;
+  }
+  return out;
+}
+
+}  // namespace dhr::render

@@ -1,0 +1,101 @@
+// The client's own shadow maps: one cube (six 90-degree depth faces) per point or spot light, rendered from
+// the ClientScene once (the scene is static; again when the lights change) into one depth atlas, row l for
+// light l, faces 0-5 in columns (face conventions: shaders/client/cube_face.h). Directional lights get none.
+// The warp pass looks them up for pixels no visibility buffer fills (and, with kClientWarpShadowEdges, for
+// bits the buffer's samples disagree on); without any server they shade the whole frame (offline, `local`).
+//
+// Every triangle casts (no culling, alpha ignored), as the server's shadow rays see the scene. Depth is
+// reversed-Z with an infinite far plane, near / (distance along the face axis), like the G-buffer.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "math/projection.hpp"
+#include "scene/lighting.hpp"
+#include "vk/handle.hpp"
+#include "vk/image.hpp"
+
+namespace dhr::vk {
+class Context;
+}
+
+namespace dhr::render {
+
+class ClientScene;
+
+struct ShadowMapSettings {
+  uint32_t size = 1024;          // texels per face side (clamped so the atlas fits the device's limit)
+  double near_plane = 0.02;      // metres: geometry nearer to a light does not cast
+  double bias_rel = 0.004;       // lit when stored >= distance - (bias_rel * distance + bias_abs)
+  double bias_abs = 0.003;       // metres
+  double normal_offset = 1.5;    // texels (at the point's distance) along the normal before the lookup
+};
+
+// One direction from a light on its cube (the C++ twin of cube_face.h's cube_lookup, in double).
+struct CubeLookup {
+  uint32_t face = 0;
+  glm::ivec2 texel{0};
+  double distance = 0.0;     // along the face's axis
+  glm::dvec2 position{0.0};  // continuous texel coordinate before clamping
+  double margin = 0.0;       // texels / relative distance to the nearest face or texel flip
+};
+CubeLookup cube_lookup(const glm::dvec3& v, uint32_t size);
+double cube_face_distance(const glm::dvec3& v);
+
+// The 90-degree camera of a face at `light` (extent size x size).
+Camera cube_face_camera(const glm::dvec3& light, uint32_t face, uint32_t size);
+
+// Where a light's faces are: row of the atlas, or nullopt (directional: no shadow map).
+struct ShadowTile {
+  std::optional<uint32_t> row;
+  glm::dvec3 position{0.0};  // world
+};
+
+class ShadowMaps {
+ public:
+  // Renders the maps (blocking). Throws std::invalid_argument for settings that cannot work (size 0, near <= 0).
+  ShadowMaps(const vk::Context& context, const ClientScene& scene, const ShadowMapSettings& settings = {});
+
+  // Re-renders for new lights (blocking).
+  void render(std::span<const SceneLight> lights);
+
+  const ShadowMapSettings& settings() const { return settings_; }
+  uint32_t face_size() const { return size_; }
+  const std::vector<ShadowTile>& tiles() const { return tiles_; }  // one per light, in order
+  vk::Image& atlas() { return atlas_; }  // D32, (6 * size) x (rows * size), SHADER_READ_ONLY_OPTIMAL
+  const vk::Image& atlas() const { return atlas_; }
+  double render_ms() const { return render_ms_; }  // host time of the last render
+
+ private:
+  const vk::Context* context_;
+  const ClientScene* scene_;
+  ShadowMapSettings settings_;
+  uint32_t size_ = 0;
+  vk::PipelineLayout layout_;
+  vk::Pipeline pipeline_;
+  vk::Image atlas_;
+  std::vector<ShadowTile> tiles_;
+  double render_ms_ = 0.0;
+};
+
+// CPU reference of the warp's shadow lookup (double, on a read-back atlas).
+struct ShadowReference {
+  std::span<const float> atlas;  // (6 * face_size) x (rows * face_size), row-major
+  uint32_t face_size = 0;
+  std::vector<ShadowTile> tiles;
+  ShadowMapSettings settings;
+};
+struct ShadowDecision {
+  uint32_t mask = 0;
+  double margin = 0.0;  // smallest distance to a flip of any decision made (see warp_reference.hpp)
+};
+// p and n in world space (n unit); lights as in the scene (at most 32).
+ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<const SceneLight> lights,
+                                     const glm::dvec3& p, const glm::dvec3& n);
+
+}  // namespace dhr::render
