@@ -63,8 +63,9 @@ CapturedRays capture_rays(const server::EmbreeScene& scene, const std::vector<Sc
         RTCRayHit& rh = out.primary[y * width + x];
         rh = RTCRayHit{};
         rh.ray = server::make_rtc_ray(frame.eye, dir, std::numeric_limits<float>::infinity());
+        rh.ray.tnear = server::detail::primary_tnear(frame, dir);
         reset_primary(rh);
-        const std::optional<server::SurfaceHit> hit = scene.intersect(frame.eye, dir);
+        const std::optional<server::SurfaceHit> hit = scene.intersect(frame.eye, dir, rh.ray.tnear);
         if (!hit) continue;
         ++row_hits[y];
         for (uint32_t li : frame.active_lights) {

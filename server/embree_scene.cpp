@@ -174,11 +174,12 @@ RTCRay make_rtc_ray(const glm::vec3& origin, const glm::vec3& dir, float tfar) {
   return ray;
 }
 
-std::optional<SurfaceHit> EmbreeScene::intersect(const glm::vec3& origin, const glm::vec3& dir) const {
+std::optional<SurfaceHit> EmbreeScene::intersect(const glm::vec3& origin, const glm::vec3& dir, float tnear) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh{};
   rh.ray = make_rtc_ray(origin, dir, std::numeric_limits<float>::infinity());
+  rh.ray.tnear = tnear;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rh);

@@ -69,7 +69,7 @@ class EmbreeScene {
 
   // Single primary ray (origin relative, any direction length): the closest front face, or a face of a
   // double-sided material. std::nullopt on a miss.
-  std::optional<SurfaceHit> intersect(const glm::vec3& origin, const glm::vec3& dir) const;
+  std::optional<SurfaceHit> intersect(const glm::vec3& origin, const glm::vec3& dir, float tnear = 0.0f) const;
   // Shadow-style query: any surface (both sides) within (0, tfar) along dir.
   bool occluded(const glm::vec3& origin, const glm::vec3& dir, float tfar) const;
 

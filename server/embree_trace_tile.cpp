@@ -56,7 +56,8 @@ void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint
     for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
       const uint32_t x = bx + lane % kBlock, y = by + lane / kBlock;
       if (x >= x1 || y >= y1) continue;
-      if (const auto hit = scene.intersect(frame.eye, primary_direction(frame, x, y)))
+      const glm::vec3 dir = primary_direction(frame, x, y);
+      if (const auto hit = scene.intersect(frame.eye, dir, primary_tnear(frame, dir)))
         add_hit(scratch, *hit, slot0 + lane, x, y);
     }
     stats.background_pixels += inside - (scratch.hits.size() - hits_before);
@@ -78,7 +79,7 @@ void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint
     rh.ray.dir_x[lane] = dir.x;
     rh.ray.dir_y[lane] = dir.y;
     rh.ray.dir_z[lane] = dir.z;
-    rh.ray.tnear[lane] = 0.0f;
+    rh.ray.tnear[lane] = in ? primary_tnear(frame, dir) : 0.0f;
     rh.ray.tfar[lane] = std::numeric_limits<float>::infinity();
     rh.ray.time[lane] = 0.0f;
     rh.ray.mask[lane] = 0xFFFFFFFFu;

@@ -69,6 +69,12 @@ inline glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t
   return glm::vec3(glm::normalize((frame.ray_columns[x] + frame.ray_rows[y]) + frame.ray_forward));
 }
 
+// Where a primary ray along `dir` starts: the client's near plane (kClipNearPlane along the view axis), so
+// nothing the client's rasterizer clips is traced in its place.
+inline float primary_tnear(const FrameSetup& frame, const glm::vec3& dir) {
+  return static_cast<float>(kClipNearPlane / glm::dot(glm::dvec3(dir), frame.ray_forward));
+}
+
 // One surface point and light: true with the occlusion ray to trace (and whether the light contributes, else
 // the ray is traced only because a skip is off), or false when frame.skip skips the pair (counted in `stats`
 // by reason). bench/trace_bench uses it to replay exactly the tracer's rays.

@@ -106,6 +106,7 @@ struct VisPushConstants {
   uint active_lights;  // bit i: light i not culled for this view
   uint flags;          // kVisSkip*
   float ray_offset_scale;  // server/ray_offset.hpp: ray_offset_scale(scene bounds), a power of two
+  float primary_near;      // primary rays start at this depth along the view axis (the client's near plane)
 };
 
 // ---- client (xrclient/render): G-buffer, warp and shading passes ----
@@ -167,7 +168,8 @@ DHR_CONST uint kClientFillShadowMap = 2u;  // from the shadow maps
 DHR_CONST uint kClientCountOtherEye = 7u;
 DHR_CONST uint kClientCountShadowMap = 8u;
 DHR_CONST uint kClientCountEdgeShadowMap = 9u;
-DHR_CONST uint kClientCountFields = 10u;
+DHR_CONST uint kClientCountShadowOverride = 10u;  // confident shadow-map bits that replaced agreed samples
+DHR_CONST uint kClientCountFields = 11u;
 DHR_CONST uint kClientCountWords = 4u;  // three 10-bit fields per word
 
 // ClientWarpParams::flags
@@ -177,6 +179,13 @@ DHR_CONST uint kClientWarpBilinear = 16u;        // 2x2 samples around the looku
 DHR_CONST uint kClientWarpDepthTest = 32u;       // samples off the pixel's tangent plane are rejected
 DHR_CONST uint kClientWarpShadowFill = 64u;      // pixels without a source take the shadow maps
 DHR_CONST uint kClientWarpShadowEdges = 128u;    // bits the samples disagree on take the shadow maps
+DHR_CONST uint kClientWarpShadowFirst = 256u;    // bits the shadow maps are confident about take them
+// Bilinear lookups within this many old pixels of an old pixel centre (in x and y) take that pixel's mask
+// as exact: it was traced for this very ray (no motion since, or none that moved the lookup).
+DHR_CONST float kClientWarpExactLookup = 0.02f;
+// Shadow-map confidence: lit, or shadowed by a surface nearer than distance - kShadowBand * bias, and,
+// where a shadow-map texel is coarser than a display pixel at the point, the 2x2 texels around the lookup agree.
+DHR_CONST float kShadowBand = 3.0f;
 // ClientWarpSource::flags
 DHR_CONST uint kClientSourceHasVisibility = 1u;
 DHR_CONST uint kClientSourceHasRowValidity = 2u;
@@ -229,9 +238,11 @@ struct ClientWarpParams {
   float plane_tolerance_rel;  // depth test: |distance to the tangent plane| <= rel * depth + abs
   float plane_tolerance_abs;
   float shadow_near;          // the shadow maps' near plane
-  float shadow_bias_rel;      // lit when stored >= distance - (rel * distance + abs)
+  float shadow_bias_rel;      // lit when stored >= distance - (rel * distance + abs + slope term)
   float shadow_bias_abs;
   float shadow_normal_offset; // texels (at the point's distance) along the normal before the lookup
+  float shadow_bias_slope;    // plus this many texels (at the point's distance) times tan(angle of N and L)
+  float pixel_tangent;        // the display's tangent-space width of a pixel (its size per metre of depth)
   uint shadow_size;           // texels per face side
   uint width;            // display (G-buffer) size
   uint height;
@@ -293,11 +304,11 @@ static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the G
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientWarpSource) == 132, "ClientWarpSource must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 2 * 132 + 4 * 27, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 2 * 132 + 4 * 29, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 16, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
-static_assert(sizeof(VisPushConstants) == 88, "push constants must match the GLSL layout");
+static_assert(sizeof(VisPushConstants) == 92, "push constants must match the GLSL layout");
 }  // namespace dhr::shader
 #endif
 

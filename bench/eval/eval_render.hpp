@@ -30,7 +30,8 @@ struct EyeRender {
 class EyeRenderer {
  public:
   // Throws (setup) when the scene cannot be uploaded.
-  EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye);
+  EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye,
+              const render::ShadowMapSettings& shadow_maps = {});
   // Renders both eyes with the given warp settings (each eye's input is the other's source 1); shadow maps
   // are rendered the first time settings need them.
   std::array<EyeRender, 2> render(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs,
@@ -41,6 +42,7 @@ class EyeRenderer {
   const vk::Context* context_;
   render::ClientScene scene_;
   std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
+  render::ShadowMapSettings shadow_settings_;
   std::unique_ptr<render::ShadowMaps> shadow_maps_;
   uint32_t light_count_ = 0;
 };

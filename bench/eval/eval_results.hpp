@@ -28,6 +28,7 @@ struct SettingResult {
   double unfilled_frac = 0.0;  // shaded lit
   double disoccluded_frac = 0.0;
   double edges_shadow_map_frac = 0.0;
+  double shadow_overrides_frac = 0.0;
   double traced_depth_ms = 0.0;  // per eye-frame: GPU time of the traced camera's depth (0 when timestamps are off)
   double warp_ms = 0.0;          // per eye-frame: GPU time of the warp pass
   double client_ms = 0.0;     // per eye

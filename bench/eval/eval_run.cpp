@@ -118,7 +118,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     vk::ContextOptions vk_options;
     vk_options.app_name = "dhr-eval";
     const std::unique_ptr<vk::Context> context = vk::Context::create(vk_options);
-    EyeRenderer renderer(*context, scene, options.eye);
+    EyeRenderer renderer(*context, scene, options.eye, options.shadow_maps);
     server::TracerOptions tracer_options;
     tracer_options.threads = options.threads;
     const std::unique_ptr<server::VisibilityTracer> tracer =

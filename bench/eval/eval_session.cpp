@@ -1,4 +1,6 @@
 #include "eval_session.hpp"
+#include "image/png_writer.hpp"
+#include <cstdlib>
 
 #include "metrics/image_flip.hpp"
 #include "log/log.hpp"
@@ -131,6 +133,7 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
       planner_(planner_settings(setting, shared)) {
   totals_.bit_error_per_light.assign(shared.light_count, 0.0);
   cap_ms_ = options.predict_max_horizon_ms;
+  warp_ = warp_settings(setting.method, options);
   service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options), server_out_,
                                                          server_clock_);
   client_ = std::make_unique<client::VisibilityClient>(client_config(setting, options, shared), uplink_, clock_);
@@ -254,7 +257,7 @@ void SettingSession::measure(const Truth& truth) {
     views[eye] = plan.eyes[eye].view;
     if (server) inputs[eye] = plan.eyes[eye].visibility;  // local: the client's shadow maps only
   }
-  const std::array<EyeRender, 2> renders = shared_.renderer->render(views, inputs, warp_settings(setting_.method));
+  const std::array<EyeRender, 2> renders = shared_.renderer->render(views, inputs, warp_);
   for (int eye = 0; eye < 2; ++eye) {
     const client::EyePlan& p = plan.eyes[eye];
     if (!p.has_visibility || !server) totals_.eye_frames_without_data += 1;
@@ -263,10 +266,34 @@ void SettingSession::measure(const Truth& truth) {
       totals_.response_ms += static_cast<double>(p.visibility_age_ns.value_or(0)) * 1e-6;
     }
     const EyeRender& rendered = renders[eye];
+    if (const char* dump = std::getenv("DHR_EVAL_DUMP"); dump != nullptr && frame_ >= std::strtoull(dump, nullptr, 10) && !dumped_[eye]) {
+      dumped_[eye] = true;
+      std::fprintf(stderr, "dump frame %llu\n", static_cast<unsigned long long>(frame_));
+      const std::string base = "/tmp/dump_" + method_name(setting_.method) + "_" + std::to_string(eye);
+      write_png(base + "_rgba.png", shared_.eye.width, shared_.eye.height, 4, rendered.rgba);
+      write_png(base + "_truth.png", shared_.eye.width, shared_.eye.height, 4, truth.rgba[eye]);
+      std::vector<uint8_t> diff(rendered.mask.width * rendered.mask.height * 3);
+      for (size_t i = 0; i < diff.size() / 3; ++i) {
+        const uint32_t a = rendered.mask.mask_at(i), b = truth.mask[eye].mask_at(i);
+        diff[i * 3 + 0] = (a & ~b) ? 255 : 0;  // lit, should be shadowed
+        diff[i * 3 + 1] = (b & ~a) ? 255 : 0;  // shadowed, should be lit
+        diff[i * 3 + 2] = b ? 60 : 0;
+      }
+      write_png(base + "_diff.png", shared_.eye.width, shared_.eye.height, 3, diff);
+      for (uint32_t l = 0; l < shared_.light_count; ++l) {
+        std::vector<uint8_t> m(rendered.mask.width * rendered.mask.height * 3);
+        for (size_t i = 0; i < m.size() / 3; ++i) {
+          m[i * 3 + 0] = ((rendered.mask.mask_at(i) >> l) & 1u) ? 255 : 0;
+          m[i * 3 + 1] = ((truth.mask[eye].mask_at(i) >> l) & 1u) ? 255 : 0;
+        }
+        write_png(base + "_light" + std::to_string(l) + ".png", shared_.eye.width, shared_.eye.height, 3, m);
+      }
+    }
     add_image_errors(rendered, truth, eye);
     totals_.filled_other_eye += static_cast<double>(rendered.stats.warp.filled_other_eye) / pixels_per_eye();
     totals_.filled_shadow_map += static_cast<double>(rendered.stats.warp.filled_shadow_map) / pixels_per_eye();
     totals_.edges_shadow_map += static_cast<double>(rendered.stats.warp.edges_shadow_map) / pixels_per_eye();
+    totals_.shadow_overrides += static_cast<double>(rendered.stats.warp.shadow_overrides) / pixels_per_eye();
     totals_.unfilled += static_cast<double>(rendered.stats.warp.unfilled()) / pixels_per_eye();
     totals_.disoccluded +=
         static_cast<double>(rendered.stats.warp[render::WarpStatus::kDisoccluded]) / pixels_per_eye();

@@ -48,6 +48,7 @@ struct SettingTotals {
   double filled_other_eye = 0.0;  // shares of the display pixels, summed over eye-frames
   double filled_shadow_map = 0.0;
   double edges_shadow_map = 0.0;  // known pixels whose undecided bits took the shadow maps
+  double shadow_overrides = 0.0;  // known pixels where a confident shadow-map bit replaced an agreed one
   double unfilled = 0.0;          // shaded lit
   double disoccluded = 0.0;       // the depth test's share (part of unknown_frac)
   double traced_depth_ms = 0.0;   // GPU time of the traced cameras' depth (full's depth test)
@@ -159,6 +160,8 @@ class SettingSession {
   Setting setting_;
   SessionShared shared_;
   double cap_ms_ = 0.0;  // the predictor's horizon cap (paper+pred)
+  render::WarpSettings warp_;
+  std::array<bool, 2> dumped_{};  // the client's warp for the setting's method
   TracedFormat format_;  // the eye size and guard band, as the Welcome must grant them
   net::VirtualClock clock_;
   ServerClock server_clock_;

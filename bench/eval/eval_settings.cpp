@@ -11,12 +11,13 @@ namespace dhr::eval {
 
 namespace {
 
-constexpr std::array<std::pair<Ingredient, const char*>, 6> kIngredients = {{
+constexpr std::array<std::pair<Ingredient, const char*>, 7> kIngredients = {{
     {kIngredientBilinear, "bilinear"},
     {kIngredientDepthTest, "depth"},
     {kIngredientOtherEye, "other-eye"},
     {kIngredientShadowFill, "shadow-fill"},
     {kIngredientShadowEdges, "shadow-edges"},
+    {kIngredientShadowFirst, "shadow-first"},
     {kIngredientPrediction, "pred"},
 }};
 
@@ -74,19 +75,22 @@ bool server_predicts(const MethodSpec& spec) {
 
 bool uses_server_visibility(const MethodSpec& spec) { return spec.method != Method::kLocal; }
 
-render::WarpSettings warp_settings(const MethodSpec& spec) {
+render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& options) {
   render::WarpSettings s;
+  s.plane_tolerance_rel = options.plane_tolerance_rel;
+  s.plane_tolerance_abs = options.plane_tolerance_abs;
   if (spec.method == Method::kLocal) {
     s.shadow_fill = true;
     return s;
   }
   if (spec.method != Method::kFull) return s;
-  s = render::WarpSettings::full();
+  s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = s.shadow_first = true;
   s.bilinear = (spec.without & kIngredientBilinear) == 0;
   s.depth_test = (spec.without & kIngredientDepthTest) == 0;
   s.other_eye = (spec.without & kIngredientOtherEye) == 0;
   s.shadow_fill = (spec.without & kIngredientShadowFill) == 0;
   s.shadow_edges = (spec.without & kIngredientShadowEdges) == 0;
+  s.shadow_first = (spec.without & kIngredientShadowFirst) == 0;
   return s;
 }
 
@@ -187,7 +191,7 @@ std::optional<std::vector<MethodSpec>> parse_method_list(const std::string& text
     const std::optional<MethodSpec> m = parse_method(item);
     if (!m) {
       fail(out_error, "--method: expected stale, paper, paper+pred, local, full or full-no-<ingredient>... "
-                      "(bilinear, depth, other-eye, shadow-fill, shadow-edges, pred), got '" + item + "'");
+                      "(bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first, pred), got '" + item + "'");
       return std::nullopt;
     }
     out.push_back(*m);

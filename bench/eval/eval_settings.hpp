@@ -1,6 +1,7 @@
 // dhr-eval's run options and the settings it sweeps (the cartesian product of the option lists).
 #pragma once
 #include "math/projection.hpp"
+#include "render/shadow_maps.hpp"
 #include "render/warp_reference.hpp"
 
 #include <cstdint>
@@ -28,6 +29,7 @@ enum Ingredient : uint32_t {
   kIngredientShadowFill = 8u,   // "shadow-fill": fill from the shadow maps
   kIngredientShadowEdges = 16u, // "shadow-edges": undecided bits from the shadow maps
   kIngredientPrediction = 32u,  // "pred": the server's pose prediction
+  kIngredientShadowFirst = 64u, // "shadow-first": confident shadow-map bits first
 };
 
 // A method and, for kFull, the ingredients switched off.
@@ -70,6 +72,9 @@ struct RunOptions {
   double predict_max_horizon_ms = 100.0;  // paper+pred: the prediction horizon's cap (PosePredictorConfig's)
   double predict_soft_horizon_ms = 0.0;   // paper+pred: damping starts here (with predict_damping_ms > 0)
   double predict_damping_ms = 0.0;        // paper+pred: damping time constant beyond the soft horizon; 0: off
+  render::ShadowMapSettings shadow_maps;  // local, full
+  double plane_tolerance_rel = render::WarpSettings{}.plane_tolerance_rel;  // full's depth test
+  double plane_tolerance_abs = render::WarpSettings{}.plane_tolerance_abs;
   uint32_t threads = 0;          // Embree threads (0: all cores)
   bool progress = true;
 };
@@ -86,7 +91,7 @@ GuardBand guard_for_eye(const std::string& label, Extent eye);
 
 // What a setting's method means for the server and the client.
 bool server_predicts(const MethodSpec& spec);        // paper+pred, full (unless without pred)
-render::WarpSettings warp_settings(const MethodSpec& spec);
+render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& options);
 bool uses_server_visibility(const MethodSpec& spec);  // all but local
 
 // Every combination; kStale and kLocal ignore x_max (one setting per rtt and guard, x_max = -1).

@@ -58,6 +58,31 @@ int main(int argc, char** argv) {
   run->add_option("--codec", codec, "visibility codec: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
       ->capture_default_str()
       ->check(CLI::IsMember({"v1", "v2"}));
+  run->add_option("--shadow-size", options.shadow_maps.size, "local, full: shadow-map texels per cube face side")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 16384u));
+  run->add_option("--shadow-bias-rel", options.shadow_maps.bias_rel,
+                  "local, full: shadow-map depth bias per metre of distance")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.5));
+  run->add_option("--shadow-bias-abs", options.shadow_maps.bias_abs, "local, full: shadow-map depth bias, metres")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  run->add_option("--shadow-normal-offset", options.shadow_maps.normal_offset,
+                  "local, full: shadow lookups move this many texels along the normal")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 16.0));
+  run->add_option("--shadow-bias-slope", options.shadow_maps.bias_slope,
+                  "local, full: slope-scaled shadow-map bias, texels times tan(angle of normal and light)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 16.0));
+  run->add_option("--plane-tolerance", options.plane_tolerance_rel,
+                  "full: depth test tolerance, metres per metre of depth (plus --plane-tolerance-abs)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  run->add_option("--plane-tolerance-abs", options.plane_tolerance_abs, "full: depth test tolerance, metres")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   run->add_option("--threads", options.threads, "Embree threads (0: all cores)");
   bool no_progress = false;
   run->add_flag("--no-progress", no_progress, "no progress bar on stderr");

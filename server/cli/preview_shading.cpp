@@ -78,7 +78,9 @@ std::vector<uint8_t> shade_preview(const Scene& scene, const EmbreeScene& embree
     for (uint32_t x = 0; x < width; ++x) {
       const size_t i = static_cast<size_t>(y) * width + x;
       const glm::vec3 dir(glm::normalize(world_from_eye * camera.eye_ray(x + 0.5, y + 0.5)));
-      const auto hit = embree.intersect(eye, dir);
+      const float tnear =
+          static_cast<float>(kClipNearPlane / glm::dot(glm::dvec3(dir), world_from_eye * glm::dvec3(0, 0, -1)));
+      const auto hit = embree.intersect(eye, dir, tnear);  // from the near plane, as the tracers do
       if (!hit) continue;
       albedo[i] = albedo_at(scene, *hit);
       const uint32_t mask = visibility.width == width && visibility.height == height ? visibility.get(x, y) : 0u;

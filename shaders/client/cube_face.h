@@ -11,6 +11,7 @@
 struct CubeLookup {
   uint face;
   ivec2 texel;     // within the face
+  vec2 position;   // continuous texel coordinate before clamping
   float distance;  // along the face's axis
 };
 
@@ -38,8 +39,8 @@ CubeLookup cube_lookup(vec3 v, uint size) {
   }
   const float s = float(size);
   const vec2 t = vec2(x, y) / c.distance;
-  const vec2 texel = vec2((t.x + 1.0) * 0.5 * s, (1.0 - t.y) * 0.5 * s);
-  c.texel = clamp(ivec2(floor(texel)), ivec2(0), ivec2(int(size) - 1));
+  c.position = vec2((t.x + 1.0) * 0.5 * s, (1.0 - t.y) * 0.5 * s);
+  c.texel = clamp(ivec2(floor(c.position)), ivec2(0), ivec2(int(size) - 1));
   return c;
 }
 

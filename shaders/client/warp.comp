@@ -56,6 +56,7 @@ struct Lookup {
   uint status;  // kClientStatus*
   uint agree;   // over the used samples: bits all of them agree on (their value is in `value`)
   uint value;   // agreed bits: their value; other bits: the bilinear vote
+  bool exact;   // bilinear: the lookup is at an old pixel centre whose sample is used: value is its mask
   vec2 pixel;   // continuous lookup coordinate
 };
 
@@ -64,6 +65,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   Lookup r;
   r.agree = 0u;
   r.value = 0u;
+  r.exact = false;
   const vec3 ray = v3(src.ray0) + centre.x * v3(src.ray_dx) + centre.y * v3(src.ray_dy);
   const vec3 p_old = (pc.near_plane / d) * ray + v3(src.trans);
   const float depth_old = -p_old.z;
@@ -133,6 +135,19 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     return r;
   }
   r.status = kClientStatusKnown;
+  if (bilinear) {
+    // At (within kClientWarpExactLookup of) an old pixel centre: that sample was traced for this ray.
+    const int kx = fx < 0.5 ? 0 : 1;
+    const int ky = fy < 0.5 ? 0 : 1;
+    const int k = kx + 2 * ky;
+    const bool centred = min(fx, 1.0 - fx) <= kClientWarpExactLookup && min(fy, 1.0 - fy) <= kClientWarpExactLookup;
+    if (centred && ((used >> k) & 1u) != 0u) {
+      r.exact = true;
+      r.agree = 0xFFFFFFFFu;
+      r.value = masks[k];
+      return r;
+    }
+  }
   r.agree = ~(and_m ^ or_m);
   r.value = and_m;
   uint open = or_m & ~and_m;  // bits the samples disagree on: bilinear vote over the used samples
@@ -150,32 +165,67 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   return r;
 }
 
-// The shadow maps' mask at surface point p (display-eye-relative, world axes) with unit normal n: per light,
-// 0 where the light cannot contribute (light_test) or its shadow map holds a nearer surface, else 1.
-uint shadow_mask(vec3 p, vec3 n) {
-  uint m = 0u;
+// The shadow maps at surface point p (display-eye-relative, world axes) with unit normal n, per light: `mask`
+// 0 where the light cannot contribute (light_test) or the texel under the lookup holds a nearer surface than the
+// point (less the bias), else 1; `confident` where the point is lit or shadowed by a surface nearer than
+// distance - kShadowBand * bias (a shadow cast from within that band may be acne) and, where a
+// texel is coarser than a display pixel (`pixel_world` metres at p), the 2x2 texels around the lookup decide
+// alike; or where the light cannot contribute.
+struct ShadowLookup {
+  uint mask;
+  uint confident;
+};
+
+bool shadow_texel_lit(uint row, uint face, ivec2 t, float threshold) {
+  const uint size = pc.shadow_size;
+  const ivec2 c = clamp(t, ivec2(0), ivec2(int(size) - 1));
+  const float stored = texelFetch(shadow_atlas, ivec2(face * size + uint(c.x), row * size + uint(c.y)), 0).r;
+  const float occluder = stored > 0.0 ? pc.shadow_near / stored : 3.0e38;
+  return occluder >= threshold;
+}
+
+ShadowLookup shadow_lookup(vec3 p, vec3 n, float pixel_world) {
+  ShadowLookup r;
+  r.mask = 0u;
+  r.confident = 0u;
   const float size = float(pc.shadow_size);
   for (uint i = 0u; i < pc.light_count; ++i) {
     vec3 l;
     float dist;
-    if (light_test(lights[i], p, n, l, dist) != kLightContributes) continue;
-    const ClientShadowLight sl = shadow_lights[i];
-    if (sl.tile_row == kClientNoShadowMap) {
-      m |= 1u << i;
+    if (light_test(lights[i], p, n, l, dist) != kLightContributes) {
+      r.confident |= 1u << i;
       continue;
     }
-    const vec3 light_pos = v3(sl.position);
-    const vec3 v0 = p - light_pos;
+    const ClientShadowLight sl = shadow_lights[i];
+    if (sl.tile_row == kClientNoShadowMap) {
+      r.mask |= 1u << i;  // no map (directional): taken as lit, never confident
+      continue;
+    }
+    const vec3 v0 = p - v3(sl.position);
     // Normal offset: a few texels (at this distance) along the normal, against acne on slopes.
     const float texel = 2.0 * cube_face_distance(v0) / size;
     const vec3 v = v0 + (pc.shadow_normal_offset * texel) * n;
     const CubeLookup c = cube_lookup(v, pc.shadow_size);
-    const float stored = texelFetch(shadow_atlas, ivec2(c.face * pc.shadow_size + c.texel.x,
-                                                        sl.tile_row * pc.shadow_size + c.texel.y), 0).r;
-    const float occluder = stored > 0.0 ? pc.shadow_near / stored : 3.0e38;
-    if (occluder >= c.distance - (pc.shadow_bias_rel * c.distance + pc.shadow_bias_abs)) m |= 1u << i;
+    // Slope-scaled: a texel spans more depth the more grazing the light (tan of the angle, at most 10).
+    const float cos_nl = dot(n, l);
+    const float tan_nl = min(sqrt(max(1.0 - cos_nl * cos_nl, 0.0)) / cos_nl, 10.0);
+    const float bias = pc.shadow_bias_rel * c.distance + pc.shadow_bias_abs + pc.shadow_bias_slope * texel * tan_nl;
+    const float threshold = c.distance - bias;
+    const bool lit = shadow_texel_lit(sl.tile_row, c.face, c.texel, threshold);
+    if (lit) r.mask |= 1u << i;
+    // Confidence: the band around the point's distance, and the 2x2 footprint around the lookup.
+    // A lit point's own surface is what the map holds there, so only a shadow can be in doubt: one cast by a
+    // surface within kShadowBand biases may be the point's own (acne).
+    bool alike = lit || !shadow_texel_lit(sl.tile_row, c.face, c.texel, c.distance - kShadowBand * bias);
+    if (texel > pixel_world) {
+      const ivec2 t0 = ivec2(floor(c.position - 0.5));
+      for (int k = 0; k < 4; ++k) {
+        alike = alike && shadow_texel_lit(sl.tile_row, c.face, t0 + ivec2(k & 1, k >> 1), threshold) == lit;
+      }
+    }
+    if (alike) r.confident |= 1u << i;
   }
-  return m;
+  return r;
 }
 
 void main() {
@@ -184,6 +234,7 @@ void main() {
   uint status = kClientStatusCount;  // outside the image: counted nowhere
   uint fill = kClientFillNone;
   bool edge_from_shadow = false;
+  bool overridden = false;  // a confident shadow-map bit replaced a bit the samples agreed on
   if (in_image) {
     const float d = texelFetch(depth_texture, ivec2(id), 0).r;
     const vec2 centre = vec2(id) + 0.5;
@@ -204,20 +255,28 @@ void main() {
         }
       }
       const bool have = status == kClientStatusKnown || fill == kClientFillOtherEye;
-      const bool need_shadow = have ? (pc.flags & kClientWarpShadowEdges) != 0u && (~chosen.agree & pc.unknown_mask) != 0u
+      const bool first = (pc.flags & kClientWarpShadowFirst) != 0u;
+      const uint undecided = have ? ~chosen.agree & pc.unknown_mask : 0u;
+      const bool need_shadow = have ? (first && !chosen.exact) || ((pc.flags & kClientWarpShadowEdges) != 0u && undecided != 0u)
                                     : (pc.flags & kClientWarpShadowFill) != 0u;
-      uint shadow = 0u;
+      ShadowLookup shadow;
+      shadow.mask = 0u;
+      shadow.confident = 0u;
       if (need_shadow) {
         const vec3 p = (pc.near_plane / d) *
                        (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
-        shadow = shadow_mask(p, n);
+        shadow = shadow_lookup(p, n, (pc.near_plane / d) * pc.pixel_tangent);
       }
       if (have) {
-        const uint undecided = ~chosen.agree & pc.unknown_mask;
-        mask = need_shadow ? (chosen.value & ~undecided) | (shadow & undecided) : chosen.value;
-        edge_from_shadow = need_shadow;
-      } else if (need_shadow) {
-        mask = shadow;
+        // Bits the samples agree on keep their value unless the shadow maps are confident (shadow-first);
+        // the others take the shadow maps (shadow edges) or the vote.
+        const bool edges = (pc.flags & kClientWarpShadowEdges) != 0u;
+        const uint from_shadow = (first && !chosen.exact ? shadow.confident : 0u) | (edges ? undecided : 0u);
+        mask = (chosen.value & ~from_shadow) | (shadow.mask & from_shadow);
+        edge_from_shadow = edges && undecided != 0u;
+        overridden = (from_shadow & ~undecided & (chosen.value ^ shadow.mask) & pc.unknown_mask) != 0u;
+      } else if ((pc.flags & kClientWarpShadowFill) != 0u) {
+        mask = shadow.mask;
         fill = kClientFillShadowMap;
       }
       const bool motion_valid = status == kClientStatusKnown || status == kClientStatusOutside ||
@@ -247,6 +306,7 @@ void main() {
   if (fill == kClientFillOtherEye) words[kClientCountOtherEye / 3u] += 1u << (10u * (kClientCountOtherEye % 3u));
   if (fill == kClientFillShadowMap) words[kClientCountShadowMap / 3u] += 1u << (10u * (kClientCountShadowMap % 3u));
   if (edge_from_shadow) words[kClientCountEdgeShadowMap / 3u] += 1u << (10u * (kClientCountEdgeShadowMap % 3u));
+  if (overridden) words[kClientCountShadowOverride / 3u] += 1u << (10u * (kClientCountShadowOverride % 3u));
   uint sums[kClientCountWords];
   for (uint w = 0u; w < kClientCountWords; ++w) sums[w] = subgroupAdd(words[w]);
   if (subgroupElect()) {

@@ -24,7 +24,9 @@ std::vector<PixelHit> reference_hits(const EmbreeTracer& embree, const Camera& c
   for (uint32_t y = 0; y < camera.extent.height; ++y) {
     for (uint32_t x = 0; x < camera.extent.width; ++x) {
       const glm::vec3 dir(glm::normalize(R * camera.eye_ray(x + 0.5, y + 0.5)));
-      const auto hit = scene.intersect(eye, dir);
+      // Primary rays start at the client's near plane (kClipNearPlane along the view axis).
+      const float tnear = static_cast<float>(kClipNearPlane / glm::dot(glm::dvec3(dir), R * glm::dvec3(0, 0, -1)));
+      const auto hit = scene.intersect(eye, dir, tnear);
       PixelHit& h = hits[size_t{y} * camera.extent.width + x];
       if (!hit) continue;
       h.hit = true;

@@ -19,7 +19,7 @@ FrameCoordinator::FrameCoordinator(const vk::Context& context, const render::Cli
       extent_(eye_extent),
       planner_(options.plan) {
   for (auto& eye : eyes_) eye = std::make_unique<render::EyePipeline>(context, scene, eye_extent, options.eye);
-  if (options.eye.warp.shadow_fill || options.eye.warp.shadow_edges) {
+  if (options.eye.warp.uses_shadow_maps()) {
     shadow_maps_ = std::make_unique<render::ShadowMaps>(context, scene, options.shadow_maps);
     log::info("shadow maps: %zu lights, %u texels per face, rendered in %.1f ms", shadow_maps_->tiles().size(),
               shadow_maps_->face_size(), shadow_maps_->render_ms());

@@ -19,7 +19,7 @@
 namespace dhr::render {
 
 // Near plane of the G-buffer's projection (metres).
-inline constexpr double kDefaultNearPlane = 0.05;
+inline constexpr double kDefaultNearPlane = kClipNearPlane;
 // Points whose depth in the old eye is at or below this (metres) are "behind the old eye" in the warp.
 inline constexpr double kWarpMinDepth = 1e-3;
 

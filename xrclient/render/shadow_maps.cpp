@@ -197,7 +197,7 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
 }
 
 ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<const SceneLight> lights,
-                                     const glm::dvec3& p, const glm::dvec3& n) {
+                                     const glm::dvec3& p, const glm::dvec3& n, double pixel_world) {
   ShadowDecision out;
   out.margin = std::numeric_limits<double>::infinity();
   const uint32_t size = maps.face_size;
@@ -212,23 +212,35 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
     } else {
       const glm::dvec3 d = glm::dvec3(light.position) - p;
       dist = glm::length(d);
-      if (!(dist > 0.0)) continue;
+      if (!(dist > 0.0)) {
+        out.confident |= 1u << i;
+        continue;
+      }
       l = d / dist;
       const double range = light.range;
       if (range > 0.0) {
         out.margin = std::min(out.margin, std::abs(dist - range) / range * 1e3);
-        if (!(dist < range)) continue;
+        if (!(dist < range)) {
+          out.confident |= 1u << i;
+          continue;
+        }
       }
       if (light.type == SceneLight::Type::kSpot) {
         const double cd = glm::dot(-l, glm::dvec3(light.direction));
         const double outer = std::cos(static_cast<double>(light.outer_cone));
         out.margin = std::min(out.margin, std::abs(cd - outer) * 1e3);
-        if (!(cd > outer)) continue;
+        if (!(cd > outer)) {
+          out.confident |= 1u << i;
+          continue;
+        }
       }
     }
     const double nl = glm::dot(n, l);
     out.margin = std::min(out.margin, std::abs(nl) * 1e3);
-    if (!(nl > 0.0)) continue;
+    if (!(nl > 0.0)) {
+      out.confident |= 1u << i;
+      continue;
+    }
     const ShadowTile& tile = maps.tiles.at(i);
     if (!tile.row) {
       out.mask |= 1u << i;
@@ -239,13 +251,33 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
     const glm::dvec3 v = v0 + (maps.settings.normal_offset * texel) * n;
     const CubeLookup c = cube_lookup(v, size);
     out.margin = std::min(out.margin, c.margin);
-    const size_t index = (size_t{*tile.row} * size + static_cast<size_t>(c.texel.y)) * atlas_width +
-                         size_t{c.face} * size + static_cast<size_t>(c.texel.x);
-    const double stored = maps.atlas[index];
-    const double occluder = stored > 0.0 ? maps.settings.near_plane / stored : 3.0e38;
-    const double threshold = c.distance - (maps.settings.bias_rel * c.distance + maps.settings.bias_abs);
-    out.margin = std::min(out.margin, std::abs(occluder - threshold) / c.distance * 1e3);
-    if (occluder >= threshold) out.mask |= 1u << i;
+    const double tan_nl = std::min(std::sqrt(std::max(1.0 - nl * nl, 0.0)) / nl, 10.0);
+    const double bias =
+        maps.settings.bias_rel * c.distance + maps.settings.bias_abs + maps.settings.bias_slope * texel * tan_nl;
+    // Whether texel t (clamped to the face) holds nothing nearer than `threshold`.
+    auto texel_lit = [&](glm::ivec2 t, double threshold) {
+      const int last = static_cast<int>(size) - 1;
+      t = glm::clamp(t, glm::ivec2(0), glm::ivec2(last));
+      const size_t index = (size_t{*tile.row} * size + static_cast<size_t>(t.y)) * atlas_width +
+                           size_t{c.face} * size + static_cast<size_t>(t.x);
+      const double stored = maps.atlas[index];
+      const double occluder = stored > 0.0 ? maps.settings.near_plane / stored : 3.0e38;
+      out.margin = std::min(out.margin, std::abs(occluder - threshold) / c.distance * 1e3);
+      return occluder >= threshold;
+    };
+    const double threshold = c.distance - bias;
+    const bool lit = texel_lit(c.texel, threshold);
+    if (lit) out.mask |= 1u << i;
+    bool alike = lit || !texel_lit(c.texel, c.distance - kShadowConfidenceBand * bias);
+    out.margin = std::min(out.margin, std::abs(texel - pixel_world) / pixel_world * 1e3);
+    if (texel > pixel_world) {
+      const glm::ivec2 t0(static_cast<int>(std::floor(c.position.x - 0.5)),
+                          static_cast<int>(std::floor(c.position.y - 0.5)));
+      out.margin = std::min(out.margin, std::min(boundary_distance(c.position.x - 0.5),
+                                                 boundary_distance(c.position.y - 0.5)));
+      for (int k = 0; k < 4; ++k) alike = alike && texel_lit(t0 + glm::ivec2(k & 1, k >> 1), threshold) == lit;
+    }
+    if (alike) out.confident |= 1u << i;
   }
   return out;
 }

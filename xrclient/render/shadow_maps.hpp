@@ -31,9 +31,10 @@ class ClientScene;
 struct ShadowMapSettings {
   uint32_t size = 1024;          // texels per face side (clamped so the atlas fits the device's limit)
   double near_plane = 0.02;      // metres: geometry nearer to a light does not cast
-  double bias_rel = 0.004;       // lit when stored >= distance - (bias_rel * distance + bias_abs)
-  double bias_abs = 0.003;       // metres
-  double normal_offset = 1.5;    // texels (at the point's distance) along the normal before the lookup
+  double bias_rel = 0.001;       // lit when stored >= distance - (bias_rel * distance + bias_abs + slope term)
+  double bias_abs = 0.001;       // metres
+  double normal_offset = 0.25;   // texels (at the point's distance) along the normal before the lookup
+  double bias_slope = 1.0;       // plus this many texels times tan(angle between normal and light), tan <= 10
 };
 
 // One direction from a light on its cube (the C++ twin of cube_face.h's cube_lookup, in double).
@@ -92,10 +93,13 @@ struct ShadowReference {
 };
 struct ShadowDecision {
   uint32_t mask = 0;
+  uint32_t confident = 0;  // see warp.comp's shadow_lookup
   double margin = 0.0;  // smallest distance to a flip of any decision made (see warp_reference.hpp)
 };
-// p and n in world space (n unit); lights as in the scene (at most 32).
+// kShadowBand of shader_interface.h.
+inline constexpr double kShadowConfidenceBand = 3.0;
+// p and n in world space (n unit); lights as in the scene (at most 32); pixel_world: a display pixel's size at p.
 ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<const SceneLight> lights,
-                                     const glm::dvec3& p, const glm::dvec3& n);
+                                     const glm::dvec3& p, const glm::dvec3& n, double pixel_world);
 
 }  // namespace dhr::render

@@ -206,7 +206,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     throw std::invalid_argument("warp pass: display camera, depth and targets differ in size");
   }
   const WarpSettings& settings = frame.settings;
-  const bool shadows = settings.shadow_fill || settings.shadow_edges;
+  const bool shadows = settings.uses_shadow_maps();
   if (shadows && frame.shadow_maps == nullptr) {
     throw std::invalid_argument("warp pass: shadow settings without shadow maps");
   }
@@ -239,7 +239,8 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
                  (targets.has_status() ? kClientWarpWriteStatus : 0u) |
                  (settings.bilinear ? kClientWarpBilinear : 0u) | (settings.depth_test ? kClientWarpDepthTest : 0u) |
                  (settings.shadow_fill ? kClientWarpShadowFill : 0u) |
-                 (settings.shadow_edges ? kClientWarpShadowEdges : 0u);
+                 (settings.shadow_edges ? kClientWarpShadowEdges : 0u) |
+                 (settings.shadow_first ? kClientWarpShadowFirst : 0u);
   params.plane_tolerance_rel = static_cast<float>(settings.plane_tolerance_rel);
   params.plane_tolerance_abs = static_cast<float>(settings.plane_tolerance_abs);
   std::array<vk::Image*, 2> old_depth{&placeholder_depth_, &placeholder_depth_};
@@ -293,6 +294,8 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     params.shadow_bias_rel = static_cast<float>(maps.settings().bias_rel);
     params.shadow_bias_abs = static_cast<float>(maps.settings().bias_abs);
     params.shadow_normal_offset = static_cast<float>(maps.settings().normal_offset);
+    params.shadow_bias_slope = static_cast<float>(maps.settings().bias_slope);
+    params.pixel_tangent = static_cast<float>(display.tangents.width() / display.extent.width);
     atlas = &maps.atlas();
   }
   slot.params.write(&params, sizeof(params));
@@ -378,6 +381,7 @@ WarpCounts WarpPass::read_counts(uint32_t slot_index) const {
   counts.filled_other_eye = fields[kClientCountOtherEye];
   counts.filled_shadow_map = fields[kClientCountShadowMap];
   counts.edges_shadow_map = fields[kClientCountEdgeShadowMap];
+  counts.shadow_overrides = fields[kClientCountShadowOverride];
   return counts;
 }
 

@@ -44,7 +44,7 @@ uint64_t WarpCounts::unknown_surface() const {
 
 WarpSettings WarpSettings::full() {
   WarpSettings s;
-  s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = true;
+  s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = s.shadow_first = true;
   return s;
 }
 
@@ -82,11 +82,14 @@ std::optional<std::string> validate_visibility_input(const Camera& traced, const
 
 namespace {
 
+constexpr double kExactLookup = 0.02;  // shader_interface.h's kClientWarpExactLookup
+
 // What one source says about one pixel (warp.comp's Lookup).
 struct SourceLookup {
   WarpStatus status = WarpStatus::kNoData;
   uint32_t agree = 0;
   uint32_t value = 0;
+  bool exact = false;
   glm::dvec2 pixel{0.0};
   double margin = std::numeric_limits<double>::infinity();
 };
@@ -156,6 +159,18 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
     return r;
   }
   r.status = WarpStatus::kKnown;
+  if (set.bilinear) {
+    const int k = (fx < 0.5 ? 0 : 1) + 2 * (fy < 0.5 ? 0 : 1);
+    const double dx = std::min(fx, 1.0 - fx), dy = std::min(fy, 1.0 - fy);
+    r.margin = std::min(r.margin, std::min(std::abs(dx - kExactLookup), std::abs(dy - kExactLookup)));
+    r.margin = std::min(r.margin, std::min(std::abs(fx - 0.5), std::abs(fy - 0.5)));
+    if (dx <= kExactLookup && dy <= kExactLookup && ((used >> k) & 1u)) {
+      r.exact = true;
+      r.agree = 0xFFFFFFFFu;
+      r.value = masks[k];
+      return r;
+    }
+  }
   r.agree = ~(and_m ^ or_m);
   r.value = and_m;
   uint32_t open = or_m & ~and_m;
@@ -187,11 +202,11 @@ WarpResult warp_reference(const WarpInput& input) {
                                 std::to_string(extent.height) + " camera");
   }
   const WarpSettings& set = input.settings;
-  const bool needs_normals = set.depth_test || set.shadow_fill || set.shadow_edges;
+  const bool needs_normals = set.depth_test || set.shadow_fill || set.shadow_edges || set.shadow_first;
   if (needs_normals && input.normals.size() != n) {
     throw std::invalid_argument("warp reference: the depth test and shadow lookups need one normal per pixel");
   }
-  if ((set.shadow_fill || set.shadow_edges) && input.shadow == nullptr) {
+  if (set.uses_shadow_maps() && input.shadow == nullptr) {
     throw std::invalid_argument("warp reference: shadow settings without shadow maps");
   }
   std::array<WarpSource, 2> sources = input.sources;
@@ -241,17 +256,23 @@ WarpResult warp_reference(const WarpInput& input) {
         }
       }
       const bool have = own.status == WarpStatus::kKnown || out.fill[i] == WarpFill::kOtherEye;
-      const bool need_shadow = have ? set.shadow_edges && (~chosen.agree & unknown) != 0 : set.shadow_fill;
+      const uint32_t undecided = have ? ~chosen.agree & unknown : 0u;
+      const bool need_shadow =
+          have ? (set.shadow_first && !chosen.exact) || (set.shadow_edges && undecided != 0) : set.shadow_fill;
       ShadowDecision shadow;
       if (need_shadow) {
-        shadow = shadow_mask_reference(*input.shadow, input.lights, p, nrm);
+        const double depth = input.near_plane / d;
+        const double pixel_world = depth * input.display.tangents.width() / input.display.extent.width;
+        shadow = shadow_mask_reference(*input.shadow, input.lights, p, nrm, pixel_world);
         margin = std::min(margin, shadow.margin);
       }
       if (have) {
-        const uint32_t undecided = ~chosen.agree & unknown;
-        out.masks[i] = need_shadow ? (chosen.value & ~undecided) | (shadow.mask & undecided) : chosen.value;
-        if (need_shadow) ++out.counts.edges_shadow_map;
-      } else if (need_shadow) {
+        const uint32_t from_shadow =
+            (set.shadow_first && !chosen.exact ? shadow.confident : 0u) | (set.shadow_edges ? undecided : 0u);
+        out.masks[i] = (chosen.value & ~from_shadow) | (shadow.mask & from_shadow);
+        if (set.shadow_edges && undecided != 0) ++out.counts.edges_shadow_map;
+        if ((from_shadow & ~undecided & (chosen.value ^ shadow.mask) & unknown) != 0) ++out.counts.shadow_overrides;
+      } else if (set.shadow_fill) {
         out.masks[i] = shadow.mask;
         out.fill[i] = WarpFill::kShadowMap;
       }

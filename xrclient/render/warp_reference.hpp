@@ -14,7 +14,9 @@
 //   no sample used                           -> kDisoccluded
 //   otherwise kKnown: bits all used samples agree on take that value; the others the bilinear vote
 //     (set when 2 * weight of the samples with the bit >= weight of the used samples), or with shadow_edges
-//     the shadow maps' bit.
+//     the shadow maps' bit. With shadow_first, every bit the shadow maps are confident about (their 2x2
+//     texel footprint decides alike and no surface lies within the bias band of the point; lights that
+//     cannot contribute) takes the shadow maps' bit.
 // A surface pixel that source 0 does not fill tries source 1 (other_eye) the same way (fill kOtherEye), then
 // the shadow maps (shadow_fill: fill kShadowMap), else takes every light bit of source 0's buffer (all 32
 // without one): the paper's "take as lit".
@@ -64,6 +66,7 @@ struct WarpCounts {
   uint64_t filled_other_eye = 0;    // surface pixels source 0 could not fill, filled by the other eye
   uint64_t filled_shadow_map = 0;   // ... by the shadow maps
   uint64_t edges_shadow_map = 0;    // known pixels whose undecided bits took the shadow maps
+  uint64_t shadow_overrides = 0;    // known pixels where a confident shadow-map bit replaced an agreed one
   uint64_t operator[](WarpStatus s) const { return by_status[static_cast<size_t>(s)]; }
   // Surface pixels without a mask from their own eye's buffer (behind, outside, missing row, no data,
   // disoccluded), filled or not.
@@ -80,9 +83,11 @@ struct WarpSettings {
   bool other_eye = false;     // fill from the other eye's newest buffer
   bool shadow_fill = false;   // fill the rest from the client's shadow maps
   bool shadow_edges = false;  // bits the samples disagree on from the shadow maps
+  bool shadow_first = false;  // bits the shadow maps are confident about from the shadow maps
   double plane_tolerance_rel = 0.02;  // metres per metre of depth
   double plane_tolerance_abs = 0.01;  // metres
   static WarpSettings full();  // every ingredient on
+  bool uses_shadow_maps() const { return shadow_fill || shadow_edges || shadow_first; }
   bool operator==(const WarpSettings&) const = default;
 };
 

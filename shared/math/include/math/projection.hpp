@@ -106,6 +106,10 @@ struct Reprojection {
 // Projects p (world space) into the camera. Points with eye-space depth <= min_depth are kBehind.
 Reprojection reproject(const Camera& camera, const glm::dvec3& p_world, double min_depth = 1e-6);
 
+// The client rasterizes nothing nearer than this (metres along the view axis: its G-buffer's near plane), and
+// the server's primary rays start there, so both see the same surface at every pixel.
+inline constexpr double kClipNearPlane = 0.05;
+
 // Returns an error message when the camera cannot be used (bad pose/FOV, zero or absurd extent).
 inline constexpr uint32_t kMaxImageDimension = 16384;
 std::optional<std::string> validate_camera(const Camera& camera);
