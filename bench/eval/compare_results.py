@@ -3,14 +3,14 @@
 
 Usage: bench/eval/compare_results.py NEW.json REFERENCE.json
 Prints each differing field (path: new vs reference) and exits 1 when any differs, 0 when all are equal.
-Skipped, because they measure the host and vary from run to run: client_ms, server_ms, encode_ms, decode_ms,
-client_gpu_timed. Everything else (errors, counts, bytes, virtual-time response/horizon/connect times) is
+Skipped, because they measure the host or GPU and vary from run to run: client_ms, server_ms, encode_ms, decode_ms,
+client_gpu_timed, warp_ms, traced_depth_ms. Everything else (errors, counts, bytes, virtual-time response/horizon/connect times) is
 deterministic and must be equal bit for bit.
 """
 import json
 import sys
 
-HOST_TIME = {"client_ms", "server_ms", "encode_ms", "decode_ms", "client_gpu_timed"}
+HOST_TIME = {"client_ms", "server_ms", "encode_ms", "decode_ms", "client_gpu_timed", "warp_ms", "traced_depth_ms"}
 
 
 def walk(new, ref, path, out):

@@ -128,7 +128,10 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     const uint64_t total = warmup + frames;
     SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), &history, total};
     std::vector<std::unique_ptr<SettingSession>> sessions;
-    for (const Setting& s : settings) sessions.push_back(std::make_unique<SettingSession>(s, options, shared));
+    for (const Setting& s : settings) {
+      sessions.push_back(std::make_unique<SettingSession>(s, options, shared));
+      if (options.snapshot_frame) sessions.back()->snapshot_at(warmup + *options.snapshot_frame);
+    }
 
     log::info("dhr-eval: %zu settings, %llu warm-up + %llu measured frames, eyes %ux%u, %s, tracer %s",
               settings.size(), static_cast<unsigned long long>(warmup), static_cast<unsigned long long>(frames),

@@ -1,6 +1,7 @@
 #include "eval_session.hpp"
 #include "image/png_writer.hpp"
-#include <cstdlib>
+
+#include <filesystem>
 
 #include "metrics/image_flip.hpp"
 #include "log/log.hpp"
@@ -134,6 +135,7 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
   totals_.bit_error_per_light.assign(shared.light_count, 0.0);
   cap_ms_ = options.predict_max_horizon_ms;
   warp_ = warp_settings(setting.method, options);
+  snapshot_dir_ = options.out_dir;
   service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options), server_out_,
                                                          server_clock_);
   client_ = std::make_unique<client::VisibilityClient>(client_config(setting, options, shared), uplink_, clock_);
@@ -239,7 +241,8 @@ void SettingSession::advance(const FramePose& sample) {
   run_until(t, false);
   client_->tick();
   service_->tick();
-  client_->send_pose(FramePose{sample.frame, t, sample.views});  // display time on the setting's clock
+  // Display time on the setting's clock. local asks the server for nothing (it stays connected, idle).
+  if (uses_server_visibility(setting_.method)) client_->send_pose(FramePose{sample.frame, t, sample.views});
   run_until(t, true);
 }
 
@@ -266,29 +269,7 @@ void SettingSession::measure(const Truth& truth) {
       totals_.response_ms += static_cast<double>(p.visibility_age_ns.value_or(0)) * 1e-6;
     }
     const EyeRender& rendered = renders[eye];
-    if (const char* dump = std::getenv("DHR_EVAL_DUMP"); dump != nullptr && frame_ >= std::strtoull(dump, nullptr, 10) && !dumped_[eye]) {
-      dumped_[eye] = true;
-      std::fprintf(stderr, "dump frame %llu\n", static_cast<unsigned long long>(frame_));
-      const std::string base = "/tmp/dump_" + method_name(setting_.method) + "_" + std::to_string(eye);
-      write_png(base + "_rgba.png", shared_.eye.width, shared_.eye.height, 4, rendered.rgba);
-      write_png(base + "_truth.png", shared_.eye.width, shared_.eye.height, 4, truth.rgba[eye]);
-      std::vector<uint8_t> diff(rendered.mask.width * rendered.mask.height * 3);
-      for (size_t i = 0; i < diff.size() / 3; ++i) {
-        const uint32_t a = rendered.mask.mask_at(i), b = truth.mask[eye].mask_at(i);
-        diff[i * 3 + 0] = (a & ~b) ? 255 : 0;  // lit, should be shadowed
-        diff[i * 3 + 1] = (b & ~a) ? 255 : 0;  // shadowed, should be lit
-        diff[i * 3 + 2] = b ? 60 : 0;
-      }
-      write_png(base + "_diff.png", shared_.eye.width, shared_.eye.height, 3, diff);
-      for (uint32_t l = 0; l < shared_.light_count; ++l) {
-        std::vector<uint8_t> m(rendered.mask.width * rendered.mask.height * 3);
-        for (size_t i = 0; i < m.size() / 3; ++i) {
-          m[i * 3 + 0] = ((rendered.mask.mask_at(i) >> l) & 1u) ? 255 : 0;
-          m[i * 3 + 1] = ((truth.mask[eye].mask_at(i) >> l) & 1u) ? 255 : 0;
-        }
-        write_png(base + "_light" + std::to_string(l) + ".png", shared_.eye.width, shared_.eye.height, 3, m);
-      }
-    }
+    if (snapshot_frame_ && frame_ == *snapshot_frame_) write_snapshot(rendered, truth, eye);
     add_image_errors(rendered, truth, eye);
     totals_.filled_other_eye += static_cast<double>(rendered.stats.warp.filled_other_eye) / pixels_per_eye();
     totals_.filled_shadow_map += static_cast<double>(rendered.stats.warp.filled_shadow_map) / pixels_per_eye();
@@ -306,6 +287,33 @@ void SettingSession::measure(const Truth& truth) {
     totals_.frames_behind += static_cast<double>(p.age);
     totals_.frames_predicted += static_cast<double>(p.predicted);
   }
+}
+
+void SettingSession::write_snapshot(const EyeRender& rendered, const Truth& truth, int eye) const {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(snapshot_dir_) / "snapshots";
+  fs::create_directories(dir);
+  char rtt[32];
+  std::snprintf(rtt, sizeof rtt, "%g", setting_.rtt_ms);
+  const std::string suffix = "_eye" + std::to_string(eye) + ".png";
+  const std::string base = method_name(setting_.method) + "_rtt" + rtt + "_guard" + setting_.guard;
+  const Extent e = shared_.eye;
+  auto write = [&](const fs::path& path, uint32_t channels, const std::vector<uint8_t>& pixels) {
+    if (auto err = write_png(path.string(), e.width, e.height, channels, pixels)) {
+      std::fprintf(stderr, "dhr-eval: %s\n", err->c_str());
+    }
+  };
+  write(dir / (base + suffix), 4, rendered.rgba);
+  write(dir / ("exact_guard" + setting_.guard + suffix), 4, truth.rgba[eye]);
+  // Wrong visibility bits: red where lit but shadowed in the truth, green where shadowed but lit.
+  std::vector<uint8_t> diff(size_t{e.width} * e.height * 3, 0);
+  for (size_t i = 0; i < diff.size() / 3; ++i) {
+    const uint32_t got = rendered.mask.mask_at(i), want = truth.mask[eye].mask_at(i);
+    diff[i * 3 + 0] = (got & ~want) != 0 ? 255 : 0;
+    diff[i * 3 + 1] = (want & ~got) != 0 ? 255 : 0;
+    diff[i * 3 + 2] = want != 0 ? 48 : 0;
+  }
+  write(dir / (base + "_wrong_bits" + suffix), 3, diff);
 }
 
 void SettingSession::add_image_errors(const EyeRender& rendered, const Truth& truth, int eye) {

@@ -145,6 +145,8 @@ class SettingSession {
   void measure(const Truth& truth);
 
   const Setting& setting() const { return setting_; }
+  // Writes the shaded eyes, the exact ones and the wrong bits of trace frame `frame` to <out>/snapshots.
+  void snapshot_at(uint64_t frame) { snapshot_frame_ = frame; }
   // The totals, with the session layers' counters folded in.
   SettingTotals totals() const;
 
@@ -154,6 +156,7 @@ class SettingSession {
   void process_on_server(int64_t t_ns);
   void deliver_to_client(const net::SimulatedDelivery& delivery);
   void add_image_errors(const EyeRender& rendered, const Truth& truth, int eye);
+  void write_snapshot(const EyeRender& rendered, const Truth& truth, int eye) const;
   int64_t display_ns(const FramePose& sample) const { return time_offset_ns_ + sample.display_time_ns; }
   double pixels_per_eye() const { return static_cast<double>(shared_.eye.width) * shared_.eye.height; }
 
@@ -161,7 +164,8 @@ class SettingSession {
   SessionShared shared_;
   double cap_ms_ = 0.0;  // the predictor's horizon cap (paper+pred)
   render::WarpSettings warp_;
-  std::array<bool, 2> dumped_{};  // the client's warp for the setting's method
+  std::optional<uint64_t> snapshot_frame_;  // RunOptions::snapshot_frame, as a trace frame index
+  std::string snapshot_dir_;  // the client's warp for the setting's method
   TracedFormat format_;  // the eye size and guard band, as the Welcome must grant them
   net::VirtualClock clock_;
   ServerClock server_clock_;

@@ -75,6 +75,7 @@ struct RunOptions {
   render::ShadowMapSettings shadow_maps;  // local, full
   double plane_tolerance_rel = render::WarpSettings{}.plane_tolerance_rel;  // full's depth test
   double plane_tolerance_abs = render::WarpSettings{}.plane_tolerance_abs;
+  std::optional<uint64_t> snapshot_frame;  // measured frame (0: the first) whose images go to <out>/snapshots
   uint32_t threads = 0;          // Embree threads (0: all cores)
   bool progress = true;
 };

@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
   run->add_option("--plane-tolerance-abs", options.plane_tolerance_abs, "full: depth test tolerance, metres")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  run->add_option("--snapshot-frame", options.snapshot_frame,
+                  "write PNGs of this measured frame (0: the first) to <out>/snapshots: every setting's eyes, "
+                  "the exact ones and the wrong visibility bits");
   run->add_option("--threads", options.threads, "Embree threads (0: all cores)");
   bool no_progress = false;
   run->add_flag("--no-progress", no_progress, "no progress bar on stderr");

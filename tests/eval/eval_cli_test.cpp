@@ -179,7 +179,10 @@ TEST(EvalCliDeterminismTest, ImpairedRunsWithModelledServerTimeRepeatExactly) {
   ASSERT_EQ(b.size(), 2u);
   for (size_t i = 0; i < a.size(); ++i) {
     for (const auto& [key, value] : a[i].items()) {
-      if (key == "client_ms" || key == "server_ms" || key == "encode_ms" || key == "decode_ms") continue;  // host time
+      if (key == "client_ms" || key == "server_ms" || key == "encode_ms" || key == "decode_ms" || key == "warp_ms" ||
+          key == "traced_depth_ms") {
+        continue;  // host or GPU time
+      }
       EXPECT_EQ(value, b[i][key]) << i << " " << key;
     }
     EXPECT_GT(a[i]["datagrams_lost"].get<int>(), 0) << "10 % loss over a whole run loses some datagrams";
@@ -219,6 +222,41 @@ TEST_F(EvalCliTest, ReportWritesMarkdownAndPlots) {
   }
 }
 
+// local (the client's shadow maps only) and full (every ingredient) with an ablation: the fill counts are
+// written, local never uses the server, full fills what its own eye's buffer cannot, and at zero delay full
+// is exact (its lookups land on the centres of pixels traced for the very same rays).
+TEST(EvalCliMethodsTest, LocalAndFullWriteTheirFillCounts) {
+  const fs::path out = temp_dir("methods");
+  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+                           " --frames 6 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,100 "
+                           "--method paper+pred,local,full,full-no-shadow-first-no-pred --shadow-size 256 "
+                           "--snapshot-frame 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto results = by_setting(read_results(out));
+  ASSERT_EQ(results.size(), 8u);
+  for (const auto& [key, res] : results) {
+    for (const char* k : {"filled_other_eye_frac", "filled_shadow_map_frac", "unfilled_frac", "disoccluded_frac",
+                          "edges_shadow_map_frac", "shadow_overrides_frac", "traced_depth_ms", "warp_ms"}) {
+      EXPECT_TRUE(res.contains(k)) << key << " " << k;
+    }
+  }
+  const json& local = results.at("local@100");
+  EXPECT_EQ(local["no_data_frac"].get<double>(), 1.0);
+  EXPECT_GT(local["filled_shadow_map_frac"].get<double>(), 0.5);
+  EXPECT_EQ(local["unfilled_frac"].get<double>(), 0.0);
+  EXPECT_EQ(local["bytes_per_frame"].get<double>(), 0.0);  // no server
+  EXPECT_EQ(local["server_ms"].get<double>(), 0.0);
+  const json& full = results.at("full@100");
+  EXPECT_EQ(full["unfilled_frac"].get<double>(), 0.0);  // the shadow maps fill whatever the buffers cannot
+  EXPECT_LE(full["bit_error"].get<double>(), results.at("paper+pred@100")["bit_error"].get<double>());
+  EXPECT_EQ(results.at("full@0")["bit_error"].get<double>(), 0.0);
+  EXPECT_TRUE(results.contains("full-no-shadow-first-no-pred@100"));
+  EXPECT_TRUE(fs::exists(out / "snapshots" / "full_rtt100_guard64x36_eye0.png"));
+  EXPECT_TRUE(fs::exists(out / "snapshots" / "exact_guard64x36_eye1.png"));
+  EXPECT_TRUE(fs::exists(out / "snapshots" / "local_rtt100_guard64x36_wrong_bits_eye0.png"));
+  fs::remove_all(out);
+}
+
 TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   const fs::path out = temp_dir("bad");
   CliRun r = run_cli("run --scene /nonexistent.gltf --trace " + kTrace + " --out " + out.string() + " --no-progress");
@@ -229,6 +267,11 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   EXPECT_NE(r.output.find("--rtt-ms"), std::string::npos) << r.output;
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method warp");
   EXPECT_EQ(r.exit_code, 2);
+  for (const char* bad : {"full-no-warp", "full-no-depth-no-depth", "local-no-depth", "fullx"}) {
+    r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.output.find("full-no-<ingredient>"), std::string::npos) << r.output;
+  }
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --eye-size 0x0");
   EXPECT_EQ(r.exit_code, 2);
   r = run_cli("run --scene " + kScene + " --trace /nonexistent.csv --out " + out.string() + " --no-progress");

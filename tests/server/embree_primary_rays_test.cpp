@@ -1,6 +1,8 @@
 // The Embree tracer's primary rays come from per-frame column/row tables (embree_trace_tile.hpp): they must be
 // bit-identical to the camera maths they replace, normalize(R * camera.eye_ray(x + 0.5, y + 0.5)) in double.
+// They start at the client's near plane: what the client's rasterizer clips is not traced in its place.
 #include "embree_scene.hpp"
+#include "embree_tracer.hpp"
 #include "embree_trace_tile.hpp"
 #include "test_scenes.hpp"
 
@@ -42,6 +44,28 @@ TEST(EmbreePrimaryRays, TablesGiveTheCameraMathsBitForBit) {
       }
     }
     EXPECT_EQ(differing, 0u) << "camera " << c;
+  }
+}
+
+// A wall in front of the eye, nearer than the near plane (kClipNearPlane along the view axis) in one run and
+// just beyond it in the other: the first is not traced (every pixel background, as the client's rasterizer
+// clips it), the second is.
+TEST(EmbreePrimaryRays, StartAtTheClientsNearPlane) {
+  for (const double distance : {0.6 * kClipNearPlane, 1.4 * kClipNearPlane}) {
+    SCOPED_TRACE(distance);
+    Scene scene = test::make_empty_scene();
+    // Facing +Z (toward the eye at the origin looking along -Z), 4 m wide: fills the view.
+    const float z = static_cast<float>(-distance);
+    test::add_grid(scene, {-2.0f, -2.0f, z}, {4.0f, 0.0f, 0.0f}, {0.0f, 4.0f, 0.0f}, 2, test::kSingleSided);
+    scene.lights.push_back(test::point_light({0.0f, 0.0f, 1.0f}, 5.0f));
+    test::finalize(scene);
+    const Camera camera = test::look_camera({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, 32, 24, 60.0);
+    EmbreeTracer tracer(scene, TracerOptions{});
+    VisibilityBuffer out;
+    TraceStats stats;
+    tracer.trace(camera, out, stats);
+    const uint64_t pixels = uint64_t{camera.extent.width} * camera.extent.height;
+    EXPECT_EQ(stats.background_pixels, distance < kClipNearPlane ? pixels : 0u);
   }
 }
 
