@@ -25,6 +25,7 @@ struct FrameSetup {
   std::vector<glm::dvec3> ray_columns;  // R[0] * tx of column x
   std::vector<glm::dvec3> ray_rows;     // R[1] * ty of row y
   glm::dvec3 ray_forward{0.0};          // R[2] * -1
+  double primary_near = kClipNearPlane;  // TracerOptions::primary_near
   std::vector<PackedLight> lights;      // all lights, relative frame
   std::vector<uint32_t> active_lights;  // indices of lights not culled for this view
   uint32_t culled_lights = 0;
@@ -69,10 +70,10 @@ inline glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t
   return glm::vec3(glm::normalize((frame.ray_columns[x] + frame.ray_rows[y]) + frame.ray_forward));
 }
 
-// Where a primary ray along `dir` starts: the client's near plane (kClipNearPlane along the view axis), so
-// nothing the client's rasterizer clips is traced in its place.
+// Where a primary ray along `dir` starts: the client's near plane (frame.primary_near along the view axis),
+// so nothing the client's rasterizer clips is traced in its place.
 inline float primary_tnear(const FrameSetup& frame, const glm::vec3& dir) {
-  return static_cast<float>(kClipNearPlane / glm::dot(glm::dvec3(dir), frame.ray_forward));
+  return static_cast<float>(frame.primary_near / glm::dot(glm::dvec3(dir), frame.ray_forward));
 }
 
 // One surface point and light: true with the occlusion ray to trace (and whether the light contributes, else

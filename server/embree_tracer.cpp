@@ -47,6 +47,7 @@ void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
     out = VisibilityBuffer::create(width, height, lights);
 
   detail::FrameSetup frame = detail::make_frame_setup(*scene_, lights_, camera, options_.skip, lights);
+  frame.primary_near = options_.primary_near;
   frame.primary_packets = config_.primary_packets;
   frame.shadow_query = config_.shadow_query;
 

@@ -30,6 +30,9 @@ struct SkipOptions {
 struct TracerOptions {
   SkipOptions skip;
   uint32_t threads = 0;  // CPU backends: 0 = all cores
+  // Primary rays start at this depth along the view axis: the client's near plane, so nothing it clips is
+  // traced in place of what it shows (a scene drawn at another scale would scale it too).
+  double primary_near = kClipNearPlane;
   // Vulkan backend: device preference "auto" | "gpu" | "lavapipe"; validation layer on/off.
   std::string vk_device = "auto";
   bool vk_validation = false;

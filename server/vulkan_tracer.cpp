@@ -212,7 +212,7 @@ void VulkanTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
   shader::VisPushConstants pc = push_constants(camera, im.origin);
   pc.light_count = lights;  // the shader's light loop: unrequested lights are never tested
   pc.ray_offset_scale = im.ray_offset_scale;
-  pc.primary_near = static_cast<float>(kClipNearPlane);
+  pc.primary_near = static_cast<float>(im.options.primary_near);
   TraceStats stats;
   stats.pixels = pixels;
   stats.lights_unrequested = light_count() - lights;

@@ -44,7 +44,9 @@ template <typename Tracer>
 Errors compare_scenes(const Scene& reference, const Scene& moved, const std::vector<Camera>& ref_cameras,
                       double scale, const glm::dvec3& offset, const server::TracerOptions& options) {
   Tracer ref_tracer(reference, options);
-  Tracer moved_tracer(moved, options);
+  server::TracerOptions moved_options = options;
+  moved_options.primary_near *= scale;  // the client's near plane, drawn at the scene's scale
+  Tracer moved_tracer(moved, moved_options);
   Errors e;
   for (const Camera& camera : ref_cameras) {
     const Camera moved_camera = transform_camera(camera, scale, offset);

@@ -96,6 +96,12 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "paper: show frame n-p+x; newest: always the newest pose; stale: no warp (reference)")
       ->capture_default_str()
       ->check(CLI::IsMember({"paper", "newest", "stale"}));
+  std::string warp = "paper";
+  app.add_option("--warp", warp,
+                 "paper: the paper's warp (unknown pixels lit); full: 2x2 depth-tested lookups, the other eye's "
+                 "buffer and the client's shadow maps (docs/client.md, Warp rule)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"paper", "full"}));
   std::string codec = "v2";
   app.add_option("--codec", codec, "visibility codec to offer: v2 (the server may still choose v1) or v1")
       ->capture_default_str()
@@ -137,6 +143,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   }
   out.schedule = *parse_schedule(schedule);
   out.codec_v2 = codec == "v2";
+  out.warp_full = warp == "full";
   if (!parse_view(view, out)) {
     return usage("--view '" + view + "': expected shaded, light:N (N 0..31), unknown, motion, albedo or normal");
   }

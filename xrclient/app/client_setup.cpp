@@ -120,6 +120,7 @@ CoordinatorOptions coordinator_options(const ClientOptions& options) {
   out.eye.shading.debug_light = options.view_light;
   const render::WarpOutputs needed = render::warp_outputs_for(out.eye.shading.view);
   out.eye.warp_status = needed.status;
+  if (options.warp_full) out.eye.warp = render::WarpSettings::full();
   out.eye.motion_vectors = needed.motion;
   return out;
 }
