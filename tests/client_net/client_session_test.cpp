@@ -62,6 +62,40 @@ TEST(ClientSession, RetriesHelloWithTheSameNonceThenGivesUp) {
   EXPECT_FALSE(h.client.send_pose(FramePose{1, 0, views_for(1)}));
 }
 
+// Offline mode: past the give-up time the client keeps sending Hello, the interval doubling up to the cap,
+// never fails, and a Welcome still connects.
+TEST(ClientSession, KeepRetryingBacksOffAndAWelcomeStillConnects) {
+  VisibilityClientConfig config = test_config();
+  config.keep_retrying = true;
+  config.hello_retry_ns = 250 * kMs;
+  config.hello_give_up_ns = 1'000 * kMs;
+  config.hello_backoff_max_ns = 2'000 * kMs;
+  Harness h(config);
+  h.client.tick();
+  h.run_for(12'000 * kMs);
+  EXPECT_FALSE(h.client.failed());
+  std::vector<int64_t> sent;
+  for (const auto& d : h.from_client) {
+    if (std::holds_alternative<Hello>(d.datagram.message)) sent.push_back(d.receive_ns);
+  }
+  // 0, 250, 500, 750 ms, then backing off from the give-up time: 1000 ms, and 500, 1000, 2000, 2000, ... ms apart.
+  ASSERT_GE(sent.size(), 9u);
+  std::vector<int64_t> gaps;
+  for (size_t i = 1; i < sent.size(); ++i) gaps.push_back((sent[i] - sent[i - 1]) / kMs);
+  EXPECT_EQ(gaps[0], 250);
+  EXPECT_EQ(gaps[3], 250);
+  EXPECT_EQ(gaps[4], 500);
+  EXPECT_EQ(gaps[5], 1000);
+  EXPECT_EQ(gaps[6], 2000);
+  EXPECT_EQ(gaps.back(), 2000);
+  EXPECT_EQ(h.client.stats().hellos_backed_off, sent.size() - 4);
+  const auto hellos = h.received<Hello>();
+  for (const Hello& hello : hellos) EXPECT_EQ(hello.client_nonce, hellos[0].client_nonce);
+  h.server_send(h.welcome_for(hellos[0].client_nonce));
+  h.run_for(kMs);
+  EXPECT_TRUE(h.client.connected());
+}
+
 TEST(ClientSession, AWelcomeAfterARetryStillConnects) {
   Harness h;
   h.client.tick();

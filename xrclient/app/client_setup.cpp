@@ -30,14 +30,23 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
   config.format = TracedFormat{eye, guard};
   config.codec_v2 = options.codec_v2;
   config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);
+  // --warp full has the client's own shadow maps to show: it never gives up on the server (offline mode).
+  config.keep_retrying = options.warp_full;
   auto link = std::make_unique<UdpVisibilityClient>();
   link->connect(config, host, port, options.impairment);
   // Setup, not the frame loop: waiting for the handshake here keeps the first frames meaningful.
+  const auto start = std::chrono::steady_clock::now();
   while (true) {
     link->client().tick();
     if (link->client().connected()) break;
     if (link->client().failed()) {
       throw std::runtime_error("no dhr-server reachable at " + options.server + ": " + link->client().failure());
+    }
+    if (config.keep_retrying &&
+        std::chrono::steady_clock::now() - start >= std::chrono::duration<double>(options.connect_timeout_s)) {
+      log::warn("no dhr-server at %s yet: shading with the client's shadow maps, still trying",
+                options.server.c_str());
+      return link;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
@@ -79,6 +88,9 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   j["x_max"] = options.x_max;
   j["view"] = options.view == "light" ? "light:" + std::to_string(options.view_light) : options.view;
   j["frames_with_visibility"] = frames.frames_with_visibility();
+  j["frames_local"] = frames.frames_local();
+  j["pixels_shadow_map"] = frames.pixels_shadow_map();
+  j["pixels_other_eye"] = frames.pixels_other_eye();
   j["age_frames_median"] = opt(frames.age_median());
   j["responses"] = frames.responses();
   j["gbuffer_ms_median"] = opt(frames.gbuffer_ms_median());
@@ -91,6 +103,9 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
               {"frames_completed", net.frames_completed},
               {"frames_published_partial", net.frames_published_partial},
               {"server_datagrams_missing", net.server_datagrams_missing},
+              {"hellos_sent", net.hellos_sent},
+              {"hellos_backed_off", net.hellos_backed_off},
+              {"sessions_restarted", net.sessions_restarted},
               {"impairment", options.impairment.describe()}};
   return j.dump();
 }

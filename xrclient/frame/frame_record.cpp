@@ -27,6 +27,8 @@ std::string frame_record_json(const FrameRecord& record) {
     o["warp_ms"] = e.stats.gpu.warp_ms;
     o["shading_ms"] = e.stats.gpu.shading_ms;
     o["known"] = e.stats.warp[render::WarpStatus::kKnown];
+    o["filled_other_eye"] = e.stats.warp.filled_other_eye;
+    o["filled_shadow_map"] = e.stats.warp.filled_shadow_map;
     o["surface"] = e.stats.warp.surface();
     o["unknown"] = e.stats.unknown_pixels();
     for (size_t s = 0; s < render::kWarpStatusCount; ++s) {
@@ -41,7 +43,10 @@ std::string frame_record_json(const FrameRecord& record) {
 void FrameSummary::add(const FrameRecord& record) {
   ++frames_;
   bool any_visibility = false;
+  uint64_t shadow_pixels = 0;
   for (const EyeFrameRecord& e : record.eyes) {
+    shadow_pixels += e.stats.warp.filled_shadow_map;
+    pixels_other_eye_ += e.stats.warp.filled_other_eye;
     surface_ += e.stats.warp.surface();
     known_ += e.stats.warp[render::WarpStatus::kKnown];
     unknown_ += e.stats.unknown_pixels();
@@ -56,6 +61,8 @@ void FrameSummary::add(const FrameRecord& record) {
     }
   }
   if (any_visibility) ++frames_with_visibility_;
+  if (!any_visibility && shadow_pixels > 0) ++frames_local_;
+  pixels_shadow_map_ += shadow_pixels;
   if (record.response_ms) response_ms_.push_back(*record.response_ms);
 }
 

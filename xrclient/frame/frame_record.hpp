@@ -38,6 +38,10 @@ class FrameSummary {
   void add(const FrameRecord& record);
   uint64_t frames() const { return frames_; }
   uint64_t frames_with_visibility() const { return frames_with_visibility_; }
+  // Frames shaded with no server visibility in either eye but some pixels from the shadow maps (offline).
+  uint64_t frames_local() const { return frames_local_; }
+  uint64_t pixels_shadow_map() const { return pixels_shadow_map_; }  // filled from the shadow maps, both eyes
+  uint64_t pixels_other_eye() const { return pixels_other_eye_; }    // filled from the other eye's buffer
   double predicted_frac() const;  // known surface pixels / surface pixels, both eyes, all frames
   double unknown_frac() const;    // unknown surface pixels / surface pixels
   std::optional<double> response_ms_median() const { return median(response_ms_); }
@@ -52,6 +56,9 @@ class FrameSummary {
  private:
   uint64_t frames_ = 0;
   uint64_t frames_with_visibility_ = 0;
+  uint64_t frames_local_ = 0;
+  uint64_t pixels_shadow_map_ = 0;
+  uint64_t pixels_other_eye_ = 0;
   uint64_t surface_ = 0;
   uint64_t known_ = 0;
   uint64_t unknown_ = 0;

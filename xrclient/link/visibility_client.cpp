@@ -68,6 +68,7 @@ void VisibilityClient::start_handshake(int64_t now) {
   do nonce_ = next_random(rng_state_);
   while (nonce_ == 0);
   handshake_start_ns_ = now;
+  hello_interval_ns_ = config_.hello_retry_ns;
   send_hello(now);
 }
 
@@ -131,14 +132,25 @@ void VisibilityClient::tick() {
     case State::kIdle:
       start_handshake(now);
       break;
-    case State::kHandshaking:
-      if (now - handshake_start_ns_ >= config_.hello_give_up_ns) {
+    case State::kHandshaking: {
+      const bool past_give_up = now - handshake_start_ns_ >= config_.hello_give_up_ns;
+      if (past_give_up && !config_.keep_retrying) {
         fail("no Welcome from the server after " + std::to_string(stats_.hellos_sent) + " Hello(s) in " +
              std::to_string((now - handshake_start_ns_) / net::kNsPerMs) + " ms");
-      } else if (now - last_hello_ns_ >= config_.hello_retry_ns) {
+      } else if (now - last_hello_ns_ >= hello_interval_ns_) {
+        if (past_give_up) {  // offline: back off
+          if (hello_interval_ns_ == config_.hello_retry_ns) {  // the first backoff of this handshake
+            log::warn("visibility client: no Welcome in %lld ms; retrying with backoff",
+                      static_cast<long long>(config_.hello_give_up_ns / net::kNsPerMs));
+          }
+          hello_interval_ns_ = std::min(hello_interval_ns_ * 2, std::max(config_.hello_backoff_max_ns,
+                                                                         config_.hello_retry_ns));
+          ++stats_.hellos_backed_off;
+        }
         send_hello(now);
       }
       break;
+    }
     case State::kConnected: {
       const int64_t timeout_ns = int64_t{welcome_->session_timeout_ms} * net::kNsPerMs;
       if (now - last_receive_ns_ >= timeout_ns) {

@@ -47,6 +47,11 @@ struct VisibilityClientConfig {
   bool codec_v2 = true;            // offer codec v2 (the server decides; v1 is always offered)
   int64_t hello_retry_ns = 250 * net::kNsPerMs;
   int64_t hello_give_up_ns = 5 * net::kNsPerSecond;
+  // Offline mode: past hello_give_up_ns keep sending Hello, the interval doubling from hello_retry_ns up to
+  // hello_backoff_max_ns, instead of failing (the client shades with its own shadow maps meanwhile). A server
+  // that refuses the Hello still ends the session for good.
+  bool keep_retrying = false;
+  int64_t hello_backoff_max_ns = 2 * net::kNsPerSecond;
   size_t max_frames_in_flight = 4;  // reassembler frames per eye, 2..64
   // Publish an incomplete frame once nothing arrived for it this long: the rest is probably lost.
   int64_t partial_publish_after_ns = 20 * net::kNsPerMs;
@@ -72,6 +77,7 @@ struct ClientNetStats {
   uint64_t send_failures = 0;  // the sender refused (queue full, not running) or encoding failed
   // Session.
   uint64_t hellos_sent = 0;
+  uint64_t hellos_backed_off = 0;   // sent past hello_give_up_ns (keep_retrying)
   uint64_t welcomes_ignored = 0;   // nonce not the outstanding one
   uint64_t welcomes_repeated = 0;  // answers to a retried Hello after the session started
   uint64_t sessions_started = 0;   // Welcomes adopted
@@ -192,6 +198,7 @@ class VisibilityClient {
   std::optional<Welcome> welcome_;
   int64_t handshake_start_ns_ = 0;
   int64_t last_hello_ns_ = 0;
+  int64_t hello_interval_ns_ = 0;  // hello_retry_ns, doubled per Hello once backing off
   int64_t last_receive_ns_ = 0;  // newest valid datagram of the session
   std::optional<int64_t> last_heartbeat_sent_ns_;
   std::optional<Heartbeat> peer_heartbeat_;  // newest from the server, for the echo
