@@ -183,9 +183,6 @@ DHR_CONST uint kClientWarpShadowFirst = 256u;    // bits the shadow maps are con
 // Bilinear lookups within this many old pixels of an old pixel centre (in x and y) take that pixel's mask
 // as exact: it was traced for this very ray (no motion since, or none that moved the lookup).
 DHR_CONST float kClientWarpExactLookup = 0.02f;
-// Shadow-map confidence: lit, or shadowed by a surface nearer than distance - kShadowBand * bias, and,
-// where a shadow-map texel is coarser than a display pixel at the point, the 2x2 texels around the lookup agree.
-DHR_CONST float kShadowBand = 3.0f;
 // ClientWarpSource::flags
 DHR_CONST uint kClientSourceHasVisibility = 1u;
 DHR_CONST uint kClientSourceHasRowValidity = 2u;

@@ -14,14 +14,17 @@ living="../shared/data/scenes/living_room.glb"
 default="assets/scenes/default_room.gltf"
 user1="../shared/data/traces/6dof/gul2020_hololens/raw/User1.csv"
 user2="../shared/data/traces/6dof/gul2020_hololens/raw/User2.csv"
+user3="../shared/data/traces/6dof/gul2020_hololens/raw/User3.csv"
 # 2 s of trace per run (plus 0.26 s warm-up; the connection phase before it costs no rendering) keeps the
 # whole set under an hour on 2 CPU cores (lavapipe).
-common=(--trace-start 2 --eye-size 160x120 --rtt-ms 0,25,50,100,200 --method stale,paper,paper+pred)
+common=(--trace-start 2 --eye-size 160x120 --rtt-ms 0,25,50,100,200 --method stale,paper,paper+pred,local,full)
+# The headline: 320x240 per eye, both scenes, three users, 1 s of trace each.
+headline=(--trace-start 2 --frames 90 --eye-size 320x240 --rtt-ms 50,100,200 --method paper+pred,local,full)
 
 one() {  # name, then dhr-eval run arguments; DHR_EVAL_ONLY="a b" runs only those names
   local name="$1"; shift
   if [ -n "${DHR_EVAL_ONLY:-}" ] && [[ " $DHR_EVAL_ONLY " != *" $name "* ]]; then return 0; fi
-  "$eval_exe" run --out "docs/eval/$name" "$@"
+  "$eval_exe" run --out "docs/eval/$name" "$@" --no-progress
   "$eval_exe" report "docs/eval/$name"
 }
 
@@ -40,3 +43,10 @@ one living_room_user1_xmax --scene "$living" --trace "$user1" --trace-start 2 --
   --rtt-ms 100 --method paper --x-max 0,2,4,6,all
 one living_room_user1_server --scene "$living" --trace "$user1" --trace-start 2 --frames 90 --eye-size 160x120 \
   --rtt-ms 0,50,100 --method paper,paper+pred --server-ms 10
+one living_room_user1_ablation --scene "$living" --trace "$user1" --trace-start 2 --frames 90 --eye-size 160x120 \
+  --rtt-ms 100,200 --method paper+pred,local,full,full-no-bilinear,full-no-depth,full-no-other-eye,full-no-shadow-fill,full-no-shadow-edges,full-no-shadow-first,full-no-pred
+for user in 1 2 3; do
+  trace_var="user$user"
+  one "headline_living_room_user$user" --scene "$living" --trace "${!trace_var}" "${headline[@]}" --snapshot-frame 45
+  one "headline_default_room_user$user" --scene "$default" --trace "${!trace_var}" "${headline[@]}" --snapshot-frame 45
+done

@@ -268,7 +268,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
     const double threshold = c.distance - bias;
     const bool lit = texel_lit(c.texel, threshold);
     if (lit) out.mask |= 1u << i;
-    bool alike = lit || !texel_lit(c.texel, c.distance - kShadowConfidenceBand * bias);
+    bool alike = true;
     out.margin = std::min(out.margin, std::abs(texel - pixel_world) / pixel_world * 1e3);
     if (texel > pixel_world) {
       const glm::ivec2 t0(static_cast<int>(std::floor(c.position.x - 0.5)),

@@ -96,8 +96,7 @@ struct ShadowDecision {
   uint32_t confident = 0;  // see warp.comp's shadow_lookup
   double margin = 0.0;  // smallest distance to a flip of any decision made (see warp_reference.hpp)
 };
-// kShadowBand of shader_interface.h.
-inline constexpr double kShadowConfidenceBand = 3.0;
+
 // p and n in world space (n unit); lights as in the scene (at most 32); pixel_world: a display pixel's size at p.
 ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<const SceneLight> lights,
                                      const glm::dvec3& p, const glm::dvec3& n, double pixel_world);

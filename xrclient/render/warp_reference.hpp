@@ -14,9 +14,9 @@
 //   no sample used                           -> kDisoccluded
 //   otherwise kKnown: bits all used samples agree on take that value; the others the bilinear vote
 //     (set when 2 * weight of the samples with the bit >= weight of the used samples), or with shadow_edges
-//     the shadow maps' bit. With shadow_first, every bit the shadow maps are confident about (their 2x2
-//     texel footprint decides alike and no surface lies within the bias band of the point; lights that
-//     cannot contribute) takes the shadow maps' bit.
+//     the shadow maps' bit. With shadow_first, every bit the shadow maps are confident about (unless a texel
+//     is coarser than a display pixel at the point and the 2x2 texels around the lookup decide differently)
+//     takes the shadow maps' bit, unless the lookup is exact (within 0.02 px of an old pixel centre).
 // A surface pixel that source 0 does not fill tries source 1 (other_eye) the same way (fill kOtherEye), then
 // the shadow maps (shadow_fill: fill kShadowMap), else takes every light bit of source 0's buffer (all 32
 // without one): the paper's "take as lit".
