@@ -31,7 +31,7 @@ layout(set = 0, binding = kClientWarpBindingMask, r32ui) uniform writeonly uimag
 layout(set = 0, binding = kClientWarpBindingStatus, r32ui) uniform writeonly uimage2D status_image;  // optional
 layout(set = 0, binding = kClientWarpBindingMotion, rg32f) uniform writeonly image2D motion_image;
 layout(set = 0, binding = kClientWarpBindingCounters, std430) buffer Counters { uint counters[]; };
-layout(set = 0, binding = kClientWarpBindingParams, std430) readonly buffer Params { ClientWarpParams pc; };
+layout(set = 0, binding = kClientWarpBindingParams, std430) restrict readonly buffer Params { ClientWarpParams pc; };
 layout(set = 0, binding = kClientWarpBindingShadowMap) uniform sampler2D shadow_atlas;
 layout(set = 0, binding = kClientWarpBindingShadowLights, std430) readonly buffer ShadowLights {
   ClientShadowLight shadow_lights[];
@@ -61,19 +61,18 @@ struct Lookup {
 };
 
 Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
-  const ClientWarpSource src = pc.source[s];
   Lookup r;
   r.agree = 0u;
   r.value = 0u;
   r.exact = false;
-  const vec3 ray = v3(src.ray0) + centre.x * v3(src.ray_dx) + centre.y * v3(src.ray_dy);
-  const vec3 p_old = (pc.near_plane / d) * ray + v3(src.trans);
+  const vec3 ray = v3(pc.source[s].ray0) + centre.x * v3(pc.source[s].ray_dx) + centre.y * v3(pc.source[s].ray_dy);
+  const vec3 p_old = (pc.near_plane / d) * ray + v3(pc.source[s].trans);
   const float depth_old = -p_old.z;
-  const float px = src.old_px_scale * (p_old.x / depth_old) + src.old_px_offset;
-  const float py = src.old_py_scale * (p_old.y / depth_old) + src.old_py_offset;
+  const float px = pc.source[s].old_px_scale * (p_old.x / depth_old) + pc.source[s].old_px_offset;
+  const float py = pc.source[s].old_py_scale * (p_old.y / depth_old) + pc.source[s].old_py_offset;
   r.pixel = vec2(px, py);
-  const bool inside = px >= 0.0 && py >= 0.0 && px < float(src.old_width) && py < float(src.old_height);
-  if ((src.flags & kClientSourceHasVisibility) == 0u) {
+  const bool inside = px >= 0.0 && py >= 0.0 && px < float(pc.source[s].old_width) && py < float(pc.source[s].old_height);
+  if ((pc.source[s].flags & kClientSourceHasVisibility) == 0u) {
     r.status = kClientStatusNoData;
     return r;
   }
@@ -86,10 +85,13 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     return r;
   }
   const bool bilinear = (pc.flags & kClientWarpBilinear) != 0u;
-  const bool depth_test = (pc.flags & kClientWarpDepthTest) != 0u && (src.flags & kClientSourceHasDepth) != 0u;
-  const vec3 n_old = vec3(src.rot[0] * n_world.x + src.rot[1] * n_world.y + src.rot[2] * n_world.z,
-                          src.rot[3] * n_world.x + src.rot[4] * n_world.y + src.rot[5] * n_world.z,
-                          src.rot[6] * n_world.x + src.rot[7] * n_world.y + src.rot[8] * n_world.z);
+  const bool depth_test = (pc.flags & kClientWarpDepthTest) != 0u && (pc.source[s].flags & kClientSourceHasDepth) != 0u;
+  vec3 n_old = vec3(0.0);
+  if (depth_test) {
+    n_old = vec3(pc.source[s].rot[0] * n_world.x + pc.source[s].rot[1] * n_world.y + pc.source[s].rot[2] * n_world.z,
+                 pc.source[s].rot[3] * n_world.x + pc.source[s].rot[4] * n_world.y + pc.source[s].rot[5] * n_world.z,
+                 pc.source[s].rot[6] * n_world.x + pc.source[s].rot[7] * n_world.y + pc.source[s].rot[8] * n_world.z);
+  }
   const float tolerance = pc.plane_tolerance_rel * depth_old + pc.plane_tolerance_abs;
   // Nearest: the sample at the floor; bilinear: the four around px - 0.5 (one of them is that floor sample).
   const float bx = bilinear ? px - 0.5 : px;
@@ -98,7 +100,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   const int j0 = int(floor(by));
   const float fx = bx - float(i0);
   const float fy = by - float(j0);
-  const uint width_mask = src.mask_bits >= 32u ? 0xFFFFFFFFu : (1u << src.mask_bits) - 1u;
+  const uint width_mask = pc.source[s].mask_bits >= 32u ? 0xFFFFFFFFu : (1u << pc.source[s].mask_bits) - 1u;
   uint and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0u, used = 0u;
   uint masks[4];
   float weights[4];
@@ -108,18 +110,18 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     const int b = j0 + (k >> 1);
     weights[k] = bilinear ? ((k & 1) != 0 ? fx : 1.0 - fx) * ((k >> 1) != 0 ? fy : 1.0 - fy) : 1.0;
     masks[k] = 0u;
-    if (a < 0 || b < 0 || a >= int(src.old_width) || b >= int(src.old_height)) continue;
+    if (a < 0 || b < 0 || a >= int(pc.source[s].old_width) || b >= int(pc.source[s].old_height)) continue;
     if (!row_ok(s, uint(b))) continue;
     ++rows;
     if (depth_test) {
       const float ds = old_depth_at(s, ivec2(a, b));
       if (!(ds > 0.0)) continue;
       const vec3 q = (pc.near_plane / ds) *
-                     vec3(src.old_tan_left + (float(a) + 0.5) * src.old_tan_step_x,
-                          src.old_tan_up - (float(b) + 0.5) * src.old_tan_step_y, -1.0);
+                     vec3(pc.source[s].old_tan_left + (float(a) + 0.5) * pc.source[s].old_tan_step_x,
+                          pc.source[s].old_tan_up - (float(b) + 0.5) * pc.source[s].old_tan_step_y, -1.0);
       if (!(abs(dot(n_old, q - p_old)) <= tolerance)) continue;
     }
-    const uint bit = (uint(b) * src.old_width + uint(a)) * src.mask_bits;
+    const uint bit = (uint(b) * pc.source[s].old_width + uint(a)) * pc.source[s].mask_bits;
     const uint m = (vis_word(s, bit >> 5) >> (bit & 31u)) & width_mask;
     masks[k] = m;
     used |= 1u << k;
@@ -226,6 +228,39 @@ ShadowLookup shadow_lookup(vec3 p, vec3 n, float pixel_world) {
   return r;
 }
 
+// The paper's warp alone (no ingredient of WarpSettings on): the same decisions as look_up's nearest case,
+// branch-free, because SIMD CPU implementations (lavapipe) run both sides of a divergent branch: at 1832x1920
+// the general path costs 1.7x this one for the paper's rule.
+uint paper_warp(uvec2 id, float d, out uint mask, out vec2 motion) {
+  const vec2 centre = vec2(id) + 0.5;
+  const vec3 ray = v3(pc.source[0].ray0) + centre.x * v3(pc.source[0].ray_dx) + centre.y * v3(pc.source[0].ray_dy);
+  const vec3 p_old = (pc.near_plane / d) * ray + v3(pc.source[0].trans);
+  const float depth_old = -p_old.z;
+  const float px = pc.source[0].old_px_scale * (p_old.x / depth_old) + pc.source[0].old_px_offset;
+  const float py = pc.source[0].old_py_scale * (p_old.y / depth_old) + pc.source[0].old_py_offset;
+  const uint w = pc.source[0].old_width, h = pc.source[0].old_height;
+  const bool inside = px >= 0.0 && py >= 0.0 && px < float(w) && py < float(h);
+  // Clamped, so the loads below stay in bounds whatever the decision (NaN included).
+  const uint ix = min(uint(max(px, 0.0)), w - 1u);
+  const uint iy = min(uint(max(py, 0.0)), h - 1u);
+  const bool rows_ok = (pc.source[0].flags & kClientSourceHasRowValidity) == 0u || ((rows0[iy >> 5] >> (iy & 31u)) & 1u) != 0u;
+  const uint bits = pc.source[0].mask_bits;
+  const uint bit = (iy * w + ix) * bits;
+  const uint width_mask = bits >= 32u ? 0xFFFFFFFFu : (1u << bits) - 1u;
+  const uint old_mask = (vis0[bit >> 5] >> (bit & 31u)) & width_mask;
+  const uint status = !(d > 0.0) ? kClientStatusBackground
+                    : (pc.source[0].flags & kClientSourceHasVisibility) == 0u ? kClientStatusNoData
+                    : !(depth_old > pc.min_depth) ? kClientStatusBehind
+                    : !inside ? kClientStatusOutside
+                    : !rows_ok ? kClientStatusMissingRow
+                    : kClientStatusKnown;
+  mask = status == kClientStatusKnown ? old_mask : pc.unknown_mask;
+  const bool valid = status == kClientStatusKnown || status == kClientStatusOutside || status == kClientStatusMissingRow;
+  const vec2 still = vec2(pc.ident_px_scale * centre.x + pc.ident_px_offset, pc.ident_py_scale * centre.y + pc.ident_py_offset);
+  motion = valid ? vec2(px, py) - still : vec2(0.0);
+  return status;
+}
+
 void main() {
   const uvec2 id = gl_GlobalInvocationID.xy;
   const bool in_image = id.x < pc.width && id.y < pc.height;
@@ -233,7 +268,17 @@ void main() {
   uint fill = kClientFillNone;
   bool edge_from_shadow = false;
   bool overridden = false;  // a confident shadow-map bit replaced a bit the samples agreed on
-  if (in_image) {
+  const uint ingredients = kClientWarpBilinear | kClientWarpDepthTest | kClientWarpShadowFill | kClientWarpShadowEdges |
+                           kClientWarpShadowFirst;
+  const bool paper = (pc.flags & ingredients) == 0u && (pc.source[1].flags & kClientSourceHasVisibility) == 0u;
+  if (in_image && paper) {  // dynamically uniform
+    uint mask;
+    vec2 motion;
+    status = paper_warp(id, texelFetch(depth_texture, ivec2(id), 0).r, mask, motion);
+    imageStore(mask_image, ivec2(id), uvec4(mask, 0u, 0u, 0u));
+    if ((pc.flags & kClientWarpWriteStatus) != 0u) imageStore(status_image, ivec2(id), uvec4(status, 0u, 0u, 0u));
+    if ((pc.flags & kClientWarpWriteMotion) != 0u) imageStore(motion_image, ivec2(id), vec4(motion, 0.0, 0.0));
+  } else if (in_image) {
     const float d = texelFetch(depth_texture, ivec2(id), 0).r;
     const vec2 centre = vec2(id) + 0.5;
     uint mask = pc.unknown_mask;
@@ -241,7 +286,10 @@ void main() {
     if (!(d > 0.0)) {
       status = kClientStatusBackground;
     } else {
-      const vec3 n = normalize(texelFetch(normal_texture, ivec2(id), 0).xyz);
+      // The normal only where something reads it (the depth test, shadow lookups).
+      const bool needs_normal =
+          (pc.flags & (kClientWarpDepthTest | kClientWarpShadowFill | kClientWarpShadowEdges | kClientWarpShadowFirst)) != 0u;
+      const vec3 n = needs_normal ? normalize(texelFetch(normal_texture, ivec2(id), 0).xyz) : vec3(0.0, 0.0, 1.0);
       Lookup own = look_up(0u, d, centre, n);
       status = own.status;
       Lookup chosen = own;
@@ -305,12 +353,14 @@ void main() {
   if (fill == kClientFillShadowMap) words[kClientCountShadowMap / 3u] += 1u << (10u * (kClientCountShadowMap % 3u));
   if (edge_from_shadow) words[kClientCountEdgeShadowMap / 3u] += 1u << (10u * (kClientCountEdgeShadowMap % 3u));
   if (overridden) words[kClientCountShadowOverride / 3u] += 1u << (10u * (kClientCountShadowOverride % 3u));
+  // The paper's rule yields statuses 0-5 only: the first two words (a subgroup sum each costs on lavapipe).
+  const uint used_words = paper ? 2u : kClientCountWords;
   uint sums[kClientCountWords];
-  for (uint w = 0u; w < kClientCountWords; ++w) sums[w] = subgroupAdd(words[w]);
+  for (uint w = 0u; w < kClientCountWords; ++w) sums[w] = w < used_words ? subgroupAdd(words[w]) : 0u;
   if (subgroupElect()) {
     const uint buckets_x = (gl_NumWorkGroups.x + kClientCountBucketGroups - 1u) / kClientCountBucketGroups;
     const uint bucket = kClientCountWords * (gl_WorkGroupID.y * buckets_x + gl_WorkGroupID.x / kClientCountBucketGroups);
-    for (uint w = 0u; w < kClientCountWords; ++w) {
+    for (uint w = 0u; w < used_words; ++w) {
       if (sums[w] != 0u) atomicAdd(counters[bucket + w], sums[w]);
     }
   }
