@@ -45,8 +45,14 @@ one living_room_user1_server --scene "$living" --trace "$user1" --trace-start 2 
   --rtt-ms 0,50,100 --method paper,paper+pred --server-ms 10
 one living_room_user1_ablation --scene "$living" --trace "$user1" --trace-start 2 --frames 90 --eye-size 160x120 \
   --rtt-ms 100,200 --method paper+pred,local,full,full-no-bilinear,full-no-depth,full-no-other-eye,full-no-shadow-fill,full-no-shadow-edges,full-no-shadow-first,full-no-pred
+# The same with the server's bits first (shadow-first off), where the other ingredients decide more pixels.
+one living_room_user1_ablation_server_first --scene "$living" --trace "$user1" --trace-start 2 --frames 90 \
+  --eye-size 160x120 --rtt-ms 100,200 --method full-no-shadow-first,full-no-shadow-first-no-bilinear,full-no-depth-no-shadow-first,full-no-other-eye-no-shadow-first,full-no-shadow-fill-no-shadow-first,full-no-shadow-edges-no-shadow-first
 for user in 1 2 3; do
   trace_var="user$user"
-  one "headline_living_room_user$user" --scene "$living" --trace "${!trace_var}" "${headline[@]}" --snapshot-frame 45
-  one "headline_default_room_user$user" --scene "$default" --trace "${!trace_var}" "${headline[@]}" --snapshot-frame 45
+  one "headline_living_room_user$user" --scene "$living" --trace "${!trace_var}" "${headline[@]}"
+  one "headline_default_room_user$user" --scene "$default" --trace "${!trace_var}" "${headline[@]}"
 done
+# Side-by-side pictures: exact, paper and full at 100 ms (and local), one frame of the living room, User1.
+one living_room_user1_pictures --scene "$living" --trace "$user1" --trace-start 2 --frames 46 --eye-size 320x240 \
+  --rtt-ms 100 --method paper,paper+pred,local,full --snapshot-frame 45

@@ -105,6 +105,11 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   uint masks[4];
   float weights[4];
   const int n = bilinear ? 4 : 1;
+  // Bilinear: a lookup within kClientWarpExactLookup of an old pixel centre (sample k_exact) is that pixel's
+  // own ray; its sample is used without the depth test (two rasterizations of one ray may disagree at a
+  // silhouette, the traced bit may not).
+  const int k_exact = (fx < 0.5 ? 0 : 1) + 2 * (fy < 0.5 ? 0 : 1);
+  const bool centred = bilinear && min(fx, 1.0 - fx) <= kClientWarpExactLookup && min(fy, 1.0 - fy) <= kClientWarpExactLookup;
   for (int k = 0; k < n; ++k) {
     const int a = i0 + (k & 1);
     const int b = j0 + (k >> 1);
@@ -113,7 +118,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     if (a < 0 || b < 0 || a >= int(pc.source[s].old_width) || b >= int(pc.source[s].old_height)) continue;
     if (!row_ok(s, uint(b))) continue;
     ++rows;
-    if (depth_test) {
+    if (depth_test && !(centred && k == k_exact)) {
       const float ds = old_depth_at(s, ivec2(a, b));
       if (!(ds > 0.0)) continue;
       const vec3 q = (pc.near_plane / ds) *
@@ -137,18 +142,11 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     return r;
   }
   r.status = kClientStatusKnown;
-  if (bilinear) {
-    // At (within kClientWarpExactLookup of) an old pixel centre: that sample was traced for this ray.
-    const int kx = fx < 0.5 ? 0 : 1;
-    const int ky = fy < 0.5 ? 0 : 1;
-    const int k = kx + 2 * ky;
-    const bool centred = min(fx, 1.0 - fx) <= kClientWarpExactLookup && min(fy, 1.0 - fy) <= kClientWarpExactLookup;
-    if (centred && ((used >> k) & 1u) != 0u) {
-      r.exact = true;
-      r.agree = 0xFFFFFFFFu;
-      r.value = masks[k];
-      return r;
-    }
+  if (centred && ((used >> k_exact) & 1u) != 0u) {
+    r.exact = true;
+    r.agree = 0xFFFFFFFFu;
+    r.value = masks[k_exact];
+    return r;
   }
   r.agree = ~(and_m ^ or_m);
   r.value = and_m;

@@ -129,6 +129,15 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
   std::array<uint32_t, 4> masks{};
   std::array<double, 4> weights{};
   uint32_t and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0, used = 0;
+  // Bilinear: a lookup at an old pixel centre (sample k_exact) is that pixel's own ray: used without the
+  // depth test.
+  const int k_exact = (fx < 0.5 ? 0 : 1) + 2 * (fy < 0.5 ? 0 : 1);
+  const double dx = std::min(fx, 1.0 - fx), dy = std::min(fy, 1.0 - fy);
+  const bool centred = set.bilinear && dx <= kExactLookup && dy <= kExactLookup;
+  if (set.bilinear) {
+    r.margin = std::min(r.margin, std::min(std::abs(dx - kExactLookup), std::abs(dy - kExactLookup)));
+    r.margin = std::min(r.margin, std::min(std::abs(fx - 0.5), std::abs(fy - 0.5)));
+  }
   for (int k = 0; k < n; ++k) {
     const int a = i0 + (k & 1);
     const int b = j0 + (k >> 1);
@@ -136,7 +145,7 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
     if (a < 0 || b < 0 || a >= static_cast<int>(old.width) || b >= static_cast<int>(old.height)) continue;
     if (!src.row_valid.empty() && src.row_valid[static_cast<size_t>(b)] == 0) continue;
     ++rows;
-    if (depth_test) {
+    if (depth_test && !(centred && k == k_exact)) {
       const double ds = src.traced_depth[static_cast<size_t>(b) * old.width + static_cast<size_t>(a)];
       if (!(ds > 0.0)) continue;
       const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray(a + 0.5, b + 0.5);
@@ -159,17 +168,11 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
     return r;
   }
   r.status = WarpStatus::kKnown;
-  if (set.bilinear) {
-    const int k = (fx < 0.5 ? 0 : 1) + 2 * (fy < 0.5 ? 0 : 1);
-    const double dx = std::min(fx, 1.0 - fx), dy = std::min(fy, 1.0 - fy);
-    r.margin = std::min(r.margin, std::min(std::abs(dx - kExactLookup), std::abs(dy - kExactLookup)));
-    r.margin = std::min(r.margin, std::min(std::abs(fx - 0.5), std::abs(fy - 0.5)));
-    if (dx <= kExactLookup && dy <= kExactLookup && ((used >> k) & 1u)) {
-      r.exact = true;
-      r.agree = 0xFFFFFFFFu;
-      r.value = masks[k];
-      return r;
-    }
+  if (centred && ((used >> k_exact) & 1u)) {
+    r.exact = true;
+    r.agree = 0xFFFFFFFFu;
+    r.value = masks[k_exact];
+    return r;
   }
   r.agree = ~(and_m ^ or_m);
   r.value = and_m;
