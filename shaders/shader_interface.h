@@ -187,6 +187,7 @@ DHR_CONST float kClientWarpExactLookup = 0.02f;
 DHR_CONST uint kClientSourceHasVisibility = 1u;
 DHR_CONST uint kClientSourceHasRowValidity = 2u;
 DHR_CONST uint kClientSourceHasDepth = 4u;
+DHR_CONST uint kClientSourceSameEye = 8u;  // traced from the display eye's position (rotation at most)
 // Status counts are gathered per bucket of this many horizontally adjacent workgroups (8 x 64 pixels fit
 // the 10-bit fields); field f is in the bucket's word f / 3, bits 10 * (f % 3).
 DHR_CONST uint kClientCountBucketGroups = 8u;

@@ -105,11 +105,13 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   uint masks[4];
   float weights[4];
   const int n = bilinear ? 4 : 1;
-  // Bilinear: a lookup within kClientWarpExactLookup of an old pixel centre (sample k_exact) is that pixel's
-  // own ray; its sample is used without the depth test (two rasterizations of one ray may disagree at a
-  // silhouette, the traced bit may not).
+  // Bilinear: a lookup within kClientWarpExactLookup of an old pixel centre (sample k_exact) takes that pixel's
+  // bit as exact when it is used. Traced from this very eye position, that pixel's ray is this pixel's ray:
+  // its sample skips the depth test (two rasterizations of one ray may disagree at a silhouette; the traced bit
+  // is right). From elsewhere the old ray may have hit an occluder, and the depth test decides.
   const int k_exact = (fx < 0.5 ? 0 : 1) + 2 * (fy < 0.5 ? 0 : 1);
   const bool centred = bilinear && min(fx, 1.0 - fx) <= kClientWarpExactLookup && min(fy, 1.0 - fy) <= kClientWarpExactLookup;
+  const bool same_ray = centred && (pc.source[s].flags & kClientSourceSameEye) != 0u;
   for (int k = 0; k < n; ++k) {
     const int a = i0 + (k & 1);
     const int b = j0 + (k >> 1);
@@ -118,7 +120,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     if (a < 0 || b < 0 || a >= int(pc.source[s].old_width) || b >= int(pc.source[s].old_height)) continue;
     if (!row_ok(s, uint(b))) continue;
     ++rows;
-    if (depth_test && !(centred && k == k_exact)) {
+    if (depth_test && !(same_ray && k == k_exact)) {
       const float ds = old_depth_at(s, ivec2(a, b));
       if (!(ds > 0.0)) continue;
       const vec3 q = (pc.near_plane / ds) *

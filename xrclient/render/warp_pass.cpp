@@ -251,6 +251,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     if (!usable[s]) continue;
     params.source[s].mask_bits = static_cast<uint32_t>(in->buffer->mask_bits);
     params.source[s].flags |= kClientSourceHasVisibility;
+    if (same_eye(display, in->traced)) params.source[s].flags |= kClientSourceSameEye;
     upload(buffers, *in);
     if (!in->row_valid.empty()) {
       std::array<uint32_t, kRowWords> words{};

@@ -50,6 +50,10 @@ WarpSettings WarpSettings::full() {
 
 uint64_t WarpCounts::surface() const { return unknown_surface() + (*this)[WarpStatus::kKnown]; }
 
+bool same_eye(const Camera& display, const Camera& traced) {
+  return glm::length(display.T_world_eye.position - traced.T_world_eye.position) <= 1e-9;
+}
+
 uint32_t unknown_mask(const VisibilityBuffer* visibility) {
   return visibility != nullptr ? visibility->light_bits() : 0xFFFFFFFFu;
 }
@@ -129,11 +133,12 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
   std::array<uint32_t, 4> masks{};
   std::array<double, 4> weights{};
   uint32_t and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0, used = 0;
-  // Bilinear: a lookup at an old pixel centre (sample k_exact) is that pixel's own ray: used without the
-  // depth test.
+  // Bilinear: a lookup at an old pixel centre (sample k_exact) takes that pixel's bit as exact when used;
+  // traced from the display eye's own position it is this pixel's ray and skips the depth test.
   const int k_exact = (fx < 0.5 ? 0 : 1) + 2 * (fy < 0.5 ? 0 : 1);
   const double dx = std::min(fx, 1.0 - fx), dy = std::min(fy, 1.0 - fy);
   const bool centred = set.bilinear && dx <= kExactLookup && dy <= kExactLookup;
+  const bool same_ray = centred && same_eye(input.display, src.traced);
   if (set.bilinear) {
     r.margin = std::min(r.margin, std::min(std::abs(dx - kExactLookup), std::abs(dy - kExactLookup)));
     r.margin = std::min(r.margin, std::min(std::abs(fx - 0.5), std::abs(fy - 0.5)));
@@ -145,7 +150,7 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
     if (a < 0 || b < 0 || a >= static_cast<int>(old.width) || b >= static_cast<int>(old.height)) continue;
     if (!src.row_valid.empty() && src.row_valid[static_cast<size_t>(b)] == 0) continue;
     ++rows;
-    if (depth_test && !(centred && k == k_exact)) {
+    if (depth_test && !(same_ray && k == k_exact)) {
       const double ds = src.traced_depth[static_cast<size_t>(b) * old.width + static_cast<size_t>(a)];
       if (!(ds > 0.0)) continue;
       const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray(a + 0.5, b + 0.5);

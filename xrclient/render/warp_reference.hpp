@@ -94,6 +94,9 @@ struct WarpSettings {
 // Mask for unknown pixels: every light bit of the buffer, all 32 without one.
 uint32_t unknown_mask(const VisibilityBuffer* visibility);
 
+// Whether `traced` was traced from `display`'s eye position (within 1e-9 m; the warp's kClientSourceSameEye).
+bool same_eye(const Camera& display, const Camera& traced);
+
 // Error message when the visibility input cannot be used with the traced camera: bad camera, size mismatch,
 // inconsistent data size or mask width, row_valid neither empty nor one entry per row.
 std::optional<std::string> validate_visibility_input(const Camera& traced, const VisibilityBuffer& visibility,
