@@ -5,4 +5,4 @@ set xlabel 'frames predicted (p: age of the visibility, x_max unlimited)' noenha
 set ylabel 'bit error' noenhanced
 set key outside right top noenhanced
 set grid
-plot 'docs/eval/default_room_user2/bit_error_vs_frames.dat' index 0 using 1:2 with linespoints pt 1 title 'paper guard 64x36', 'docs/eval/default_room_user2/bit_error_vs_frames.dat' index 1 using 1:2 with linespoints pt 2 title 'paper+pred guard 64x36'
+plot 'docs/eval/default_room_user2/bit_error_vs_frames.dat' index 0 using 1:2 with linespoints pt 1 title 'paper guard 64x36', 'docs/eval/default_room_user2/bit_error_vs_frames.dat' index 1 using 1:2 with linespoints pt 2 title 'paper+pred guard 64x36', 'docs/eval/default_room_user2/bit_error_vs_frames.dat' index 2 using 1:2 with linespoints pt 3 title 'local guard 64x36', 'docs/eval/default_room_user2/bit_error_vs_frames.dat' index 3 using 1:2 with linespoints pt 4 title 'full guard 64x36'

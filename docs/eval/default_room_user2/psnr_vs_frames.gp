@@ -5,4 +5,4 @@ set xlabel 'frames predicted (p: age of the visibility, x_max unlimited)' noenha
 set ylabel 'PSNR (dB)' noenhanced
 set key outside right top noenhanced
 set grid
-plot 'docs/eval/default_room_user2/psnr_vs_frames.dat' index 0 using 1:2 with linespoints pt 1 title 'stale', 'docs/eval/default_room_user2/psnr_vs_frames.dat' index 1 using 1:2 with linespoints pt 2 title 'paper', 'docs/eval/default_room_user2/psnr_vs_frames.dat' index 2 using 1:2 with linespoints pt 3 title 'paper+pred'
+plot 'docs/eval/default_room_user2/psnr_vs_frames.dat' index 0 using 1:2 with linespoints pt 1 title 'local', 'docs/eval/default_room_user2/psnr_vs_frames.dat' index 1 using 1:2 with linespoints pt 2 title 'stale', 'docs/eval/default_room_user2/psnr_vs_frames.dat' index 2 using 1:2 with linespoints pt 3 title 'paper', 'docs/eval/default_room_user2/psnr_vs_frames.dat' index 3 using 1:2 with linespoints pt 4 title 'paper+pred', 'docs/eval/default_room_user2/psnr_vs_frames.dat' index 4 using 1:2 with linespoints pt 5 title 'full'

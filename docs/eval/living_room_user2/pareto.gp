@@ -5,4 +5,4 @@ set xlabel 'client + server ms per frame (both eyes)' noenhanced
 set ylabel 'bit error' noenhanced
 set key outside right top noenhanced
 set grid
-plot 'docs/eval/living_room_user2/pareto.dat' index 0 using 1:2 with points pt 1 title 'stale', 'docs/eval/living_room_user2/pareto.dat' index 1 using 1:2 with points pt 2 title 'paper', 'docs/eval/living_room_user2/pareto.dat' index 2 using 1:2 with points pt 3 title 'paper+pred', 'docs/eval/living_room_user2/pareto.dat' index 3 using 1:2 with points pt 4 title 'Pareto front'
+plot 'docs/eval/living_room_user2/pareto.dat' index 0 using 1:2 with points pt 1 title 'stale', 'docs/eval/living_room_user2/pareto.dat' index 1 using 1:2 with points pt 2 title 'paper', 'docs/eval/living_room_user2/pareto.dat' index 2 using 1:2 with points pt 3 title 'paper+pred', 'docs/eval/living_room_user2/pareto.dat' index 3 using 1:2 with points pt 4 title 'local', 'docs/eval/living_room_user2/pareto.dat' index 4 using 1:2 with points pt 5 title 'full', 'docs/eval/living_room_user2/pareto.dat' index 5 using 1:2 with points pt 6 title 'Pareto front'
