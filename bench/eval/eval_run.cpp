@@ -113,6 +113,10 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
       throw std::runtime_error(options.trace + ": too short for the warm-up of " + std::to_string(warmup) + " frames");
     }
     const uint64_t frames = options.frames > 0 ? std::min(options.frames, available - warmup) : available - warmup;
+    if (options.snapshot_frame && *options.snapshot_frame >= frames) {
+      throw std::runtime_error("--snapshot-frame " + std::to_string(*options.snapshot_frame) + ": the run measures " +
+                               std::to_string(frames) + " frames (0.." + std::to_string(frames - 1) + ")");
+    }
 
     fs::create_directories(options.out_dir);
     vk::ContextOptions vk_options;

@@ -272,6 +272,10 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_NE(r.output.find("full-no-<ingredient>"), std::string::npos) << r.output;
   }
+  r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+              " --frames 4 --eye-size 32x24 --rtt-ms 0 --method full --snapshot-frame 4 --no-progress");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--snapshot-frame 4: the run measures 4 frames"), std::string::npos) << r.output;
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --eye-size 0x0");
   EXPECT_EQ(r.exit_code, 2);
   r = run_cli("run --scene " + kScene + " --trace /nonexistent.csv --out " + out.string() + " --no-progress");

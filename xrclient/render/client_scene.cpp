@@ -145,4 +145,30 @@ ClientScene::ClientScene(const vk::Context& context, const Scene& scene)
                                          VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
 }
 
+namespace {
+
+constexpr std::array<VkVertexInputBindingDescription, 3> kVertexBindings = {{
+    {0, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX},
+    {1, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX},
+    {2, sizeof(float) * 2, VK_VERTEX_INPUT_RATE_VERTEX},
+}};
+constexpr std::array<VkVertexInputAttributeDescription, 3> kVertexAttributes = {{
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {2, 2, VK_FORMAT_R32G32_SFLOAT, 0},
+}};
+
+}  // namespace
+
+std::span<const VkVertexInputBindingDescription> ClientScene::vertex_bindings() { return kVertexBindings; }
+
+std::span<const VkVertexInputAttributeDescription> ClientScene::vertex_attributes() { return kVertexAttributes; }
+
+void ClientScene::bind_geometry(VkCommandBuffer cmd) const {
+  const std::array<VkBuffer, 3> buffers = {positions_.handle(), normals_.handle(), texcoords_.handle()};
+  const std::array<VkDeviceSize, 3> offsets = {0, 0, 0};
+  vkCmdBindVertexBuffers(cmd, 0, static_cast<uint32_t>(buffers.size()), buffers.data(), offsets.data());
+  vkCmdBindIndexBuffer(cmd, indices_.handle(), 0, VK_INDEX_TYPE_UINT32);
+}
+
 }  // namespace dhr::render

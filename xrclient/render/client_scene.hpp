@@ -3,8 +3,11 @@
 // Positions are stored relative to their mesh's origin (the centre of its bounds, in double), so the
 // G-buffer pass can add a per-draw (origin - eye) offset and never handle world coordinates on the GPU.
 #pragma once
+#include <vulkan/vulkan.h>
+
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <span>
 #include <glm/vec4.hpp>
 #include <string>
 #include <vector>
@@ -51,6 +54,12 @@ class ClientScene {
   const vk::Buffer& normals() const { return normals_; }
   const vk::Buffer& texcoords() const { return texcoords_; }
   const vk::Buffer& indices() const { return indices_; }
+
+  // The vertex streams as a graphics pipeline reads them (bindings and locations 0-2: position, normal, uv),
+  // and binding them with the index buffer (scenes with triangles only).
+  static std::span<const VkVertexInputBindingDescription> vertex_bindings();
+  static std::span<const VkVertexInputAttributeDescription> vertex_attributes();
+  void bind_geometry(VkCommandBuffer cmd) const;
 
   const std::vector<ClientMesh>& meshes() const { return meshes_; }
   const std::vector<ClientMaterial>& materials() const { return materials_; }

@@ -55,22 +55,12 @@ GBufferPass::GBufferPass(const vk::Context& context, const ClientScene& scene) :
   layout_ = vk::create_pipeline_layout(device, std::span(&set_layout, 1), std::span(&push, 1));
 
   const auto modules = dhr_shaders_client_modules();
-  const std::array<VkVertexInputBindingDescription, 3> bindings = {{
-      {0, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX},
-      {1, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX},
-      {2, sizeof(float) * 2, VK_VERTEX_INPUT_RATE_VERTEX},
-  }};
-  const std::array<VkVertexInputAttributeDescription, 3> attributes = {{
-      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-      {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0},
-      {2, 2, VK_FORMAT_R32G32_SFLOAT, 0},
-  }};
   const std::array<VkFormat, 2> colour_formats = {kGBufferNormalFormat, kGBufferAlbedoFormat};
   vk::GraphicsPipelineDesc desc;
   desc.vertex = &vk::find_spirv(modules, "gbuffer.vert");
   desc.fragment = &vk::find_spirv(modules, "gbuffer.frag");
-  desc.vertex_bindings = bindings;
-  desc.vertex_attributes = attributes;
+  desc.vertex_bindings = ClientScene::vertex_bindings();
+  desc.vertex_attributes = ClientScene::vertex_attributes();
   desc.color_formats = colour_formats;
   desc.depth_format = kGBufferDepthFormat;
   desc.depth_compare = VK_COMPARE_OP_GREATER;
@@ -132,11 +122,7 @@ GBufferDrawStats GBufferPass::record(VkCommandBuffer cmd, GBuffer& targets, cons
   const ClientScene& scene = *scene_;
   if (scene.indices()) {
     vk::set_viewport_and_scissor(cmd, {extent.width, extent.height});
-    const std::array<VkBuffer, 3> buffers = {scene.positions().handle(), scene.normals().handle(),
-                                             scene.texcoords().handle()};
-    const std::array<VkDeviceSize, 3> offsets = {0, 0, 0};
-    vkCmdBindVertexBuffers(cmd, 0, 3, buffers.data(), offsets.data());
-    vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
+    scene.bind_geometry(cmd);
 
     shader::ClientGBufferPush push{};
     const std::array<float, 16> vp = matrix_floats(camera_relative_view_projection(camera, near_plane));

@@ -81,7 +81,7 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
 
   // Eye-relative light positions, subtracted in double.
   const std::vector<PackedLight> packed =
-      pack_lights(std::vector<SceneLight>(lights.begin(), lights.end()), display.T_world_eye.position);
+      pack_lights(lights, display.T_world_eye.position);
   if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
 
   const VkDevice device = context_->device();

@@ -100,20 +100,10 @@ ShadowMaps::ShadowMaps(const vk::Context& context, const ClientScene& scene, con
   const VkDevice device = context.device();
   const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::ClientGBufferPush)};
   layout_ = vk::create_pipeline_layout(device, {}, std::span(&push, 1));
-  const std::array<VkVertexInputBindingDescription, 3> bindings = {{
-      {0, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX},
-      {1, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX},
-      {2, sizeof(float) * 2, VK_VERTEX_INPUT_RATE_VERTEX},
-  }};
-  const std::array<VkVertexInputAttributeDescription, 3> attributes = {{
-      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-      {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0},
-      {2, 2, VK_FORMAT_R32G32_SFLOAT, 0},
-  }};
   vk::GraphicsPipelineDesc desc;
   desc.vertex = &vk::find_spirv(dhr_shaders_client_modules(), "gbuffer.vert");
-  desc.vertex_bindings = bindings;
-  desc.vertex_attributes = attributes;
+  desc.vertex_bindings = ClientScene::vertex_bindings();
+  desc.vertex_attributes = ClientScene::vertex_attributes();
   desc.depth_format = VK_FORMAT_D32_SFLOAT;
   desc.depth_compare = VK_COMPARE_OP_GREATER;
   desc.cull_mode = VK_CULL_MODE_NONE;  // shadow rays hit either side
@@ -159,11 +149,7 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
     vkCmdBeginRendering(cmd, &rendering);
     if (scene.indices() && rows > 0) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
-      const std::array<VkBuffer, 3> buffers = {scene.positions().handle(), scene.normals().handle(),
-                                               scene.texcoords().handle()};
-      const std::array<VkDeviceSize, 3> offsets = {0, 0, 0};
-      vkCmdBindVertexBuffers(cmd, 0, 3, buffers.data(), offsets.data());
-      vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
+      scene.bind_geometry(cmd);
       for (const ShadowTile& tile : tiles_) {
         if (!tile.row) continue;
         for (uint32_t face = 0; face < 6; ++face) {

@@ -61,19 +61,23 @@ void copy3(const glm::dvec3& v, float* out) {
   out[2] = static_cast<float>(v.z);
 }
 
+// The display camera's pixel rays (tangent-plane point of pixel (0, 0)'s corner and the per-pixel steps),
+// rotated by `m` into another frame.
+void display_rays(const Camera& display, const glm::dmat3& m, float* ray0, float* ray_dx, float* ray_dy) {
+  const Tangents& nt = display.tangents;
+  copy3(m * glm::dvec3(nt.left, nt.up, -1.0), ray0);
+  copy3(m * glm::dvec3(nt.width() / display.extent.width, 0.0, 0.0), ray_dx);
+  copy3(m * glm::dvec3(0.0, -nt.height() / display.extent.height, 0.0), ray_dy);
+}
+
 // A source's parameters, computed in double: everything is relative to the new eye, so only small numbers
 // reach the GPU. `traced` is null without a usable visibility buffer.
 ClientWarpSource make_source(const Camera& display, const Camera* traced) {
   ClientWarpSource src{};
   const Camera& old_camera = traced != nullptr ? *traced : display;
   const glm::dmat3 r_old_t = glm::transpose(eye_to_world_rotation(old_camera));
-  const glm::dmat3 m = r_old_t * eye_to_world_rotation(display);  // new eye space -> old eye space
-  const Tangents& nt = display.tangents;
-  const double dx = nt.width() / display.extent.width;
-  const double dy = -nt.height() / display.extent.height;
-  copy3(m * glm::dvec3(nt.left, nt.up, -1.0), src.ray0);
-  copy3(m * glm::dvec3(dx, 0.0, 0.0), src.ray_dx);
-  copy3(m * glm::dvec3(0.0, dy, 0.0), src.ray_dy);
+  // New eye space -> old eye space.
+  display_rays(display, r_old_t * eye_to_world_rotation(display), src.ray0, src.ray_dx, src.ray_dy);
   copy3(r_old_t * (display.T_world_eye.position - old_camera.T_world_eye.position), src.trans);
   for (int row = 0; row < 3; ++row) {
     for (int col = 0; col < 3; ++col) src.rot[row * 3 + col] = static_cast<float>(r_old_t[col][row]);
@@ -100,14 +104,12 @@ ClientWarpSource make_source(const Camera& display, const Camera* traced) {
 ClientWarpParams make_params(const Camera& display, const Camera* traced, double near_plane) {
   ClientWarpParams params{};
   const Camera& old_camera = traced != nullptr ? *traced : display;
-  const glm::dmat3 r_new = eye_to_world_rotation(display);
+  display_rays(display, eye_to_world_rotation(display), params.world_ray0, params.world_ray_dx,
+               params.world_ray_dy);
+  // Where pixel centre c would land with the new pose equal to source 0's (motion = lookup - this).
   const Tangents& nt = display.tangents;
   const double dx = nt.width() / display.extent.width;
   const double dy = -nt.height() / display.extent.height;
-  copy3(r_new * glm::dvec3(nt.left, nt.up, -1.0), params.world_ray0);
-  copy3(r_new * glm::dvec3(dx, 0.0, 0.0), params.world_ray_dx);
-  copy3(r_new * glm::dvec3(0.0, dy, 0.0), params.world_ray_dy);
-  // Where pixel centre c would land with the new pose equal to source 0's (motion = lookup - this).
   const Tangents& ot = old_camera.tangents;
   const double sx = old_camera.extent.width / ot.width();
   const double sy = old_camera.extent.height / ot.height();
@@ -286,8 +288,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
       shadow_lights[i].tile_row = tile.row ? *tile.row : kClientNoShadowMap;
     }
     slot.shadow_lights.write(shadow_lights.data(), frame.lights.size() * sizeof(ClientShadowLight));
-    const std::vector<PackedLight> packed =
-        pack_lights(std::vector<SceneLight>(frame.lights.begin(), frame.lights.end()), eye);
+    const std::vector<PackedLight> packed = pack_lights(frame.lights, eye);
     if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
     params.light_count = static_cast<uint32_t>(packed.size());
     params.shadow_size = maps.face_size();

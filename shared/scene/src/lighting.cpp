@@ -25,7 +25,7 @@ PackedLight pack_light(const SceneLight& light, const glm::dvec3& origin) {
   return p;
 }
 
-std::vector<PackedLight> pack_lights(const std::vector<SceneLight>& lights, const glm::dvec3& origin) {
+std::vector<PackedLight> pack_lights(std::span<const SceneLight> lights, const glm::dvec3& origin) {
   std::vector<PackedLight> out;
   out.reserve(lights.size());
   for (const SceneLight& light : lights) out.push_back(pack_light(light, origin));

@@ -11,6 +11,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <span>
 #include <vector>
 
 namespace dhr {
@@ -28,8 +29,7 @@ enum class LightTest : int {
 // The light in the frame whose origin is `origin` (world), subtracted in double so the packed float
 // position keeps precision near that origin.
 PackedLight pack_light(const SceneLight& light, const glm::dvec3& origin = glm::dvec3(0.0));
-std::vector<PackedLight> pack_lights(const std::vector<SceneLight>& lights,
-                                     const glm::dvec3& origin = glm::dvec3(0.0));
+std::vector<PackedLight> pack_lights(std::span<const SceneLight> lights, const glm::dvec3& origin = glm::dvec3(0.0));
 
 struct LightSample {
   LightTest test = LightTest::kOutOfRange;
