@@ -55,6 +55,8 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   r.prediction_fallback_frac = mean(static_cast<double>(t.prediction_fallbacks), t.predictions);
   r.prediction_capped_frac = mean(static_cast<double>(t.prediction_capped), t.predictions);
   r.horizon_ms = mean(t.horizon_ms, t.predictions);
+  r.fov_widened_frac = mean(static_cast<double>(t.eyes_fov_widened), t.traces);
+  r.fov_area_ratio = t.eyes_fov_widened > 0 ? mean(t.fov_span_ratio, t.traces) : 1.0;
   r.poses_skipped_identical = t.poses_skipped_identical;
   r.poses_superseded = t.poses_superseded;
   r.datagrams_lost = t.datagrams_lost;
@@ -104,6 +106,8 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("prediction_fallback_frac", r.prediction_fallback_frac, 4);
     w.value("prediction_capped_frac", r.prediction_capped_frac, 4);
     w.value("horizon_ms", r.horizon_ms, 3);
+    w.value("fov_widened_frac", r.fov_widened_frac, 4);
+    w.value("fov_area_ratio", r.fov_area_ratio, 4);
     w.value("poses_skipped_identical", static_cast<unsigned long long>(r.poses_skipped_identical));
     w.value("poses_superseded", static_cast<unsigned long long>(r.poses_superseded));
     w.value("datagrams_lost", static_cast<unsigned long long>(r.datagrams_lost));

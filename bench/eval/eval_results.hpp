@@ -43,6 +43,8 @@ struct SettingResult {
   double prediction_fallback_frac = 0.0;
   double prediction_capped_frac = 0.0;
   double horizon_ms = 0.0;
+  double fov_widened_frac = 0.0;  // traced eyes whose FOV the server widened beyond the guard band
+  double fov_area_ratio = 0.0;    // mean traced / display tangent area of the traced eyes (1 when never widened)
   uint64_t poses_skipped_identical = 0;  // service: identical to the last traced pose, not traced again
   uint64_t poses_superseded = 0;         // service: replaced by a newer pose before it was traced
   uint64_t datagrams_lost = 0;

@@ -39,6 +39,7 @@ server::ServiceConfig service_config(const Setting& setting, const RunOptions& o
   server::ServiceConfig c;
   c.token_seed = options.seed * 2 + 1;  // never 0 (0 would draw tokens from std::random_device)
   c.predict = server_predicts(setting.method);
+  c.adaptive_fov.enabled = server_adapts_fov(setting.method);
   c.predict_horizon_ns = -1;  // automatic: the session's measured RTT + queueing + the last trace time
   c.codec_v2 = options.codec_v2;
   c.predictor.velocity_window_ns = static_cast<int64_t>(std::llround(options.predict_window_ms * 1e6));
@@ -349,6 +350,8 @@ SettingTotals SettingSession::totals() const {
   t.predictions = s.frames_predicted;
   t.prediction_fallbacks = s.prediction_fallbacks;
   t.horizon_ms = s.prediction_horizon_ms;
+  t.eyes_fov_widened = s.eyes_fov_widened;
+  t.fov_span_ratio = s.fov_span_ratio;
   t.poses_skipped_identical = s.poses_skipped_identical;
   t.poses_superseded = s.poses_superseded;
   t.datagrams_lost = uplink_.stats().model.lost + downlink_.stats().model.lost;

@@ -69,6 +69,8 @@ struct SettingTotals {
   uint64_t prediction_fallbacks = 0;
   uint64_t prediction_capped = 0;
   double horizon_ms = 0.0;
+  uint64_t eyes_fov_widened = 0;  // traced eyes whose FOV the service widened (adaptive FOV)
+  double fov_span_ratio = 0.0;    // sum over traced eyes of traced / display tangent area
   uint64_t poses_skipped_identical = 0;
   uint64_t poses_superseded = 0;
   uint64_t datagrams_lost = 0;

@@ -11,7 +11,7 @@ namespace dhr::eval {
 
 namespace {
 
-constexpr std::array<std::pair<Ingredient, const char*>, 7> kIngredients = {{
+constexpr std::array<std::pair<Ingredient, const char*>, 8> kIngredients = {{
     {kIngredientBilinear, "bilinear"},
     {kIngredientDepthTest, "depth"},
     {kIngredientOtherEye, "other-eye"},
@@ -19,6 +19,7 @@ constexpr std::array<std::pair<Ingredient, const char*>, 7> kIngredients = {{
     {kIngredientShadowEdges, "shadow-edges"},
     {kIngredientShadowFirst, "shadow-first"},
     {kIngredientPrediction, "pred"},
+    {kIngredientAdaptiveFov, "adaptive-fov"},
 }};
 
 }  // namespace
@@ -71,6 +72,10 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
 bool server_predicts(const MethodSpec& spec) {
   return spec.method == Method::kPaperPred ||
          (spec.method == Method::kFull && (spec.without & kIngredientPrediction) == 0);
+}
+
+bool server_adapts_fov(const MethodSpec& spec) {
+  return spec.method == Method::kFull && (spec.without & kIngredientAdaptiveFov) == 0;
 }
 
 bool uses_server_visibility(const MethodSpec& spec) { return spec.method != Method::kLocal; }

@@ -30,6 +30,7 @@ enum Ingredient : uint32_t {
   kIngredientShadowEdges = 16u, // "shadow-edges": undecided bits from the shadow maps
   kIngredientPrediction = 32u,  // "pred": the server's pose prediction
   kIngredientShadowFirst = 64u, // "shadow-first": confident shadow-map bits first
+  kIngredientAdaptiveFov = 128u, // "adaptive-fov": the server widens the traced FOV (server/fov_margin.hpp)
 };
 
 // A method and, for kFull, the ingredients switched off.
@@ -92,6 +93,7 @@ GuardBand guard_for_eye(const std::string& label, Extent eye);
 
 // What a setting's method means for the server and the client.
 bool server_predicts(const MethodSpec& spec);        // paper+pred, full (unless without pred)
+bool server_adapts_fov(const MethodSpec& spec);     // full (unless without adaptive-fov)
 render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& options);
 bool uses_server_visibility(const MethodSpec& spec);  // all but local
 

@@ -149,6 +149,10 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
                  "+ time on the server)")
       ->check(CLI::Range(0.0, 1000.0))
       ->group(kServeGroup);
+  app.add_flag("--adaptive-fov", out.adaptive_fov,
+               "widen each eye's traced field of view beyond the guard band by how far the displayed views "
+               "recently strayed from the traced ones (within the session's buffer: coarser pixels)")
+      ->group(kServeGroup);
   net::add_impairment_options(app, out.impairment);
 
   try {

@@ -37,6 +37,7 @@ struct ServerOptions {
   bool codec_v2 = true;                 // --codec v2 (default) or v1, for clients that offer v2
   bool predict = false;                 // server-side pose prediction
   double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
+  bool adaptive_fov = false;            // widen the traced FOV from the measured shortfall (server/fov_margin.hpp)
   net::ImpairmentParams impairment;     // on everything the server sends
 };
 

@@ -1,6 +1,7 @@
 // Internal to the session layer (visibility_service*.cpp): a session's state and a unit of trace work.
 #pragma once
 #include "net/clock_sync.hpp"
+#include "fov_margin.hpp"
 #include "pose_predictor.hpp"
 #include "session/visibility_service.hpp"
 
@@ -28,7 +29,8 @@ struct VisibilityService::Session {
   uint64_t newest_frame_received = 0;
   std::optional<PoseUpdate> pending;
   int64_t pending_receive_ns = 0;
-  PosePredictor predictor;        // used with ServiceConfig::predict
+  PosePredictor predictor;        // used with ServiceConfig::predict or adaptive_fov (frame period)
+  FovMarginTracker fov_margin;    // used with ServiceConfig::adaptive_fov
   int64_t last_process_ns = 0;    // the last trace-and-send of both eyes (service clock)
   // The last pose handed to the tracer (identical-pose skip).
   bool have_traced = false;

@@ -39,6 +39,8 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
           {"frames_predicted", s.frames_predicted},
           {"prediction_fallbacks", s.prediction_fallbacks},
           {"prediction_horizon_ms", s.prediction_horizon_ms},
+          {"eyes_fov_widened", s.eyes_fov_widened},
+          {"fov_span_ratio", s.fov_span_ratio},
           {"trace_ms", s.trace_ms},
           {"encode_ms", s.encode_ms}};
 }

@@ -23,6 +23,7 @@ VisibilityService::VisibilityService(VisibilityTracer& tracer, const ServiceConf
     throw std::invalid_argument("visibility service: session timeout and heartbeat interval must be > 0");
   if (config_.identical_refresh_ns < 0) throw std::invalid_argument("visibility service: identical_refresh_ns < 0");
   if (config_.predict) PosePredictor check(config_.predictor);  // throws std::invalid_argument when unusable
+  if (config_.adaptive_fov.enabled) FovMarginTracker check(config_.adaptive_fov);  // the same
   uint64_t seed = config_.token_seed;
   if (seed == 0) {
     std::random_device rd;
@@ -187,7 +188,8 @@ void VisibilityService::handle_session_message(const Datagram& datagram, const n
         const std::optional<uint64_t> held = pose->held_frame(e);
         if (held && (!s.codec[e].acked || *held > *s.codec[e].acked)) s.codec[e].acked = held;
       }
-      if (config_.predict) s.predictor.add(pose->display_time_ns, pose->views);
+      if (config_.predict || config_.adaptive_fov.enabled) s.predictor.add(pose->display_time_ns, pose->views);
+      if (config_.adaptive_fov.enabled) s.fov_margin.observed(pose->display_time_ns, pose->views);
       work_ready_.notify_one();
     } else if (const auto* hb = std::get_if<Heartbeat>(&datagram.message)) {
       s.last_receive_ns = now;

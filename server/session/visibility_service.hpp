@@ -14,6 +14,7 @@
 #include "net/clock.hpp"
 #include "net/peer_address.hpp"
 #include "net/udp_socket.hpp"
+#include "fov_margin.hpp"
 #include "pose_predictor.hpp"
 #include "visibility_tracer.hpp"
 
@@ -57,6 +58,10 @@ struct ServiceConfig {
   int64_t predict_horizon_ns = -1;
   bool horizon_on_frame_grid = true;
   PosePredictorConfig predictor;
+  // Adaptive traced field of view (server/fov_margin.hpp), off by default: each eye's traced FOV is widened
+  // beyond the guard band by the recent shortfall of the traced views against the views the client displayed
+  // (the horizon is the automatic one above, or predict_horizon_ns), within the session's buffer.
+  FovMarginConfig adaptive_fov;
   // Unsolicited replies (Bye to an unknown token, a rejected Hello, another version's Hello) are
   // limited to this many per second over all peers: no reflection flood toward a spoofed source.
   uint32_t max_unsolicited_replies_per_second = 20;
@@ -101,6 +106,8 @@ struct ServiceStats {
   uint64_t frames_predicted = 0;         // traced for predicted views (ServiceConfig::predict)
   uint64_t prediction_fallbacks = 0;     // the predictor fell back to the pose as sent
   double prediction_horizon_ms = 0.0;    // sum of the horizons used
+  uint64_t eyes_fov_widened = 0;         // eyes traced with a FOV widened beyond the guard band (adaptive_fov)
+  double fov_span_ratio = 0.0;           // sum over traced eyes (adaptive_fov) of widened / display tangent area
   uint64_t eyes_coded_v2_inter = 0;      // eyes sent with codec v2 against an acknowledged reference
   uint64_t eyes_coded_v2_intra = 0;      // eyes sent with codec v2 on their own
   double trace_ms = 0.0;                 // sums over all eyes traced (tracer wall time)
@@ -175,6 +182,7 @@ class VisibilityService {
                      std::vector<std::pair<SessionInfo, ByeReason>>& closed);
   void notify(const std::vector<std::pair<SessionInfo, ByeReason>>& closed, const SessionInfo* opened);
   bool trace_and_send(const Work& work);
+  void widen_fov(Session& s, int64_t target_time_ns, std::array<View, 2>& views);
   std::vector<VisibilityShard> encode_v2(Session& s, Eye eye, const Work& work, const Camera& camera,
                                          uint64_t& inter_eyes, uint64_t& intra_eyes);
 

@@ -105,7 +105,8 @@ void VisibilityService::handle_hello(const Hello& hello, uint32_t /*sequence*/, 
       session->peer = from;
       session->hello = hello;
       session->welcome = make_welcome(hello);
-      if (config_.predict) session->predictor = PosePredictor(config_.predictor);
+      if (config_.predict || config_.adaptive_fov.enabled) session->predictor = PosePredictor(config_.predictor);
+      if (config_.adaptive_fov.enabled) session->fov_margin = FovMarginTracker(config_.adaptive_fov);
       session->last_receive_ns = now;
       session->last_heartbeat_sent_ns = now;
       session->datagrams_received = 1;

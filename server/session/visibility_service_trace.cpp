@@ -29,17 +29,20 @@ size_t VisibilityService::process_pending() {
       s->traced_views = pose.views;
       s->last_trace_ns = now;
       Work w{s, pose, {s->codec[0].acked, s->codec[1].acked}};
-      if (config_.predict) {
+      if (config_.predict || config_.adaptive_fov.enabled) {
         int64_t horizon = config_.predict_horizon_ns;
         if (horizon < 0) {
           horizon = s->offset.rtt_ns() + (now - s->pending_receive_ns) + s->last_process_ns;
           if (config_.horizon_on_frame_grid) horizon = round_up_to_frame_grid(horizon, s->predictor.frame_period_ns());
         }
-        const PredictedViews predicted = s->predictor.predict(pose.display_time_ns + horizon);
-        w.traced.views = predicted.views;
-        ++stats_.frames_predicted;
-        if (predicted.fell_back) ++stats_.prediction_fallbacks;
-        stats_.prediction_horizon_ms += static_cast<double>(predicted.horizon_ns) / 1e6;
+        if (config_.predict) {
+          const PredictedViews predicted = s->predictor.predict(pose.display_time_ns + horizon);
+          w.traced.views = predicted.views;
+          ++stats_.frames_predicted;
+          if (predicted.fell_back) ++stats_.prediction_fallbacks;
+          stats_.prediction_horizon_ms += static_cast<double>(predicted.horizon_ns) / 1e6;
+        }
+        if (config_.adaptive_fov.enabled) widen_fov(*s, pose.display_time_ns + horizon, w.traced.views);
       }
       work.push_back(std::move(w));
     }
@@ -55,6 +58,21 @@ size_t VisibilityService::process_pending() {
     }
   }
   return traced;
+}
+
+// Adaptive FOV: remembers the views traced for the target time (measured when the client's pose for it
+// arrives), then widens each eye by the recent shortfall. Under mutex_.
+void VisibilityService::widen_fov(Session& s, int64_t target_time_ns, std::array<View, 2>& views) {
+  s.fov_margin.traced(target_time_ns, views);
+  const TracedFormat format = s.welcome.format();
+  for (size_t e = 0; e < 2; ++e) {
+    const View widened = s.fov_margin.widen(views[e], e, format);
+    const Tangents a = Tangents::from_fov(views[e].fov), b = Tangents::from_fov(widened.fov);
+    const double ratio = (b.width() * b.height()) / (a.width() * a.height());
+    if (ratio != 1.0) ++stats_.eyes_fov_widened;
+    stats_.fov_span_ratio += ratio;
+    views[e] = widened;
+  }
 }
 
 // Codec v2 for one eye: against the frame the client acknowledged, if this eye's ring of sent frames still has
