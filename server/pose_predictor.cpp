@@ -36,12 +36,76 @@ bool extrapolate(const Pose& a, const Pose& b, double dt, double horizon, const 
   return !validate_pose(out).has_value();  // finite, non-zero quaternion, plausible position
 }
 
+// Least-squares fit of y(t) = a + b t + c t^2 (t relative to the newest sample, seconds); returns y(h) - y(0),
+// or false when the system is singular.
+bool quadratic_change(const std::vector<double>& t, const std::vector<glm::dvec3>& y, double h, glm::dvec3& out) {
+  double s[5] = {0, 0, 0, 0, 0};  // sums of t^k
+  glm::dvec3 r[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};  // sums of y t^k
+  for (size_t i = 0; i < t.size(); ++i) {
+    double tk = 1.0;
+    for (int k = 0; k < 5; ++k) {
+      s[k] += tk;
+      if (k < 3) r[k] += y[i] * tk;
+      tk *= t[i];
+    }
+  }
+  const glm::dmat3 m(s[0], s[1], s[2], s[1], s[2], s[3], s[2], s[3], s[4]);  // symmetric
+  const double det = glm::determinant(m);
+  if (!(std::abs(det) > 1e-18)) return false;
+  const glm::dmat3 inv = glm::inverse(m);
+  for (int axis = 0; axis < 3; ++axis) {
+    const glm::dvec3 coef = inv * glm::dvec3(r[0][axis], r[1][axis], r[2][axis]);  // a, b, c
+    out[axis] = coef[1] * h + coef[2] * h * h;
+  }
+  return std::isfinite(out.x + out.y + out.z);
+}
+
+glm::dvec3 rotation_vector(const glm::dquat& q_in) {
+  glm::dquat q = glm::normalize(q_in);
+  if (q.w < 0.0) q = -q;
+  const glm::dvec3 v(q.x, q.y, q.z);
+  const double s = glm::length(v);
+  if (s < 1e-12) return v * 2.0;
+  return v / s * (2.0 * std::atan2(s, q.w));
+}
+
+glm::dquat from_rotation_vector(const glm::dvec3& r) {
+  const double angle = glm::length(r);
+  if (angle < 1e-12) return glm::normalize(glm::dquat(1.0, r.x * 0.5, r.y * 0.5, r.z * 0.5));
+  return glm::angleAxis(angle, r / angle);
+}
+
 }  // namespace
+
+bool PosePredictor::extrapolate_quadratic(size_t eye, double horizon_s, Pose& out) const {
+  const Sample& last = samples_.back();
+  std::vector<double> t;
+  std::vector<glm::dvec3> positions, rotations;
+  const glm::dquat inv_last = glm::conjugate(glm::normalize(last.views[eye].pose.orientation));
+  for (const Sample& s : samples_) {
+    if (last.time_ns - s.time_ns > config_.quadratic_window_ns) continue;
+    t.push_back(static_cast<double>(s.time_ns - last.time_ns) * 1e-9);
+    positions.push_back(s.views[eye].pose.position - last.views[eye].pose.position);
+    rotations.push_back(rotation_vector(glm::normalize(s.views[eye].pose.orientation) * inv_last));
+  }
+  if (t.size() < 3) return false;
+  glm::dvec3 dp, dr;
+  if (!quadratic_change(t, positions, horizon_s, dp) || !quadratic_change(t, rotations, horizon_s, dr)) return false;
+  const double span = -t.front();
+  if (span <= 0.0 || !(glm::length(dp) <= config_.max_speed_mps * std::max(horizon_s, span) * 2.0) ||
+      !(glm::length(dr) <= config_.max_angular_speed_rps * std::max(horizon_s, span) * 2.0)) {
+    return false;
+  }
+  out = last.views[eye].pose;
+  out.position += dp;
+  out.orientation = glm::normalize(from_rotation_vector(dr) * glm::normalize(last.views[eye].pose.orientation));
+  return !validate_pose(out).has_value();
+}
 
 PosePredictor::PosePredictor(const PosePredictorConfig& config) : config_(config) {
   if (config.history < 2 || config.max_horizon_ns < 0 || !(config.max_speed_mps > 0.0) ||
       !(config.max_angular_speed_rps > 0.0) || config.min_interval_ns < 0 || config.velocity_window_ns < 0 ||
-      config.soft_horizon_ns < 0 || config.damping_tau_ns < 0) {
+      config.soft_horizon_ns < 0 || config.damping_tau_ns < 0 || config.quadratic_window_ns < 0) {
     throw std::invalid_argument("PosePredictorConfig: history >= 2, non-negative horizon, positive limits");
   }
 }
@@ -81,6 +145,10 @@ PredictedViews PosePredictor::predict(int64_t target_time_ns) const {
   const double dt = static_cast<double>(interval) * 1e-9;
   std::array<View, 2> predicted = last.views;
   for (size_t eye = 0; eye < 2; ++eye) {
+    if (config_.quadratic_window_ns > 0 && horizon > 0 &&
+        extrapolate_quadratic(eye, static_cast<double>(horizon) * 1e-9, predicted[eye].pose)) {
+      continue;
+    }
     if (!extrapolate(prev.views[eye].pose, last.views[eye].pose, dt, static_cast<double>(horizon) * 1e-9, config_,
                      predicted[eye].pose)) {
       return out;  // fall back to the newest real poses

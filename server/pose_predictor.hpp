@@ -33,6 +33,11 @@ struct PosePredictorConfig {
   // Off by default: dhr-eval measured a big gain at 200 ms RTT but a loss at 100 ms (docs/evaluation.md).
   int64_t soft_horizon_ns = 0;
   int64_t damping_tau_ns = 0;
+  // > 0: instead of the two-pose velocity, a least-squares quadratic in time (constant acceleration) is fitted
+  // to every pose within this window (at least 3; fewer: the velocity model) per eye, to the positions and to
+  // the orientations' rotation vectors relative to the newest; the prediction moves the newest pose by the
+  // fit's change from the newest time to the target. 0: off (default; docs/evaluation.md measured it).
+  int64_t quadratic_window_ns = 0;
 };
 
 struct PredictedViews {
@@ -66,6 +71,8 @@ class PosePredictor {
     int64_t time_ns = 0;
     std::array<View, 2> views{};
   };
+  bool extrapolate_quadratic(size_t eye, double horizon_s, Pose& out) const;
+
   PosePredictorConfig config_;
   std::deque<Sample> samples_;
 };

@@ -297,6 +297,28 @@ struct ClientShadingPush {
   uint flags;            // kClientShading*
 };
 
+// Forward (graphics, forward.frag; set 0 = the G-buffer's per-material set): rasterizes and shades in one pass.
+// The surface point of a fragment is reconstructed from gl_FragCoord exactly as the compute passes reconstruct
+// it from the depth image, so the warp decisions are the compute warp's. Set 1:
+DHR_CONST uint kClientForwardBindingParams = 0;        // storage buffer ClientWarpParams (rays, source 0, shadows)
+DHR_CONST uint kClientForwardBindingVisibility0 = 1;   // storage buffer uint[]: source 0's packed masks
+DHR_CONST uint kClientForwardBindingRowValid0 = 2;     // storage buffer uint[]: source 0's row validity
+DHR_CONST uint kClientForwardBindingShadowMap = 3;     // sampler2D: shadow map atlas
+DHR_CONST uint kClientForwardBindingShadowLights = 4;  // storage buffer ClientShadowLight[]
+DHR_CONST uint kClientForwardBindingLights = 5;        // storage buffer PackedLight[] (display-eye-relative)
+DHR_CONST uint kClientForwardBindingShading = 6;       // storage buffer ClientForwardShading
+DHR_CONST uint kClientForwardLambert = 0u;     // every light bit set: Lambert without shadows
+DHR_CONST uint kClientForwardShadowMaps = 1u;  // the mask of the client's shadow maps (shadow_lookup.h)
+DHR_CONST uint kClientForwardPaperWarp = 2u;   // the paper's warp of source 0 (paper_warp.h); writes the status
+// Colour attachment 0: display-encoded bytes (RGBA8 UNORM); 1: R32_UINT status (kClientStatus*; the
+// count pass sums it); 2 (optional, tests): R32_UINT mask.
+struct ClientForwardShading {
+  float exposure;
+  uint mode;             // kClientForward*
+  uint flags;            // kClientShading* (swap red and blue)
+  uint light_count;
+};
+
 #ifdef __cplusplus
 static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the GLSL layout");
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
@@ -305,6 +327,7 @@ static_assert(sizeof(ClientWarpSource) == 132, "ClientWarpSource must match the 
 static_assert(sizeof(ClientWarpParams) == 2 * 132 + 4 * 29, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 16, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientForwardShading) == 16, "ClientForwardShading must match the std430 layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
 static_assert(sizeof(VisPushConstants) == 92, "push constants must match the GLSL layout");
 }  // namespace dhr::shader

@@ -184,6 +184,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.value("loss", options.loss, 4);
     meta.value("codec", options.codec_v2 ? "v2" : "v1");
     meta.value("predict_window_ms", options.predict_window_ms, 3);
+    meta.value("predict_quadratic_ms", options.predict_quadratic_ms, 3);
     meta.value("predict_max_horizon_ms", options.predict_max_horizon_ms, 3);
     meta.value("server_model_ms", options.server_ms, 3);
     meta.value("seed", static_cast<unsigned long long>(options.seed));

@@ -46,6 +46,7 @@ server::ServiceConfig service_config(const Setting& setting, const RunOptions& o
   c.predictor.max_horizon_ns = static_cast<int64_t>(std::llround(options.predict_max_horizon_ms * 1e6));
   c.predictor.soft_horizon_ns = static_cast<int64_t>(std::llround(options.predict_soft_horizon_ms * 1e6));
   c.predictor.damping_tau_ns = static_cast<int64_t>(std::llround(options.predict_damping_ms * 1e6));
+  c.predictor.quadratic_window_ns = static_cast<int64_t>(std::llround(options.predict_quadratic_ms * 1e6));
   return c;
 }
 

@@ -73,6 +73,7 @@ struct RunOptions {
   double predict_max_horizon_ms = 100.0;  // paper+pred: the prediction horizon's cap (PosePredictorConfig's)
   double predict_soft_horizon_ms = 0.0;   // paper+pred: damping starts here (with predict_damping_ms > 0)
   double predict_damping_ms = 0.0;        // paper+pred: damping time constant beyond the soft horizon; 0: off
+  double predict_quadratic_ms = 0.0;      // paper+pred: quadratic fit over this window (PosePredictorConfig's); 0: off
   render::ShadowMapSettings shadow_maps;  // local, full
   double plane_tolerance_rel = render::WarpSettings{}.plane_tolerance_rel;  // full's depth test
   double plane_tolerance_abs = render::WarpSettings{}.plane_tolerance_abs;

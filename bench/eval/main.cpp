@@ -54,6 +54,10 @@ int main(int argc, char** argv) {
                   "paper+pred: damping time constant beyond the soft horizon (0: off)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 2000.0));
+  run->add_option("--predict-quadratic-ms", options.predict_quadratic_ms,
+                  "paper+pred: fit a quadratic (constant acceleration) to the poses of this window (0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1000.0));
   std::string codec = "v2";
   run->add_option("--codec", codec, "visibility codec: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
       ->capture_default_str()

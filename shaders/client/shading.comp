@@ -20,9 +20,9 @@ layout(set = 0, binding = kClientShadingBindingLights, std430) readonly buffer L
 layout(set = 0, binding = kClientShadingBindingOutput, rgba8) uniform writeonly image2D output_image;
 layout(push_constant, std430) uniform Push { ClientShadingPush pc; };
 
-const float kInvPi = 0.31830988618379067;
-
 vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
+
+#include "client/shade.h"
 
 void main() {
   const uvec2 id = gl_GlobalInvocationID.xy;
@@ -36,15 +36,7 @@ void main() {
   const vec3 albedo = texelFetch(albedo_texture, pixel, 0).rgb;
   const uint mask = imageLoad(mask_image, pixel).x;
 
-  vec3 sum = vec3(0.0);
-  for (uint i = 0u; i < pc.light_count; ++i) {
-    if (((mask >> i) & 1u) == 0u) continue;  // shadowed: skipped when no invocation needs the light
-    vec3 l;
-    float dist;
-    if (light_test(lights[i], p, n, l, dist) != kLightContributes) continue;
-    sum += light_irradiance(lights[i], l, dist) * light_cosine(n, l);
-  }
-  const vec3 radiance = albedo * kInvPi * sum;
+  const vec3 radiance = shade_radiance(p, n, albedo, mask, pc.light_count);
   vec3 display = encode_radiance(radiance, pc.exposure);
 
   if (pc.view_mode != kClientViewShaded) {

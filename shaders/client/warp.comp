@@ -167,99 +167,8 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   return r;
 }
 
-// The shadow maps at surface point p (display-eye-relative, world axes) with unit normal n, per light: `mask`
-// 0 where the light cannot contribute (light_test) or the texel under the lookup holds a nearer surface than the
-// point (less the bias), else 1; `confident` unless a texel is coarser than a display pixel (`pixel_world`
-// metres at p) and the 2x2 texels around the lookup decide differently (a shadow edge within a texel). A band
-// of doubt around the bias (a shadow cast from within a few biases may be acne) was measured and dropped: on
-// the living room the server's bits were wrong there more often than the maps' (docs/evaluation.md).
-struct ShadowLookup {
-  uint mask;
-  uint confident;
-};
-
-bool shadow_texel_lit(uint row, uint face, ivec2 t, float threshold) {
-  const uint size = pc.shadow_size;
-  const ivec2 c = clamp(t, ivec2(0), ivec2(int(size) - 1));
-  const float stored = texelFetch(shadow_atlas, ivec2(face * size + uint(c.x), row * size + uint(c.y)), 0).r;
-  const float occluder = stored > 0.0 ? pc.shadow_near / stored : 3.0e38;
-  return occluder >= threshold;
-}
-
-ShadowLookup shadow_lookup(vec3 p, vec3 n, float pixel_world) {
-  ShadowLookup r;
-  r.mask = 0u;
-  r.confident = 0u;
-  const float size = float(pc.shadow_size);
-  for (uint i = 0u; i < pc.light_count; ++i) {
-    vec3 l;
-    float dist;
-    if (light_test(lights[i], p, n, l, dist) != kLightContributes) {
-      r.confident |= 1u << i;
-      continue;
-    }
-    const ClientShadowLight sl = shadow_lights[i];
-    if (sl.tile_row == kClientNoShadowMap) {
-      r.mask |= 1u << i;  // no map (directional): taken as lit, never confident
-      continue;
-    }
-    const vec3 v0 = p - v3(sl.position);
-    // Normal offset: a few texels (at this distance) along the normal, against acne on slopes.
-    const float texel = 2.0 * cube_face_distance(v0) / size;
-    const vec3 v = v0 + (pc.shadow_normal_offset * texel) * n;
-    const CubeLookup c = cube_lookup(v, pc.shadow_size);
-    // Slope-scaled: a texel spans more depth the more grazing the light (tan of the angle, at most 10).
-    const float cos_nl = dot(n, l);
-    const float tan_nl = min(sqrt(max(1.0 - cos_nl * cos_nl, 0.0)) / cos_nl, 10.0);
-    const float bias = pc.shadow_bias_rel * c.distance + pc.shadow_bias_abs + pc.shadow_bias_slope * texel * tan_nl;
-    const float threshold = c.distance - bias;
-    const bool lit = shadow_texel_lit(sl.tile_row, c.face, c.texel, threshold);
-    if (lit) r.mask |= 1u << i;
-    // Confidence: the band around the point's distance, and the 2x2 footprint around the lookup.
-    bool alike = true;
-    if (texel > pixel_world) {
-      const ivec2 t0 = ivec2(floor(c.position - 0.5));
-      for (int k = 0; k < 4; ++k) {
-        alike = alike && shadow_texel_lit(sl.tile_row, c.face, t0 + ivec2(k & 1, k >> 1), threshold) == lit;
-      }
-    }
-    if (alike) r.confident |= 1u << i;
-  }
-  return r;
-}
-
-// The paper's warp alone (no ingredient of WarpSettings on): the same decisions as look_up's nearest case,
-// branch-free, because SIMD CPU implementations (lavapipe) run both sides of a divergent branch: at 1832x1920
-// the general path costs 1.7x this one for the paper's rule.
-uint paper_warp(uvec2 id, float d, out uint mask, out vec2 motion) {
-  const vec2 centre = vec2(id) + 0.5;
-  const vec3 ray = v3(pc.source[0].ray0) + centre.x * v3(pc.source[0].ray_dx) + centre.y * v3(pc.source[0].ray_dy);
-  const vec3 p_old = (pc.near_plane / d) * ray + v3(pc.source[0].trans);
-  const float depth_old = -p_old.z;
-  const float px = pc.source[0].old_px_scale * (p_old.x / depth_old) + pc.source[0].old_px_offset;
-  const float py = pc.source[0].old_py_scale * (p_old.y / depth_old) + pc.source[0].old_py_offset;
-  const uint w = pc.source[0].old_width, h = pc.source[0].old_height;
-  const bool inside = px >= 0.0 && py >= 0.0 && px < float(w) && py < float(h);
-  // Clamped, so the loads below stay in bounds whatever the decision (NaN included).
-  const uint ix = min(uint(max(px, 0.0)), w - 1u);
-  const uint iy = min(uint(max(py, 0.0)), h - 1u);
-  const bool rows_ok = (pc.source[0].flags & kClientSourceHasRowValidity) == 0u || ((rows0[iy >> 5] >> (iy & 31u)) & 1u) != 0u;
-  const uint bits = pc.source[0].mask_bits;
-  const uint bit = (iy * w + ix) * bits;
-  const uint width_mask = bits >= 32u ? 0xFFFFFFFFu : (1u << bits) - 1u;
-  const uint old_mask = (vis0[bit >> 5] >> (bit & 31u)) & width_mask;
-  const uint status = !(d > 0.0) ? kClientStatusBackground
-                    : (pc.source[0].flags & kClientSourceHasVisibility) == 0u ? kClientStatusNoData
-                    : !(depth_old > pc.min_depth) ? kClientStatusBehind
-                    : !inside ? kClientStatusOutside
-                    : !rows_ok ? kClientStatusMissingRow
-                    : kClientStatusKnown;
-  mask = status == kClientStatusKnown ? old_mask : pc.unknown_mask;
-  const bool valid = status == kClientStatusKnown || status == kClientStatusOutside || status == kClientStatusMissingRow;
-  const vec2 still = vec2(pc.ident_px_scale * centre.x + pc.ident_px_offset, pc.ident_py_scale * centre.y + pc.ident_py_offset);
-  motion = valid ? vec2(px, py) - still : vec2(0.0);
-  return status;
-}
+#include "client/shadow_lookup.h"
+#include "client/paper_warp.h"
 
 void main() {
   const uvec2 id = gl_GlobalInvocationID.xy;
@@ -274,7 +183,7 @@ void main() {
   if (in_image && paper) {  // dynamically uniform
     uint mask;
     vec2 motion;
-    status = paper_warp(id, texelFetch(depth_texture, ivec2(id), 0).r, mask, motion);
+    status = paper_warp(vec2(id) + 0.5, texelFetch(depth_texture, ivec2(id), 0).r, mask, motion);
     imageStore(mask_image, ivec2(id), uvec4(mask, 0u, 0u, 0u));
     if ((pc.flags & kClientWarpWriteStatus) != 0u) imageStore(status_image, ivec2(id), uvec4(status, 0u, 0u, 0u));
     if ((pc.flags & kClientWarpWriteMotion) != 0u) imageStore(motion_image, ivec2(id), vec4(motion, 0.0, 0.0));

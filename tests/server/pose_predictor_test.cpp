@@ -217,5 +217,49 @@ TEST(PosePredictor, HorizonsBeyondTheSoftHorizonAreDamped) {
   EXPECT_THROW(PosePredictor{config}, std::invalid_argument);
 }
 
+// Constant linear and angular acceleration about a fixed axis: the quadratic fit is exact, the velocity model
+// is not; with fewer than three poses in the window the quadratic model falls back to the velocity model.
+TEST(PosePredictor, QuadraticFitIsExactOnConstantAcceleration) {
+  const glm::dvec3 accel{2.0, -1.0, 0.5};  // m/s^2
+  const double alpha = 6.0;                // rad/s^2
+  const auto pose_at = [&](int64_t t_ns) {
+    const double t = static_cast<double>(t_ns) * 1e-9;
+    Pose p;
+    p.position = glm::dvec3(0.2, 1.5, -1.0) + kVelocity * t + 0.5 * accel * t * t;
+    p.orientation = glm::angleAxis(kAngularSpeed * t + 0.5 * alpha * t * t, kAxis);
+    return p;
+  };
+  PosePredictorConfig config;
+  config.quadratic_window_ns = 60 * kMs;
+  PosePredictor quadratic(config);
+  PosePredictor velocity;
+  for (int i = 0; i < 8; ++i) {
+    std::array<View, 2> views{};
+    for (View& v : views) v.pose = pose_at(i * kFrame);
+    quadratic.add(i * kFrame, views);
+    velocity.add(i * kFrame, views);
+  }
+  const int64_t target = 7 * kFrame + 80 * kMs;
+  const PredictedViews q = quadratic.predict(target);
+  ASSERT_FALSE(q.fell_back);
+  expect_pose_near(q.views[0].pose, pose_at(target), 1e-9);
+  const PredictedViews v = velocity.predict(target);
+  EXPECT_GT(glm::length(v.views[0].pose.position - pose_at(target).position), 1e-3);
+
+  PosePredictorConfig narrow;
+  narrow.quadratic_window_ns = kFrame;  // two poses in the window: the velocity model
+  PosePredictor fallback(narrow);
+  for (int i = 0; i < 8; ++i) {
+    std::array<View, 2> views{};
+    for (View& view : views) view.pose = pose_at(i * kFrame);
+    fallback.add(i * kFrame, views);
+  }
+  const PredictedViews f = fallback.predict(target);
+  EXPECT_EQ(f.views[0].pose.position, v.views[0].pose.position);
+  PosePredictorConfig bad;
+  bad.quadratic_window_ns = -1;
+  EXPECT_THROW(PosePredictor{bad}, std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace dhr::server

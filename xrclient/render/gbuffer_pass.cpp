@@ -18,8 +18,6 @@ namespace {
 
 using namespace dhr::shader;  // binding numbers and flags shared with the GLSL
 
-constexpr VkShaderStageFlags kPushStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-
 VkRenderingAttachmentInfo clear_attachment(VkImageView view, VkImageLayout layout, VkClearValue clear) {
   VkRenderingAttachmentInfo a{};
   a.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
@@ -47,11 +45,9 @@ GBuffer GBuffer::create(const vk::Context& context, Extent extent) {
 
 GBufferPass::GBufferPass(const vk::Context& context, const ClientScene& scene) : scene_(&scene) {
   const VkDevice device = context.device();
-  const VkDescriptorSetLayoutBinding binding{kClientGBufferBindingBaseColor, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                             1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
-  set_layout_ = vk::create_descriptor_set_layout(device, std::span(&binding, 1));
-  const VkPushConstantRange push{kPushStages, 0, sizeof(shader::ClientGBufferPush)};
-  const VkDescriptorSetLayout set_layout = set_layout_.get();
+  materials_ = MaterialSets(device, scene);
+  const VkPushConstantRange push{kMaterialPushStages, 0, sizeof(shader::ClientGBufferPush)};
+  const VkDescriptorSetLayout set_layout = materials_.layout();
   layout_ = vk::create_pipeline_layout(device, std::span(&set_layout, 1), std::span(&push, 1));
 
   const auto modules = dhr_shaders_client_modules();
@@ -71,18 +67,6 @@ GBufferPass::GBufferPass(const vk::Context& context, const ClientScene& scene) :
   cull_back_ = vk::create_graphics_pipeline(device, layout_.get(), desc);
   desc.cull_mode = VK_CULL_MODE_NONE;
   cull_none_ = vk::create_graphics_pipeline(device, layout_.get(), desc);
-
-  // One descriptor set per material: its texture and sampler never change.
-  const uint32_t set_count = std::max<uint32_t>(1, static_cast<uint32_t>(scene.materials().size()));
-  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, set_count};
-  pool_ = vk::create_descriptor_pool(device, set_count, std::span(&size, 1));
-  for (const ClientMaterial& m : scene.materials()) {
-    const VkDescriptorSet set = vk::allocate_descriptor_set(device, pool_.get(), set_layout_.get());
-    vk::write_image_descriptor(device, set, kClientGBufferBindingBaseColor, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                               scene.textures()[m.texture].view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                               scene.samplers()[m.sampler].get());
-    material_sets_.push_back(set);
-  }
 }
 
 GBufferDrawStats GBufferPass::record(VkCommandBuffer cmd, GBuffer& targets, const Camera& camera,
@@ -118,46 +102,9 @@ GBufferDrawStats GBufferPass::record(VkCommandBuffer cmd, GBuffer& targets, cons
   rendering.pDepthAttachment = &depth;
   vkCmdBeginRendering(cmd, &rendering);
 
-  GBufferDrawStats stats;
-  const ClientScene& scene = *scene_;
-  if (scene.indices()) {
-    vk::set_viewport_and_scissor(cmd, {extent.width, extent.height});
-    scene.bind_geometry(cmd);
-
-    shader::ClientGBufferPush push{};
-    const std::array<float, 16> vp = matrix_floats(camera_relative_view_projection(camera, near_plane));
-    std::copy(vp.begin(), vp.end(), push.view_proj);
-    VkPipeline bound = VK_NULL_HANDLE;
-    for (const ClientMesh& mesh : scene.meshes()) {
-      if (!sphere_may_be_visible(camera, mesh.origin, mesh.radius)) {
-        ++stats.meshes_culled;
-        continue;
-      }
-      const ClientMaterial& material = scene.materials()[mesh.material];
-      const VkPipeline pipeline = material.double_sided ? cull_none_.get() : cull_back_.get();
-      if (pipeline != bound) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-        bound = pipeline;
-      }
-      const VkDescriptorSet set = material_sets_[mesh.material];
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set, 0, nullptr);
-      const glm::vec3 t = camera_relative_offset(mesh.origin, camera);
-      push.translation_x = t.x;
-      push.translation_y = t.y;
-      push.translation_z = t.z;
-      push.flags = (material.double_sided ? kClientMaterialDoubleSided : 0u) |
-                   (material.alpha_mask ? kClientMaterialAlphaMask : 0u);
-      push.base_color_r = material.base_color_factor.r;
-      push.base_color_g = material.base_color_factor.g;
-      push.base_color_b = material.base_color_factor.b;
-      push.base_color_a = material.base_color_factor.a;
-      push.alpha_cutoff = material.alpha_cutoff;
-      vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
-      vkCmdDrawIndexed(cmd, mesh.index_count, 1, mesh.first_index, mesh.vertex_offset, 0);
-      ++stats.meshes_drawn;
-      stats.triangles_drawn += mesh.index_count / 3;
-    }
-  }
+  vk::set_viewport_and_scissor(cmd, {extent.width, extent.height});
+  const GBufferDrawStats stats =
+      record_scene_draws(cmd, *scene_, materials_, {layout_.get(), cull_back_.get(), cull_none_.get()}, camera, near_plane);
   vkCmdEndRendering(cmd);
 
   targets.depth.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

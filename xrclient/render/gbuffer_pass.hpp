@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "math/projection.hpp"
+#include "render/scene_draw.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
 
@@ -36,12 +37,6 @@ struct GBuffer {
   Extent extent() const { return Extent{depth.width(), depth.height()}; }
 };
 
-struct GBufferDrawStats {
-  uint32_t meshes_drawn = 0;
-  uint32_t meshes_culled = 0;  // bounding sphere outside the view frustum
-  uint64_t triangles_drawn = 0;
-};
-
 class GBufferPass {
  public:
   // Keeps a reference to the scene: it must outlive the pass.
@@ -54,12 +49,10 @@ class GBufferPass {
 
  private:
   const ClientScene* scene_;
-  vk::DescriptorSetLayout set_layout_;
+  MaterialSets materials_;
   vk::PipelineLayout layout_;
   vk::Pipeline cull_back_;
   vk::Pipeline cull_none_;
-  vk::DescriptorPool pool_;
-  std::vector<VkDescriptorSet> material_sets_;
 };
 
 }  // namespace dhr::render

@@ -11,6 +11,7 @@
 #include "render/pass_util.hpp"
 #include "render/render_camera.hpp"
 #include "render/shadow_maps.hpp"
+#include "render/warp_params.hpp"
 #include "scene/lighting.hpp"
 #include "shader_interface.h"
 #include "vk/barriers.hpp"
@@ -24,20 +25,12 @@ namespace {
 using namespace dhr::shader;  // binding numbers and flags shared with the GLSL
 
 constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-constexpr VkDeviceSize kRowWords = kMaxBufferDimension / 32;
 constexpr VkBufferUsageFlags kCounterUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 
 static_assert(kWarpStatusCount == kClientStatusCount, "WarpStatus mirrors kClientStatus*");
 static_assert(kClientCountWords * 3 >= kClientCountFields, "three 10-bit fields per word");
 static_assert(kClientCountBucketGroups * kClientWarpGroupSize * kClientWarpGroupSize <= 1023,
               "a bucket's count must fit a 10-bit field");
-
-// Words of packed counts for a display size: kClientCountWords per bucket (see kClientCountBucketGroups).
-uint32_t count_words(Extent extent) {
-  const uint32_t groups_x = (extent.width + kClientWarpGroupSize - 1) / kClientWarpGroupSize;
-  const uint32_t groups_y = (extent.height + kClientWarpGroupSize - 1) / kClientWarpGroupSize;
-  return kClientCountWords * ((groups_x + kClientCountBucketGroups - 1) / kClientCountBucketGroups) * groups_y;
-}
 
 // The per-status counts use subgroupAdd in compute shaders (Vulkan 1.1 subgroup arithmetic).
 void require_subgroup_arithmetic(const vk::Context& context) {
@@ -53,77 +46,6 @@ void require_subgroup_arithmetic(const vk::Context& context) {
     throw std::runtime_error("warp pass: the Vulkan device '" + context.info().name +
                              "' lacks subgroup arithmetic in compute shaders");
   }
-}
-
-void copy3(const glm::dvec3& v, float* out) {
-  out[0] = static_cast<float>(v.x);
-  out[1] = static_cast<float>(v.y);
-  out[2] = static_cast<float>(v.z);
-}
-
-// The display camera's pixel rays (tangent-plane point of pixel (0, 0)'s corner and the per-pixel steps),
-// rotated by `m` into another frame.
-void display_rays(const Camera& display, const glm::dmat3& m, float* ray0, float* ray_dx, float* ray_dy) {
-  const Tangents& nt = display.tangents;
-  copy3(m * glm::dvec3(nt.left, nt.up, -1.0), ray0);
-  copy3(m * glm::dvec3(nt.width() / display.extent.width, 0.0, 0.0), ray_dx);
-  copy3(m * glm::dvec3(0.0, -nt.height() / display.extent.height, 0.0), ray_dy);
-}
-
-// A source's parameters, computed in double: everything is relative to the new eye, so only small numbers
-// reach the GPU. `traced` is null without a usable visibility buffer.
-ClientWarpSource make_source(const Camera& display, const Camera* traced) {
-  ClientWarpSource src{};
-  const Camera& old_camera = traced != nullptr ? *traced : display;
-  const glm::dmat3 r_old_t = glm::transpose(eye_to_world_rotation(old_camera));
-  // New eye space -> old eye space.
-  display_rays(display, r_old_t * eye_to_world_rotation(display), src.ray0, src.ray_dx, src.ray_dy);
-  copy3(r_old_t * (display.T_world_eye.position - old_camera.T_world_eye.position), src.trans);
-  for (int row = 0; row < 3; ++row) {
-    for (int col = 0; col < 3; ++col) src.rot[row * 3 + col] = static_cast<float>(r_old_t[col][row]);
-  }
-  const Tangents& ot = old_camera.tangents;
-  const double sx = old_camera.extent.width / ot.width();
-  const double sy = old_camera.extent.height / ot.height();
-  src.old_px_scale = static_cast<float>(sx);
-  src.old_px_offset = static_cast<float>(-ot.left * sx);
-  src.old_py_scale = static_cast<float>(-sy);
-  src.old_py_offset = static_cast<float>(ot.up * sy);
-  src.old_tan_left = static_cast<float>(ot.left);
-  src.old_tan_up = static_cast<float>(ot.up);
-  src.old_tan_step_x = static_cast<float>(ot.width() / old_camera.extent.width);
-  src.old_tan_step_y = static_cast<float>(ot.height() / old_camera.extent.height);
-  // Without visibility the (clamped) lookups read the 4-byte placeholder buffer's first word.
-  src.old_width = traced != nullptr ? traced->extent.width : 1u;
-  src.old_height = traced != nullptr ? traced->extent.height : 1u;
-  src.mask_bits = 32u;
-  return src;
-}
-
-// Display-level parameters (the sources are filled in by the caller).
-ClientWarpParams make_params(const Camera& display, const Camera* traced, double near_plane) {
-  ClientWarpParams params{};
-  const Camera& old_camera = traced != nullptr ? *traced : display;
-  display_rays(display, eye_to_world_rotation(display), params.world_ray0, params.world_ray_dx,
-               params.world_ray_dy);
-  // Where pixel centre c would land with the new pose equal to source 0's (motion = lookup - this).
-  const Tangents& nt = display.tangents;
-  const double dx = nt.width() / display.extent.width;
-  const double dy = -nt.height() / display.extent.height;
-  const Tangents& ot = old_camera.tangents;
-  const double sx = old_camera.extent.width / ot.width();
-  const double sy = old_camera.extent.height / ot.height();
-  const double ox = -ot.left * sx, oy = ot.up * sy;
-  params.ident_px_scale = static_cast<float>(sx * dx);
-  params.ident_px_offset = static_cast<float>(sx * nt.left + ox);
-  params.ident_py_scale = static_cast<float>(-sy * dy);
-  params.ident_py_offset = static_cast<float>(-sy * nt.up + oy);
-  params.near_plane = static_cast<float>(near_plane);
-  params.min_depth = static_cast<float>(kWarpMinDepth);
-  params.width = display.extent.width;
-  params.height = display.extent.height;
-  params.unknown_mask = 0xFFFFFFFFu;
-  return params;
 }
 
 }  // namespace
@@ -169,10 +91,7 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
   core_ = ComputePassCore::create(device, bindings, 4, "warp.comp", slots);
   slots_.resize(slots);
   for (Slot& s : slots_) {
-    for (SourceBuffers& b : s.sources) {
-      b.visibility = vk::Buffer(context, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
-      b.rows = vk::Buffer(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
-    }
+    for (int i = 0; i < 2; ++i) s.sources.emplace_back(context);
     s.params = vk::Buffer(context, sizeof(ClientWarpParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.shadow_lights = vk::Buffer(context, kMaxLights * sizeof(ClientShadowLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.lights = vk::Buffer(context, kMaxLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
@@ -185,17 +104,6 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
     placeholder_depth_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     placeholder_normal_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   });
-}
-
-void WarpPass::upload(SourceBuffers& buffers, const VisibilityInput& visibility) {
-  const VisibilityBuffer& buffer = *visibility.buffer;
-  if (visibility.key != 0 && visibility.key == buffers.key) return;
-  const VkDeviceSize bytes = (buffer.size_bytes() + 3) / 4 * 4;
-  if (bytes > buffers.visibility.size()) {
-    buffers.visibility = vk::Buffer(*context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
-  }
-  buffers.visibility.write(buffer.data.data(), buffer.data.size());
-  buffers.key = visibility.key;
 }
 
 bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame& frame, WarpTargets& targets) {
@@ -218,7 +126,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     throw std::invalid_argument("warp pass: the depth test and shadow lookups need the display normals");
   }
   Slot& slot = slots_[slot_index];
-  slot.count_words = count_words(extent);
+  slot.count_words = warp_count_words(extent);
   if (VkDeviceSize{slot.count_words} * 4 > slot.counters.size()) {
     slot.counters = vk::Buffer(*context_, VkDeviceSize{slot.count_words} * 4, kCounterUsage, kHost);
   }
@@ -236,7 +144,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     usable[s] = true;
   }
   const VisibilityInput* own = frame.sources[0].visibility;
-  ClientWarpParams params = make_params(display, usable[0] ? &own->traced : nullptr, frame.near_plane);
+  ClientWarpParams params = make_warp_params(display, usable[0] ? &own->traced : nullptr, frame.near_plane);
   params.flags = (targets.has_motion() ? kClientWarpWriteMotion : 0u) |
                  (targets.has_status() ? kClientWarpWriteStatus : 0u) |
                  (settings.bilinear ? kClientWarpBilinear : 0u) | (settings.depth_test ? kClientWarpDepthTest : 0u) |
@@ -248,21 +156,9 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   std::array<vk::Image*, 2> old_depth{&placeholder_depth_, &placeholder_depth_};
   for (size_t s = 0; s < 2; ++s) {
     const VisibilityInput* in = frame.sources[s].visibility;
-    SourceBuffers& buffers = slot.sources[s];
-    params.source[s] = make_source(display, usable[s] ? &in->traced : nullptr);
+    params.source[s] = make_warp_source(display, usable[s] ? &in->traced : nullptr);
     if (!usable[s]) continue;
-    params.source[s].mask_bits = static_cast<uint32_t>(in->buffer->mask_bits);
-    params.source[s].flags |= kClientSourceHasVisibility;
-    if (same_eye(display, in->traced)) params.source[s].flags |= kClientSourceSameEye;
-    upload(buffers, *in);
-    if (!in->row_valid.empty()) {
-      std::array<uint32_t, kRowWords> words{};
-      for (size_t r = 0; r < in->row_valid.size(); ++r) {
-        if (in->row_valid[r] != 0) words[r / 32] |= 1u << (r % 32);
-      }
-      buffers.rows.write(words.data(), words.size() * 4);
-      params.source[s].flags |= kClientSourceHasRowValidity;
-    }
+    slot.sources[s].upload(*context_, display, *in, params.source[s]);
     vk::Image* traced_depth = frame.sources[s].traced_depth;
     if (traced_depth != nullptr) {
       if (traced_depth->width() != in->traced.extent.width || traced_depth->height() != in->traced.extent.height) {
@@ -277,27 +173,15 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   const vk::Image* atlas = &placeholder_depth_;
   if (shadows) {
     const ShadowMaps& maps = *frame.shadow_maps;
-    if (frame.lights.size() > kMaxLights || frame.lights.size() != maps.tiles().size()) {
-      throw std::invalid_argument("warp pass: the lights differ from the shadow maps'");
-    }
-    const glm::dvec3 eye = display.T_world_eye.position;
     std::array<ClientShadowLight, kMaxLights> shadow_lights{};
-    for (size_t i = 0; i < frame.lights.size(); ++i) {
-      const ShadowTile& tile = maps.tiles()[i];
-      copy3(tile.position - eye, shadow_lights[i].position);
-      shadow_lights[i].tile_row = tile.row ? *tile.row : kClientNoShadowMap;
+    try {
+      describe_shadow_maps(maps, frame.lights, display, params, shadow_lights);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("warp pass: ") + e.what());
     }
     slot.shadow_lights.write(shadow_lights.data(), frame.lights.size() * sizeof(ClientShadowLight));
-    const std::vector<PackedLight> packed = pack_lights(frame.lights, eye);
+    const std::vector<PackedLight> packed = pack_lights(frame.lights, display.T_world_eye.position);
     if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
-    params.light_count = static_cast<uint32_t>(packed.size());
-    params.shadow_size = maps.face_size();
-    params.shadow_near = static_cast<float>(maps.settings().near_plane);
-    params.shadow_bias_rel = static_cast<float>(maps.settings().bias_rel);
-    params.shadow_bias_abs = static_cast<float>(maps.settings().bias_abs);
-    params.shadow_normal_offset = static_cast<float>(maps.settings().normal_offset);
-    params.shadow_bias_slope = static_cast<float>(maps.settings().bias_slope);
-    params.pixel_tangent = static_cast<float>(display.tangents.width() / display.extent.width);
     atlas = &maps.atlas();
   }
   slot.params.write(&params, sizeof(params));
@@ -365,26 +249,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
 WarpCounts WarpPass::read_counts(uint32_t slot_index) const {
   if (slot_index >= slots_.size()) throw std::invalid_argument("warp pass: slot out of range");
   const Slot& slot = slots_[slot_index];
-  WarpCounts counts;
-  std::array<uint64_t, kClientCountWords * 3> fields{};
-  // In chunks through a fixed array: no allocation per frame (thousands of buckets at headset sizes).
-  std::array<uint32_t, 512> raw{};
-  static_assert(raw.size() % kClientCountWords == 0, "chunks hold whole buckets");
-  for (uint32_t first = 0; first < slot.count_words; first += static_cast<uint32_t>(raw.size())) {
-    const uint32_t n = std::min<uint32_t>(static_cast<uint32_t>(raw.size()), slot.count_words - first);
-    slot.counters.read(raw.data(), VkDeviceSize{n} * 4, VkDeviceSize{first} * 4);
-    for (uint32_t i = 0; i < n; ++i) {
-      for (uint32_t field = 0; field < 3; ++field) {
-        fields[(i % kClientCountWords) * 3 + field] += (raw[i] >> (10 * field)) & 1023u;
-      }
-    }
-  }
-  for (size_t s = 0; s < kWarpStatusCount; ++s) counts.by_status[s] = fields[s];
-  counts.filled_other_eye = fields[kClientCountOtherEye];
-  counts.filled_shadow_map = fields[kClientCountShadowMap];
-  counts.edges_shadow_map = fields[kClientCountEdgeShadowMap];
-  counts.shadow_overrides = fields[kClientCountShadowOverride];
-  return counts;
+  return unpack_warp_counts(slot.counters, slot.count_words);
 }
 
 }  // namespace dhr::render

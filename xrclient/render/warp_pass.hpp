@@ -22,6 +22,7 @@
 #include "visibility/visibility.hpp"
 #include "render/warp_reference.hpp"
 #include "render/pass_util.hpp"
+#include "render/warp_params.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
@@ -87,13 +88,8 @@ class WarpPass {
   uint32_t slots() const { return static_cast<uint32_t>(slots_.size()); }
 
  private:
-  struct SourceBuffers {
-    vk::Buffer visibility;  // host-visible storage buffer, grown on demand
-    vk::Buffer rows;        // host-visible row-validity bitmask
-    uint64_t key = 0;
-  };
   struct Slot {
-    std::array<SourceBuffers, 2> sources;
+    std::vector<WarpSourceBuffers> sources;  // two
     vk::Buffer params;         // ClientWarpParams
     vk::Buffer shadow_lights;  // ClientShadowLight[32]
     vk::Buffer lights;         // PackedLight[32]
@@ -101,7 +97,6 @@ class WarpPass {
     uint32_t count_words = 0;  // words the last recorded pass counted into
     VkDescriptorSet set = VK_NULL_HANDLE;
   };
-  void upload(SourceBuffers& buffers, const VisibilityInput& visibility);
 
   const vk::Context* context_;
   ComputePassCore core_;

@@ -1,0 +1,68 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "shader_interface.h"
+#include "light_eval.h"
+#include "client/cube_face.h"
+#include "client/display_encode.h"
+
+// Forward: the G-buffer pass's material evaluation (gbuffer.frag: alpha mask, normal flipped on back faces),
+// then this fragment's light mask and the shading equation, in the raster pass: no G-buffer round trip. The mask
+// is, by mode (ClientForwardShading::mode, dynamically uniform):
+//   kClientForwardLambert     all lights (no shadows: the cost of not having shadows)
+//   kClientForwardShadowMaps  the client's shadow maps (what a headset would do without DHR)
+//   kClientForwardPaperWarp   the paper's warp of this eye's newest visibility (the DHR client)
+// The surface point comes from gl_FragCoord (pixel centre, reversed-Z depth) with the same formula the compute
+// passes apply to the depth image: the warp decisions equal the compute warp's and its CPU reference.
+layout(set = 0, binding = kClientGBufferBindingBaseColor) uniform sampler2D base_color_texture;
+layout(set = 1, binding = kClientForwardBindingParams, std430) restrict readonly buffer Params { ClientWarpParams pc; };
+layout(set = 1, binding = kClientForwardBindingVisibility0, std430) readonly buffer Visibility0 { uint vis0[]; };
+layout(set = 1, binding = kClientForwardBindingRowValid0, std430) readonly buffer RowValid0 { uint rows0[]; };
+layout(set = 1, binding = kClientForwardBindingShadowMap) uniform sampler2D shadow_atlas;
+layout(set = 1, binding = kClientForwardBindingShadowLights, std430) readonly buffer ShadowLights {
+  ClientShadowLight shadow_lights[];
+};
+layout(set = 1, binding = kClientForwardBindingLights, std430) readonly buffer Lights { PackedLight lights[]; };
+layout(set = 1, binding = kClientForwardBindingShading, std430) restrict readonly buffer Shading {
+  ClientForwardShading shading;
+};
+layout(push_constant, std430) uniform Push { ClientGBufferPush mat; };
+
+layout(location = 0) in vec3 in_normal;
+layout(location = 1) in vec2 in_uv;
+
+layout(location = 0) out vec4 out_colour;
+layout(location = 1) out uint out_status;
+layout(location = 2) out uint out_mask;
+
+vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
+
+#include "client/shadow_lookup.h"
+#include "client/paper_warp.h"
+#include "client/shade.h"
+
+void main() {
+  const vec4 factor = vec4(mat.base_color_r, mat.base_color_g, mat.base_color_b, mat.base_color_a);
+  const vec4 base = texture(base_color_texture, in_uv) * factor;
+  if ((mat.flags & kClientMaterialAlphaMask) != 0u && base.a < mat.alpha_cutoff) discard;
+  const float len2 = dot(in_normal, in_normal);
+  vec3 n = len2 > 1e-20 ? in_normal * inversesqrt(len2) : vec3(0.0, 1.0, 0.0);
+  if (!gl_FrontFacing) n = -n;
+  const vec3 albedo = clamp(base.rgb, 0.0, 1.0);
+
+  const float d = gl_FragCoord.z;
+  const vec2 centre = gl_FragCoord.xy;
+  const vec3 p = (pc.near_plane / d) * (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
+  uint mask = 0xFFFFFFFFu;
+  uint status = kClientStatusKnown;
+  if (shading.mode == kClientForwardPaperWarp) {
+    vec2 motion;
+    status = paper_warp(centre, d, mask, motion);
+  } else if (shading.mode == kClientForwardShadowMaps) {
+    mask = shadow_lookup(p, n, (pc.near_plane / d) * pc.pixel_tangent).mask;
+  }
+  vec3 display = encode_radiance(shade_radiance(p, n, albedo, mask, shading.light_count), shading.exposure);
+  if ((shading.flags & kClientShadingSwapRedBlue) != 0u) display = display.bgr;
+  out_colour = vec4(display, 1.0);
+  out_status = status;
+  out_mask = mask;
+}

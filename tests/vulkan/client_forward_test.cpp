@@ -1,0 +1,259 @@
+// Forward pass (render/forward_pass.hpp) on the project's default room: in the paper-warp mode its masks and
+// statuses equal the CPU warp reference on every pixel not within kMargin of a flip (the reference run on the
+// forward pass's own depth, which equals the G-buffer pass's bit for bit), its counts equal its status image,
+// and its colours equal the deferred pipeline's (G-buffer -> warp -> shading) within 2/255 wherever their
+// masks agree; the Lambert mode lights every surface pixel; the shadow-map mode agrees with the compute warp's
+// shadow lookups (`local`); bad input is rejected.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <vector>
+
+#include "client_test_helpers.hpp"
+#include "render/client_scene.hpp"
+#include "render/eye_pipeline.hpp"
+#include "render/forward_pass.hpp"
+#include "render/gbuffer_pass.hpp"
+#include "render/offscreen_sink.hpp"
+#include "render/shadow_maps.hpp"
+#include "render/warp_pass.hpp"
+#include "render/warp_reference.hpp"
+#include "scene/scene.hpp"
+#include "vulkan_test_fixture.hpp"
+
+namespace dhr::render {
+namespace {
+
+namespace fs = std::filesystem;
+using ClientForwardTest = vk::test::VulkanTest;
+
+constexpr Extent kExtent{160, 120};
+constexpr GuardBand kGuard{4, 3};
+constexpr double kNear = kDefaultNearPlane;
+constexpr double kMargin = 2e-3;  // pixels: decisions closer to a flip are not compared (warp_reference.hpp)
+
+Scene default_room() {
+  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / kDefaultScenePath).string());
+  if (!loaded) throw std::runtime_error(loaded.error);
+  return *loaded.scene;
+}
+
+View traced_view() {
+  View view;
+  view.pose = test::look_at({0.0, 1.6, 1.35}, {-0.1, 0.5, -0.9});
+  view.fov = Fov{-0.742f, 0.742f, 0.779f, -0.779f};
+  return view;
+}
+
+// The head 3 cm to the right and turned 4 degrees left, 2 up: lookups land between old pixels, some outside.
+View display_view() {
+  View view = traced_view();
+  view.pose.position += glm::dvec3(0.03, 0.0, 0.0);
+  view.pose = test::rotated(view.pose, 4.0, 2.0);
+  return view;
+}
+
+// Bits with structure at several scales, so that where a pixel looks up matters.
+VisibilityBuffer patterned(const Camera& traced, uint32_t lights) {
+  VisibilityBuffer b = VisibilityBuffer::create(traced.extent.width, traced.extent.height, lights);
+  for (uint32_t y = 0; y < b.height; ++y) {
+    for (uint32_t x = 0; x < b.width; ++x) {
+      uint32_t m = 0;
+      if (((x / 3) + (y / 5)) % 2 == 0) m |= 1u;
+      if (x > b.width / 2) m |= 2u;
+      if ((x * 7 + y * 3) % 11 < 6) m |= 4u;
+      b.set(x, y, m & b.light_bits());
+    }
+  }
+  return b;
+}
+
+struct ForwardResult {
+  std::vector<float> depth;
+  std::vector<uint8_t> colour;
+  std::vector<uint32_t> status;
+  std::vector<uint32_t> mask;
+  WarpCounts counts;
+};
+
+ForwardResult run_forward(vk::Context& ctx, const ClientScene& scene, ForwardMode mode, const ForwardFrame& frame) {
+  ForwardOptions options;
+  options.mode = mode;
+  options.write_mask = true;
+  ForwardPass pass(ctx, scene, options);
+  ForwardTargets targets = ForwardTargets::create(ctx, kExtent, options);
+  ctx.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, 0, frame, targets); });
+  ForwardResult out;
+  out.depth = test::read_pixels<float>(ctx, targets.depth);
+  out.colour = read_rgba8(ctx, targets.colour);
+  if (targets.has_status()) out.status = test::read_pixels<uint32_t>(ctx, targets.status);
+  out.mask = test::read_pixels<uint32_t>(ctx, targets.mask);
+  out.counts = pass.read_counts(0);
+  return out;
+}
+
+TEST_F(ClientForwardTest, PaperWarpEqualsTheCpuReferenceAndTheDeferredPipeline) {
+  const Scene scene = default_room();
+  const ClientScene gpu_scene(ctx(), scene);
+  const Camera traced = Camera::with_guard_band(traced_view(), kExtent, kGuard);
+  const VisibilityBuffer buffer = patterned(traced, static_cast<uint32_t>(scene.lights.size()));
+  VisibilityInput input;
+  input.buffer = &buffer;
+  input.traced = traced;
+  std::vector<uint8_t> rows(traced.extent.height, 1);
+  for (uint32_t r = 40; r < 48; ++r) rows[r] = 0;  // lost rows: unknown where looked up
+  input.row_valid = rows;
+  const View view = display_view();
+  ForwardFrame frame;
+  frame.display = display_camera(view, kExtent);
+  frame.near_plane = kNear;
+  frame.visibility = &input;
+  frame.lights = scene.lights;
+  const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kPaperWarp, frame);
+
+  // The forward depth is the G-buffer pass's, bit for bit.
+  GBuffer gbuffer = GBuffer::create(ctx(), kExtent);
+  GBufferPass gpass(ctx(), gpu_scene);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { gpass.record(cmd, gbuffer, frame.display, kNear); });
+  const std::vector<float> gdepth = test::read_pixels<float>(ctx(), gbuffer.depth);
+  ASSERT_EQ(gdepth.size(), fwd.depth.size());
+  size_t depth_differs = 0;
+  for (size_t i = 0; i < gdepth.size(); ++i) depth_differs += gdepth[i] != fwd.depth[i] ? 1 : 0;
+  EXPECT_EQ(depth_differs, 0u);
+
+  WarpInput in;
+  in.depth = fwd.depth;
+  in.display = frame.display;
+  in.near_plane = kNear;
+  in.sources[0].traced = traced;
+  in.sources[0].visibility = &buffer;
+  in.sources[0].row_valid = input.row_valid;
+  const WarpResult cpu = warp_reference(in);
+  size_t compared = 0, ambiguous = 0, mismatches = 0;
+  std::array<uint64_t, kWarpStatusCount> from_image{};
+  for (size_t i = 0; i < fwd.depth.size(); ++i) {
+    if (fwd.status[i] < kWarpStatusCount) ++from_image[fwd.status[i]];
+    if (cpu.margin[i] < kMargin) {
+      ++ambiguous;
+      continue;
+    }
+    ++compared;
+    const bool background = cpu.status[i] == WarpStatus::kBackground;
+    if (fwd.status[i] != static_cast<uint32_t>(cpu.status[i]) || (!background && fwd.mask[i] != cpu.masks[i])) {
+      if (++mismatches <= 5) {
+        ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": forward mask " << fwd.mask[i]
+                      << " status " << fwd.status[i] << ", cpu mask " << cpu.masks[i] << " status "
+                      << to_string(cpu.status[i]);
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0u);
+  EXPECT_LT(ambiguous, fwd.depth.size() / 50) << "too many ambiguous pixels for a meaningful test";
+  for (size_t s = 0; s < kWarpStatusCount; ++s) EXPECT_EQ(fwd.counts.by_status[s], from_image[s]) << s;
+  // The test means something: known, outside and missing-row pixels all occur; every pixel is counted once.
+  EXPECT_GT(fwd.counts[WarpStatus::kKnown], kExtent.width * kExtent.height / 2);
+  EXPECT_GT(fwd.counts[WarpStatus::kOutside], 0u);
+  EXPECT_GT(fwd.counts[WarpStatus::kMissingRow], 0u);
+  EXPECT_EQ(fwd.counts.surface() + fwd.counts[WarpStatus::kBackground], uint64_t{kExtent.width} * kExtent.height);
+
+  // The deferred pipeline with the same inputs: the same colours within 2/255 wherever the masks agree.
+  EyePipeline eye(ctx(), gpu_scene, kExtent);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input); });
+  const std::vector<uint8_t> deferred = read_rgba8(ctx(), eye.output());
+  const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), eye.warp().mask);
+  size_t same_mask = 0, off = 0;
+  int worst = 0;
+  for (size_t i = 0; i < fwd.depth.size(); ++i) {
+    if (fwd.depth[i] > 0.0f && deferred_mask[i] != fwd.mask[i]) continue;
+    ++same_mask;
+    for (int c = 0; c < 3; ++c) {
+      const int diff = std::abs(int{deferred[i * 4 + c]} - int{fwd.colour[i * 4 + c]});
+      worst = std::max(worst, diff);
+      if (diff > 2) ++off;
+    }
+  }
+  EXPECT_GT(same_mask, fwd.depth.size() * 95 / 100);
+  EXPECT_EQ(off, 0u) << "largest channel difference " << worst;
+}
+
+TEST_F(ClientForwardTest, LambertLightsEverythingAndShadowMapsAgreeWithTheComputeLookup) {
+  const Scene scene = default_room();
+  const ClientScene gpu_scene(ctx(), scene);
+  const ShadowMaps maps(ctx(), gpu_scene);
+  const View view = traced_view();
+  ForwardFrame frame;
+  frame.display = display_camera(view, kExtent);
+  frame.near_plane = kNear;
+  frame.lights = scene.lights;
+  frame.shadow_maps = &maps;
+  const ForwardResult lambert = run_forward(ctx(), gpu_scene, ForwardMode::kLambert, frame);
+  const ForwardResult shadowed = run_forward(ctx(), gpu_scene, ForwardMode::kShadowMaps, frame);
+  EXPECT_TRUE(lambert.status.empty());  // only the paper warp writes statuses
+  EXPECT_EQ(lambert.counts.surface() + lambert.counts[WarpStatus::kBackground], 0u);
+
+  // The compute warp's `local`: no visibility, every pixel from the shadow maps.
+  EyePipelineOptions options;
+  options.warp.shadow_fill = true;
+  EyePipeline eye(ctx(), gpu_scene, kExtent, options);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, VisibilityInput{}, {}, &maps); });
+  const std::vector<uint32_t> local = test::read_pixels<uint32_t>(ctx(), eye.warp().mask);
+  const uint32_t all = (1u << scene.lights.size()) - 1u;
+  size_t surface = 0, agree = 0, shadowed_bits = 0;
+  for (size_t i = 0; i < lambert.depth.size(); ++i) {
+    if (!(lambert.depth[i] > 0.0f)) continue;
+    ++surface;
+    EXPECT_EQ(lambert.mask[i], 0xFFFFFFFFu);
+    agree += (shadowed.mask[i] & all) == (local[i] & all) ? 1 : 0;
+    shadowed_bits += (shadowed.mask[i] & all) != all ? 1 : 0;
+  }
+  ASSERT_GT(surface, kExtent.width * kExtent.height / 2);
+  EXPECT_GT(shadowed_bits, surface / 20) << "the view has shadows";
+  // The compute path reads half-float normals from the G-buffer, the forward pass the interpolated ones: a
+  // bit within a hair of its bias may differ.
+  EXPECT_GE(static_cast<double>(agree), 0.995 * static_cast<double>(surface));
+  // Shadows darken: no channel brighter than Lambert's.
+  for (size_t i = 0; i < lambert.colour.size(); ++i) ASSERT_LE(shadowed.colour[i], lambert.colour[i]) << i;
+}
+
+TEST_F(ClientForwardTest, BadInputIsRejected) {
+  const Scene scene = default_room();
+  const ClientScene gpu_scene(ctx(), scene);
+  ForwardPass paper(ctx(), gpu_scene);
+  ForwardTargets targets = ForwardTargets::create(ctx(), kExtent, {});
+  ForwardFrame frame;
+  frame.display = display_camera(traced_view(), Extent{kExtent.width + 1, kExtent.height});
+  frame.lights = scene.lights;
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    EXPECT_THROW(paper.record(cmd, 0, frame, targets), std::invalid_argument);  // size
+    frame.display = display_camera(traced_view(), kExtent);
+    EXPECT_THROW(paper.record(cmd, 1, frame, targets), std::invalid_argument);  // slot
+    frame.shading.view = ShadingView::kAlbedo;
+    EXPECT_THROW(paper.record(cmd, 0, frame, targets), std::invalid_argument);  // debug view
+  });
+  ForwardOptions shadow_options;
+  shadow_options.mode = ForwardMode::kShadowMaps;
+  ForwardPass shadow(ctx(), gpu_scene, shadow_options);
+  ForwardTargets shadow_targets = ForwardTargets::create(ctx(), kExtent, shadow_options);
+  frame.shading.view = ShadingView::kShaded;
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    EXPECT_THROW(shadow.record(cmd, 0, frame, shadow_targets), std::invalid_argument);  // no maps
+  });
+  // A paper-warp pass with an unusable visibility input treats it as none: every surface pixel is unknown.
+  VisibilityBuffer wrong = VisibilityBuffer::create(3, 3, static_cast<uint32_t>(scene.lights.size()));
+  VisibilityInput input;
+  input.buffer = &wrong;
+  input.traced = Camera::with_guard_band(traced_view(), kExtent, kGuard);
+  frame.visibility = &input;
+  ForwardPass::Recorded recorded;
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { recorded = paper.record(cmd, 0, frame, targets); });
+  EXPECT_FALSE(recorded.visibility_used);
+  const WarpCounts counts = paper.read_counts(0);
+  EXPECT_EQ(counts[WarpStatus::kKnown], 0u);
+  EXPECT_GT(counts[WarpStatus::kNoData], 0u);
+}
+
+}  // namespace
+}  // namespace dhr::render

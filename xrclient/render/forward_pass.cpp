@@ -1,0 +1,295 @@
+#include "render/forward_pass.hpp"
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+#include "client/display_encode.h"
+#include "dhr_shaders_client.hpp"
+#include "log/log.hpp"
+#include "render/client_scene.hpp"
+#include "render/gbuffer_pass.hpp"
+#include "render/shadow_maps.hpp"
+#include "scene/lighting.hpp"
+#include "shader_interface.h"
+#include "vk/barriers.hpp"
+#include "vk/context.hpp"
+#include "vk/graphics_pipeline.hpp"
+#include "vk/pipeline.hpp"
+
+namespace dhr::render {
+namespace {
+
+using namespace dhr::shader;
+
+constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+constexpr VkBufferUsageFlags kCounterUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+constexpr VkFormat kUintFormat = VK_FORMAT_R32_UINT;
+
+static_assert(static_cast<uint32_t>(ForwardMode::kLambert) == kClientForwardLambert);
+static_assert(static_cast<uint32_t>(ForwardMode::kShadowMaps) == kClientForwardShadowMaps);
+static_assert(static_cast<uint32_t>(ForwardMode::kPaperWarp) == kClientForwardPaperWarp);
+
+VkRenderingAttachmentInfo attachment(const vk::Image* image, VkImageLayout layout, VkClearValue clear) {
+  VkRenderingAttachmentInfo a{};
+  a.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
+  a.imageView = image != nullptr ? image->view() : VK_NULL_HANDLE;  // null: the shader's writes are discarded
+  a.imageLayout = layout;
+  a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  a.clearValue = clear;
+  return a;
+}
+
+}  // namespace
+
+const char* to_string(ForwardMode mode) {
+  switch (mode) {
+    case ForwardMode::kLambert: return "lambert";
+    case ForwardMode::kShadowMaps: return "shadow-maps";
+    case ForwardMode::kPaperWarp: return "paper-warp";
+  }
+  return "?";
+}
+
+ForwardTargets ForwardTargets::create(const vk::Context& context, Extent extent, const ForwardOptions& options) {
+  constexpr VkImageUsageFlags kAttachment = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  ForwardTargets t;
+  t.depth = vk::Image(context, extent.width, extent.height, kGBufferDepthFormat,
+                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                          VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  t.colour = vk::Image(context, extent.width, extent.height, kShadingOutputFormat,
+                       kAttachment | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+  const Extent status = options.mode == ForwardMode::kPaperWarp ? extent : Extent{1, 1};
+  t.status = vk::Image(context, status.width, status.height, kUintFormat, kAttachment | VK_IMAGE_USAGE_STORAGE_BIT);
+  const Extent mask = options.write_mask ? extent : Extent{1, 1};
+  t.mask = vk::Image(context, mask.width, mask.height, kUintFormat, kAttachment);
+  return t;
+}
+
+ForwardPass::Slot::Slot(const vk::Context& context)
+    : source(context),
+      params(context, sizeof(ClientWarpParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
+      shadow_lights(context, kMaxLights * sizeof(ClientShadowLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
+      lights(context, kMaxLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
+      shading(context, sizeof(ClientForwardShading), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
+      counters(context, 4, kCounterUsage, kHost) {}
+
+ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, const ForwardOptions& options)
+    : context_(&context), scene_(&scene), options_(options) {
+  if (options.slots == 0) throw std::invalid_argument("ForwardPass needs at least one slot");
+  const VkDevice device = context.device();
+  materials_ = MaterialSets(device, scene);
+  constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  const std::array<std::pair<uint32_t, VkDescriptorType>, 7> frame_bindings = {{
+      {kClientForwardBindingParams, kStorage},
+      {kClientForwardBindingVisibility0, kStorage},
+      {kClientForwardBindingRowValid0, kStorage},
+      {kClientForwardBindingShadowMap, kSampled},
+      {kClientForwardBindingShadowLights, kStorage},
+      {kClientForwardBindingLights, kStorage},
+      {kClientForwardBindingShading, kStorage},
+  }};
+  std::vector<VkDescriptorSetLayoutBinding> bindings;
+  for (const auto& [binding, type] : frame_bindings) {
+    bindings.push_back({binding, type, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr});
+  }
+  frame_layout_ = vk::create_descriptor_set_layout(device, bindings);
+  const std::array<VkDescriptorPoolSize, 2> sizes = {{{kStorage, 6 * options.slots}, {kSampled, options.slots}}};
+  frame_pool_ = vk::create_descriptor_pool(device, options.slots, sizes);
+  const std::array<VkDescriptorSetLayout, 2> set_layouts = {materials_.layout(), frame_layout_.get()};
+  const VkPushConstantRange push{kMaterialPushStages, 0, sizeof(ClientGBufferPush)};
+  layout_ = vk::create_pipeline_layout(device, set_layouts, std::span(&push, 1));
+
+  const auto modules = dhr_shaders_client_modules();
+  // Attachments the mode does not write have no format (and no image): their outputs are discarded.
+  const std::array<VkFormat, 3> colour_formats = {
+      kShadingOutputFormat, options.mode == ForwardMode::kPaperWarp ? kUintFormat : VK_FORMAT_UNDEFINED,
+      options.write_mask ? kUintFormat : VK_FORMAT_UNDEFINED};
+  vk::GraphicsPipelineDesc desc;
+  desc.vertex = &vk::find_spirv(modules, "gbuffer.vert");
+  desc.fragment = &vk::find_spirv(modules, "forward.frag");
+  desc.vertex_bindings = ClientScene::vertex_bindings();
+  desc.vertex_attributes = ClientScene::vertex_attributes();
+  desc.color_formats = colour_formats;
+  desc.depth_format = kGBufferDepthFormat;
+  desc.depth_compare = VK_COMPARE_OP_GREATER;
+  desc.front_face = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // as the G-buffer pass
+  desc.cull_mode = VK_CULL_MODE_BACK_BIT;
+  cull_back_ = vk::create_graphics_pipeline(device, layout_.get(), desc);
+  desc.cull_mode = VK_CULL_MODE_NONE;
+  cull_none_ = vk::create_graphics_pipeline(device, layout_.get(), desc);
+  sampler_ = create_nearest_sampler(device);
+
+  const std::array<ComputeBinding, 2> count_bindings = {{{0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, {1, kStorage}}};
+  count_ = ComputePassCore::create(device, count_bindings, 8, "status_count.comp", options.slots);
+  for (uint32_t i = 0; i < options.slots; ++i) {
+    Slot& s = slots_.emplace_back(context);
+    s.set = vk::allocate_descriptor_set(device, frame_pool_.get(), frame_layout_.get());
+    s.count_set = count_.allocate_set(device);
+  }
+  placeholder_atlas_ = vk::Image(context, 1, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT);
+  context.submit_and_wait(
+      [&](VkCommandBuffer cmd) { placeholder_atlas_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL); });
+}
+
+ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_index, const ForwardFrame& frame,
+                                          ForwardTargets& targets) {
+  if (slot_index >= slots_.size()) throw std::invalid_argument("forward pass: slot out of range");
+  const Extent extent = targets.extent();
+  const Camera& display = frame.display;
+  if (!(display.extent == extent) || targets.depth.width() != extent.width || targets.depth.height() != extent.height) {
+    throw std::invalid_argument("forward pass: display camera and targets differ in size");
+  }
+  const ForwardMode mode = options_.mode;
+  if (mode == ForwardMode::kPaperWarp && !targets.has_status()) {
+    throw std::invalid_argument("forward pass: the paper warp needs a status target");
+  }
+  if (options_.write_mask && !targets.has_mask()) throw std::invalid_argument("forward pass: no mask target");
+  if (frame.lights.size() > kMaxLights) throw std::invalid_argument("forward pass: more than 32 lights");
+  if (frame.shading.view != ShadingView::kShaded) {
+    throw std::invalid_argument("forward pass: debug views need the G-buffer pipeline");
+  }
+  if (mode == ForwardMode::kShadowMaps && frame.shadow_maps == nullptr) {
+    throw std::invalid_argument("forward pass: shadow-map mode without shadow maps");
+  }
+  Slot& slot = slots_[slot_index];
+
+  Recorded out;
+  const VisibilityInput* in = mode == ForwardMode::kPaperWarp ? frame.visibility : nullptr;
+  if (in != nullptr && in->buffer != nullptr) {
+    if (auto err = validate_visibility_input(in->traced, *in->buffer, in->row_valid)) {
+      log::warn("forward pass: ignoring the visibility input (%s)", err->c_str());
+    } else {
+      out.visibility_used = true;
+    }
+  }
+  ClientWarpParams params = make_warp_params(display, out.visibility_used ? &in->traced : nullptr, frame.near_plane);
+  for (size_t s = 0; s < 2; ++s) params.source[s] = make_warp_source(display, s == 0 && out.visibility_used ? &in->traced : nullptr);
+  if (out.visibility_used) {
+    slot.source.upload(*context_, display, *in, params.source[0]);
+    params.unknown_mask = unknown_mask(in->buffer);
+  }
+  const vk::Image* atlas = &placeholder_atlas_;
+  if (mode == ForwardMode::kShadowMaps) {
+    std::array<ClientShadowLight, kMaxLights> shadow_lights{};
+    try {
+      describe_shadow_maps(*frame.shadow_maps, frame.lights, display, params, shadow_lights);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("forward pass: ") + e.what());
+    }
+    if (!frame.lights.empty()) slot.shadow_lights.write(shadow_lights.data(), frame.lights.size() * sizeof(ClientShadowLight));
+    atlas = &frame.shadow_maps->atlas();
+  }
+  const std::vector<PackedLight> packed = pack_lights(frame.lights, display.T_world_eye.position);
+  if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
+  params.light_count = static_cast<uint32_t>(packed.size());
+  slot.params.write(&params, sizeof(params));
+  ClientForwardShading shading{};
+  shading.exposure = frame.shading.exposure;
+  shading.mode = static_cast<uint32_t>(mode);
+  shading.flags = frame.shading.swap_red_blue ? kClientShadingSwapRedBlue : 0u;
+  shading.light_count = static_cast<uint32_t>(packed.size());
+  slot.shading.write(&shading, sizeof(shading));
+
+  const VkDevice device = context_->device();
+  constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingParams, kStorage, slot.params.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingVisibility0, kStorage,
+                              slot.source.visibility.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingRowValid0, kStorage, slot.source.rows.handle());
+  vk::write_image_descriptor(device, slot.set, kClientForwardBindingShadowMap, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                             atlas->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, sampler_.get());
+  vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingShadowLights, kStorage,
+                              slot.shadow_lights.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingLights, kStorage, slot.lights.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingShading, kStorage, slot.shading.handle());
+
+  const bool counting = mode == ForwardMode::kPaperWarp;
+  if (counting) {
+    slot.count_words = warp_count_words(extent);
+    if (VkDeviceSize{slot.count_words} * 4 > slot.counters.size()) {
+      slot.counters = vk::Buffer(*context_, VkDeviceSize{slot.count_words} * 4, kCounterUsage, kHost);
+    }
+    // The counters start at zero; earlier readers (the host, after the previous use) are done by contract.
+    vkCmdFillBuffer(cmd, slot.counters.handle(), 0, VkDeviceSize{slot.count_words} * 4, 0);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  }
+
+  discard_to_layout(cmd, targets.depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+  const bool with_status = targets.has_status() && mode == ForwardMode::kPaperWarp;
+  const bool with_mask = options_.write_mask;
+  for (const auto& [image, used] : {std::pair{&targets.colour, true}, std::pair{&targets.status, with_status},
+                                   std::pair{&targets.mask, with_mask}}) {
+    if (used) {
+      discard_to_layout(cmd, *image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    }
+  }
+  VkClearValue background{};
+  {
+    namespace de = dhr::display_encode;
+    const glm::vec3 bg = frame.shading.background;
+    glm::vec3 c(de::srgb_encode(bg.x), de::srgb_encode(bg.y), de::srgb_encode(bg.z));
+    if (frame.shading.swap_red_blue) std::swap(c.x, c.z);
+    background.color = {{c.x, c.y, c.z, 1.0f}};
+  }
+  VkClearValue status_clear{};
+  status_clear.color.uint32[0] = kClientStatusBackground;
+  VkClearValue zero{};
+  const std::array<VkRenderingAttachmentInfo, 3> colour = {
+      attachment(&targets.colour, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, background),
+      attachment(with_status ? &targets.status : nullptr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, status_clear),
+      attachment(with_mask ? &targets.mask : nullptr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, zero)};
+  VkClearValue depth_clear{};
+  depth_clear.depthStencil = {0.0f, 0};  // reversed-Z: 0 is infinitely far
+  const VkRenderingAttachmentInfo depth =
+      attachment(&targets.depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depth_clear);
+  VkRenderingInfo rendering{};
+  rendering.sType = VK_STRUCTURE_TYPE_RENDERING_INFO;
+  rendering.renderArea = {{0, 0}, {extent.width, extent.height}};
+  rendering.layerCount = 1;
+  rendering.colorAttachmentCount = static_cast<uint32_t>(colour.size());
+  rendering.pColorAttachments = colour.data();
+  rendering.pDepthAttachment = &depth;
+  vkCmdBeginRendering(cmd, &rendering);
+  vk::set_viewport_and_scissor(cmd, {extent.width, extent.height});
+  const VkDescriptorSet frame_set = slot.set;
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 1, 1, &frame_set, 0, nullptr);
+  out.draws = record_scene_draws(cmd, *scene_, materials_, {layout_.get(), cull_back_.get(), cull_none_.get()}, display,
+                                 frame.near_plane);
+  vkCmdEndRendering(cmd);
+
+  targets.depth.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  targets.colour.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+  if (with_status) targets.status.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+  if (with_mask) targets.mask.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+  if (counting) {
+    vk::write_image_descriptor(device, slot.count_set, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, targets.status.view(),
+                               VK_IMAGE_LAYOUT_GENERAL);
+    vk::write_buffer_descriptor(device, slot.count_set, 1, kStorage, slot.counters.handle());
+    const std::array<uint32_t, 2> push = {extent.width, extent.height};
+    count_.dispatch(cmd, slot.count_set, push.data(), sizeof(push), extent.width, extent.height, kClientWarpGroupSize);
+  }
+  // Results feed the sink's copies, later shaders and the host (counters).
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+                         VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                     VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+  return out;
+}
+
+WarpCounts ForwardPass::read_counts(uint32_t slot_index) const {
+  if (slot_index >= slots_.size()) throw std::invalid_argument("forward pass: slot out of range");
+  if (options_.mode != ForwardMode::kPaperWarp) return WarpCounts{};
+  const Slot& slot = slots_[slot_index];
+  return unpack_warp_counts(slot.counters, slot.count_words);
+}
+
+}  // namespace dhr::render
