@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""Fills the generated tables of docs/evaluation.md from docs/eval/<run>/results.json.
+"""Fills the generated tables of docs/evaluation.md from docs/eval/<run>/results.json and report.md.
 
 Usage: bench/eval/evaluation_tables.py [repo root]   (run_all.sh calls it last)
 
 Each table sits between <!-- GENERATED:name --> and <!-- /GENERATED:name --> and is replaced whole; a block
-whose runs are missing is left as it is (with a note on stderr). Nothing else in the page changes.
+whose runs are missing is left as it is (with a note on stderr). A table right after a
+``dhr-eval run --out docs/eval/RUN ...`` line is replaced by RUN's report.md table. Nothing else changes.
 """
 import json
 import os
@@ -123,9 +124,38 @@ BLOCKS = {"full_local": full_local, "fills": fills, "ablation": ablation, "adapt
           "headline": headline}
 
 
+def report_tables(page):
+    """Each ``dhr-eval run --out docs/eval/RUN ...`` line followed by a table gets RUN's report.md table."""
+    out = []
+    lines = page.split("\n")
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        out.append(line)
+        m = re.match(r"``dhr-eval run --out docs/eval/(\S+) ", line)
+        i += 1
+        if not m:
+            continue
+        report = os.path.join(EVAL, m.group(1), "report.md")
+        if not os.path.exists(report):
+            print(f"evaluation_tables.py: no {report}: its table is left as it is", file=sys.stderr)
+            continue
+        with open(report) as f:
+            table = [l for l in f.read().split("\n") if l.startswith("|")]
+        while i < len(lines) and lines[i] == "":
+            out.append(lines[i])
+            i += 1
+        if i < len(lines) and lines[i].startswith("|"):
+            while i < len(lines) and lines[i].startswith("|"):
+                i += 1
+            out.extend(table)
+    return "\n".join(out)
+
+
 def main():
     with open(PAGE) as f:
         page = f.read()
+    page = report_tables(page)
     for name, make in BLOCKS.items():
         pattern = re.compile(r"(<!-- GENERATED:%s -->\n)(.*?)(<!-- /GENERATED:%s -->)" % (name, name), re.S)
         if not pattern.search(page):

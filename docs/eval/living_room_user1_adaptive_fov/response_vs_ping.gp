@@ -1,0 +1,8 @@
+set terminal svg size 720,440 dynamic enhanced font 'sans,12' background '#ffffff'
+set output 'docs/eval/living_room_user1_adaptive_fov/response_vs_ping.svg'
+set title 'pose sent -> visibility in use' noenhanced
+set xlabel 'round trip (ms)' noenhanced
+set ylabel 'response (ms)' noenhanced
+set key outside right top noenhanced
+set grid
+plot 'docs/eval/living_room_user1_adaptive_fov/response_vs_ping.dat' index 0 using 1:2 with linespoints pt 1 title 'full-no-other-eye-no-shadow-fill', 'docs/eval/living_room_user1_adaptive_fov/response_vs_ping.dat' index 1 using 1:2 with linespoints pt 2 title 'full-no-other-eye-no-shadow-fill-no-adaptive-fov', 'docs/eval/living_room_user1_adaptive_fov/response_vs_ping.dat' index 2 using 1:2 with linespoints pt 3 title 'full', 'docs/eval/living_room_user1_adaptive_fov/response_vs_ping.dat' index 3 using 1:2 with linespoints pt 4 title 'full-no-adaptive-fov'
