@@ -310,7 +310,7 @@ DHR_CONST uint kClientForwardBindingShading = 6;       // storage buffer ClientF
 DHR_CONST uint kClientForwardLambert = 0u;     // every light bit set: Lambert without shadows
 DHR_CONST uint kClientForwardShadowMaps = 1u;  // the mask of the client's shadow maps (shadow_lookup.h)
 DHR_CONST uint kClientForwardPaperWarp = 2u;   // the paper's warp of source 0 (paper_warp.h); writes the status
-// Colour attachment 0: display-encoded bytes (RGBA8 UNORM); 1: R32_UINT status (kClientStatus*; the
+// Colour attachment 0: display-encoded bytes (RGBA8 UNORM); 1: R8_UINT status (kClientStatus*; the
 // count pass sums it); 2 (optional, tests): R32_UINT mask.
 struct ClientForwardShading {
   float exposure;

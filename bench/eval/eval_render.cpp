@@ -15,6 +15,7 @@ EyeRenderer::EyeRenderer(const vk::Context& context, const Scene& scene, Extent 
       light_count_(static_cast<uint32_t>(std::min<size_t>(scene.lights.size(), kMaxLights))) {
   render::EyePipelineOptions options;
   options.frames_in_flight = 1;  // every frame is submitted and waited for
+  options.forward_mask = true;    // the masks are compared with the truth (the forward path writes them too)
   for (auto& pipeline : eyes_) pipeline = std::make_unique<render::EyePipeline>(context, scene_, eye, options);
 }
 
@@ -49,7 +50,7 @@ std::array<EyeRender, 2> EyeRenderer::render(const std::array<View, 2>& views,
     r.rgba = render::read_rgba8(*context_, pipeline.output());
     const Extent extent = pipeline.extent();
     std::vector<uint32_t> masks(static_cast<size_t>(extent.width) * extent.height);
-    vk::read_image(*context_, pipeline.warp().mask, masks.data(), masks.size() * sizeof(uint32_t));
+    vk::read_image(*context_, pipeline.mask(), masks.data(), masks.size() * sizeof(uint32_t));
     r.mask = VisibilityBuffer::create(extent.width, extent.height, light_count_);
     const uint32_t bits = r.mask.light_bits();
     for (size_t p = 0; p < masks.size(); ++p) r.mask.set_mask_at(p, masks[p] & bits);

@@ -60,3 +60,4 @@ done
 # Side-by-side pictures: exact, paper and full at 100 ms (and local), one frame of the living room, User1.
 one living_room_user1_pictures --scene "$living" --trace "$user1" --trace-start 2 --frames 46 --eye-size 320x240 \
   --rtt-ms 100 --method paper,paper+pred,local,full --snapshot-frame 45
+python3 bench/eval/evaluation_tables.py  # fills docs/evaluation.md's tables from the results

@@ -7,7 +7,7 @@
 // warp pass's counter layout (warp.comp: 10-bit fields, three per word, one subgroup sum per word and one
 // atomic per bucket of kClientCountBucketGroups workgroups), so WarpCounts reads both alike.
 layout(local_size_x = kClientWarpGroupSize, local_size_y = kClientWarpGroupSize) in;
-layout(set = 0, binding = 0, r32ui) uniform readonly uimage2D status_image;
+layout(set = 0, binding = 0, r8ui) uniform readonly uimage2D status_image;
 layout(set = 0, binding = 1, std430) buffer Counters { uint counters[]; };
 layout(push_constant, std430) uniform Push { uint width; uint height; } pc;
 

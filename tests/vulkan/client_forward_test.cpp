@@ -89,7 +89,10 @@ ForwardResult run_forward(vk::Context& ctx, const ClientScene& scene, ForwardMod
   ForwardResult out;
   out.depth = test::read_pixels<float>(ctx, targets.depth);
   out.colour = read_rgba8(ctx, targets.colour);
-  if (targets.has_status()) out.status = test::read_pixels<uint32_t>(ctx, targets.status);
+  if (targets.has_status()) {
+    const std::vector<uint8_t> status = test::read_pixels<uint8_t>(ctx, targets.status);
+    out.status.assign(status.begin(), status.end());
+  }
   out.mask = test::read_pixels<uint32_t>(ctx, targets.mask);
   out.counts = pass.read_counts(0);
   return out;
@@ -160,8 +163,11 @@ TEST_F(ClientForwardTest, PaperWarpEqualsTheCpuReferenceAndTheDeferredPipeline) 
   EXPECT_EQ(fwd.counts.surface() + fwd.counts[WarpStatus::kBackground], uint64_t{kExtent.width} * kExtent.height);
 
   // The deferred pipeline with the same inputs: the same colours within 2/255 wherever the masks agree.
-  EyePipeline eye(ctx(), gpu_scene, kExtent);
+  EyePipelineOptions deferred_options;
+  deferred_options.forward = false;
+  EyePipeline eye(ctx(), gpu_scene, kExtent, deferred_options);
   ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input); });
+  ASSERT_FALSE(eye.read_stats(0).forward);
   const std::vector<uint8_t> deferred = read_rgba8(ctx(), eye.output());
   const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), eye.warp().mask);
   size_t same_mask = 0, off = 0;

@@ -26,6 +26,9 @@ std::string frame_record_json(const FrameRecord& record) {
     o["gbuffer_ms"] = e.stats.gpu.gbuffer_ms;
     o["warp_ms"] = e.stats.gpu.warp_ms;
     o["shading_ms"] = e.stats.gpu.shading_ms;
+    o["forward"] = e.stats.forward;
+    o["forward_ms"] = e.stats.gpu.forward_ms;
+    o["total_ms"] = e.stats.gpu.total_ms;
     o["known"] = e.stats.warp[render::WarpStatus::kKnown];
     o["filled_other_eye"] = e.stats.warp.filled_other_eye;
     o["filled_shadow_map"] = e.stats.warp.filled_shadow_map;
@@ -58,6 +61,8 @@ void FrameSummary::add(const FrameRecord& record) {
       gbuffer_ms_.push_back(e.stats.gpu.gbuffer_ms);
       warp_ms_.push_back(e.stats.gpu.warp_ms);
       shading_ms_.push_back(e.stats.gpu.shading_ms);
+      forward_ms_.push_back(e.stats.gpu.forward_ms);
+      total_ms_.push_back(e.stats.gpu.total_ms);
     }
   }
   if (any_visibility) ++frames_with_visibility_;

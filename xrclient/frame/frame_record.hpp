@@ -49,6 +49,8 @@ class FrameSummary {
   std::optional<double> gbuffer_ms_median() const { return median(gbuffer_ms_); }
   std::optional<double> warp_ms_median() const { return median(warp_ms_); }
   std::optional<double> shading_ms_median() const { return median(shading_ms_); }
+  std::optional<double> forward_ms_median() const { return median(forward_ms_); }
+  std::optional<double> eye_gpu_ms_median() const { return median(total_ms_); }  // every pass of one eye
   uint64_t responses() const { return response_ms_.size(); }
 
   static std::optional<double> median(std::vector<double> values);
@@ -67,6 +69,8 @@ class FrameSummary {
   std::vector<double> gbuffer_ms_;
   std::vector<double> warp_ms_;
   std::vector<double> shading_ms_;
+  std::vector<double> forward_ms_;
+  std::vector<double> total_ms_;
 };
 
 }  // namespace dhr::client

@@ -1,5 +1,6 @@
 #include "render/eye_pipeline.hpp"
 
+#include <memory>
 #include <stdexcept>
 
 #include "render/client_scene.hpp"
@@ -35,6 +36,13 @@ EyePipeline::EyePipeline(const vk::Context& context, const ClientScene& scene, E
       warp_pass_(context, checked_slots(options)),
       shading_pass_(context, checked_slots(options)) {
   if (extent.width == 0 || extent.height == 0) throw std::invalid_argument("EyePipeline: zero extent");
+  if (options.forward) {  // made here: its constructor submits work, which record() (inside a recording) cannot
+    ForwardOptions fo;
+    fo.mode = ForwardMode::kPaperWarp;
+    fo.write_mask = options.forward_mask;
+    fo.slots = options.frames_in_flight;
+    forward_pass_ = std::make_unique<ForwardPass>(context, scene, fo);
+  }
   create_images();
   slots_.resize(options.frames_in_flight);
   for (Slot& s : slots_) {
@@ -45,11 +53,41 @@ EyePipeline::EyePipeline(const vk::Context& context, const ClientScene& scene, E
 
 EyePipeline::~EyePipeline() = default;
 
+// The forward targets are made with the pipeline (the default path); the deferred ones on the deferred
+// path's first use.
 void EyePipeline::create_images() {
+  ForwardOptions fo;
+  fo.write_mask = options_.forward_mask;
+  forward_ = ForwardTargets::create(*context_, extent_, fo);
+  deferred_images_ = false;
+  gbuffer_ = GBuffer{};
+  warp_ = WarpTargets{};
+  output_ = vk::Image{};
+}
+
+void EyePipeline::ensure_deferred_images() {
+  if (deferred_images_) return;
   gbuffer_ = GBuffer::create(*context_, extent_);
-  warp_ = WarpTargets::create(*context_, extent_,
-                                          WarpOutputs{options_.warp_status, options_.motion_vectors});
+  warp_ = WarpTargets::create(*context_, extent_, WarpOutputs{options_.warp_status, options_.motion_vectors});
   output_ = create_shading_output(*context_, extent_);
+  deferred_images_ = true;
+}
+
+bool EyePipeline::uses_forward() const {
+  const WarpSettings& w = options_.warp;
+  const bool paper = !w.bilinear && !w.depth_test && !w.other_eye && !w.uses_shadow_maps();
+  return options_.forward && paper && options_.shading.view == ShadingView::kShaded && !options_.motion_vectors &&
+         !options_.warp_status;
+}
+
+vk::Image& EyePipeline::output() {
+  if (last_forward_ || !deferred_images_) return forward_.colour;
+  return output_;
+}
+
+vk::Image& EyePipeline::mask() {
+  if (last_forward_ || !deferred_images_) return forward_.mask;
+  return warp_.mask;
 }
 
 void EyePipeline::resize(Extent extent) {
@@ -92,6 +130,25 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
 
   slot.timestamps.reset(cmd);
   slot.timestamps.write(cmd, kStart);
+  slot.forward = uses_forward();
+  last_forward_ = slot.forward;
+  if (slot.forward) {
+    ForwardFrame frame;
+    frame.display = camera;
+    frame.near_plane = near_plane;
+    frame.visibility = &visibility;
+    frame.lights = scene_->lights();
+    frame.shading = options_.shading;
+    const ForwardPass::Recorded r = forward_pass_->record(cmd, slot_index, frame, forward_);
+    slot.draws = r.draws;
+    slot.visibility_used = r.visibility_used;
+    slot.timestamps.write(cmd, kAfterGBuffer);
+    slot.timestamps.write(cmd, kAfterWarp);
+    slot.timestamps.write(cmd, kAfterShading);
+    slot.recorded = true;
+    return;
+  }
+  ensure_deferred_images();
   slot.draws = gbuffer_pass_.record(cmd, gbuffer_, camera, near_plane);
   slot.timestamps.write(cmd, kAfterGBuffer);
   WarpFrame frame;
@@ -122,7 +179,8 @@ EyeStats EyePipeline::read_stats(uint32_t slot_index) const {
   if (!slot.recorded) return stats;
   stats.draws = slot.draws;
   stats.visibility_used = slot.visibility_used;
-  stats.warp = warp_pass_.read_counts(slot_index);
+  stats.forward = slot.forward;
+  stats.warp = slot.forward ? forward_pass_->read_counts(slot_index) : warp_pass_.read_counts(slot_index);
   stats.traced_depth_rendered = slot.traced_depth_rendered;
   if (slot.traced_depth_rendered) {
     const std::vector<double> pns = slot.prepare_timestamps.read_ns();
@@ -131,6 +189,11 @@ EyeStats EyePipeline::read_stats(uint32_t slot_index) const {
   const std::vector<double> ns = slot.timestamps.read_ns();
   if (ns.size() == kTimestampCount) {
     stats.gpu.valid = true;
+    if (slot.forward) {
+      stats.gpu.forward_ms = (ns[kAfterGBuffer] - ns[kStart]) * 1e-6;
+      stats.gpu.total_ms = (ns[kAfterShading] - ns[kStart]) * 1e-6 + stats.gpu.traced_depth_ms;
+      return stats;
+    }
     stats.gpu.gbuffer_ms = (ns[kAfterGBuffer] - ns[kStart]) * 1e-6;
     stats.gpu.warp_ms = (ns[kAfterWarp] - ns[kAfterGBuffer]) * 1e-6;
     stats.gpu.shading_ms = (ns[kAfterShading] - ns[kAfterWarp]) * 1e-6;

@@ -1,5 +1,8 @@
-// The per-eye visibility pipeline: G-buffer -> warp -> shading, into this eye's own images,
-// recorded into a command buffer the caller owns and submits. GPU timestamps around each pass.
+// The per-eye visibility pipeline, into this eye's own images, recorded into a command buffer the caller owns
+// and submits, with GPU timestamps around each pass. Two paths apply the same rule:
+//   forward  (the default whenever it can: the paper's warp, the shaded view, no motion vectors): one raster
+//            pass that warps and shades each fragment (forward_pass.hpp) plus a small count pass;
+//   deferred (any other warp setting or debug view): G-buffer -> warp -> shading.
 // With the warp's depth test on, prepare() first renders the depth of the camera this eye's newest
 // visibility was traced for (once per traced camera); the other eye's pipeline reads it as its source 1.
 //
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "math/projection.hpp"
+#include "render/forward_pass.hpp"
 #include "render/gbuffer_pass.hpp"
 #include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
@@ -38,6 +42,8 @@ struct EyePipelineOptions {
   bool warp_status = false;       // allocate and write the warp's per-pixel status (debug, tests)
   WarpSettings warp;              // the warp's ingredients (default: the paper's warp)
   ShadingSettings shading;
+  bool forward = true;            // false: always the deferred passes
+  bool forward_mask = false;      // the forward path also writes the mask (mask(): dhr-eval, tests)
 };
 
 struct EyePassTimes {
@@ -46,6 +52,7 @@ struct EyePassTimes {
   double gbuffer_ms = 0.0;
   double warp_ms = 0.0;
   double shading_ms = 0.0;
+  double forward_ms = 0.0;  // the forward path's raster-and-shade pass and its count pass (0 on the deferred path)
   double total_ms = 0.0;
 };
 
@@ -56,6 +63,7 @@ struct EyeStats {
   GBufferDrawStats draws;
   bool visibility_used = false;  // a usable visibility buffer was given
   bool traced_depth_rendered = false;  // prepare() rendered a traced camera's depth this frame
+  bool forward = false;                // the frame took the forward path
   uint64_t unknown_pixels() const { return warp.unknown_surface(); }
 };
 
@@ -96,7 +104,12 @@ class EyePipeline {
   WarpSettings& warp_settings() { return options_.warp; }
   const EyePipelineOptions& options() const { return options_; }
 
-  vk::Image& output() { return output_; }  // R8G8B8A8_UNORM, sRGB-encoded bytes
+  // Whether record() takes the forward path with the current settings.
+  bool uses_forward() const;
+  // What the last record() wrote (for every slot: images are shared):
+  vk::Image& output();  // R8G8B8A8_UNORM, sRGB-encoded bytes, GENERAL
+  vk::Image& mask();    // R32_UINT light masks (the forward path's only with forward_mask; else a 1x1 placeholder)
+  // The deferred path's images (created on its first use).
   GBuffer& gbuffer() { return gbuffer_; }
   WarpTargets& warp() { return warp_; }
 
@@ -108,8 +121,10 @@ class EyePipeline {
     GBufferDrawStats draws;
     bool visibility_used = false;
     bool recorded = false;
+    bool forward = false;
   };
   void create_images();
+  void ensure_deferred_images();
 
   const vk::Context* context_;
   const ClientScene* scene_;
@@ -118,6 +133,10 @@ class EyePipeline {
   GBufferPass gbuffer_pass_;
   WarpPass warp_pass_;
   ShadingPass shading_pass_;
+  std::unique_ptr<ForwardPass> forward_pass_;  // with EyePipelineOptions::forward
+  ForwardTargets forward_;
+  bool deferred_images_ = false;
+  bool last_forward_ = false;
   GBuffer gbuffer_;
   GBuffer traced_;  // the traced camera's G-buffer (only its depth is read); empty until prepared
   std::optional<Camera> traced_camera_;  // what traced_ holds

@@ -25,6 +25,7 @@ using namespace dhr::shader;
 constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
 constexpr VkBufferUsageFlags kCounterUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 constexpr VkFormat kUintFormat = VK_FORMAT_R32_UINT;
+constexpr VkFormat kStatusFormat = VK_FORMAT_R8_UINT;  // statuses 0-5: a byte per pixel to write and count
 
 static_assert(static_cast<uint32_t>(ForwardMode::kLambert) == kClientForwardLambert);
 static_assert(static_cast<uint32_t>(ForwardMode::kShadowMaps) == kClientForwardShadowMaps);
@@ -61,7 +62,7 @@ ForwardTargets ForwardTargets::create(const vk::Context& context, Extent extent,
   t.colour = vk::Image(context, extent.width, extent.height, kShadingOutputFormat,
                        kAttachment | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
   const Extent status = options.mode == ForwardMode::kPaperWarp ? extent : Extent{1, 1};
-  t.status = vk::Image(context, status.width, status.height, kUintFormat, kAttachment | VK_IMAGE_USAGE_STORAGE_BIT);
+  t.status = vk::Image(context, status.width, status.height, kStatusFormat, kAttachment | VK_IMAGE_USAGE_STORAGE_BIT);
   const Extent mask = options.write_mask ? extent : Extent{1, 1};
   t.mask = vk::Image(context, mask.width, mask.height, kUintFormat, kAttachment);
   return t;
@@ -105,7 +106,7 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
   const auto modules = dhr_shaders_client_modules();
   // Attachments the mode does not write have no format (and no image): their outputs are discarded.
   const std::array<VkFormat, 3> colour_formats = {
-      kShadingOutputFormat, options.mode == ForwardMode::kPaperWarp ? kUintFormat : VK_FORMAT_UNDEFINED,
+      kShadingOutputFormat, options.mode == ForwardMode::kPaperWarp ? kStatusFormat : VK_FORMAT_UNDEFINED,
       options.write_mask ? kUintFormat : VK_FORMAT_UNDEFINED};
   vk::GraphicsPipelineDesc desc;
   desc.vertex = &vk::find_spirv(modules, "gbuffer.vert");

@@ -11,7 +11,7 @@
 // Targets, display-sized:
 //   depth  D32_SFLOAT (reversed-Z, as the G-buffer's)
 //   colour R8G8B8A8_UNORM, sRGB-encoded bytes (as the shading pass's output), ends in GENERAL
-//   status R32_UINT kClientStatus* (kPaperWarp; background where nothing was drawn), else a 1x1 placeholder
+//   status R8_UINT  kClientStatus* (kPaperWarp; background where nothing was drawn), else a 1x1 placeholder
 //   mask   R32_UINT light mask (ForwardOptions::write_mask, tests), else a 1x1 placeholder
 #pragma once
 #include <vulkan/vulkan.h>

@@ -36,6 +36,8 @@ std::string eye_stats_json(uint64_t frame, uint32_t eye, const EyeStats& stats) 
   j["gbuffer_ms"] = stats.gpu.gbuffer_ms;
   j["warp_ms"] = stats.gpu.warp_ms;
   j["shading_ms"] = stats.gpu.shading_ms;
+  j["forward"] = stats.forward;
+  j["forward_ms"] = stats.gpu.forward_ms;
   j["total_ms"] = stats.gpu.total_ms;
   for (size_t s = 0; s < kWarpStatusCount; ++s) j[to_string(static_cast<WarpStatus>(s))] = stats.warp.by_status[s];
   j["unknown"] = stats.unknown_pixels();

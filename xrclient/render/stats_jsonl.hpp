@@ -30,7 +30,7 @@ class JsonLinesWriter {
 };
 
 // {"frame":N,"eye":E,"width":..,"height":..,"gpu_valid":..,"gbuffer_ms":..,"warp_ms":..,
-//  "shading_ms":..,"total_ms":..,"known":..,"background":..,"behind":..,"outside":..,"missing_row":..,
+//  "shading_ms":..,"forward":..,"forward_ms":..,"total_ms":..,"known":..,"background":..,"behind":..,"outside":..,"missing_row":..,
 //  "no_data":..,"unknown":..,"meshes_drawn":..,"meshes_culled":..,"triangles":..,"visibility_used":..}
 std::string eye_stats_json(uint64_t frame, uint32_t eye, const EyeStats& stats);
 

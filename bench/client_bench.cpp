@@ -1,0 +1,279 @@
+// client_bench: the per-eye GPU time of the client's ways of shading a frame, on one scene and eye size
+// (docs/performance.md, "Client"). Each configuration renders the same view --frames times after --warmup
+// frames, each frame submitted and waited for, timed with GPU timestamps; the median is reported:
+//   dhr_ms           the DHR client as it ships (render::EyePipeline's defaults: the forward path with the paper's
+//                    warp of a server buffer, and its count pass)
+//   dhr_deferred_ms  the same rule in the deferred passes (G-buffer -> warp -> shading; the client before issue 15)
+//   dhr_full_ms      `--warp full`: the traced camera's depth (a new visibility frame every frame, as at 90 Hz),
+//                    the G-buffer, every warp ingredient with the shadow maps, and shading
+//   forward_ms       a plain forward Lambert render without shadows (the cost of not having shadows)
+//   shadowmap_ms     a forward render with the client's cube shadow maps (what a headset would do without DHR;
+//                    the maps are rendered once, as for a static scene: shadow_map_render_ms is that host time)
+// The visibility buffer is the server's Embree trace for the pose one 90 Hz frame earlier (turning 60 deg/s).
+// --lights N above the scene's count adds point lights (copies of the scene's point lights, moved by a fixed
+// pattern) so the light count can be swept. Progress on stderr; the last stdout line is one JSON object.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bench_views.hpp"
+#include "camera_bookmarks.hpp"
+#include "embree_tracer.hpp"
+#include "render/client_scene.hpp"
+#include "render/eye_pipeline.hpp"
+#include "render/forward_pass.hpp"
+#include "render/render_camera.hpp"
+#include "render/shadow_maps.hpp"
+#include "scene/scene.hpp"
+#include "vk/context.hpp"
+#include "vk/timestamps.hpp"
+
+namespace dhr::bench {
+namespace {
+
+struct Options {
+  std::string scene;
+  std::string size = "320x240";
+  uint32_t lights = 0;  // 0: the scene's
+  uint32_t frames = 30;
+  uint32_t warmup = 5;
+  bool skip_full = false;
+};
+
+std::optional<Extent> parse_size(const std::string& text) {
+  unsigned w = 0, h = 0;
+  char x = 0;
+  if (std::sscanf(text.c_str(), "%u%c%u", &w, &x, &h) != 3 || (x != 'x' && x != 'X')) return std::nullopt;
+  if (w == 0 || h == 0 || w > 8192 || h > 8192) return std::nullopt;
+  return Extent{w, h};
+}
+
+// Point lights beyond the scene's, up to `count` (at most kMaxLights): copies of its point (or spot) lights in
+// turn, each moved by a fixed pattern of up to 0.6 m and dimmed by the number of copies.
+void add_lights(Scene& scene, uint32_t count) {
+  std::vector<SceneLight> sources;
+  for (const SceneLight& l : scene.lights)
+    if (l.type != SceneLight::Type::kDirectional) sources.push_back(l);
+  if (sources.empty()) throw std::runtime_error("--lights: the scene has no point or spot light to copy");
+  const size_t original = scene.lights.size();
+  for (size_t i = original; i < count; ++i) {
+    SceneLight l = sources[(i - original) % sources.size()];
+    l.type = SceneLight::Type::kPoint;
+    const double a = 2.399963 * static_cast<double>(i);  // golden angle: spread around the original
+    const double r = 0.25 + 0.35 * static_cast<double>((i * 7) % 10) / 10.0;
+    l.position += glm::vec3(static_cast<float>(r * std::cos(a)), -0.1f * static_cast<float>(i % 3),
+                            static_cast<float>(r * std::sin(a)));
+    l.intensity *= static_cast<float>(original) / static_cast<float>(count);
+    scene.lights.push_back(l);
+  }
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Timed {
+  double median_ms = std::nan("");
+  size_t samples = 0;
+};
+
+// Runs `record` warmup + frames times (submit and wait each) and returns the median of `time_ms`.
+template <typename Record, typename Time>
+Timed measure(const vk::Context& context, const Options& o, Record&& record, Time&& time_ms) {
+  std::vector<double> samples;
+  for (uint32_t i = 0; i < o.warmup + o.frames; ++i) {
+    context.submit_and_wait([&](VkCommandBuffer cmd) { record(cmd, i); });
+    const std::optional<double> ms = time_ms();
+    if (i >= o.warmup && ms) samples.push_back(*ms);
+  }
+  return Timed{median(samples), samples.size()};
+}
+
+int run(const Options& o) {
+  const std::optional<Extent> size = parse_size(o.size);
+  if (!size) throw std::invalid_argument("--size: expected WxH with 1..8192 per axis, got '" + o.size + "'");
+  const SceneLoadResult loaded = load_scene(o.scene);
+  if (!loaded) throw std::runtime_error(o.scene + ": " + loaded.error);
+  Scene scene = *loaded.scene;
+  if (o.lights > kMaxLights) throw std::invalid_argument("--lights: at most 32");
+  if (o.lights > scene.lights.size()) add_lights(scene, o.lights);
+  if (o.lights > 0 && o.lights < scene.lights.size()) scene.lights.resize(o.lights);
+  const uint32_t light_count = static_cast<uint32_t>(scene.lights.size());
+  if (light_count == 0) throw std::runtime_error("the scene has no light");
+
+  std::string note;
+  const std::vector<server::CameraBookmark> bookmarks = bench_bookmarks(o.scene, scene, note);
+  const std::optional<Pose> head = server::look_at_pose(bookmarks.at(0));
+  if (!head) throw std::runtime_error("the scene's first camera bookmark has no usable pose");
+  View view;
+  view.pose = *head;
+  view.fov = server::symmetric_fov(kTraceBenchFovDegrees, *size);
+  // The pose the server traced: one 90 Hz frame earlier, the head turning at 60 degrees per second.
+  View traced_view = view;
+  traced_view.pose.orientation =
+      glm::normalize(glm::angleAxis(glm::radians(60.0 / 90.0), glm::dvec3(0.0, 1.0, 0.0)) * view.pose.orientation);
+  const GuardBand guard = bench_guard_band(*size);
+  const Camera traced = Camera::with_guard_band(traced_view, *size, guard);
+
+  std::fprintf(stderr, "client_bench: %s, %ux%u per eye, %u lights: tracing the server's buffer (Embree)\n",
+               o.scene.c_str(), size->width, size->height, light_count);
+  server::TracerOptions tracer_options;
+  server::EmbreeTracer tracer(scene, tracer_options);
+  VisibilityBuffer buffer;
+  server::TraceStats trace_stats;
+  tracer.trace(traced, buffer, trace_stats);
+  VisibilityInput input;
+  input.buffer = &buffer;
+  input.traced = traced;
+  input.key = 1;  // uploaded once
+
+  vk::ContextOptions vk_options;
+  vk_options.app_name = "client_bench";
+  const std::unique_ptr<vk::Context> context = vk::Context::create(vk_options);
+  const render::ClientScene gpu_scene(*context, scene);
+  const auto maps_start = std::chrono::steady_clock::now();
+  const render::ShadowMaps maps(*context, gpu_scene);
+  const double maps_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - maps_start).count();
+  const Camera display = render::display_camera(view, *size);
+
+  nlohmann::ordered_json out;
+  out["bench"] = "client_bench";
+  out["scene"] = std::filesystem::path(o.scene).filename().string();
+  out["size"] = std::to_string(size->width) + "x" + std::to_string(size->height);
+  out["lights"] = light_count;
+  out["device"] = context->info().name;
+  out["frames"] = o.frames;
+
+  // The shipped client and its deferred twin.
+  const auto eye_pipeline = [&](const char* name, const render::EyePipelineOptions& options, bool full) {
+    std::fprintf(stderr, "client_bench: %s\n", name);
+    render::EyePipeline eye(*context, gpu_scene, *size, options);
+    // --warp full: a new traced camera every frame (two alternating), so its depth is rendered every frame.
+    View other_view = traced_view;
+    other_view.pose.position.x += 0.001;
+    const std::array<Camera, 2> cameras = {traced, Camera::with_guard_band(other_view, *size, guard)};
+    std::array<VisibilityInput, 2> inputs = {input, input};
+    inputs[1].traced = cameras[1];
+    render::EyeStats last;
+    const Timed t = measure(
+        *context, o,
+        [&](VkCommandBuffer cmd, uint32_t i) {
+          const VisibilityInput& in = full ? inputs[i % 2] : inputs[0];
+          eye.prepare(cmd, 0, in);
+          eye.record(cmd, 0, view, in, {}, full ? &maps : nullptr);
+        },
+        [&]() -> std::optional<double> {
+          last = eye.read_stats(0);
+          if (!last.gpu.valid) return std::nullopt;
+          return last.gpu.total_ms;
+        });
+    out[name] = t.median_ms;
+    return last;
+  };
+  render::EyePipelineOptions shipped;
+  shipped.frames_in_flight = 1;
+  const render::EyeStats shipped_stats = eye_pipeline("dhr_ms", shipped, false);
+  out["dhr_path"] = shipped_stats.forward ? "forward" : "deferred";
+  render::EyePipelineOptions deferred = shipped;
+  deferred.forward = false;
+  eye_pipeline("dhr_deferred_ms", deferred, false);
+  if (!o.skip_full) {
+    render::EyePipelineOptions full = shipped;
+    full.warp = render::WarpSettings::full();
+    eye_pipeline("dhr_full_ms", full, true);
+  }
+
+  // The forward baselines.
+  for (const render::ForwardMode mode : {render::ForwardMode::kLambert, render::ForwardMode::kShadowMaps}) {
+    const char* name = mode == render::ForwardMode::kLambert ? "forward_ms" : "shadowmap_ms";
+    std::fprintf(stderr, "client_bench: %s\n", name);
+    render::ForwardOptions fo;
+    fo.mode = mode;
+    render::ForwardPass pass(*context, gpu_scene, fo);
+    render::ForwardTargets targets = render::ForwardTargets::create(*context, *size, fo);
+    render::ForwardFrame frame;
+    frame.display = display;
+    frame.lights = scene.lights;
+    frame.shadow_maps = &maps;
+    const vk::TimestampQueries stamps(*context, 2);
+    const Timed t = measure(
+        *context, o,
+        [&](VkCommandBuffer cmd, uint32_t) {
+          stamps.reset(cmd);
+          stamps.write(cmd, 0);
+          pass.record(cmd, 0, frame, targets);
+          stamps.write(cmd, 1);
+        },
+        [&]() -> std::optional<double> {
+          const std::vector<double> ns = stamps.read_ns();
+          if (ns.size() != 2) return std::nullopt;
+          return (ns[1] - ns[0]) * 1e-6;
+        });
+    out[name] = t.median_ms;
+  }
+  out["shadow_map_render_ms"] = maps_ms;
+  out["shadow_map_size"] = maps.face_size();
+  const double forward = out["forward_ms"].get<double>();
+  out["dhr_vs_forward"] = out["dhr_ms"].get<double>() / forward;
+  out["dhr_deferred_vs_forward"] = out["dhr_deferred_ms"].get<double>() / forward;
+  out["shadowmap_vs_forward"] = out["shadowmap_ms"].get<double>() / forward;
+  out["triangles_drawn"] = shipped_stats.draws.triangles_drawn;
+  out["known_frac"] = shipped_stats.warp.surface() == 0
+                          ? 0.0
+                          : static_cast<double>(shipped_stats.warp[render::WarpStatus::kKnown]) /
+                                static_cast<double>(shipped_stats.warp.surface());
+  std::printf("%s\n", out.dump().c_str());
+  return 0;
+}
+
+}  // namespace
+}  // namespace dhr::bench
+
+int main(int argc, char** argv) {
+  dhr::bench::Options o;
+  o.scene = std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf";
+  CLI::App app{"client_bench: per-eye GPU time of the DHR client against forward renders without shadows and with "
+               "shadow maps (docs/performance.md). The last stdout line is one JSON object."};
+  app.add_option("--scene", o.scene, "glTF scene")->capture_default_str();
+  app.add_option("--size", o.size, "eye size WxH")->capture_default_str();
+  app.add_option("--lights", o.lights, "light count: fewer than the scene's drops lights, more adds copies of its point "
+                                       "lights (0: the scene's)")
+      ->capture_default_str();
+  app.add_option("--frames", o.frames, "measured frames per configuration (median)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 100000u));
+  app.add_option("--warmup", o.warmup, "unmeasured frames first")->capture_default_str();
+  app.add_flag("--skip-full", o.skip_full, "do not measure --warp full (dhr_full_ms)");
+  bool quick = false;
+  app.add_flag("--quick", quick, "smoke run: 64x48, 2 frames after 1 warm-up");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (quick) {
+    o.size = "64x48";
+    o.frames = 2;
+    o.warmup = 1;
+  }
+  try {
+    return dhr::bench::run(o);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "client_bench: %s\n", e.what());
+    return 2;
+  }
+}
