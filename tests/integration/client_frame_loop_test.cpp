@@ -117,7 +117,7 @@ TEST(ClientFrameLoopTest, ZeroDelayPresentsFreshlyTracedVisibility) {
       traced.tracer->trace(camera, fresh, stats);
       EXPECT_EQ(fresh, used.buffer) << "eye " << e << ": visibility not bit-exact";
 
-      render::EyePipeline pipeline(*context, scene, kEye);
+      render::EyePipeline pipeline(*context, scene, kEye, capture_options().eye);  // the same path
       VisibilityInput input;
       input.buffer = &fresh;
       input.traced = camera;

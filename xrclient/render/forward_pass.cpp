@@ -242,11 +242,12 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   }
   VkClearValue status_clear{};
   status_clear.color.uint32[0] = kClientStatusBackground;
-  VkClearValue zero{};
+  VkClearValue unknown{};  // the mask where nothing is drawn, as the compute warp writes it for background
+  unknown.color.uint32[0] = params.unknown_mask;
   const std::array<VkRenderingAttachmentInfo, 3> colour = {
       attachment(&targets.colour, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, background),
       attachment(with_status ? &targets.status : nullptr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, status_clear),
-      attachment(with_mask ? &targets.mask : nullptr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, zero)};
+      attachment(with_mask ? &targets.mask : nullptr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, unknown)};
   VkClearValue depth_clear{};
   depth_clear.depthStencil = {0.0f, 0};  // reversed-Z: 0 is infinitely far
   const VkRenderingAttachmentInfo depth =
