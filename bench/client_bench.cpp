@@ -1,6 +1,7 @@
 // client_bench: the per-eye GPU time of the client's ways of shading a frame, on one scene and eye size
-// (docs/performance.md, "Client"). Each configuration renders the same view --frames times after --warmup
-// frames, each frame submitted and waited for, timed with GPU timestamps; the median is reported:
+// (docs/performance.md, "Client"). Every configuration renders the same view, frame by frame in turn (each
+// frame submitted and waited for, timed with GPU timestamps), --warmup frames and then --frames measured; the
+// median of each is reported:
 //   dhr_ms           the DHR client as it ships (render::EyePipeline's defaults: the forward path with the paper's
 //                    warp of a server buffer, and its count pass)
 //   dhr_deferred_ms  the same rule in the deferred passes (G-buffer -> warp -> shading; the client before issue 15)
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -85,21 +87,25 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-struct Timed {
-  double median_ms = std::nan("");
-  size_t samples = 0;
+// One configuration: records a frame into a command buffer and, after the submission completed, gives its GPU ms.
+struct Config {
+  std::string name;
+  std::function<void(VkCommandBuffer, uint32_t)> record;
+  std::function<std::optional<double>()> time_ms;
+  std::vector<double> samples;
 };
 
-// Runs `record` warmup + frames times (submit and wait each) and returns the median of `time_ms`.
-template <typename Record, typename Time>
-Timed measure(const vk::Context& context, const Options& o, Record&& record, Time&& time_ms) {
-  std::vector<double> samples;
+// Frame by frame, every configuration in turn (each submitted and waited for), so that drifts of a shared
+// machine touch them alike; the first `warmup` frames are not kept.
+void measure(const vk::Context& context, const Options& o, std::vector<Config>& configs) {
   for (uint32_t i = 0; i < o.warmup + o.frames; ++i) {
-    context.submit_and_wait([&](VkCommandBuffer cmd) { record(cmd, i); });
-    const std::optional<double> ms = time_ms();
-    if (i >= o.warmup && ms) samples.push_back(*ms);
+    for (Config& c : configs) {
+      context.submit_and_wait([&](VkCommandBuffer cmd) { c.record(cmd, i); });
+      const std::optional<double> ms = c.time_ms();
+      if (i >= o.warmup && ms) c.samples.push_back(*ms);
+    }
+    if ((i + 1) % 10 == 0) std::fprintf(stderr, "client_bench: frame %u of %u\n", i + 1, o.warmup + o.frames);
   }
-  return Timed{median(samples), samples.size()};
 }
 
 int run(const Options& o) {
@@ -158,73 +164,79 @@ int run(const Options& o) {
   out["device"] = context->info().name;
   out["frames"] = o.frames;
 
-  // The shipped client and its deferred twin.
-  const auto eye_pipeline = [&](const char* name, const render::EyePipelineOptions& options, bool full) {
-    std::fprintf(stderr, "client_bench: %s\n", name);
-    render::EyePipeline eye(*context, gpu_scene, *size, options);
-    // --warp full: a new traced camera every frame (two alternating), so its depth is rendered every frame.
-    View other_view = traced_view;
-    other_view.pose.position.x += 0.001;
-    const std::array<Camera, 2> cameras = {traced, Camera::with_guard_band(other_view, *size, guard)};
-    std::array<VisibilityInput, 2> inputs = {input, input};
-    inputs[1].traced = cameras[1];
-    render::EyeStats last;
-    const Timed t = measure(
-        *context, o,
-        [&](VkCommandBuffer cmd, uint32_t i) {
+  // The shipped client, its deferred twin and --warp full.
+  std::vector<Config> configs;
+  std::vector<std::unique_ptr<render::EyePipeline>> eyes;
+  std::vector<render::EyeStats> eye_stats;
+  View other_view = traced_view;  // --warp full: a new traced camera every frame (two alternating), so its
+  other_view.pose.position.x += 0.001;  // depth is rendered every frame
+  std::array<VisibilityInput, 2> inputs = {input, input};
+  inputs[1].traced = Camera::with_guard_band(other_view, *size, guard);
+  const auto add_eye = [&](const char* name, const render::EyePipelineOptions& options, bool full) {
+    const size_t k = eyes.size();
+    eyes.push_back(std::make_unique<render::EyePipeline>(*context, gpu_scene, *size, options));
+    eye_stats.emplace_back();
+    configs.push_back(Config{
+        name,
+        [&, k, full](VkCommandBuffer cmd, uint32_t i) {
           const VisibilityInput& in = full ? inputs[i % 2] : inputs[0];
-          eye.prepare(cmd, 0, in);
-          eye.record(cmd, 0, view, in, {}, full ? &maps : nullptr);
+          eyes[k]->prepare(cmd, 0, in);
+          eyes[k]->record(cmd, 0, view, in, {}, full ? &maps : nullptr);
         },
-        [&]() -> std::optional<double> {
-          last = eye.read_stats(0);
-          if (!last.gpu.valid) return std::nullopt;
-          return last.gpu.total_ms;
-        });
-    out[name] = t.median_ms;
-    return last;
+        [&, k]() -> std::optional<double> {
+          eye_stats[k] = eyes[k]->read_stats(0);
+          if (!eye_stats[k].gpu.valid) return std::nullopt;
+          return eye_stats[k].gpu.total_ms;
+        },
+        {}});
   };
   render::EyePipelineOptions shipped;
   shipped.frames_in_flight = 1;
-  const render::EyeStats shipped_stats = eye_pipeline("dhr_ms", shipped, false);
-  out["dhr_path"] = shipped_stats.forward ? "forward" : "deferred";
+  add_eye("dhr_ms", shipped, false);
   render::EyePipelineOptions deferred = shipped;
   deferred.forward = false;
-  eye_pipeline("dhr_deferred_ms", deferred, false);
+  add_eye("dhr_deferred_ms", deferred, false);
   if (!o.skip_full) {
     render::EyePipelineOptions full = shipped;
     full.warp = render::WarpSettings::full();
-    eye_pipeline("dhr_full_ms", full, true);
+    add_eye("dhr_full_ms", full, true);
   }
 
   // The forward baselines.
+  std::vector<std::unique_ptr<render::ForwardPass>> passes;
+  std::vector<render::ForwardTargets> targets;
+  std::vector<std::unique_ptr<vk::TimestampQueries>> stamps;
+  render::ForwardFrame frame;
+  frame.display = display;
+  frame.lights = scene.lights;
+  frame.shadow_maps = &maps;
   for (const render::ForwardMode mode : {render::ForwardMode::kLambert, render::ForwardMode::kShadowMaps}) {
-    const char* name = mode == render::ForwardMode::kLambert ? "forward_ms" : "shadowmap_ms";
-    std::fprintf(stderr, "client_bench: %s\n", name);
     render::ForwardOptions fo;
     fo.mode = mode;
-    render::ForwardPass pass(*context, gpu_scene, fo);
-    render::ForwardTargets targets = render::ForwardTargets::create(*context, *size, fo);
-    render::ForwardFrame frame;
-    frame.display = display;
-    frame.lights = scene.lights;
-    frame.shadow_maps = &maps;
-    const vk::TimestampQueries stamps(*context, 2);
-    const Timed t = measure(
-        *context, o,
-        [&](VkCommandBuffer cmd, uint32_t) {
-          stamps.reset(cmd);
-          stamps.write(cmd, 0);
-          pass.record(cmd, 0, frame, targets);
-          stamps.write(cmd, 1);
+    const size_t k = passes.size();
+    passes.push_back(std::make_unique<render::ForwardPass>(*context, gpu_scene, fo));
+    targets.push_back(render::ForwardTargets::create(*context, *size, fo));
+    stamps.push_back(std::make_unique<vk::TimestampQueries>(*context, 2));
+    configs.push_back(Config{
+        mode == render::ForwardMode::kLambert ? "forward_ms" : "shadowmap_ms",
+        [&, k](VkCommandBuffer cmd, uint32_t) {
+          stamps[k]->reset(cmd);
+          stamps[k]->write(cmd, 0);
+          passes[k]->record(cmd, 0, frame, targets[k]);
+          stamps[k]->write(cmd, 1);
         },
-        [&]() -> std::optional<double> {
-          const std::vector<double> ns = stamps.read_ns();
+        [&, k]() -> std::optional<double> {
+          const std::vector<double> ns = stamps[k]->read_ns();
           if (ns.size() != 2) return std::nullopt;
           return (ns[1] - ns[0]) * 1e-6;
-        });
-    out[name] = t.median_ms;
+        },
+        {}});
   }
+  std::fprintf(stderr, "client_bench: %zu configurations, %u + %u frames each\n", configs.size(), o.warmup, o.frames);
+  measure(*context, o, configs);
+  for (const Config& c : configs) out[c.name] = median(c.samples);
+  const render::EyeStats& shipped_stats = eye_stats[0];
+  out["dhr_path"] = shipped_stats.forward ? "forward" : "deferred";
   out["shadow_map_render_ms"] = maps_ms;
   out["shadow_map_size"] = maps.face_size();
   const double forward = out["forward_ms"].get<double>();

@@ -102,6 +102,12 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "buffer and the client's shadow maps (docs/client.md, Warp rule)")
       ->capture_default_str()
       ->check(CLI::IsMember({"paper", "full"}));
+  std::string render_path = "auto";
+  app.add_option("--render-path", render_path,
+                 "auto: one forward pass that warps and shades where it applies (the paper's warp, the shaded "
+                 "view, at most 8 lights), else the deferred passes; deferred: always G-buffer, warp, shading")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "deferred"}));
   std::string codec = "v2";
   app.add_option("--codec", codec, "visibility codec to offer: v2 (the server may still choose v1) or v1")
       ->capture_default_str()
@@ -144,6 +150,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   out.schedule = *parse_schedule(schedule);
   out.codec_v2 = codec == "v2";
   out.warp_full = warp == "full";
+  out.deferred = render_path == "deferred";
   if (!parse_view(view, out)) {
     return usage("--view '" + view + "': expected shaded, light:N (N 0..31), unknown, motion, albedo or normal");
   }

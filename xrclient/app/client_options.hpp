@@ -30,6 +30,7 @@ struct ClientOptions {
   Schedule schedule = Schedule::kNewest;
   uint32_t x_max = 3;
   bool codec_v2 = true;  // --codec v2 (offer v2; the server decides) or v1 (LZ4 only)
+  bool deferred = false;   // --render-path deferred: never the forward path (render::EyePipelineOptions::forward)
   bool warp_full = false;  // --warp full: render::WarpSettings::full() (with shadow maps); paper otherwise
   std::string record_trace;  // --record-trace FILE (OpenXR path)
   double connect_timeout_s = 5.0;

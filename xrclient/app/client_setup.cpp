@@ -138,6 +138,7 @@ CoordinatorOptions coordinator_options(const ClientOptions& options) {
   const render::WarpOutputs needed = render::warp_outputs_for(out.eye.shading.view);
   out.eye.warp_status = needed.status;
   if (options.warp_full) out.eye.warp = render::WarpSettings::full();
+  out.eye.forward = !options.deferred;
   out.eye.motion_vectors = needed.motion;
   return out;
 }

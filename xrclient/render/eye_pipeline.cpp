@@ -77,7 +77,7 @@ bool EyePipeline::uses_forward() const {
   const WarpSettings& w = options_.warp;
   const bool paper = !w.bilinear && !w.depth_test && !w.other_eye && !w.uses_shadow_maps();
   return options_.forward && paper && options_.shading.view == ShadingView::kShaded && !options_.motion_vectors &&
-         !options_.warp_status;
+         !options_.warp_status && scene_->lights().size() <= options_.forward_max_lights;
 }
 
 vk::Image& EyePipeline::output() {
