@@ -41,3 +41,17 @@ for eye in ("left", "right"):
     assert top > 60 and bright > 0.05 and dark > 0.02, f"{eye} eye image is trivial"
 print("PASS")
 PY
+# --render-scale: the eyes are rendered (and traced) at half the runtime's size, the compositor scales them up.
+"$src/runtime-config/with-monado" "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --frames 60 \
+  --render-scale 0.5 --timeout 150 >"$tmp/half.out" 2>"$tmp/half.err" || {
+  tail -n 20 "$tmp/half.err"; echo "FAIL: dhr-xrclient --render-scale 0.5 exited with an error"; exit 1; }
+python3 - "$summary" "$(tail -n 1 "$tmp/half.out")" <<'PY'
+import json, sys
+full, half = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+assert half["exit"] == "clean" and half["frames"] >= 60, half
+assert half["render_scale"] == 0.5 and full["render_scale"] == 1.0
+assert half["eye_size"] == [round(n / 2) for n in full["eye_size"]], (half["eye_size"], full["eye_size"])
+assert half["buffer_size"][0] < full["buffer_size"][0], "the server traces the smaller eye"
+assert half["frames_with_visibility"] > 0 and half["predicted_frac"] > 0.5, half
+print("PASS render scale", half["eye_size"])
+PY

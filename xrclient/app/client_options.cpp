@@ -102,6 +102,11 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "buffer and the client's shadow maps (docs/client.md, Warp rule)")
       ->capture_default_str()
       ->check(CLI::IsMember({"paper", "full"}));
+  app.add_option("--render-scale", out.render_scale,
+                 "OpenXR: render (and have the server trace) each eye at this fraction of the runtime's eye size per "
+                 "axis; the compositor scales the image up (the projection layer's imageRect)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 1.0));
   std::string render_path = "auto";
   app.add_option("--render-path", render_path,
                  "auto: one forward pass that warps and shades where it applies (the paper's warp, the shaded "

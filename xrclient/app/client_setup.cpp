@@ -78,6 +78,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   j["pose_source"] = run.pose_source;
   j["elapsed_s"] = run.elapsed_s;
   j["eye_size"] = {run.eye.width, run.eye.height};
+  j["render_scale"] = run.render_scale;
   j["guard"] = {2 * run.guard.x, 2 * run.guard.y};  // both sides together, as --guard
   if (const auto w = link.client().welcome()) {
     j["buffer_size"] = {w->buffer_width, w->buffer_height};

@@ -43,6 +43,7 @@ struct RunSummary {
   double fps = 0.0;
   double elapsed_s = 0.0;
   Extent eye;
+  double render_scale = 1.0;  // OpenXR: eye / the runtime's eye size per axis (--render-scale)
   GuardBand guard;
   uint64_t poses_rejected = 0;
   uint64_t png_files = 0;

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -44,10 +46,16 @@ int run_openxr(const ClientOptions& options) {
   const std::unique_ptr<xr::Headset> headset = xr::Headset::open(headset_options);
   const vk::Context& vulkan = headset->vulkan();
   const xr::SwapchainDesc& desc = headset->swapchain(0).desc();
-  const Extent eye{desc.width, desc.height};
-  if (headset->swapchain(1).desc().width != eye.width || headset->swapchain(1).desc().height != eye.height) {
+  if (headset->swapchain(1).desc().width != desc.width || headset->swapchain(1).desc().height != desc.height) {
     throw std::runtime_error("the runtime's eyes differ in size; this client renders both at one size");
   }
+  // Render scale: the eyes are rendered (and traced) smaller, copied into the swapchain images' top-left
+  // corners, and the projection layer's imageRect makes the compositor scale them to the view.
+  const auto scaled = [&](uint32_t n) {
+    return std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(static_cast<double>(n) * options.render_scale)));
+  };
+  const Extent eye{scaled(desc.width), scaled(desc.height)};
+  headset->frame_loop().set_image_extent({eye.width, eye.height});
   const render::ClientScene client_scene(vulkan, scene);
   const GuardBand guard = options.guard.value_or(default_guard_band(eye));
   const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard);
@@ -78,6 +86,7 @@ int run_openxr(const ClientOptions& options) {
   RunSummary run;
   run.mode = "openxr";
   run.eye = eye;
+  run.render_scale = options.render_scale;
   run.guard = guard;
   run.pose_source = poses.describe();
   bool warned_failure = false;

@@ -92,8 +92,10 @@ XrResult FrameLoop::run_frame(const RenderFn& render, FrameState* out_frame) {
       view.fov = submitted[eye].fov;
       view.subImage.swapchain = swapchains_[eye]->handle();
       view.subImage.imageRect.offset = {0, 0};
-      view.subImage.imageRect.extent = {static_cast<int32_t>(eyes[eye].extent.width),
-                                        static_cast<int32_t>(eyes[eye].extent.height)};
+      const bool part = image_extent_.width > 0 && image_extent_.height > 0;
+      view.subImage.imageRect.extent = {
+          static_cast<int32_t>(part ? std::min(image_extent_.width, eyes[eye].extent.width) : eyes[eye].extent.width),
+          static_cast<int32_t>(part ? std::min(image_extent_.height, eyes[eye].extent.height) : eyes[eye].extent.height)};
       view.subImage.imageArrayIndex = 0;
     }
     projection.space = world_;

@@ -71,6 +71,9 @@ class FrameLoop {
   uint64_t frames_begun() const { return frames_begun_; }
   uint64_t frames_ended() const { return frames_ended_; }
   uint64_t frames_presented() const { return frames_presented_; }  // ended with a layer
+  // The region of each eye's swapchain image the client renders, from its top-left corner (the projection
+  // layer's imageRect: the compositor scales it to the view; a render scale below 1). 0x0: the whole image.
+  void set_image_extent(VkExtent2D extent) { image_extent_ = extent; }
   // Wall-clock times of the first and the last successful xrEndFrame.
   Clock::time_point first_end_time() const { return first_end_; }
   Clock::time_point last_end_time() const { return last_end_; }
@@ -87,6 +90,7 @@ class FrameLoop {
   uint64_t frames_begun_ = 0;
   uint64_t frames_ended_ = 0;
   uint64_t frames_presented_ = 0;
+  VkExtent2D image_extent_{0, 0};
   Clock::time_point first_end_{};
   Clock::time_point last_end_{};
 };
