@@ -14,6 +14,7 @@
 // --lights N above the scene's count adds point lights (copies of the scene's point lights, moved by a fixed
 // pattern) so the light count can be swept. Progress on stderr; the last stdout line is one JSON object.
 #include <CLI/CLI.hpp>
+#include "cli/finite_range.hpp"
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -55,7 +56,11 @@ struct Options {
 std::optional<Extent> parse_size(const std::string& text) {
   unsigned w = 0, h = 0;
   char x = 0;
-  if (std::sscanf(text.c_str(), "%u%c%u", &w, &x, &h) != 3 || (x != 'x' && x != 'X')) return std::nullopt;
+  int used = 0;
+  if (std::sscanf(text.c_str(), "%u%c%u%n", &w, &x, &h, &used) != 3 || (x != 'x' && x != 'X') ||
+      static_cast<size_t>(used) != text.size() || text[0] == '-') {
+    return std::nullopt;
+  }
   if (w == 0 || h == 0 || w > 8192 || h > 8192) return std::nullopt;
   return Extent{w, h};
 }
@@ -112,7 +117,7 @@ int run(const Options& o) {
   const std::optional<Extent> size = parse_size(o.size);
   if (!size) throw std::invalid_argument("--size: expected WxH with 1..8192 per axis, got '" + o.size + "'");
   const SceneLoadResult loaded = load_scene(o.scene);
-  if (!loaded) throw std::runtime_error(o.scene + ": " + loaded.error);
+  if (!loaded) throw std::runtime_error(loaded.error);  // names the file
   Scene scene = *loaded.scene;
   if (o.lights > kMaxLights) throw std::invalid_argument("--lights: at most 32");
   if (o.lights > scene.lights.size()) add_lights(scene, o.lights);
@@ -234,7 +239,10 @@ int run(const Options& o) {
   }
   std::fprintf(stderr, "client_bench: %zu configurations, %u + %u frames each\n", configs.size(), o.warmup, o.frames);
   measure(*context, o, configs);
-  for (const Config& c : configs) out[c.name] = median(c.samples);
+  for (const Config& c : configs) {
+    if (c.samples.empty()) throw std::runtime_error("no GPU timestamps on " + context->info().name + ": nothing to measure");
+    out[c.name] = median(c.samples);
+  }
   const render::EyeStats& shipped_stats = eye_stats[0];
   out["dhr_path"] = shipped_stats.forward ? "forward" : "deferred";
   out["shadow_map_render_ms"] = maps_ms;
@@ -267,20 +275,23 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--frames", o.frames, "measured frames per configuration (median)")
       ->capture_default_str()
-      ->check(CLI::Range(1u, 100000u));
+      ->check(dhr::cli::FiniteRange(1u, 100000u));
   app.add_option("--warmup", o.warmup, "unmeasured frames first")->capture_default_str();
   app.add_flag("--skip-full", o.skip_full, "do not measure --warp full (dhr_full_ms)");
   bool quick = false;
-  app.add_flag("--quick", quick, "smoke run: 64x48, 2 frames after 1 warm-up");
+  app.add_flag("--quick", quick, "smoke run: 64x48, 2 frames after 1 warm-up (unless given)");
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "client_bench: %s (--help lists the options)\n", e.what());
+    return 2;
   }
   if (quick) {
-    o.size = "64x48";
-    o.frames = 2;
-    o.warmup = 1;
+    if (app.count("--size") == 0) o.size = "64x48";
+    if (app.count("--frames") == 0) o.frames = 2;
+    if (app.count("--warmup") == 0) o.warmup = 1;
   }
   try {
     return dhr::bench::run(o);

@@ -1,6 +1,7 @@
 // dhr-trace-convert: any supported head-pose trace -> the canonical dhr-trace CSV (docs/traces.md).
 // Exit status: 0 converted; 1 the output could not be written; 2 bad input or bad command line.
 #include <CLI/CLI.hpp>
+#include "cli/finite_range.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -47,7 +48,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "canonical", "gul2020-raw", "gul2020-interp", "nasrabadi2019"}))
       ->capture_default_str();
   app.add_option("--rate", rate_hz, "resample at this rate (Hz), e.g. 90 for playback; default: keep the rows")
-      ->check(CLI::Range(0.001, 10000.0));
+      ->check(dhr::cli::FiniteRange(0.001, 10000.0));
   app.add_option("--max-seconds", max_seconds, "keep only the first S seconds")->check(CLI::NonNegativeNumber);
   app.add_option("--max-rows", max_rows, "refuse inputs with more data rows than this")
       ->check(CLI::PositiveNumber)

@@ -9,6 +9,7 @@
 #include "eval_trace_gen.hpp"
 
 #include <CLI/CLI.hpp>
+#include "cli/finite_range.hpp"
 
 #include <cstdio>
 #include <string>
@@ -37,56 +38,56 @@ int main(int argc, char** argv) {
   run->add_option("--server-ms", options.server_ms,
                   "modelled server compute time per traced frame (both eyes), virtual ms")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(dhr::cli::FiniteRange(0.0, 1000.0));
   run->add_option("--seed", options.seed, "network impairment seed");
   run->add_option("--predict-window-ms", options.predict_window_ms,
                   "paper+pred: velocity from the newest pose and the oldest within this window (0: two newest)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(dhr::cli::FiniteRange(0.0, 1000.0));
   run->add_option("--predict-max-horizon-ms", options.predict_max_horizon_ms, "paper+pred: cap of the horizon")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 2000.0));
+      ->check(dhr::cli::FiniteRange(0.0, 2000.0));
   run->add_option("--predict-soft-horizon-ms", options.predict_soft_horizon_ms,
                   "paper+pred: horizons beyond this are damped (with --predict-damping-ms)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 2000.0));
+      ->check(dhr::cli::FiniteRange(0.0, 2000.0));
   run->add_option("--predict-damping-ms", options.predict_damping_ms,
                   "paper+pred: damping time constant beyond the soft horizon (0: off)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 2000.0));
+      ->check(dhr::cli::FiniteRange(0.0, 2000.0));
   run->add_option("--predict-quadratic-ms", options.predict_quadratic_ms,
                   "paper+pred: fit a quadratic (constant acceleration) to the poses of this window (0: off)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(dhr::cli::FiniteRange(0.0, 1000.0));
   std::string codec = "v2";
   run->add_option("--codec", codec, "visibility codec: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
       ->capture_default_str()
       ->check(CLI::IsMember({"v1", "v2"}));
   run->add_option("--shadow-size", options.shadow_maps.size, "local, full: shadow-map texels per cube face side")
       ->capture_default_str()
-      ->check(CLI::Range(1u, 16384u));
+      ->check(dhr::cli::FiniteRange(1u, 16384u));
   run->add_option("--shadow-bias-rel", options.shadow_maps.bias_rel,
                   "local, full: shadow-map depth bias per metre of distance")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.5));
+      ->check(dhr::cli::FiniteRange(0.0, 0.5));
   run->add_option("--shadow-bias-abs", options.shadow_maps.bias_abs, "local, full: shadow-map depth bias, metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(dhr::cli::FiniteRange(0.0, 1.0));
   run->add_option("--shadow-normal-offset", options.shadow_maps.normal_offset,
                   "local, full: shadow lookups move this many texels along the normal")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 16.0));
+      ->check(dhr::cli::FiniteRange(0.0, 16.0));
   run->add_option("--shadow-bias-slope", options.shadow_maps.bias_slope,
                   "local, full: slope-scaled shadow-map bias, texels times tan(angle of normal and light)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 16.0));
+      ->check(dhr::cli::FiniteRange(0.0, 16.0));
   run->add_option("--plane-tolerance", options.plane_tolerance_rel,
                   "full: depth test tolerance, metres per metre of depth (plus --plane-tolerance-abs)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(dhr::cli::FiniteRange(0.0, 1.0));
   run->add_option("--plane-tolerance-abs", options.plane_tolerance_abs, "full: depth test tolerance, metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(dhr::cli::FiniteRange(0.0, 1.0));
   run->add_option("--snapshot-frame", options.snapshot_frame,
                   "write PNGs of this measured frame (0: the first) to <out>/snapshots: every setting's eyes, "
                   "the exact ones and the wrong visibility bits");
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
   double seconds = 12.0;
   CLI::App* make_trace = app.add_subcommand("make-trace", "write a synthetic 6-DoF head trace (canonical CSV)");
   make_trace->add_option("FILE", trace_out, "output file")->required();
-  make_trace->add_option("--seconds", seconds, "duration")->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+  make_trace->add_option("--seconds", seconds, "duration")->capture_default_str()->check(dhr::cli::FiniteRange(0.1, 3600.0));
 
   CLI11_PARSE(app, argc, argv);
 

@@ -5,6 +5,7 @@
 #include "net/impairment_cli.hpp"
 
 #include <CLI/CLI.hpp>
+#include "cli/finite_range.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -97,7 +98,7 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       ->type_name("CAMERA");
   app.add_option("--fov-deg", out.fov_deg, "horizontal field of view of the displayed region, degrees")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 170.0));
+      ->check(dhr::cli::FiniteRange(1.0, 170.0));
   app.add_option("--lights", out.lights,
                  "replace the scene's lights, ';'-separated: point:x,y,z:r,g,b:I[:range] | "
                  "spot:x,y,z:dx,dy,dz:r,g,b:I:inner_deg,outer_deg[:range] | dir:dx,dy,dz:r,g,b:I")
@@ -105,7 +106,7 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   app.add_option("--threads", out.tracer.threads, "CPU tracer threads (0 = all cores)")->capture_default_str();
   app.add_option("--repeat", out.repeat, "traces per bookmark; the report gives the median trace time")
       ->capture_default_str()
-      ->check(CLI::Range(1u, 1000u));
+      ->check(dhr::cli::FiniteRange(1u, 1000u));
   app.add_flag("--no-skip", no_skip, "trace every shadow ray (no N.L / range skipping, no light culling)");
   app.add_option("--vk-device", device, "Vulkan device: auto, gpu, lavapipe")->capture_default_str();
   app.add_flag("--vk-validation", out.tracer.vk_validation, "enable the Khronos validation layer (vulkan backend)");
@@ -116,20 +117,20 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       ->group(kServeGroup);
   app.add_option("--max-seconds", out.max_seconds, "stop by itself after this many seconds (0: run until a signal)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e7))
+      ->check(dhr::cli::FiniteRange(0.0, 1e7))
       ->type_name("S")
       ->group(kServeGroup);
   app.add_option("--max-sessions", out.max_sessions, "clients served at once; further Hellos get Bye(bad hello)")
       ->capture_default_str()
-      ->check(CLI::Range(1u, 1024u))
+      ->check(dhr::cli::FiniteRange(1u, 1024u))
       ->group(kServeGroup);
   app.add_option("--session-timeout-ms", out.session_timeout_ms, "a session silent this long is closed (Bye timeout)")
       ->capture_default_str()
-      ->check(CLI::Range(100u, 3600000u))
+      ->check(dhr::cli::FiniteRange(100u, 3600000u))
       ->group(kServeGroup);
   app.add_option("--heartbeat-ms", out.heartbeat_ms, "heartbeat interval")
       ->capture_default_str()
-      ->check(CLI::Range(10u, 60000u))
+      ->check(dhr::cli::FiniteRange(10u, 60000u))
       ->group(kServeGroup);
   bool trace_identical = false;
   app.add_flag("--trace-identical-poses", trace_identical,
@@ -147,7 +148,7 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   app.add_option("--predict-horizon-ms", out.predict_horizon_ms,
                  "with --predict: fixed prediction horizon past the pose's display time (default: round trip "
                  "+ time on the server)")
-      ->check(CLI::Range(0.0, 1000.0))
+      ->check(dhr::cli::FiniteRange(0.0, 1000.0))
       ->group(kServeGroup);
   app.add_flag("--adaptive-fov", out.adaptive_fov,
                "widen each eye's traced field of view beyond the guard band by how far the displayed views "

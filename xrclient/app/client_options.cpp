@@ -1,6 +1,7 @@
 #include "app/client_options.hpp"
 
 #include <CLI/CLI.hpp>
+#include "cli/finite_range.hpp"
 #include <cstdio>
 #include <string_view>
 
@@ -81,7 +82,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
       ->check(CLI::PositiveNumber);
   app.add_option("--timeout", out.timeout_s, "Wall-clock cap of the frame phase, seconds")
       ->capture_default_str()
-      ->check(CLI::Range(0.1, 86400.0));
+      ->check(dhr::cli::FiniteRange(0.1, 86400.0));
   app.add_option("--eye-size", eye_size, "Offscreen per-eye size WxH (default 320x240, Monado's)")
       ->check(extent_validator(1, false));
   app.add_option("--guard", guard, "Guard band WxH: extra traced pixels per axis (even; default: 64x36 scaled "
@@ -106,7 +107,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "OpenXR: render (and have the server trace) each eye at this fraction of the runtime's eye size per "
                  "axis; the compositor scales the image up (the projection layer's imageRect)")
       ->capture_default_str()
-      ->check(CLI::Range(0.1, 1.0));
+      ->check(dhr::cli::FiniteRange(0.1, 1.0));
   std::string render_path = "auto";
   app.add_option("--render-path", render_path,
                  "auto: one forward pass that warps and shades where it applies (the paper's warp, the shaded "
@@ -121,7 +122,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   app.add_option("--record-trace", out.record_trace, "OpenXR: record the session's views as a canonical trace");
   app.add_option("--connect-timeout", out.connect_timeout_s, "Give up on the server after this many seconds")
       ->capture_default_str()
-      ->check(CLI::Range(0.1, 600.0));
+      ->check(dhr::cli::FiniteRange(0.1, 600.0));
   app.add_option("--vk-device", out.vk_device, "Vulkan device: auto | gpu | lavapipe")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "gpu", "lavapipe", "cpu"}));
