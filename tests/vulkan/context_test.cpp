@@ -74,6 +74,26 @@ TEST_F(ContextTest, SubmitAndWaitPropagatesExceptionsAndStaysUsable) {
   EXPECT_EQ(recorded, 1);
 }
 
+// A submit from inside a recording would wait for the lock its own thread holds: it throws instead, and the
+// context stays usable (an EyePipeline once built a pass inside a recording and hung).
+TEST_F(ContextTest, SubmittingFromInsideARecordingThrowsInsteadOfHanging) {
+  bool inner_threw = false;
+  ctx().submit_and_wait([&](VkCommandBuffer) {
+    try {
+      ctx().submit_and_wait([](VkCommandBuffer) {});
+    } catch (const std::logic_error&) {
+      inner_threw = true;
+    }
+    VkSubmitInfo2 submit{};
+    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO_2;
+    EXPECT_THROW(ctx().submit(submit, VK_NULL_HANDLE), std::logic_error);
+  });
+  EXPECT_TRUE(inner_threw);
+  int recorded = 0;
+  ctx().submit_and_wait([&](VkCommandBuffer) { ++recorded; });
+  EXPECT_EQ(recorded, 1);
+}
+
 TEST_F(ContextTest, SubmitSignalsFence) {
   VkFenceCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
+#include <string>
+#include <thread>
 
 #include "log/log.hpp"
 #include "vk/check.hpp"
@@ -108,6 +110,14 @@ DevicePreference parse_device_preference(const std::string& text) {
 struct Context::Impl {
   std::atomic<uint32_t> validation_errors{0};
   std::mutex submit_mutex;  // the queue and setup_pool_ need external synchronization
+  // The thread inside submit_and_wait's `record` callback: a submit from there would wait for itself.
+  std::atomic<std::thread::id> recording_thread{};
+  void check_not_recording(const char* what) const {
+    if (recording_thread.load() == std::this_thread::get_id()) {
+      throw std::logic_error(std::string("vk::Context::") + what +
+                             " called from inside submit_and_wait's recording (it would deadlock)");
+    }
+  }
   VkPhysicalDeviceMemoryProperties memory{};
   PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger = nullptr;
 
@@ -300,6 +310,7 @@ uint32_t Context::validation_error_count() const {
 }
 
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
+  impl_->check_not_recording("submit_and_wait");
   std::lock_guard lock(impl_->submit_mutex);
   VkCommandBufferAllocateInfo alloc{};
   alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
@@ -325,7 +336,14 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
   begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   DHR_VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
-  record(cmd);
+  {
+    impl_->recording_thread.store(std::this_thread::get_id());
+    struct Done {
+      std::atomic<std::thread::id>& thread;
+      ~Done() { thread.store(std::thread::id{}); }
+    } done{impl_->recording_thread};
+    record(cmd);
+  }
   DHR_VK_CHECK(vkEndCommandBuffer(cmd));
 
   VkFenceCreateInfo fence_info{};
@@ -340,6 +358,7 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
 }
 
 VkResult Context::submit(const VkSubmitInfo2& info, VkFence fence) const {
+  impl_->check_not_recording("submit");
   std::lock_guard lock(impl_->submit_mutex);
   return vkQueueSubmit2(queue_, 1, &info, fence);
 }

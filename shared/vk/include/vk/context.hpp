@@ -114,7 +114,8 @@ class Context {
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
 
   // Records and submits one command buffer on the queue and waits for it (setup/readback path).
-  // Thread-safe with respect to itself and submit().
+  // Thread-safe with respect to itself and submit(). Called (or submit() called) from inside `record` on the
+  // same thread, it throws std::logic_error instead of waiting for itself.
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
   // vkQueueSubmit2 on the context's queue under the same lock as submit_and_wait (the queue needs
   // external synchronization); per-frame code uses this instead of calling vkQueueSubmit2 directly.
