@@ -297,7 +297,7 @@ struct ClientShadingPush {
   uint flags;            // kClientShading*
 };
 
-// Forward (graphics, forward.frag; set 0 = the G-buffer's per-material set): rasterizes and shades in one pass.
+// Forward (graphics, forward*.frag over client/forward_body.h; set 0 = the G-buffer's per-material set): rasterizes and shades in one pass.
 // The surface point of a fragment is reconstructed from gl_FragCoord exactly as the compute passes reconstruct
 // it from the depth image, so the warp decisions are the compute warp's. Set 1:
 DHR_CONST uint kClientForwardBindingParams = 0;        // storage buffer ClientWarpParams (rays, source 0, shadows)

@@ -1,5 +1,7 @@
-#version 460
-#extension GL_GOOGLE_include_directive : require
+// The forward pass's fragment shader (render/forward_pass.hpp), included by forward.frag (colour only),
+// forward_status.frag (+ the status attachment) and forward_status_mask.frag (+ the mask attachment): each
+// pipeline declares exactly the outputs it has attachments for. The includer defines DHR_FORWARD_STATUS and
+// DHR_FORWARD_MASK (0 or 1) before including this.
 #include "shader_interface.h"
 #include "light_eval.h"
 #include "client/cube_face.h"
@@ -31,8 +33,12 @@ layout(location = 0) in vec3 in_normal;
 layout(location = 1) in vec2 in_uv;
 
 layout(location = 0) out vec4 out_colour;
+#if DHR_FORWARD_STATUS
 layout(location = 1) out uint out_status;
+#endif
+#if DHR_FORWARD_MASK
 layout(location = 2) out uint out_mask;
+#endif
 
 vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
 
@@ -63,6 +69,10 @@ void main() {
   vec3 display = encode_radiance(shade_radiance(p, n, albedo, mask, shading.light_count), shading.exposure);
   if ((shading.flags & kClientShadingSwapRedBlue) != 0u) display = display.bgr;
   out_colour = vec4(display, 1.0);
+#if DHR_FORWARD_STATUS
   out_status = status;
+#endif
+#if DHR_FORWARD_MASK
   out_mask = mask;
+#endif
 }

@@ -1,4 +1,4 @@
-// The paper's warp rule for one display pixel (GLSL; included by warp.comp and forward.frag). The including
+// The paper's warp rule for one display pixel (GLSL; included by warp.comp and client/forward_body.h). The including
 // shader declares `pc` (ClientWarpParams), `vis0` and `rows0` (source 0's masks and row validity) and v3().
 // The CPU reference is render/warp_reference.cpp.
 #ifndef DHR_PAPER_WARP_H

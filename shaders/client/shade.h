@@ -1,4 +1,4 @@
-// The client's shading equation (GLSL; included by shading.comp and forward.frag):
+// The client's shading equation (GLSL; included by shading.comp and client/forward_body.h):
 //   radiance = albedo / pi * sum_i k_i * saturate(N.L_i) * E_i
 // with k_i bit i of the light mask and the light math of light_eval.h (the server's notion of "contributes").
 // The including shader declares `lights` (PackedLight[], positions relative to the display eye) and includes

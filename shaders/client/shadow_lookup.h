@@ -1,4 +1,4 @@
-// The client's shadow-map lookup (GLSL; included by warp.comp and forward.frag). The including shader declares
+// The client's shadow-map lookup (GLSL; included by warp.comp and client/forward_body.h). The including shader declares
 // `pc` (ClientWarpParams: light_count and the shadow_* fields), `lights` (PackedLight[], display-eye-relative),
 // `shadow_lights` (ClientShadowLight[]), `shadow_atlas` (sampler2D) and v3(); light_eval.h and cube_face.h
 // come first. The CPU reference is render/shadow_maps.cpp's shadow_mask_reference.

@@ -31,15 +31,9 @@ static_assert(static_cast<uint32_t>(ForwardMode::kLambert) == kClientForwardLamb
 static_assert(static_cast<uint32_t>(ForwardMode::kShadowMaps) == kClientForwardShadowMaps);
 static_assert(static_cast<uint32_t>(ForwardMode::kPaperWarp) == kClientForwardPaperWarp);
 
-VkRenderingAttachmentInfo attachment(const vk::Image* image, VkImageLayout layout, VkClearValue clear) {
-  VkRenderingAttachmentInfo a{};
-  a.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
-  a.imageView = image != nullptr ? image->view() : VK_NULL_HANDLE;  // null: the shader's writes are discarded
-  a.imageLayout = layout;
-  a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  a.clearValue = clear;
-  return a;
+// Attachments: colour, then the status (the paper's warp, and with the mask), then the mask (tests).
+uint32_t attachment_count(const ForwardOptions& options) {
+  return options.write_mask ? 3u : options.mode == ForwardMode::kPaperWarp ? 2u : 1u;
 }
 
 }  // namespace
@@ -61,7 +55,7 @@ ForwardTargets ForwardTargets::create(const vk::Context& context, Extent extent,
                           VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   t.colour = vk::Image(context, extent.width, extent.height, kShadingOutputFormat,
                        kAttachment | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
-  const Extent status = options.mode == ForwardMode::kPaperWarp ? extent : Extent{1, 1};
+  const Extent status = attachment_count(options) >= 2 ? extent : Extent{1, 1};
   t.status = vk::Image(context, status.width, status.height, kStatusFormat, kAttachment | VK_IMAGE_USAGE_STORAGE_BIT);
   const Extent mask = options.write_mask ? extent : Extent{1, 1};
   t.mask = vk::Image(context, mask.width, mask.height, kUintFormat, kAttachment);
@@ -79,6 +73,7 @@ ForwardPass::Slot::Slot(const vk::Context& context)
 ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, const ForwardOptions& options)
     : context_(&context), scene_(&scene), options_(options) {
   if (options.slots == 0) throw std::invalid_argument("ForwardPass needs at least one slot");
+  require_subgroup_arithmetic(context, "forward pass");  // its count pass
   const VkDevice device = context.device();
   materials_ = MaterialSets(device, scene);
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -104,16 +99,16 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
   layout_ = vk::create_pipeline_layout(device, set_layouts, std::span(&push, 1));
 
   const auto modules = dhr_shaders_client_modules();
-  // Attachments the mode does not write have no format (and no image): their outputs are discarded.
-  const std::array<VkFormat, 3> colour_formats = {
-      kShadingOutputFormat, options.mode == ForwardMode::kPaperWarp ? kStatusFormat : VK_FORMAT_UNDEFINED,
-      options.write_mask ? kUintFormat : VK_FORMAT_UNDEFINED};
+  // One shader variant per attachment count: each declares exactly the outputs it has attachments for.
+  const std::array<VkFormat, 3> colour_formats = {kShadingOutputFormat, kStatusFormat, kUintFormat};
+  const uint32_t attachments = attachment_count(options);
+  const char* const shaders[] = {"forward.frag", "forward_status.frag", "forward_status_mask.frag"};
   vk::GraphicsPipelineDesc desc;
   desc.vertex = &vk::find_spirv(modules, "gbuffer.vert");
-  desc.fragment = &vk::find_spirv(modules, "forward.frag");
+  desc.fragment = &vk::find_spirv(modules, shaders[attachments - 1]);
   desc.vertex_bindings = ClientScene::vertex_bindings();
   desc.vertex_attributes = ClientScene::vertex_attributes();
-  desc.color_formats = colour_formats;
+  desc.color_formats = std::span(colour_formats).first(attachments);
   desc.depth_format = kGBufferDepthFormat;
   desc.depth_compare = VK_COMPARE_OP_GREATER;
   desc.front_face = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // as the G-buffer pass
@@ -144,9 +139,8 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
     throw std::invalid_argument("forward pass: display camera and targets differ in size");
   }
   const ForwardMode mode = options_.mode;
-  if (mode == ForwardMode::kPaperWarp && !targets.has_status()) {
-    throw std::invalid_argument("forward pass: the paper warp needs a status target");
-  }
+  const uint32_t attachments = attachment_count(options_);
+  if (attachments >= 2 && !targets.has_status()) throw std::invalid_argument("forward pass: no status target");
   if (options_.write_mask && !targets.has_mask()) throw std::invalid_argument("forward pass: no mask target");
   if (frame.lights.size() > kMaxLights) throw std::invalid_argument("forward pass: more than 32 lights");
   if (frame.shading.view != ShadingView::kShaded) {
@@ -223,8 +217,8 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   discard_to_layout(cmd, targets.depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
-  const bool with_status = targets.has_status() && mode == ForwardMode::kPaperWarp;
-  const bool with_mask = options_.write_mask;
+  const bool with_status = attachments >= 2;
+  const bool with_mask = attachments >= 3;
   for (const auto& [image, used] : {std::pair{&targets.colour, true}, std::pair{&targets.status, with_status},
                                    std::pair{&targets.mask, with_mask}}) {
     if (used) {
@@ -245,21 +239,14 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   VkClearValue unknown{};  // the mask where nothing is drawn, as the compute warp writes it for background
   unknown.color.uint32[0] = params.unknown_mask;
   const std::array<VkRenderingAttachmentInfo, 3> colour = {
-      attachment(&targets.colour, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, background),
-      attachment(with_status ? &targets.status : nullptr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, status_clear),
-      attachment(with_mask ? &targets.mask : nullptr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, unknown)};
+      cleared_attachment(targets.colour.view(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, background),
+      cleared_attachment(targets.status.view(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, status_clear),
+      cleared_attachment(targets.mask.view(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, unknown)};
   VkClearValue depth_clear{};
   depth_clear.depthStencil = {0.0f, 0};  // reversed-Z: 0 is infinitely far
   const VkRenderingAttachmentInfo depth =
-      attachment(&targets.depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depth_clear);
-  VkRenderingInfo rendering{};
-  rendering.sType = VK_STRUCTURE_TYPE_RENDERING_INFO;
-  rendering.renderArea = {{0, 0}, {extent.width, extent.height}};
-  rendering.layerCount = 1;
-  rendering.colorAttachmentCount = static_cast<uint32_t>(colour.size());
-  rendering.pColorAttachments = colour.data();
-  rendering.pDepthAttachment = &depth;
-  vkCmdBeginRendering(cmd, &rendering);
+      cleared_attachment(targets.depth.view(), VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depth_clear);
+  begin_rendering(cmd, extent.width, extent.height, std::span(colour).first(attachments), &depth);
   vk::set_viewport_and_scissor(cmd, {extent.width, extent.height});
   const VkDescriptorSet frame_set = slot.set;
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 1, 1, &frame_set, 0, nullptr);

@@ -1,5 +1,5 @@
 // Forward pass, graphics, one eye: rasterizes the ClientScene and shades every fragment in the same pass
-// (forward.frag): the G-buffer pass's materials, a light mask by mode, the shading pass's equation and display
+// (shaders/client/forward_body.h): the G-buffer pass's materials, a light mask by mode, the shading pass's equation and display
 // encoding. No G-buffer, no warp or shading dispatch, no full-screen intermediate images:
 //   kLambert     every light, no shadows: what shading costs without shadows
 //   kShadowMaps  the client's cube shadow maps (shadow_maps.hpp): what a headset would do without DHR
@@ -11,8 +11,10 @@
 // Targets, display-sized:
 //   depth  D32_SFLOAT (reversed-Z, as the G-buffer's)
 //   colour R8G8B8A8_UNORM, sRGB-encoded bytes (as the shading pass's output), ends in GENERAL
-//   status R8_UINT  kClientStatus* (kPaperWarp; background where nothing was drawn), else a 1x1 placeholder
-//   mask   R32_UINT light mask (ForwardOptions::write_mask, tests), else a 1x1 placeholder
+//   status R8_UINT  kClientStatus* (kPaperWarp or write_mask; background where nothing was drawn; known
+//                   everywhere drawn for the other modes), else a 1x1 placeholder
+//   mask   R32_UINT light mask (ForwardOptions::write_mask: tests; background: the unknown mask), else 1x1
+// Each pipeline has exactly the attachments it writes (shaders/client/forward*.frag share forward_body.h).
 #pragma once
 #include <vulkan/vulkan.h>
 

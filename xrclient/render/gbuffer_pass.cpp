@@ -18,17 +18,6 @@ namespace {
 
 using namespace dhr::shader;  // binding numbers and flags shared with the GLSL
 
-VkRenderingAttachmentInfo clear_attachment(VkImageView view, VkImageLayout layout, VkClearValue clear) {
-  VkRenderingAttachmentInfo a{};
-  a.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
-  a.imageView = view;
-  a.imageLayout = layout;
-  a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  a.clearValue = clear;
-  return a;
-}
-
 }  // namespace
 
 GBuffer GBuffer::create(const vk::Context& context, Extent extent) {
@@ -87,20 +76,13 @@ GBufferDrawStats GBufferPass::record(VkCommandBuffer cmd, GBuffer& targets, cons
 
   VkClearValue zero{};
   const std::array<VkRenderingAttachmentInfo, 2> colour = {
-      clear_attachment(targets.normal.view(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, zero),
-      clear_attachment(targets.albedo.view(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, zero)};
+      cleared_attachment(targets.normal.view(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, zero),
+      cleared_attachment(targets.albedo.view(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, zero)};
   VkClearValue depth_clear{};
   depth_clear.depthStencil = {0.0f, 0};  // reversed-Z: 0 is infinitely far
   const VkRenderingAttachmentInfo depth =
-      clear_attachment(targets.depth.view(), VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depth_clear);
-  VkRenderingInfo rendering{};
-  rendering.sType = VK_STRUCTURE_TYPE_RENDERING_INFO;
-  rendering.renderArea = {{0, 0}, {extent.width, extent.height}};
-  rendering.layerCount = 1;
-  rendering.colorAttachmentCount = static_cast<uint32_t>(colour.size());
-  rendering.pColorAttachments = colour.data();
-  rendering.pDepthAttachment = &depth;
-  vkCmdBeginRendering(cmd, &rendering);
+      cleared_attachment(targets.depth.view(), VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depth_clear);
+  begin_rendering(cmd, extent.width, extent.height, colour, &depth);
 
   vk::set_viewport_and_scissor(cmd, {extent.width, extent.height});
   const GBufferDrawStats stats =

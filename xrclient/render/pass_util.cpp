@@ -1,13 +1,54 @@
 #include "render/pass_util.hpp"
 
 #include <map>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "dhr_shaders_client.hpp"
 #include "vk/check.hpp"
+#include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
 namespace dhr::render {
+
+VkRenderingAttachmentInfo cleared_attachment(VkImageView view, VkImageLayout layout, VkClearValue clear) {
+  VkRenderingAttachmentInfo a{};
+  a.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
+  a.imageView = view;
+  a.imageLayout = layout;
+  a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  a.clearValue = clear;
+  return a;
+}
+
+void begin_rendering(VkCommandBuffer cmd, uint32_t width, uint32_t height,
+                     std::span<const VkRenderingAttachmentInfo> colour, const VkRenderingAttachmentInfo* depth) {
+  VkRenderingInfo rendering{};
+  rendering.sType = VK_STRUCTURE_TYPE_RENDERING_INFO;
+  rendering.renderArea = {{0, 0}, {width, height}};
+  rendering.layerCount = 1;
+  rendering.colorAttachmentCount = static_cast<uint32_t>(colour.size());
+  rendering.pColorAttachments = colour.data();
+  rendering.pDepthAttachment = depth;
+  vkCmdBeginRendering(cmd, &rendering);
+}
+
+void require_subgroup_arithmetic(const vk::Context& context, const char* pass) {
+  VkPhysicalDeviceSubgroupProperties subgroup{};
+  subgroup.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
+  VkPhysicalDeviceProperties2 properties{};
+  properties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+  properties.pNext = &subgroup;
+  vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
+  constexpr VkSubgroupFeatureFlags kNeeded = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+  if ((subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) == 0 ||
+      (subgroup.supportedOperations & kNeeded) != kNeeded || subgroup.subgroupSize > 128) {
+    throw std::runtime_error(std::string(pass) + ": the Vulkan device '" + context.info().name +
+                             "' lacks subgroup arithmetic in compute shaders");
+  }
+}
 
 vk::Sampler create_nearest_sampler(VkDevice device) {
   VkSamplerCreateInfo info{};

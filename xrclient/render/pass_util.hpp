@@ -9,10 +9,25 @@
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
 
+namespace dhr::vk {
+class Context;
+}
+
 namespace dhr::render {
 
 // Nearest-neighbour, clamp-to-edge sampler for texelFetch-style reads of G-buffer images.
 vk::Sampler create_nearest_sampler(VkDevice device);
+
+// An attachment of dynamic rendering that is cleared to `clear` and stored; a null view discards the shader's
+// writes to it (the pipeline's format for it must then be VK_FORMAT_UNDEFINED).
+VkRenderingAttachmentInfo cleared_attachment(VkImageView view, VkImageLayout layout, VkClearValue clear);
+// Begins dynamic rendering over (0, 0, width, height), one layer; `depth` may be null.
+void begin_rendering(VkCommandBuffer cmd, uint32_t width, uint32_t height,
+                     std::span<const VkRenderingAttachmentInfo> colour, const VkRenderingAttachmentInfo* depth);
+
+// Throws std::runtime_error naming `pass` unless the device has subgroup arithmetic in compute shaders (the
+// warp's and the forward pass's counts sum per subgroup).
+void require_subgroup_arithmetic(const vk::Context& context, const char* pass);
 
 // One binding of a compute pass's descriptor set (one descriptor, compute stage).
 struct ComputeBinding {

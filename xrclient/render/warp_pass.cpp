@@ -32,22 +32,6 @@ static_assert(kClientCountWords * 3 >= kClientCountFields, "three 10-bit fields 
 static_assert(kClientCountBucketGroups * kClientWarpGroupSize * kClientWarpGroupSize <= 1023,
               "a bucket's count must fit a 10-bit field");
 
-// The per-status counts use subgroupAdd in compute shaders (Vulkan 1.1 subgroup arithmetic).
-void require_subgroup_arithmetic(const vk::Context& context) {
-  VkPhysicalDeviceSubgroupProperties subgroup{};
-  subgroup.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
-  VkPhysicalDeviceProperties2 properties{};
-  properties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
-  properties.pNext = &subgroup;
-  vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
-  constexpr VkSubgroupFeatureFlags kNeeded = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
-  if ((subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) == 0 ||
-      (subgroup.supportedOperations & kNeeded) != kNeeded || subgroup.subgroupSize > 128) {
-    throw std::runtime_error("warp pass: the Vulkan device '" + context.info().name +
-                             "' lacks subgroup arithmetic in compute shaders");
-  }
-}
-
 }  // namespace
 
 WarpTargets WarpTargets::create(const vk::Context& context, Extent extent, WarpOutputs outputs) {
@@ -64,7 +48,7 @@ WarpTargets WarpTargets::create(const vk::Context& context, Extent extent, WarpO
 
 WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&context) {
   if (slots == 0) throw std::invalid_argument("WarpPass needs at least one slot");
-  require_subgroup_arithmetic(context);
+  require_subgroup_arithmetic(context, "warp pass");
   const VkDevice device = context.device();
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
