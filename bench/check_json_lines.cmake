@@ -1,12 +1,7 @@
 # Runs a benchmark and checks that it exits 0 and prints JSON lines, each an object with a "record" field,
 # including every record kind in RECORDS: cmake -DEXE=... -DARGS=a|b -DRECORDS=run|trace -P check_json_lines.cmake
 cmake_minimum_required(VERSION 3.20)  # string(JSON), IN_LIST
-string(REPLACE "|" ";" args "${ARGS}")
-execute_process(COMMAND "${EXE}" ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message("exit status ${rc}; stderr:\n${err}")
-if(NOT rc STREQUAL "0")
-  message(FATAL_ERROR "expected exit status 0, got ${rc}")
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/run_benchmark.cmake)
 string(REPLACE ";" "\\;" out "${out}")
 string(REPLACE "\n" ";" lines "${out}")
 set(seen "")

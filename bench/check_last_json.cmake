@@ -1,12 +1,7 @@
 # Runs a benchmark and checks that it exits 0 and that its last stdout line is a JSON object with every key in
 # KEYS: cmake -DEXE=... -DARGS=a|b -DKEYS=x|y -P check_last_json.cmake
 cmake_minimum_required(VERSION 3.20)  # string(JSON)
-string(REPLACE "|" ";" args "${ARGS}")
-execute_process(COMMAND "${EXE}" ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message("exit status ${rc}; stderr:\n${err}")
-if(NOT rc STREQUAL "0")
-  message(FATAL_ERROR "expected exit status 0, got ${rc}")
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/run_benchmark.cmake)
 string(STRIP "${out}" out)
 string(REPLACE ";" "\\;" out "${out}")
 string(REPLACE "\n" ";" lines "${out}")

@@ -34,7 +34,8 @@ struct PosePredictorConfig {
   int64_t soft_horizon_ns = 0;
   int64_t damping_tau_ns = 0;
   // > 0: instead of the two-pose velocity, a least-squares quadratic in time (constant acceleration) is fitted
-  // to every pose within this window (at least 3; fewer: the velocity model) per eye, to the positions and to
+  // to every pose within this window (at least 3; fewer, a singular system or an implausible fit: the velocity
+  // model) per eye, to the positions and to
   // the orientations' rotation vectors relative to the newest; the prediction moves the newest pose by the
   // fit's change from the newest time to the target. 0: off (default; docs/evaluation.md measured it).
   int64_t quadratic_window_ns = 0;
