@@ -132,7 +132,8 @@ struct ClientGBufferPush {
 };
 
 // Warp (compute, 8x8 groups): per display pixel, the light mask from the newest visibility of this eye
-// (source 0), else of the other eye (source 1), else from the client's shadow maps, else all bits (lit).
+// (source 0), else of the other eye (source 1), else of this eye's previous buffer (source 2), else from the
+// nearest pixel of source 0 on the pixel's tangent plane, else from the client's shadow maps, else all bits (lit).
 DHR_CONST uint kClientWarpGroupSize = 8u;
 DHR_CONST uint kClientWarpBindingDepth = 0;        // sampler2D: G-buffer depth (reversed-Z)
 DHR_CONST uint kClientWarpBindingVisibility0 = 1;  // storage buffer uint[]: source 0's packed masks
@@ -150,6 +151,10 @@ DHR_CONST uint kClientWarpBindingParams = 12;      // storage buffer ClientWarpP
 DHR_CONST uint kClientWarpBindingShadowMap = 13;   // sampler2D: shadow map atlas (ClientShadowLight tiles)
 DHR_CONST uint kClientWarpBindingShadowLights = 14;  // storage buffer ClientShadowLight[]
 DHR_CONST uint kClientWarpBindingLights = 15;      // storage buffer PackedLight[] (display-eye-relative)
+DHR_CONST uint kClientWarpBindingVisibility2 = 16;  // source 2 (this eye's previous buffer)
+DHR_CONST uint kClientWarpBindingRowValid2 = 17;
+DHR_CONST uint kClientWarpBindingOldDepth2 = 18;
+DHR_CONST uint kClientWarpSourceCount = 3u;
 
 // Per-pixel outcome for source 0; every status but kKnown means this eye's buffer gave no mask.
 DHR_CONST uint kClientStatusKnown = 0u;        // from source 0's buffer
@@ -164,13 +169,17 @@ DHR_CONST uint kClientStatusCount = 7u;
 DHR_CONST uint kClientFillNone = 0u;       // known, background, or unfilled (all bits: lit)
 DHR_CONST uint kClientFillOtherEye = 1u;   // from source 1
 DHR_CONST uint kClientFillShadowMap = 2u;  // from the shadow maps
+DHR_CONST uint kClientFillOlder = 3u;      // from source 2 (this eye's previous buffer)
+DHR_CONST uint kClientFillNeighbour = 4u;  // from the nearest source-0 pixel on the pixel's tangent plane
 // Counted fields: statuses 0-6, then the fills and the pixels whose undecided bits took the shadow maps.
 DHR_CONST uint kClientCountOtherEye = 7u;
 DHR_CONST uint kClientCountShadowMap = 8u;
 DHR_CONST uint kClientCountEdgeShadowMap = 9u;
 DHR_CONST uint kClientCountShadowOverride = 10u;  // confident shadow-map bits that replaced agreed samples
-DHR_CONST uint kClientCountFields = 11u;
-DHR_CONST uint kClientCountWords = 4u;  // three 10-bit fields per word
+DHR_CONST uint kClientCountOlder = 11u;
+DHR_CONST uint kClientCountNeighbour = 12u;
+DHR_CONST uint kClientCountFields = 13u;
+DHR_CONST uint kClientCountWords = 5u;  // three 10-bit fields per word
 
 // ClientWarpParams::flags
 DHR_CONST uint kClientWarpWriteMotion = 4u;
@@ -180,6 +189,10 @@ DHR_CONST uint kClientWarpDepthTest = 32u;       // samples off the pixel's tang
 DHR_CONST uint kClientWarpShadowFill = 64u;      // pixels without a source take the shadow maps
 DHR_CONST uint kClientWarpShadowEdges = 128u;    // bits the samples disagree on take the shadow maps
 DHR_CONST uint kClientWarpShadowFirst = 256u;    // bits the shadow maps are confident about take them
+DHR_CONST uint kClientWarpOlderBuffer = 512u;    // pixels without a source so far try source 2
+DHR_CONST uint kClientWarpNeighbourFill = 1024u; // ... then the nearest source-0 pixel on their tangent plane
+// The neighbour fill searches the old pixels within this many pixels (Chebyshev) of the lookup's pixel.
+DHR_CONST int kClientWarpNeighbourRadius = 2;
 // Bilinear lookups within this many old pixels of an old pixel centre (in x and y) take that pixel's mask
 // as exact: it was traced for this very ray (no motion since, or none that moved the lookup).
 DHR_CONST float kClientWarpExactLookup = 0.02f;
@@ -223,7 +236,7 @@ struct ClientWarpSource {
 // is the surface point relative to the display eye in world axes; the lights (kClientWarpBindingShadowLights)
 // are relative to the same eye.
 struct ClientWarpParams {
-  ClientWarpSource source[2];
+  ClientWarpSource source[3];
   float world_ray0[3];
   float world_ray_dx[3];
   float world_ray_dy[3];
@@ -324,7 +337,7 @@ static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the G
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientWarpSource) == 132, "ClientWarpSource must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 2 * 132 + 4 * 29, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 132 + 4 * 29, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 16, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 16, "ClientForwardShading must match the std430 layout");

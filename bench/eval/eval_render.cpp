@@ -24,7 +24,8 @@ EyeRenderer::EyeRenderer(const vk::Context& context, const Scene& scene, Extent 
 
 std::array<EyeRender, 2> EyeRenderer::render(const std::array<View, 2>& views,
                                              const std::array<VisibilityInput, 2>& inputs,
-                                             const render::WarpSettings& settings) {
+                                             const render::WarpSettings& settings,
+                                             const std::array<VisibilityInput, 2>& older) {
   if (settings.uses_shadow_maps() && !shadow_maps_) {
     shadow_maps_ = std::make_unique<render::ShadowMaps>(*context_, scene_, shadow_settings_);
   }
@@ -33,14 +34,14 @@ std::array<EyeRender, 2> EyeRenderer::render(const std::array<View, 2>& views,
   context_->submit_and_wait([&](VkCommandBuffer cmd) {
     for (size_t e = 0; e < 2; ++e) {
       eyes_[e]->warp_settings() = settings;
-      eyes_[e]->prepare(cmd, 0, inputs[e]);
+      eyes_[e]->prepare(cmd, 0, inputs[e], &older[e]);
     }
     for (size_t e = 0; e < 2; ++e) {
       const VisibilityInput& other = inputs[1 - e];
       render::WarpSourceInput source;
       source.visibility = &other;
       if (other.buffer != nullptr) source.traced_depth = eyes_[1 - e]->traced_depth(other.traced);
-      eyes_[e]->record(cmd, 0, views[e], inputs[e], source, shadow_maps_.get());
+      eyes_[e]->record(cmd, 0, views[e], inputs[e], source, shadow_maps_.get(), &older[e]);
     }
   });
   const double host_ms =

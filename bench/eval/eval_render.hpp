@@ -32,10 +32,11 @@ class EyeRenderer {
   // Throws (setup) when the scene cannot be uploaded.
   EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye,
               const render::ShadowMapSettings& shadow_maps = {});
-  // Renders both eyes with the given warp settings (each eye's input is the other's source 1); shadow maps
-  // are rendered the first time settings need them.
+  // Renders both eyes with the given warp settings (each eye's input is the other's source 1, `older` each
+  // eye's previous buffer, source 2); shadow maps are rendered the first time settings need them.
   std::array<EyeRender, 2> render(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs,
-                                   const render::WarpSettings& settings = {});
+                                   const render::WarpSettings& settings = {},
+                                   const std::array<VisibilityInput, 2>& older = {});
   uint32_t light_count() const { return light_count_; }
 
  private:

@@ -37,6 +37,8 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   r.no_data_frac = mean(static_cast<double>(t.eye_frames_without_data), t.eye_frames);
   r.filled_other_eye_frac = mean(t.filled_other_eye, t.eye_frames);
   r.filled_shadow_map_frac = mean(t.filled_shadow_map, t.eye_frames);
+  r.filled_older_frac = mean(t.filled_older, t.eye_frames);
+  r.filled_neighbour_frac = mean(t.filled_neighbour, t.eye_frames);
   r.unfilled_frac = mean(t.unfilled, t.eye_frames);
   r.disoccluded_frac = mean(t.disoccluded, t.eye_frames);
   r.edges_shadow_map_frac = mean(t.edges_shadow_map, t.eye_frames);
@@ -88,6 +90,8 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("no_data_frac", r.no_data_frac, 6);
     w.value("filled_other_eye_frac", r.filled_other_eye_frac, 8);
     w.value("filled_shadow_map_frac", r.filled_shadow_map_frac, 8);
+    w.value("filled_older_frac", r.filled_older_frac, 8);
+    w.value("filled_neighbour_frac", r.filled_neighbour_frac, 8);
     w.value("unfilled_frac", r.unfilled_frac, 8);
     w.value("disoccluded_frac", r.disoccluded_frac, 8);
     w.value("edges_shadow_map_frac", r.edges_shadow_map_frac, 8);

@@ -25,6 +25,8 @@ struct SettingResult {
   // shadow maps.
   double filled_other_eye_frac = 0.0;
   double filled_shadow_map_frac = 0.0;
+  double filled_older_frac = 0.0;      // this eye's previous buffer
+  double filled_neighbour_frac = 0.0;  // the nearest old pixel on the pixel's tangent plane
   double unfilled_frac = 0.0;  // shaded lit
   double disoccluded_frac = 0.0;
   double edges_shadow_map_frac = 0.0;

@@ -258,11 +258,15 @@ void SettingSession::measure(const Truth& truth) {
   const bool server = uses_server_visibility(setting_.method);
   std::array<View, 2> views;
   std::array<VisibilityInput, 2> inputs;
+  std::array<VisibilityInput, 2> older;
   for (int eye = 0; eye < 2; ++eye) {
     views[eye] = plan.eyes[eye].view;
-    if (server) inputs[eye] = plan.eyes[eye].visibility;  // local: the client's shadow maps only
+    if (server) {  // local: the client's shadow maps only
+      inputs[eye] = plan.eyes[eye].visibility;
+      older[eye] = plan.eyes[eye].older;
+    }
   }
-  const std::array<EyeRender, 2> renders = shared_.renderer->render(views, inputs, warp_);
+  const std::array<EyeRender, 2> renders = shared_.renderer->render(views, inputs, warp_, older);
   for (int eye = 0; eye < 2; ++eye) {
     const client::EyePlan& p = plan.eyes[eye];
     if (!p.has_visibility || !server) totals_.eye_frames_without_data += 1;
@@ -275,6 +279,8 @@ void SettingSession::measure(const Truth& truth) {
     add_image_errors(rendered, truth, eye);
     totals_.filled_other_eye += static_cast<double>(rendered.stats.warp.filled_other_eye) / pixels_per_eye();
     totals_.filled_shadow_map += static_cast<double>(rendered.stats.warp.filled_shadow_map) / pixels_per_eye();
+    totals_.filled_older += static_cast<double>(rendered.stats.warp.filled_older) / pixels_per_eye();
+    totals_.filled_neighbour += static_cast<double>(rendered.stats.warp.filled_neighbour) / pixels_per_eye();
     totals_.edges_shadow_map += static_cast<double>(rendered.stats.warp.edges_shadow_map) / pixels_per_eye();
     totals_.shadow_overrides += static_cast<double>(rendered.stats.warp.shadow_overrides) / pixels_per_eye();
     totals_.unfilled += static_cast<double>(rendered.stats.warp.unfilled()) / pixels_per_eye();

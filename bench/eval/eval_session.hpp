@@ -47,6 +47,8 @@ struct SettingTotals {
   double unknown_frac = 0.0;     // surface pixels without a mask from their own eye's buffer (filled or not)
   double filled_other_eye = 0.0;  // shares of the display pixels, summed over eye-frames
   double filled_shadow_map = 0.0;
+  double filled_older = 0.0;      // this eye's previous buffer
+  double filled_neighbour = 0.0;  // the nearest old pixel on the pixel's tangent plane
   double edges_shadow_map = 0.0;  // known pixels whose undecided bits took the shadow maps
   double shadow_overrides = 0.0;  // known pixels where a confident shadow-map bit replaced an agreed one
   double unfilled = 0.0;          // shaded lit

@@ -11,7 +11,7 @@ namespace dhr::eval {
 
 namespace {
 
-constexpr std::array<std::pair<Ingredient, const char*>, 8> kIngredients = {{
+constexpr std::array<std::pair<Ingredient, const char*>, 10> kIngredients = {{
     {kIngredientBilinear, "bilinear"},
     {kIngredientDepthTest, "depth"},
     {kIngredientOtherEye, "other-eye"},
@@ -20,6 +20,8 @@ constexpr std::array<std::pair<Ingredient, const char*>, 8> kIngredients = {{
     {kIngredientShadowFirst, "shadow-first"},
     {kIngredientPrediction, "pred"},
     {kIngredientAdaptiveFov, "adaptive-fov"},
+    {kIngredientOlderBuffer, "older"},
+    {kIngredientNeighbour, "neighbour"},
 }};
 
 }  // namespace
@@ -89,13 +91,14 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
     return s;
   }
   if (spec.method != Method::kFull) return s;
-  s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = s.shadow_first = true;
   s.bilinear = (spec.without & kIngredientBilinear) == 0;
   s.depth_test = (spec.without & kIngredientDepthTest) == 0;
   s.other_eye = (spec.without & kIngredientOtherEye) == 0;
   s.shadow_fill = (spec.without & kIngredientShadowFill) == 0;
   s.shadow_edges = (spec.without & kIngredientShadowEdges) == 0;
   s.shadow_first = (spec.without & kIngredientShadowFirst) == 0;
+  s.older_buffer = (spec.without & kIngredientOlderBuffer) == 0;
+  s.neighbour_fill = (spec.without & kIngredientNeighbour) == 0;
   return s;
 }
 

@@ -13,8 +13,10 @@
 //   depth test: an old pixel whose surface (its depth, rendered by the client for the traced camera) lies off
 //     the tangent plane of this pixel's surface saw something else there and is not used; when no sample is
 //     left the pixel is disoccluded.
-// Source 0 is this eye's newest buffer; a pixel it cannot fill tries source 1 (the other eye's), then the
-// shadow maps (kClientWarpShadowFill), else it takes all light bits ("taken as lit").
+// Source 0 is this eye's newest buffer; a pixel it cannot fill tries source 1 (the other eye's newest), then
+// source 2 (this eye's previous buffer, kClientWarpOlderBuffer), then the nearest old pixel of source 0 whose
+// surface lies on this pixel's tangent plane (kClientWarpNeighbourFill, needs the depth test), then the shadow
+// maps (kClientWarpShadowFill), else it takes all light bits ("taken as lit").
 // xrclient/render/warp_reference.cpp is the CPU reference; the decisions have the same precedence.
 // All positions are eye-relative: only small numbers reach the GPU.
 layout(local_size_x = kClientWarpGroupSize, local_size_y = kClientWarpGroupSize) in;
@@ -27,6 +29,9 @@ layout(set = 0, binding = kClientWarpBindingOldDepth0) uniform sampler2D old_dep
 layout(set = 0, binding = kClientWarpBindingVisibility1, std430) readonly buffer Visibility1 { uint vis1[]; };
 layout(set = 0, binding = kClientWarpBindingRowValid1, std430) readonly buffer RowValid1 { uint rows1[]; };
 layout(set = 0, binding = kClientWarpBindingOldDepth1) uniform sampler2D old_depth1;
+layout(set = 0, binding = kClientWarpBindingVisibility2, std430) readonly buffer Visibility2 { uint vis2[]; };
+layout(set = 0, binding = kClientWarpBindingRowValid2, std430) readonly buffer RowValid2 { uint rows2[]; };
+layout(set = 0, binding = kClientWarpBindingOldDepth2) uniform sampler2D old_depth2;
 layout(set = 0, binding = kClientWarpBindingMask, r32ui) uniform writeonly uimage2D mask_image;
 layout(set = 0, binding = kClientWarpBindingStatus, r32ui) uniform writeonly uimage2D status_image;  // optional
 layout(set = 0, binding = kClientWarpBindingMotion, rg32f) uniform writeonly image2D motion_image;
@@ -41,14 +46,20 @@ layout(set = 0, binding = kClientWarpBindingLights, std430) readonly buffer Ligh
 vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
 
 // Source s is dynamically uniform: these selections do not diverge.
-uint vis_word(uint s, uint index) { return s == 0u ? vis0[index] : vis1[index]; }
+uint vis_word(uint s, uint index) { return s == 0u ? vis0[index] : s == 1u ? vis1[index] : vis2[index]; }
 bool row_ok(uint s, uint row) {
   if ((pc.source[s].flags & kClientSourceHasRowValidity) == 0u) return true;
-  const uint word = s == 0u ? rows0[row >> 5] : rows1[row >> 5];
+  const uint word = s == 0u ? rows0[row >> 5] : s == 1u ? rows1[row >> 5] : rows2[row >> 5];
   return ((word >> (row & 31u)) & 1u) != 0u;
 }
 float old_depth_at(uint s, ivec2 c) {
-  return s == 0u ? texelFetch(old_depth0, c, 0).r : texelFetch(old_depth1, c, 0).r;
+  return s == 0u ? texelFetch(old_depth0, c, 0).r
+                 : s == 1u ? texelFetch(old_depth1, c, 0).r : texelFetch(old_depth2, c, 0).r;
+}
+uint old_mask(uint s, int a, int b) {
+  const uint width_mask = pc.source[s].mask_bits >= 32u ? 0xFFFFFFFFu : (1u << pc.source[s].mask_bits) - 1u;
+  const uint bit = (uint(b) * pc.source[s].old_width + uint(a)) * pc.source[s].mask_bits;
+  return (vis_word(s, bit >> 5) >> (bit & 31u)) & width_mask;
 }
 
 // What one source says about a pixel.
@@ -100,7 +111,6 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   const int j0 = int(floor(by));
   const float fx = bx - float(i0);
   const float fy = by - float(j0);
-  const uint width_mask = pc.source[s].mask_bits >= 32u ? 0xFFFFFFFFu : (1u << pc.source[s].mask_bits) - 1u;
   uint and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0u, used = 0u;
   uint masks[4];
   float weights[4];
@@ -128,8 +138,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
                           pc.source[s].old_tan_up - (float(b) + 0.5) * pc.source[s].old_tan_step_y, -1.0);
       if (!(abs(dot(n_old, q - p_old)) <= tolerance)) continue;
     }
-    const uint bit = (uint(b) * pc.source[s].old_width + uint(a)) * pc.source[s].mask_bits;
-    const uint m = (vis_word(s, bit >> 5) >> (bit & 31u)) & width_mask;
+    const uint m = old_mask(s, a, b);
     masks[k] = m;
     used |= 1u << k;
     and_m &= m;
@@ -167,6 +176,60 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   return r;
 }
 
+// Neighbour fill: the old pixels of source 0 within kClientWarpNeighbourRadius of the lookup's pixel whose
+// row arrived and whose surface lies on this pixel's tangent plane (the depth test's plane check); the one
+// whose centre is nearest the lookup gives its whole mask (ties: the first in row-major order).
+// Needs the source's traced depth; the lookup must not be behind the old eye.
+Lookup look_up_neighbours(uint s, float d, vec2 centre, vec3 n_world) {
+  Lookup r;
+  r.status = kClientStatusDisoccluded;
+  r.agree = 0u;
+  r.value = 0u;
+  r.exact = false;
+  const vec3 ray = v3(pc.source[s].ray0) + centre.x * v3(pc.source[s].ray_dx) + centre.y * v3(pc.source[s].ray_dy);
+  const vec3 p_old = (pc.near_plane / d) * ray + v3(pc.source[s].trans);
+  const float depth_old = -p_old.z;
+  const float px = pc.source[s].old_px_scale * (p_old.x / depth_old) + pc.source[s].old_px_offset;
+  const float py = pc.source[s].old_py_scale * (p_old.y / depth_old) + pc.source[s].old_py_offset;
+  r.pixel = vec2(px, py);
+  if (!(depth_old > pc.min_depth)) return r;
+  const vec3 n_old =
+      vec3(pc.source[s].rot[0] * n_world.x + pc.source[s].rot[1] * n_world.y + pc.source[s].rot[2] * n_world.z,
+           pc.source[s].rot[3] * n_world.x + pc.source[s].rot[4] * n_world.y + pc.source[s].rot[5] * n_world.z,
+           pc.source[s].rot[6] * n_world.x + pc.source[s].rot[7] * n_world.y + pc.source[s].rot[8] * n_world.z);
+  const float tolerance = pc.plane_tolerance_rel * depth_old + pc.plane_tolerance_abs;
+  // Far outside the buffer the window misses it; clamping first keeps the integer conversion in range.
+  const int ci = int(floor(clamp(px, -64.0, float(pc.source[s].old_width) + 64.0)));
+  const int cj = int(floor(clamp(py, -64.0, float(pc.source[s].old_height) + 64.0)));
+  float best = 1e30;
+  int best_a = -1, best_b = -1;
+  for (int b = cj - kClientWarpNeighbourRadius; b <= cj + kClientWarpNeighbourRadius; ++b) {
+    if (b < 0 || b >= int(pc.source[s].old_height) || !row_ok(s, uint(b))) continue;
+    for (int a = ci - kClientWarpNeighbourRadius; a <= ci + kClientWarpNeighbourRadius; ++a) {
+      if (a < 0 || a >= int(pc.source[s].old_width)) continue;
+      const float ds = old_depth_at(s, ivec2(a, b));
+      if (!(ds > 0.0)) continue;
+      const vec3 q = (pc.near_plane / ds) *
+                     vec3(pc.source[s].old_tan_left + (float(a) + 0.5) * pc.source[s].old_tan_step_x,
+                          pc.source[s].old_tan_up - (float(b) + 0.5) * pc.source[s].old_tan_step_y, -1.0);
+      if (!(abs(dot(n_old, q - p_old)) <= tolerance)) continue;
+      const float ex = float(a) + 0.5 - px;
+      const float ey = float(b) + 0.5 - py;
+      const float dist = ex * ex + ey * ey;
+      if (dist < best) {
+        best = dist;
+        best_a = a;
+        best_b = b;
+      }
+    }
+  }
+  if (best_a < 0) return r;
+  r.status = kClientStatusKnown;
+  r.agree = 0xFFFFFFFFu;
+  r.value = old_mask(s, best_a, best_b);
+  return r;
+}
+
 #include "client/shadow_lookup.h"
 #include "client/paper_warp.h"
 
@@ -178,7 +241,7 @@ void main() {
   bool edge_from_shadow = false;
   bool overridden = false;  // a confident shadow-map bit replaced a bit the samples agreed on
   const uint ingredients = kClientWarpBilinear | kClientWarpDepthTest | kClientWarpShadowFill | kClientWarpShadowEdges |
-                           kClientWarpShadowFirst;
+                           kClientWarpShadowFirst | kClientWarpOlderBuffer | kClientWarpNeighbourFill;
   const bool paper = (pc.flags & ingredients) == 0u && (pc.source[1].flags & kClientSourceHasVisibility) == 0u;
   if (in_image && paper) {  // dynamically uniform
     uint mask;
@@ -209,7 +272,25 @@ void main() {
           fill = kClientFillOtherEye;
         }
       }
-      const bool have = status == kClientStatusKnown || fill == kClientFillOtherEye;
+      if (own.status != kClientStatusKnown && fill == kClientFillNone && (pc.flags & kClientWarpOlderBuffer) != 0u &&
+          (pc.source[2].flags & kClientSourceHasVisibility) != 0u) {
+        const Lookup older = look_up(2u, d, centre, n);
+        if (older.status == kClientStatusKnown) {
+          chosen = older;
+          fill = kClientFillOlder;
+        }
+      }
+      if (fill == kClientFillNone && (pc.flags & kClientWarpNeighbourFill) != 0u &&
+          (own.status == kClientStatusOutside || own.status == kClientStatusMissingRow ||
+           own.status == kClientStatusDisoccluded) &&
+          (pc.flags & kClientWarpDepthTest) != 0u && (pc.source[0].flags & kClientSourceHasDepth) != 0u) {
+        const Lookup neighbour = look_up_neighbours(0u, d, centre, n);
+        if (neighbour.status == kClientStatusKnown) {
+          chosen = neighbour;
+          fill = kClientFillNeighbour;
+        }
+      }
+      const bool have = status == kClientStatusKnown || fill != kClientFillNone;
       const bool first = (pc.flags & kClientWarpShadowFirst) != 0u;
       const uint undecided = have ? ~chosen.agree & pc.unknown_mask : 0u;
       const bool need_shadow = have ? (first && !chosen.exact) || ((pc.flags & kClientWarpShadowEdges) != 0u && undecided != 0u)
@@ -260,6 +341,8 @@ void main() {
   if (status < kClientStatusCount) words[status / 3u] += 1u << (10u * (status % 3u));
   if (fill == kClientFillOtherEye) words[kClientCountOtherEye / 3u] += 1u << (10u * (kClientCountOtherEye % 3u));
   if (fill == kClientFillShadowMap) words[kClientCountShadowMap / 3u] += 1u << (10u * (kClientCountShadowMap % 3u));
+  if (fill == kClientFillOlder) words[kClientCountOlder / 3u] += 1u << (10u * (kClientCountOlder % 3u));
+  if (fill == kClientFillNeighbour) words[kClientCountNeighbour / 3u] += 1u << (10u * (kClientCountNeighbour % 3u));
   if (edge_from_shadow) words[kClientCountEdgeShadowMap / 3u] += 1u << (10u * (kClientCountEdgeShadowMap % 3u));
   if (overridden) words[kClientCountShadowOverride / 3u] += 1u << (10u * (kClientCountShadowOverride % 3u));
   // The paper's rule yields statuses 0-5 only: the first two words (a subgroup sum each costs on lavapipe).

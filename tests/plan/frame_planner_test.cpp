@@ -108,6 +108,35 @@ TEST(FramePlannerTest, OlderFramesNeverReplaceNewerOnesAndPartialFramesCarryThei
   EXPECT_TRUE(planner.plan(pose_at(12), kFormat).eyes[0].complete);
 }
 
+TEST(FramePlannerTest, ANewerFrameMovesTheHeldOneToOlderWithItsRowsAndTracedCamera) {
+  FramePlanner planner(PlannerSettings{});
+  EXPECT_EQ(plan_through(planner, 3).eyes[0].older.buffer, nullptr);  // nothing held
+  ASSERT_TRUE(planner.offer(0, received(4, 0, false)));
+  EXPECT_EQ(plan_through(planner, 5).eyes[0].older.buffer, nullptr);  // one frame held: no previous
+  ASSERT_TRUE(planner.offer(0, received(4, 0, true)));                // the same frame, now whole
+  EXPECT_FALSE(planner.previous(0).has_value());
+  ASSERT_TRUE(planner.offer(0, received(6, 0, false)));
+  ASSERT_TRUE(planner.offer(0, received(7, 0)));
+  const FramePlan plan = plan_through(planner, 8);
+  const EyePlan& p = plan.eyes[0];
+  EXPECT_EQ(p.visibility_frame, 7u);
+  ASSERT_NE(p.older.buffer, nullptr);
+  EXPECT_EQ(p.older.buffer, &planner.previous(0)->buffer);
+  EXPECT_EQ(p.older_frame, 6u);
+  EXPECT_FALSE(p.older_complete);
+  EXPECT_EQ(p.older.row_valid.size(), kFormat.buffer().height);  // its missing rows travel with it
+  EXPECT_EQ(p.older.traced.T_world_eye.position, kFormat.camera(pose_at(6).views[0]).T_world_eye.position);
+  EXPECT_EQ(plan.eyes[1].older.buffer, nullptr);  // per eye
+  // An older frame offered later is ignored and moves nothing.
+  EXPECT_FALSE(planner.offer(0, received(5, 0)));
+  EXPECT_EQ(planner.previous(0)->frame_number, 6u);
+  // kStale does not warp, so it has no use for an older buffer.
+  FramePlanner stale(PlannerSettings{Schedule::kStale, 3, 64});
+  stale.offer(0, received(2, 0));
+  stale.offer(0, received(3, 0));
+  EXPECT_EQ(plan_through(stale, 5).eyes[0].older.buffer, nullptr);
+}
+
 TEST(FramePlannerTest, WithoutAFormatHeldVisibilityIsNotUsed) {
   FramePlanner planner(PlannerSettings{});
   planner.offer(0, received(3, 0));

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -69,14 +70,15 @@ class StereoRig {
     for (auto& eye : eyes_) eye = std::make_unique<EyePipeline>(ctx, scene_, kExtent, options);
   }
 
-  void run(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs) {
+  void run(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs,
+           const std::array<VisibilityInput, 2>& older = {}) {
     ctx_.submit_and_wait([&](VkCommandBuffer cmd) {
-      for (size_t e = 0; e < 2; ++e) eyes_[e]->prepare(cmd, 0, inputs[e]);
+      for (size_t e = 0; e < 2; ++e) eyes_[e]->prepare(cmd, 0, inputs[e], &older[e]);
       for (size_t e = 0; e < 2; ++e) {
         WarpSourceInput other;
         other.visibility = &inputs[1 - e];
         if (inputs[1 - e].buffer != nullptr) other.traced_depth = eyes_[1 - e]->traced_depth(inputs[1 - e].traced);
-        eyes_[e]->record(cmd, 0, views[e], inputs[e], other, maps_.get());
+        eyes_[e]->record(cmd, 0, views[e], inputs[e], other, maps_.get(), &older[e]);
       }
     });
   }
@@ -114,13 +116,18 @@ TEST_F(ClientWarpFullTest, GpuMatchesCpuReferenceWithEveryIngredient) {
     glm::dvec3 translation;
     double yaw_deg;
     bool drop_rows;  // source 0 (the left eye) lost every third row
+    double older_yaw_deg;  // the previous buffers (source 2): traced from the display pose turned this much
+    bool older;
   };
-  for (const Move& move : {Move{"small", {0.03, -0.01, 0.02}, 2.0, false},
-                           Move{"turn_and_lost_rows", {-0.08, 0.02, 0.05}, 14.0, true}}) {
+  for (const Move& move : {Move{"small", {0.03, -0.01, 0.02}, 2.0, false, 0.0, false},
+                           Move{"turn_and_lost_rows", {-0.08, 0.02, 0.05}, 14.0, true, -8.0, true}}) {
     SCOPED_TRACE(move.name);
     std::array<Camera, 2> traced;
+    std::array<Camera, 2> older_traced;
     std::array<VisibilityBuffer, 2> vis;
+    std::array<VisibilityBuffer, 2> older_vis;
     std::array<VisibilityInput, 2> inputs;
+    std::array<VisibilityInput, 2> older;
     std::vector<uint8_t> rows;
     for (size_t e = 0; e < 2; ++e) {
       View old = views[e];
@@ -131,21 +138,36 @@ TEST_F(ClientWarpFullTest, GpuMatchesCpuReferenceWithEveryIngredient) {
                                       static_cast<uint32_t>(scene.lights.size()), 11 + e);
       inputs[e].buffer = &vis[e];
       inputs[e].traced = traced[e];
+      if (move.older) {
+        View previous = views[e];
+        previous.pose = test::rotated(previous.pose, move.older_yaw_deg, 0.0);
+        older_traced[e] = Camera::with_guard_band(previous, kExtent, kGuard);
+        older_vis[e] = make_random_visibility(older_traced[e].extent.width, older_traced[e].extent.height,
+                                              static_cast<uint32_t>(scene.lights.size()), 21 + e);
+        older[e].buffer = &older_vis[e];
+        older[e].traced = older_traced[e];
+      }
     }
     if (move.drop_rows) {
       rows.assign(traced[0].extent.height, 1);
       for (size_t r = 0; r < rows.size(); r += 3) rows[r] = 0;
       inputs[0].row_valid = rows;
     }
-    rig.run(views, inputs);
+    rig.run(views, inputs, older);
 
     std::vector<float> atlas;
     const ShadowReference shadow = rig.shadow_reference(atlas);
     std::array<std::vector<float>, 2> traced_depth;
+    std::array<std::vector<float>, 2> older_depth;
     for (size_t e = 0; e < 2; ++e) {
       vk::Image* image = rig.eye(e).traced_depth(traced[e]);
       ASSERT_NE(image, nullptr);
       traced_depth[e] = test::read_pixels<float>(ctx(), *image);
+      if (move.older) {
+        vk::Image* previous = rig.eye(e).traced_depth(older_traced[e]);
+        ASSERT_NE(previous, nullptr);  // both traced depths are held
+        older_depth[e] = test::read_pixels<float>(ctx(), *previous);
+      }
     }
     for (size_t e = 0; e < 2; ++e) {
       SCOPED_TRACE("eye " + std::to_string(e));
@@ -162,6 +184,7 @@ TEST_F(ClientWarpFullTest, GpuMatchesCpuReferenceWithEveryIngredient) {
                                  traced_depth[e]};
       in.sources[1] = WarpSource{&vis[1 - e], traced[1 - e], e == 1 ? inputs[0].row_valid : std::span<const uint8_t>{},
                                  traced_depth[1 - e]};
+      if (move.older) in.sources[2] = WarpSource{&older_vis[e], older_traced[e], {}, older_depth[e]};
       in.settings = WarpSettings::full();
       in.shadow = &shadow;
       in.lights = rig.lights();
@@ -189,12 +212,24 @@ TEST_F(ClientWarpFullTest, GpuMatchesCpuReferenceWithEveryIngredient) {
         EXPECT_GT(counts[WarpStatus::kMissingRow] + counts[WarpStatus::kOutside], 0u);
       }
       if (move.yaw_deg > 10.0) {
-        EXPECT_GT(counts.filled_shadow_map, 0u);  // outside both eyes' buffers
+        EXPECT_GT(counts.filled_shadow_map, 0u);  // outside every buffer
+      }
+      if (move.older) {
+        EXPECT_GT(counts.filled_older, 0u);  // outside both eyes' newest buffers, inside the previous one
+        EXPECT_GT(cpu.counts.filled_older, 0u);
+      }
+      if (move.drop_rows && e == 0) {
+        EXPECT_GT(cpu.counts.filled_neighbour, 0u);  // rows lost in every buffer
       }
       // The GPU's counts are the CPU's up to the pixels too close to a flip to judge.
       const uint64_t slack = depth.size() - judged;
       EXPECT_LE(std::abs(static_cast<int64_t>(counts.filled_other_eye) -
                          static_cast<int64_t>(cpu.counts.filled_other_eye)),
+                static_cast<int64_t>(slack));
+      EXPECT_LE(std::abs(static_cast<int64_t>(counts.filled_older) - static_cast<int64_t>(cpu.counts.filled_older)),
+                static_cast<int64_t>(slack));
+      EXPECT_LE(std::abs(static_cast<int64_t>(counts.filled_neighbour) -
+                         static_cast<int64_t>(cpu.counts.filled_neighbour)),
                 static_cast<int64_t>(slack));
     }
   }
@@ -295,6 +330,73 @@ TEST_F(ClientWarpFullTest, DisocclusionLeaksTheOccludersMaskInThePaperWarpOnly) 
   EXPECT_GE(paper, 15u);                                   // the leak (28 pixels when written)
   EXPECT_GE(full_counts[WarpStatus::kDisoccluded], 10u);  // found by the depth test
   EXPECT_LE(full * 5, paper);
+
+}
+
+TEST_F(ClientWarpFullTest, WithoutShadowMapsNeighboursAndThePreviousBufferFillLostRows) {
+  // Default room, one eye: the newest buffer (Embree's truth for a slightly moved pose) lost two rows in three.
+  // Without the shadow maps those pixels are shaded lit; the neighbour fill takes the mask of the nearest old
+  // pixel on the same surface, the previous buffer (complete, traced for another pose) its own lookup.
+  const Scene scene = default_room();
+  const View now = room_view(-0.032);
+  View moved = now;
+  moved.pose.position += glm::dvec3(0.02, 0.0, 0.01);
+  moved.pose = test::rotated(moved.pose, 1.5, 0.0);
+  View previous = now;
+  previous.pose.position += glm::dvec3(0.04, 0.0, 0.02);
+  const Camera traced = Camera::with_guard_band(moved, kExtent, kGuard);
+  const Camera previous_traced = Camera::with_guard_band(previous, kExtent, kGuard);
+  const VisibilityBuffer newest = embree_truth(scene, traced);
+  const VisibilityBuffer older = embree_truth(scene, previous_traced);
+  const VisibilityBuffer truth = embree_truth(scene, display_camera(now, kExtent));
+  std::vector<uint8_t> rows(traced.extent.height, 1);
+  for (size_t r = 0; r < rows.size(); ++r) rows[r] = r % 3 == 0 ? 1 : 0;
+  VisibilityInput input;
+  input.buffer = &newest;
+  input.traced = traced;
+  VisibilityInput older_input;
+  older_input.buffer = &older;
+  older_input.traced = previous_traced;
+
+  auto wrong_bits = [&](const WarpSettings& settings, WarpCounts& counts) {
+    StereoRig rig(ctx(), scene, settings);
+    rig.run({now, now}, {input, VisibilityInput{}}, {older_input, VisibilityInput{}});
+    const std::vector<uint32_t> masks = test::read_pixels<uint32_t>(ctx(), rig.eye(0).warp().mask);
+    const std::vector<float> depth = test::read_pixels<float>(ctx(), rig.eye(0).gbuffer().depth);
+    counts = rig.eye(0).read_stats(0).warp;
+    uint64_t wrong = 0;
+    for (size_t i = 0; i < masks.size(); ++i) {
+      if (depth[i] > 0.0f) wrong += static_cast<uint64_t>(std::popcount((masks[i] ^ truth.mask_at(i)) & truth.light_bits()));
+    }
+    return wrong;
+  };
+  WarpSettings lit = WarpSettings::full();
+  lit.shadow_fill = lit.shadow_edges = lit.shadow_first = false;
+  lit.older_buffer = lit.neighbour_fill = false;
+  WarpSettings neighbours = lit;
+  neighbours.neighbour_fill = true;
+  WarpSettings older_first = neighbours;
+  older_first.older_buffer = true;
+  WarpCounts lit_counts, neighbour_counts, older_counts;
+  const uint64_t complete_wrong = wrong_bits(lit, lit_counts);  // every row: the warp's own error
+  input.row_valid = rows;
+  const uint64_t lit_wrong = wrong_bits(lit, lit_counts);
+  const uint64_t neighbour_wrong = wrong_bits(neighbours, neighbour_counts);
+  const uint64_t older_wrong = wrong_bits(older_first, older_counts);
+  std::printf("lost rows without shadow maps: all rows %llu wrong bits, lit %llu (%llu unfilled), neighbour fill %llu (%llu filled), "
+              "previous buffer first %llu (%llu filled from it)\n",
+              static_cast<unsigned long long>(complete_wrong), static_cast<unsigned long long>(lit_wrong),
+              static_cast<unsigned long long>(lit_counts.unfilled()),
+              static_cast<unsigned long long>(neighbour_wrong),
+              static_cast<unsigned long long>(neighbour_counts.filled_neighbour),
+              static_cast<unsigned long long>(older_wrong), static_cast<unsigned long long>(older_counts.filled_older));
+  EXPECT_GT(lit_counts[WarpStatus::kMissingRow], 0u);
+  EXPECT_GT(neighbour_counts.filled_neighbour, neighbour_counts[WarpStatus::kMissingRow] / 2);
+  EXPECT_GT(older_counts.filled_older, older_counts[WarpStatus::kMissingRow] / 2);
+  // The fills remove most of the error the lost rows add.
+  ASSERT_GT(lit_wrong, complete_wrong + 50);
+  EXPECT_LT((neighbour_wrong - std::min(neighbour_wrong, complete_wrong)) * 3, lit_wrong - complete_wrong);
+  EXPECT_LT((older_wrong - std::min(older_wrong, complete_wrong)) * 3, lit_wrong - complete_wrong);
 }
 
 }  // namespace

@@ -92,6 +92,8 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   j["frames_local"] = frames.frames_local();
   j["pixels_shadow_map"] = frames.pixels_shadow_map();
   j["pixels_other_eye"] = frames.pixels_other_eye();
+  j["pixels_older"] = frames.pixels_older();
+  j["pixels_neighbour"] = frames.pixels_neighbour();
   j["age_frames_median"] = opt(frames.age_median());
   j["responses"] = frames.responses();
   j["gbuffer_ms_median"] = opt(frames.gbuffer_ms_median());

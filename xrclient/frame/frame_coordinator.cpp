@@ -113,13 +113,16 @@ bool FrameCoordinator::record_and_submit(const FrameInput& input, FrameSink& sin
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   DHR_VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
   std::array<VisibilityInput, 2> inputs;
+  std::array<VisibilityInput, 2> older;
   for (uint32_t e = 0; e < 2; ++e) {
     const EyePlan& p = plan.eyes[e];
     inputs[e] = p.visibility;
     // Non-zero and unique per (frame, eye): an unchanged complete buffer is not uploaded again; a partial one
     // may still fill in, so it is always uploaded.
     inputs[e].key = p.has_visibility && p.complete ? p.visibility_frame * 2 + e + 1 : 0;
-    eyes_[e]->prepare(cmd, slot_index, inputs[e]);
+    older[e] = p.older;
+    older[e].key = p.older.buffer != nullptr && p.older_complete ? p.older_frame * 2 + e + 1 : 0;
+    eyes_[e]->prepare(cmd, slot_index, inputs[e], &older[e]);
   }
   for (uint32_t e = 0; e < 2; ++e) {
     const EyePlan& p = plan.eyes[e];
@@ -134,7 +137,7 @@ bool FrameCoordinator::record_and_submit(const FrameInput& input, FrameSink& sin
     render::WarpSourceInput other_source;
     other_source.visibility = &other;
     if (other.buffer != nullptr) other_source.traced_depth = eyes_[1 - e]->traced_depth(other.traced);
-    eyes_[e]->record(cmd, slot_index, p.view, inputs[e], other_source, shadow_maps_.get());
+    eyes_[e]->record(cmd, slot_index, p.view, inputs[e], other_source, shadow_maps_.get(), &older[e]);
     rendered_views_[e] = p.view;
   }
   const EyeImages images{&eyes_[0]->output(), &eyes_[1]->output()};

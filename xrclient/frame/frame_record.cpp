@@ -32,6 +32,8 @@ std::string frame_record_json(const FrameRecord& record) {
     o["known"] = e.stats.warp[render::WarpStatus::kKnown];
     o["filled_other_eye"] = e.stats.warp.filled_other_eye;
     o["filled_shadow_map"] = e.stats.warp.filled_shadow_map;
+    o["filled_older"] = e.stats.warp.filled_older;
+    o["filled_neighbour"] = e.stats.warp.filled_neighbour;
     o["surface"] = e.stats.warp.surface();
     o["unknown"] = e.stats.unknown_pixels();
     for (size_t s = 0; s < render::kWarpStatusCount; ++s) {
@@ -50,6 +52,8 @@ void FrameSummary::add(const FrameRecord& record) {
   for (const EyeFrameRecord& e : record.eyes) {
     shadow_pixels += e.stats.warp.filled_shadow_map;
     pixels_other_eye_ += e.stats.warp.filled_other_eye;
+    pixels_older_ += e.stats.warp.filled_older;
+    pixels_neighbour_ += e.stats.warp.filled_neighbour;
     surface_ += e.stats.warp.surface();
     known_ += e.stats.warp[render::WarpStatus::kKnown];
     unknown_ += e.stats.unknown_pixels();

@@ -42,6 +42,8 @@ class FrameSummary {
   uint64_t frames_local() const { return frames_local_; }
   uint64_t pixels_shadow_map() const { return pixels_shadow_map_; }  // filled from the shadow maps, both eyes
   uint64_t pixels_other_eye() const { return pixels_other_eye_; }    // filled from the other eye's buffer
+  uint64_t pixels_older() const { return pixels_older_; }            // ... from this eye's previous buffer
+  uint64_t pixels_neighbour() const { return pixels_neighbour_; }    // ... from a neighbour on the tangent plane
   double predicted_frac() const;  // known surface pixels / surface pixels, both eyes, all frames
   double unknown_frac() const;    // unknown surface pixels / surface pixels
   std::optional<double> response_ms_median() const { return median(response_ms_); }
@@ -61,6 +63,8 @@ class FrameSummary {
   uint64_t frames_local_ = 0;
   uint64_t pixels_shadow_map_ = 0;
   uint64_t pixels_other_eye_ = 0;
+  uint64_t pixels_older_ = 0;
+  uint64_t pixels_neighbour_ = 0;
   uint64_t surface_ = 0;
   uint64_t known_ = 0;
   uint64_t unknown_ = 0;

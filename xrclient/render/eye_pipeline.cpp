@@ -75,7 +75,8 @@ void EyePipeline::ensure_deferred_images() {
 
 bool EyePipeline::uses_forward() const {
   const WarpSettings& w = options_.warp;
-  const bool paper = !w.bilinear && !w.depth_test && !w.other_eye && !w.uses_shadow_maps();
+  const bool paper = !w.bilinear && !w.depth_test && !w.other_eye && !w.older_buffer && !w.neighbour_fill &&
+                     !w.uses_shadow_maps();
   return options_.forward && paper && options_.shading.view == ShadingView::kShaded && !options_.motion_vectors &&
          !options_.warp_status && scene_->lights().size() <= options_.forward_max_lights;
 }
@@ -98,31 +99,57 @@ void EyePipeline::resize(Extent extent) {
   create_images();
 }
 
-void EyePipeline::prepare(VkCommandBuffer cmd, uint32_t slot_index, const VisibilityInput& visibility) {
+void EyePipeline::prepare(VkCommandBuffer cmd, uint32_t slot_index, const VisibilityInput& visibility,
+                          const VisibilityInput* older) {
   if (slot_index >= slots_.size()) throw std::invalid_argument("EyePipeline::prepare: slot out of range");
   Slot& slot = slots_[slot_index];
   slot.traced_depth_rendered = false;
-  if (!options_.warp.depth_test || visibility.buffer == nullptr) return;
-  if (validate_camera(visibility.traced)) return;  // the warp pass reports the unusable input
-  if (traced_camera_ && same_camera(*traced_camera_, visibility.traced)) return;
-  const Extent extent = visibility.traced.extent;
-  if (!traced_.depth || !(traced_.extent() == extent)) traced_ = GBuffer::create(*context_, extent);
-  slot.prepare_timestamps.reset(cmd);
-  slot.prepare_timestamps.write(cmd, kPrepareStart);
-  gbuffer_pass_.record(cmd, traced_, visibility.traced, options_.near_plane);
-  slot.prepare_timestamps.write(cmd, kPrepareEnd);
-  traced_camera_ = visibility.traced;
-  slot.traced_depth_rendered = true;
+  if (!options_.warp.depth_test) return;
+  // The cameras needed this frame: the newest, then the previous (with the older-buffer fill).
+  std::array<const Camera*, 2> needed{};
+  if (visibility.buffer != nullptr && !validate_camera(visibility.traced)) needed[0] = &visibility.traced;
+  if (options_.warp.older_buffer && older != nullptr && older->buffer != nullptr && !validate_camera(older->traced)) {
+    needed[1] = &older->traced;
+  }
+  auto holds = [&](size_t k, const Camera* camera) {
+    return camera != nullptr && traced_camera_[k] && same_camera(*traced_camera_[k], *camera);
+  };
+  bool started = false;
+  for (size_t n = 0; n < needed.size(); ++n) {
+    const Camera* camera = needed[n];
+    if (camera == nullptr || holds(0, camera) || holds(1, camera)) continue;
+    // Without the older-buffer fill one G-buffer suffices; with it, overwrite the one the other needed camera
+    // does not occupy (else the one not rendered last: the newest so far becomes the previous).
+    const Camera* keep = needed[1 - n];
+    const size_t target = !options_.warp.older_buffer ? 0 : holds(0, keep) ? 1 : holds(1, keep) ? 0 : 1 - newest_;
+    const Extent extent = camera->extent;
+    GBuffer& g = traced_[target];
+    if (!g.depth || !(g.extent() == extent)) g = GBuffer::create(*context_, extent);
+    if (!started) {
+      slot.prepare_timestamps.reset(cmd);
+      slot.prepare_timestamps.write(cmd, kPrepareStart);
+      started = true;
+    }
+    gbuffer_pass_.record(cmd, g, *camera, options_.near_plane);
+    traced_camera_[target] = *camera;
+    if (n == 0) newest_ = target;
+  }
+  if (started) {
+    slot.prepare_timestamps.write(cmd, kPrepareEnd);
+    slot.traced_depth_rendered = true;
+  }
 }
 
 vk::Image* EyePipeline::traced_depth(const Camera& traced) {
-  if (!traced_camera_ || !same_camera(*traced_camera_, traced)) return nullptr;
-  return &traced_.depth;
+  for (size_t k = 0; k < traced_.size(); ++k) {
+    if (traced_camera_[k] && same_camera(*traced_camera_[k], traced)) return &traced_[k].depth;
+  }
+  return nullptr;
 }
 
 void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& view,
                          const VisibilityInput& visibility, const WarpSourceInput& other,
-                         const ShadowMaps* shadow_maps) {
+                         const ShadowMaps* shadow_maps, const VisibilityInput* older) {
   if (slot_index >= slots_.size()) throw std::invalid_argument("EyePipeline::record: slot out of range");
   Slot& slot = slots_[slot_index];
   const Camera camera = display_camera(view, extent_);
@@ -160,6 +187,11 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
   frame.sources[0].traced_depth =
       options_.warp.depth_test && visibility.buffer != nullptr ? traced_depth(visibility.traced) : nullptr;
   frame.sources[1] = other;
+  if (older != nullptr) {
+    frame.sources[2].visibility = older;
+    frame.sources[2].traced_depth =
+        options_.warp.depth_test && older->buffer != nullptr ? traced_depth(older->traced) : nullptr;
+  }
   frame.shadow_maps = shadow_maps;
   frame.lights = scene_->lights();
   frame.settings = options_.warp;

@@ -4,7 +4,8 @@
 //            pass that warps and shades each fragment (forward_pass.hpp) plus a small count pass;
 //   deferred (any other warp setting or debug view): G-buffer -> warp -> shading.
 // With the warp's depth test on, prepare() first renders the depth of the camera this eye's newest
-// visibility was traced for (once per traced camera); the other eye's pipeline reads it as its source 1.
+// visibility was traced for (once per traced camera; the previous one is kept for the previous buffer, the
+// warp's source 2); the other eye's pipeline reads the newest as its source 1.
 //
 // Frames in flight: host-written per-frame resources (visibility upload, lights, counters, timestamps) exist
 // once per slot; the caller records frame n with slot n % frames_in_flight after waiting for that slot's
@@ -14,6 +15,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -84,19 +86,24 @@ class EyePipeline {
   // (vkDeviceWaitIdle): call it from the thread that submits, between frames.
   void resize(Extent extent);
 
-  // With the depth test on: renders the depth of visibility.traced unless it is the camera last rendered
-  // (nothing without a buffer). Call for both eyes before recording either (record reads the other's).
-  void prepare(VkCommandBuffer cmd, uint32_t slot, const VisibilityInput& visibility);
-  // The depth prepare() rendered, when it was rendered for `traced`; null otherwise.
+  // With the depth test on: renders the depth of visibility.traced, and of older->traced (this eye's
+  // previous buffer, with WarpSettings::older_buffer), unless it is held (the two cameras rendered last;
+  // nothing without a buffer). Call for both eyes before recording either (record reads the other's).
+  void prepare(VkCommandBuffer cmd, uint32_t slot, const VisibilityInput& visibility,
+               const VisibilityInput* older = nullptr);
+  // The depth prepare() rendered, when one of the two held was rendered for `traced`; null otherwise.
   vk::Image* traced_depth(const Camera& traced);
 
   // Records the three passes for `view` (the display camera is the view's FOV over extent(), no guard band)
   // and the newest visibility of this eye (source 0); `other` is the other eye's (source 1, used with
-  // WarpSettings::other_eye) and `shadow_maps` the client's (required by the shadow settings). Afterwards
+  // WarpSettings::other_eye), `shadow_maps` the client's (required by the shadow settings) and `older` this
+  // eye's previous visibility (source 2, used with WarpSettings::older_buffer; its traced depth is this
+  // pipeline's, from prepare()). Afterwards
   // output() is in GENERAL layout with its writes visible to later transfers and shaders (the frame sink
   // copies it from there).
   void record(VkCommandBuffer cmd, uint32_t slot, const View& view, const VisibilityInput& visibility,
-              const WarpSourceInput& other = {}, const ShadowMaps* shadow_maps = nullptr);
+              const WarpSourceInput& other = {}, const ShadowMaps* shadow_maps = nullptr,
+              const VisibilityInput* older = nullptr);
 
   // Stats of the frame last recorded with `slot`; call after its submission completed.
   EyeStats read_stats(uint32_t slot) const;
@@ -141,8 +148,10 @@ class EyePipeline {
   bool deferred_images_ = false;
   bool last_forward_ = false;
   GBuffer gbuffer_;
-  GBuffer traced_;  // the traced camera's G-buffer (only its depth is read); empty until prepared
-  std::optional<Camera> traced_camera_;  // what traced_ holds
+  // Traced cameras' G-buffers (only their depth is read), the newest two rendered; empty until prepared.
+  std::array<GBuffer, 2> traced_;
+  std::array<std::optional<Camera>, 2> traced_camera_;  // what traced_ holds
+  size_t newest_ = 1;  // which of traced_ holds the newest camera rendered
   WarpTargets warp_;
   vk::Image output_;
   std::vector<Slot> slots_;

@@ -161,7 +161,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
     }
   }
   ClientWarpParams params = make_warp_params(display, out.visibility_used ? &in->traced : nullptr, frame.near_plane);
-  for (size_t s = 0; s < 2; ++s) params.source[s] = make_warp_source(display, s == 0 && out.visibility_used ? &in->traced : nullptr);
+  for (size_t s = 0; s < kClientWarpSourceCount; ++s) params.source[s] = make_warp_source(display, s == 0 && out.visibility_used ? &in->traced : nullptr);
   if (out.visibility_used) {
     slot.source.upload(*context_, display, *in, params.source[0]);
     params.unknown_mask = unknown_mask(in->buffer);

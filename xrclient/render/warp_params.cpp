@@ -120,7 +120,7 @@ WarpCounts unpack_warp_counts(const vk::Buffer& counters, uint32_t words) {
   WarpCounts counts;
   std::array<uint64_t, kClientCountWords * 3> fields{};
   // In chunks through a fixed array: no allocation per frame (thousands of buckets at headset sizes).
-  std::array<uint32_t, 512> raw{};
+  std::array<uint32_t, kClientCountWords * 100> raw{};
   static_assert(raw.size() % kClientCountWords == 0, "chunks hold whole buckets");
   for (uint32_t first = 0; first < words; first += static_cast<uint32_t>(raw.size())) {
     const uint32_t n = std::min<uint32_t>(static_cast<uint32_t>(raw.size()), words - first);
@@ -136,6 +136,8 @@ WarpCounts unpack_warp_counts(const vk::Buffer& counters, uint32_t words) {
   counts.filled_shadow_map = fields[kClientCountShadowMap];
   counts.edges_shadow_map = fields[kClientCountEdgeShadowMap];
   counts.shadow_overrides = fields[kClientCountShadowOverride];
+  counts.filled_older = fields[kClientCountOlder];
+  counts.filled_neighbour = fields[kClientCountNeighbour];
   return counts;
 }
 

@@ -53,7 +53,7 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-  const std::array<ComputeBinding, 16> bindings = {{
+  const std::array<ComputeBinding, 19> bindings = {{
       {kClientWarpBindingDepth, kSampled},
       {kClientWarpBindingVisibility0, kStorage},
       {kClientWarpBindingRowValid0, kStorage},
@@ -70,12 +70,15 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
       {kClientWarpBindingShadowMap, kSampled},
       {kClientWarpBindingShadowLights, kStorage},
       {kClientWarpBindingLights, kStorage},
+      {kClientWarpBindingVisibility2, kStorage},
+      {kClientWarpBindingRowValid2, kStorage},
+      {kClientWarpBindingOldDepth2, kSampled},
   }};
   // The shader reads everything from the parameter buffer; the push range carries nothing it uses.
   core_ = ComputePassCore::create(device, bindings, 4, "warp.comp", slots);
   slots_.resize(slots);
   for (Slot& s : slots_) {
-    for (int i = 0; i < 2; ++i) s.sources.emplace_back(context);
+    for (uint32_t i = 0; i < kClientWarpSourceCount; ++i) s.sources.emplace_back(context);
     s.params = vk::Buffer(context, sizeof(ClientWarpParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.shadow_lights = vk::Buffer(context, kMaxLights * sizeof(ClientShadowLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.lights = vk::Buffer(context, kMaxLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
@@ -116,10 +119,11 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   }
 
   // Which sources are usable.
-  std::array<bool, 2> usable{};
-  for (size_t s = 0; s < 2; ++s) {
+  std::array<bool, kClientWarpSourceCount> usable{};
+  for (size_t s = 0; s < usable.size(); ++s) {
     const VisibilityInput* in = frame.sources[s].visibility;
     if (s == 1 && !settings.other_eye) continue;
+    if (s == 2 && !settings.older_buffer) continue;
     if (in == nullptr || in->buffer == nullptr) continue;
     if (auto err = validate_visibility_input(in->traced, *in->buffer, in->row_valid)) {
       log::warn("warp pass: ignoring the visibility input of source %zu (%s)", s, err->c_str());
@@ -134,11 +138,14 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
                  (settings.bilinear ? kClientWarpBilinear : 0u) | (settings.depth_test ? kClientWarpDepthTest : 0u) |
                  (settings.shadow_fill ? kClientWarpShadowFill : 0u) |
                  (settings.shadow_edges ? kClientWarpShadowEdges : 0u) |
-                 (settings.shadow_first ? kClientWarpShadowFirst : 0u);
+                 (settings.shadow_first ? kClientWarpShadowFirst : 0u) |
+                 (settings.older_buffer ? kClientWarpOlderBuffer : 0u) |
+                 (settings.neighbour_fill ? kClientWarpNeighbourFill : 0u);
   params.plane_tolerance_rel = static_cast<float>(settings.plane_tolerance_rel);
   params.plane_tolerance_abs = static_cast<float>(settings.plane_tolerance_abs);
-  std::array<vk::Image*, 2> old_depth{&placeholder_depth_, &placeholder_depth_};
-  for (size_t s = 0; s < 2; ++s) {
+  std::array<vk::Image*, kClientWarpSourceCount> old_depth{&placeholder_depth_, &placeholder_depth_,
+                                                           &placeholder_depth_};
+  for (size_t s = 0; s < usable.size(); ++s) {
     const VisibilityInput* in = frame.sources[s].visibility;
     params.source[s] = make_warp_source(display, usable[s] ? &in->traced : nullptr);
     if (!usable[s]) continue;
@@ -182,6 +189,8 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
                              sampler);
   vk::write_image_descriptor(device, slot.set, kClientWarpBindingOldDepth1, kSampled, old_depth[1]->view(), kRead,
                              sampler);
+  vk::write_image_descriptor(device, slot.set, kClientWarpBindingOldDepth2, kSampled, old_depth[2]->view(), kRead,
+                             sampler);
   vk::write_image_descriptor(device, slot.set, kClientWarpBindingShadowMap, kSampled, atlas->view(), kRead, sampler);
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingVisibility0, kStorage,
                               slot.sources[0].visibility.handle());
@@ -189,6 +198,9 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingVisibility1, kStorage,
                               slot.sources[1].visibility.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingRowValid1, kStorage, slot.sources[1].rows.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingVisibility2, kStorage,
+                              slot.sources[2].visibility.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingRowValid2, kStorage, slot.sources[2].rows.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingParams, kStorage, slot.params.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingShadowLights, kStorage,
                               slot.shadow_lights.handle());

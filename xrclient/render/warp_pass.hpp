@@ -1,6 +1,7 @@
 // Warp pass, compute, one eye: for every display pixel, the light mask of the newest visibility buffer of this
 // eye looked up where the pixel's surface point lands in the old guard-banded camera it was traced for, with
-// the fills of WarpSettings (the other eye's buffer, the client's shadow maps). The decision rule and its CPU
+// the fills of WarpSettings (the other eye's buffer, this eye's previous buffer, neighbours on the pixel's
+// tangent plane, the client's shadow maps). The decision rule and its CPU
 // reference: warp_reference.hpp. Outputs, all display-sized:
 //   mask   R32_UINT   predicted light mask (all light bits where unfilled)
 //   status R32_UINT   (optional: debug views, tests) WarpStatus | WarpFill << 8 per pixel
@@ -65,7 +66,8 @@ struct WarpFrame {
   vk::Image* normal = nullptr;  // display G-buffer normal (required by the depth test and the shadow lookups)
   Camera display;
   double near_plane = kDefaultNearPlane;
-  std::array<WarpSourceInput, 2> sources;  // this eye's, the other eye's (used with settings.other_eye)
+  // This eye's newest, the other eye's (used with settings.other_eye), this eye's previous (settings.older_buffer).
+  std::array<WarpSourceInput, 3> sources;
   const ShadowMaps* shadow_maps = nullptr;  // required by the shadow settings
   std::span<const SceneLight> lights;       // the scene's lights (shadow lookups)
   WarpSettings settings;
@@ -89,7 +91,7 @@ class WarpPass {
 
  private:
   struct Slot {
-    std::vector<WarpSourceBuffers> sources;  // two
+    std::vector<WarpSourceBuffers> sources;  // kClientWarpSourceCount
     vk::Buffer params;         // ClientWarpParams
     vk::Buffer shadow_lights;  // ClientShadowLight[32]
     vk::Buffer lights;         // PackedLight[32]

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 namespace dhr::render {
 namespace {
@@ -45,6 +46,7 @@ uint64_t WarpCounts::unknown_surface() const {
 WarpSettings WarpSettings::full() {
   WarpSettings s;
   s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = s.shadow_first = true;
+  s.older_buffer = s.neighbour_fill = true;
   return s;
 }
 
@@ -198,6 +200,67 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
   return r;
 }
 
+// The neighbour fill (warp.comp's look_up_neighbours) for source `src` and the surface point p.
+SourceLookup look_up_neighbours(const WarpInput& input, const WarpSource& src, const glm::dvec3& p_world,
+                                const glm::dvec3& n_world) {
+  SourceLookup r;
+  r.status = WarpStatus::kDisoccluded;
+  const Reprojection rep = reproject(src.traced, p_world, input.min_depth);
+  r.margin = std::abs(rep.depth - input.min_depth) * 1e6;
+  if (rep.status == Reprojection::Status::kBehind) return r;
+  r.pixel = rep.pixel;
+  const Extent old = src.traced.extent;
+  const WarpSettings& set = input.settings;
+  const glm::dmat3 r_old_t = glm::transpose(eye_to_world_rotation(src.traced));
+  const glm::dvec3 p_old = r_old_t * (p_world - src.traced.T_world_eye.position);
+  const glm::dvec3 n_old = r_old_t * n_world;
+  const double depth_old = -p_old.z;
+  const double tolerance = set.plane_tolerance_rel * depth_old + set.plane_tolerance_abs;
+  const double px = std::clamp(rep.pixel.x, -64.0, old.width + 64.0);
+  const double py = std::clamp(rep.pixel.y, -64.0, old.height + 64.0);
+  r.margin = std::min(r.margin, std::min(boundary_distance(px), boundary_distance(py)));  // the window's place
+  const int ci = static_cast<int>(std::floor(px));
+  const int cj = static_cast<int>(std::floor(py));
+  std::vector<double> passing;  // squared distances of the candidates that pass
+  double best = std::numeric_limits<double>::infinity();
+  int best_a = -1, best_b = -1;
+  for (int b = cj - kNeighbourRadius; b <= cj + kNeighbourRadius; ++b) {
+    if (b < 0 || b >= static_cast<int>(old.height)) continue;
+    if (!src.row_valid.empty() && src.row_valid[static_cast<size_t>(b)] == 0) continue;
+    for (int a = ci - kNeighbourRadius; a <= ci + kNeighbourRadius; ++a) {
+      if (a < 0 || a >= static_cast<int>(old.width)) continue;
+      const double ds = src.traced_depth[static_cast<size_t>(b) * old.width + static_cast<size_t>(a)];
+      if (!(ds > 0.0)) continue;
+      const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray(a + 0.5, b + 0.5);
+      const double dist = std::abs(glm::dot(n_old, q - p_old));
+      r.margin = std::min(r.margin, std::abs(dist - tolerance) / depth_old * 200.0);
+      if (!(dist <= tolerance)) continue;
+      const double ex = a + 0.5 - rep.pixel.x, ey = b + 0.5 - rep.pixel.y;
+      const double d2 = ex * ex + ey * ey;
+      passing.push_back(d2);
+      if (d2 < best) {
+        best = d2;
+        best_a = a;
+        best_b = b;
+      }
+    }
+  }
+  if (best_a < 0) return r;
+  // The choice flips when another candidate's distance comes within float rounding of the best one's.
+  bool seen_best = false;
+  for (double d2 : passing) {
+    if (d2 == best && !seen_best) {
+      seen_best = true;
+      continue;
+    }
+    r.margin = std::min(r.margin, (d2 - best) / (4.0 * (kNeighbourRadius + 1)));
+  }
+  r.status = WarpStatus::kKnown;
+  r.agree = 0xFFFFFFFFu;
+  r.value = src.visibility->get(static_cast<uint32_t>(best_a), static_cast<uint32_t>(best_b));
+  return r;
+}
+
 }  // namespace
 
 WarpResult warp_reference(const WarpInput& input) {
@@ -217,8 +280,9 @@ WarpResult warp_reference(const WarpInput& input) {
   if (set.uses_shadow_maps() && input.shadow == nullptr) {
     throw std::invalid_argument("warp reference: shadow settings without shadow maps");
   }
-  std::array<WarpSource, 2> sources = input.sources;
+  std::array<WarpSource, 3> sources = input.sources;
   if (!set.other_eye) sources[1].visibility = nullptr;
+  if (!set.older_buffer) sources[2].visibility = nullptr;
   for (size_t s = 0; s < sources.size(); ++s) {
     const WarpSource& src = sources[s];
     if (src.visibility == nullptr) continue;
@@ -263,7 +327,26 @@ WarpResult warp_reference(const WarpInput& input) {
           out.fill[i] = WarpFill::kOtherEye;
         }
       }
-      const bool have = own.status == WarpStatus::kKnown || out.fill[i] == WarpFill::kOtherEye;
+      if (own.status != WarpStatus::kKnown && out.fill[i] == WarpFill::kNone && sources[2].visibility != nullptr) {
+        const SourceLookup older = look_up(input, sources[2], p, nrm);
+        margin = std::min(margin, older.margin);
+        if (older.status == WarpStatus::kKnown) {
+          chosen = older;
+          out.fill[i] = WarpFill::kOlder;
+        }
+      }
+      const bool neighbour_status = own.status == WarpStatus::kOutside || own.status == WarpStatus::kMissingRow ||
+                                    own.status == WarpStatus::kDisoccluded;
+      if (out.fill[i] == WarpFill::kNone && set.neighbour_fill && set.depth_test && neighbour_status &&
+          !sources[0].traced_depth.empty()) {
+        const SourceLookup neighbour = look_up_neighbours(input, sources[0], p, nrm);
+        margin = std::min(margin, neighbour.margin);
+        if (neighbour.status == WarpStatus::kKnown) {
+          chosen = neighbour;
+          out.fill[i] = WarpFill::kNeighbour;
+        }
+      }
+      const bool have = own.status == WarpStatus::kKnown || out.fill[i] != WarpFill::kNone;
       const uint32_t undecided = have ? ~chosen.agree & unknown : 0u;
       const bool need_shadow =
           have ? (set.shadow_first && !chosen.exact) || (set.shadow_edges && undecided != 0) : set.shadow_fill;
@@ -288,6 +371,8 @@ WarpResult warp_reference(const WarpInput& input) {
       ++out.counts.by_status[static_cast<size_t>(out.status[i])];
       if (out.fill[i] == WarpFill::kOtherEye) ++out.counts.filled_other_eye;
       if (out.fill[i] == WarpFill::kShadowMap) ++out.counts.filled_shadow_map;
+      if (out.fill[i] == WarpFill::kOlder) ++out.counts.filled_older;
+      if (out.fill[i] == WarpFill::kNeighbour) ++out.counts.filled_neighbour;
     }
   }
   return out;

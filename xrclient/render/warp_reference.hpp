@@ -18,8 +18,12 @@
 //     is coarser than a display pixel at the point and the 2x2 texels around the lookup decide differently)
 //     takes the shadow maps' bit, unless the lookup is exact (within 0.02 px of an old pixel centre).
 // A surface pixel that source 0 does not fill tries source 1 (other_eye) the same way (fill kOtherEye), then
-// the shadow maps (shadow_fill: fill kShadowMap), else takes every light bit of source 0's buffer (all 32
-// without one): the paper's "take as lit".
+// source 2, this eye's previous buffer (older_buffer: fill kOlder), then (neighbour_fill, with the depth test
+// and source 0's traced depth, when source 0's lookup was outside, in missing rows or disoccluded) the old
+// pixels of source 0 within kNeighbourRadius (Chebyshev) of floor(px, py) whose row arrived and whose surface
+// passes the depth test's plane check: the one whose centre is nearest (px, py) gives its whole mask (ties:
+// the first in row-major order; fill kNeighbour), then the shadow maps (shadow_fill: fill kShadowMap), else
+// takes every light bit of source 0's buffer (all 32 without one): the paper's "take as lit".
 //
 // Exactness: the GPU computes in float (eye-relative, so the error does not grow with the distance from the
 // world origin), so a decision close to flipping (a lookup within ~1e-4 px of a pixel boundary or centre,
@@ -58,20 +62,25 @@ inline constexpr size_t kWarpStatusCount = 7;
 const char* to_string(WarpStatus status);
 
 // How a surface pixel without a mask from its own eye's buffer was filled (kClientFill*).
-enum class WarpFill : uint8_t { kNone = 0, kOtherEye = 1, kShadowMap = 2 };
+enum class WarpFill : uint8_t { kNone = 0, kOtherEye = 1, kShadowMap = 2, kOlder = 3, kNeighbour = 4 };
+inline constexpr int kNeighbourRadius = 2;  // shader_interface.h's kClientWarpNeighbourRadius
 
 // Per-status pixel counts, indexed by WarpStatus, and the fills.
 struct WarpCounts {
   std::array<uint64_t, kWarpStatusCount> by_status{};
   uint64_t filled_other_eye = 0;    // surface pixels source 0 could not fill, filled by the other eye
   uint64_t filled_shadow_map = 0;   // ... by the shadow maps
+  uint64_t filled_older = 0;        // ... by this eye's previous buffer
+  uint64_t filled_neighbour = 0;    // ... by the nearest old pixel of source 0 on the pixel's tangent plane
   uint64_t edges_shadow_map = 0;    // known pixels whose undecided bits took the shadow maps
   uint64_t shadow_overrides = 0;    // known pixels where a confident shadow-map bit replaced an agreed one
   uint64_t operator[](WarpStatus s) const { return by_status[static_cast<size_t>(s)]; }
   // Surface pixels without a mask from their own eye's buffer (behind, outside, missing row, no data,
   // disoccluded), filled or not.
   uint64_t unknown_surface() const;
-  uint64_t unfilled() const { return unknown_surface() - filled_other_eye - filled_shadow_map; }
+  uint64_t unfilled() const {
+    return unknown_surface() - filled_other_eye - filled_shadow_map - filled_older - filled_neighbour;
+  }
   uint64_t surface() const;  // every pixel but background
   bool operator==(const WarpCounts&) const = default;
 };
@@ -81,6 +90,8 @@ struct WarpSettings {
   bool bilinear = false;      // 2x2 samples and a bilinear vote instead of the nearest old pixel
   bool depth_test = false;    // reject samples whose old surface is off this pixel's tangent plane
   bool other_eye = false;     // fill from the other eye's newest buffer
+  bool older_buffer = false;  // then from this eye's previous buffer
+  bool neighbour_fill = false;  // then from the nearest old pixel on the tangent plane (needs depth_test)
   bool shadow_fill = false;   // fill the rest from the client's shadow maps
   bool shadow_edges = false;  // bits the samples disagree on from the shadow maps
   bool shadow_first = false;  // bits the shadow maps are confident about from the shadow maps
@@ -116,7 +127,7 @@ struct WarpInput {
   Camera display;                      // the camera the depth was rendered with
   double near_plane = kDefaultNearPlane;
   double min_depth = kWarpMinDepth;
-  std::array<WarpSource, 2> sources;   // this eye's newest buffer, the other eye's
+  std::array<WarpSource, 3> sources;   // this eye's newest buffer, the other eye's, this eye's previous
   WarpSettings settings;
   const ShadowReference* shadow = nullptr;  // needed when a shadow setting is on
   std::span<const SceneLight> lights;       // for the shadow lookups

@@ -12,6 +12,7 @@ bool FramePlanner::offer(uint32_t eye, VisibilityFrame&& frame) {
   std::optional<VisibilityFrame>& held = held_[eye];
   if (held && held->frame_number > frame.frame_number) return false;
   offered_[eye] = frame.frame_number;
+  if (held && held->frame_number < frame.frame_number) previous_[eye] = std::move(*held);
   held = std::move(frame);
   return true;
 }
@@ -70,6 +71,17 @@ EyePlan FramePlanner::plan_eye(uint32_t eye, const FramePose& pose, const std::o
   last_used_[eye] = v.frame_number;
   if (const FramePose* traced = history_.find(v.frame_number)) {
     p.visibility_age_ns = pose.display_time_ns - traced->display_time_ns;
+  }
+  const std::optional<VisibilityFrame>& prev = previous_[eye];
+  const Camera older_camera = prev ? format->camera(prev->view) : Camera{};
+  // A buffer of another traced format (renegotiated since) is not used.
+  if (prev && settings_.schedule != Schedule::kStale && older_camera.extent.width == prev->buffer.width &&
+      older_camera.extent.height == prev->buffer.height) {
+    p.older.buffer = &prev->buffer;
+    if (!prev->complete) p.older.row_valid = prev->row_valid;
+    p.older.traced = older_camera;
+    p.older_frame = prev->frame_number;
+    p.older_complete = prev->complete;
   }
   return p;
 }

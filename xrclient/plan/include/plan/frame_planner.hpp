@@ -36,6 +36,11 @@ struct EyePlan {
   uint64_t predicted = 0;       // x: frames the warp spans (display_frame - visibility_frame; 0 for kStale)
   bool first_use = false;       // this eye uses visibility_frame for the first time
   std::optional<int64_t> visibility_age_ns;  // display time of this frame minus that of visibility_frame
+  // This eye's previous visibility (the frame held before visibility_frame; the warp's older-buffer fill):
+  // buffer null when none is held or the schedule is kStale.
+  VisibilityInput older;
+  uint64_t older_frame = 0;
+  bool older_complete = true;
 };
 
 struct FramePlan {
@@ -55,7 +60,8 @@ class FramePlanner {
   explicit FramePlanner(const PlannerSettings& settings);
 
   // Offers a newly received visibility frame of an eye. The newest wins: a frame older than the one held
-  // (reordering across reconnects) is ignored and false is returned.
+  // (reordering across reconnects) is ignored and false is returned. A newer frame moves the one held to
+  // previous(eye).
   bool offer(uint32_t eye, VisibilityFrame&& frame);
 
   // Records a frame's pose in the history without planning it (plan() records too). For callers that do not
@@ -71,6 +77,8 @@ class FramePlanner {
 
   // The newest visibility held for an eye (what the next frame will use), if any.
   const std::optional<VisibilityFrame>& held(uint32_t eye) const { return held_[eye]; }
+  // The one held before it, if any.
+  const std::optional<VisibilityFrame>& previous(uint32_t eye) const { return previous_[eye]; }
   const ViewHistory& history() const { return history_; }
   const PlannerSettings& settings() const { return settings_; }
 
@@ -80,6 +88,7 @@ class FramePlanner {
   PlannerSettings settings_;
   ViewHistory history_;
   std::array<std::optional<VisibilityFrame>, 2> held_;
+  std::array<std::optional<VisibilityFrame>, 2> previous_;
   std::array<std::optional<uint64_t>, 2> last_used_;  // per eye: the visibility frame used last
   std::array<std::optional<uint64_t>, 2> offered_;  // per eye: accepted by offer() since the last plan()
   std::optional<uint64_t> responded_frame_;          // the newest frame whose response time was measured
