@@ -50,13 +50,15 @@ def fills():
     r = load("living_room_user1")
     lines = ["What `full` fills and what it costs, living room User1, 160x120 (shares of the display pixels; times per eye):",
              "",
-             "| RTT ms | own eye gave no mask | filled: other eye | filled: shadow maps | unfilled | disoccluded | "
+             "| RTT ms | own eye gave no mask | filled: other eye | filled: previous buffer | filled: neighbours | "
+             "filled: shadow maps | unfilled | disoccluded | "
              "undecided bits -> maps | confident map bit replaced an agreed one | traced FOV widened (eyes) | "
              "warp ms paper+pred | warp ms full | traced depth ms | client ms paper+pred | client ms full |",
-             "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for rtt in (25, 50, 100, 200):
         p, f = r[("paper+pred", rtt)], r[("full", rtt)]
         lines.append(f"| {rtt} | {pct(f['unknown_frac'], 2)} | {pct(f['filled_other_eye_frac'], 2)} | "
+                     f"{pct(f.get('filled_older_frac', 0.0), 2)} | {pct(f.get('filled_neighbour_frac', 0.0), 2)} | "
                      f"{pct(f['filled_shadow_map_frac'], 2)} | {pct(f['unfilled_frac'], 2)} | {pct(f['disoccluded_frac'], 2)} | "
                      f"{pct(f['edges_shadow_map_frac'], 2)} | {pct(f['shadow_overrides_frac'], 2)} | "
                      f"{pct(f.get('fov_widened_frac', 0.0), 1)} | {p['warp_ms']:.2f} | {f['warp_ms']:.2f} | "
@@ -87,8 +89,12 @@ def ablation():
             ("own eye gave no mask 200 ms", "unknown_frac", 200, lambda v: pct(v, 2)),
             ("disoccluded 200 ms", "disoccluded_frac", 200, lambda v: pct(v, 2)),
             ("unfilled 200 ms", "unfilled_frac", 200, lambda v: pct(v, 2))]
+    maps_off = cols[:4] + [("filled: previous buffer 200 ms", "filled_older_frac", 200, lambda v: pct(v, 2)),
+                           ("filled: neighbours 200 ms", "filled_neighbour_frac", 200, lambda v: pct(v, 2)),
+                           ("unfilled 200 ms", "unfilled_frac", 200, lambda v: pct(v, 2))]
     return (method_table("living_room_user1_ablation", cols) + [""] +
-            method_table("living_room_user1_ablation_server_first", cols) + [""])
+            method_table("living_room_user1_ablation_server_first", cols) + [""] +
+            method_table("living_room_user1_fills_without_maps", maps_off) + [""])
 
 
 def adaptive_fov():

@@ -44,10 +44,14 @@ one living_room_user1_xmax --scene "$living" --trace "$user1" --trace-start 2 --
 one living_room_user1_server --scene "$living" --trace "$user1" --trace-start 2 --frames 90 --eye-size 160x120 \
   --rtt-ms 0,50,100 --method paper,paper+pred --server-ms 10
 one living_room_user1_ablation --scene "$living" --trace "$user1" --trace-start 2 --frames 90 --eye-size 160x120 \
-  --rtt-ms 100,200 --method paper+pred,local,full,full-no-bilinear,full-no-depth,full-no-other-eye,full-no-shadow-fill,full-no-shadow-edges,full-no-shadow-first,full-no-pred,full-no-adaptive-fov
+  --rtt-ms 100,200 --method paper+pred,local,full,full-no-bilinear,full-no-depth,full-no-other-eye,full-no-shadow-fill,full-no-shadow-edges,full-no-shadow-first,full-no-older,full-no-neighbour,full-no-pred,full-no-adaptive-fov
 # The same with the server's bits first (shadow-first off), where the other ingredients decide more pixels.
 one living_room_user1_ablation_server_first --scene "$living" --trace "$user1" --trace-start 2 --frames 90 \
-  --eye-size 160x120 --rtt-ms 100,200 --method full-no-shadow-first,full-no-shadow-first-no-bilinear,full-no-depth-no-shadow-first,full-no-other-eye-no-shadow-first,full-no-shadow-fill-no-shadow-first,full-no-shadow-edges-no-shadow-first
+  --eye-size 160x120 --rtt-ms 100,200 --method full-no-shadow-first,full-no-shadow-first-no-bilinear,full-no-depth-no-shadow-first,full-no-other-eye-no-shadow-first,full-no-shadow-fill-no-shadow-first,full-no-shadow-edges-no-shadow-first,full-no-older-no-shadow-first,full-no-neighbour-no-shadow-first
+# Without the shadow maps (a client without them, or lights without a map): what the buffers' own fills do.
+maps_off="full-no-shadow-fill-no-shadow-edges-no-shadow-first"
+one living_room_user1_fills_without_maps --scene "$living" --trace "$user1" --trace-start 2 --frames 90 \
+  --eye-size 160x120 --rtt-ms 100,200 --method "$maps_off,$maps_off-no-older,$maps_off-no-neighbour,$maps_off-no-older-no-neighbour,$maps_off-no-other-eye-no-older-no-neighbour"
 # The server's adaptive FOV with and without the client's fills (without them, what no buffer covers is lit).
 afov=(--trace-start 2 --frames 90 --eye-size 160x120 --rtt-ms 50,100,200 --method full-no-other-eye-no-shadow-fill,full-no-other-eye-no-shadow-fill-no-adaptive-fov,full,full-no-adaptive-fov)
 one living_room_user1_adaptive_fov --scene "$living" --trace "$user1" "${afov[@]}"
