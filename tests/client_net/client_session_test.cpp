@@ -127,11 +127,11 @@ TEST(ClientSession, AnotherProtocolVersionFailsWithBothVersions) {
   h.client.tick();
   h.run_for(kMs);
   std::vector<uint8_t> bye = encode_datagram(Datagram{0, 0, Bye{ByeReason::kVersionMismatch}});
-  bye[4] = 3;  // the server's version
+  bye[4] = 4;  // the server's version
   h.server_send_raw(bye);
   h.run_for(kMs);
   EXPECT_TRUE(h.client.failed());
-  EXPECT_NE(h.client.failure().find("version 3"), std::string::npos) << h.client.failure();
+  EXPECT_NE(h.client.failure().find("version 4"), std::string::npos) << h.client.failure();
   EXPECT_EQ(h.client.stats().rejections[DecodeError::kWrongVersion], 1u);
 }
 

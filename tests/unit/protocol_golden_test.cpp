@@ -92,7 +92,7 @@ TEST(ProtocolGolden, Hello) {
   m.scene_id = "room";
   const Bytes expected = {
       'D', 'H', 'R', 'X',                              // magic
-      0x02,                                            // version
+      0x03,                                            // version
       0x01,                                            // type Hello
       0x00, 0x00,                                      // reserved
       0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 0
@@ -124,7 +124,7 @@ TEST(ProtocolGolden, Welcome) {
   m.heartbeat_interval_ms = 1000;
   m.session_timeout_ms = 5000;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x02, 0x02, 0x00, 0x00,  // magic, version, type Welcome, reserved
+      'D',  'H',  'R',  'X',  0x03, 0x02, 0x00, 0x00,  // magic, version, type Welcome, reserved
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token 0x0123456789ABCDEF
       0x07, 0x00, 0x00, 0x00,                          // sequence 7
       0x88, 0x77, 0x66, 0x55, 0x44, 0x33, 0x22, 0x11,  // client nonce echo
@@ -149,7 +149,7 @@ TEST(ProtocolGolden, PoseUpdate) {
   m.views = {left_view(), right_view()};
   m.held_distance = {5, 0x0102};  // left holds frame 37, right frame 42 - 258: none (older than frame 0)
   const Bytes expected = cat({
-      {'D', 'H', 'R', 'X', 0x02, 0x03, 0x00, 0x00},      // version 2, type PoseUpdate
+      {'D', 'H', 'R', 'X', 0x03, 0x03, 0x00, 0x00},      // version 3, type PoseUpdate
       {0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01},  // token
       {0x08, 0x00, 0x00, 0x00},                          // sequence 8
       {0x2A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // frame 42
@@ -188,7 +188,7 @@ TEST(ProtocolGolden, VisibilityShard) {
   m.payload_size = sizeof(payload);
   std::copy(std::begin(payload), std::end(payload), m.payload.begin());
   const Bytes expected = cat({
-      {'D', 'H', 'R', 'X', 0x02, 0x04, 0x00, 0x00},      // type VisibilityShard
+      {'D', 'H', 'R', 'X', 0x03, 0x04, 0x00, 0x00},      // type VisibilityShard
       {0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01},  // token
       {0x09, 0x00, 0x00, 0x00},                          // sequence 9
       {0x2A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // frame 42
@@ -228,7 +228,7 @@ TEST(ProtocolGolden, Heartbeat) {
   m.frames_done = 4;
   m.frames_dropped = 5;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x02, 0x05, 0x00, 0x00,  // type Heartbeat
+      'D',  'H',  'R',  'X',  0x03, 0x05, 0x00, 0x00,  // type Heartbeat
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0A, 0x00, 0x00, 0x00,                          // sequence 10
       0x00, 0xF2, 0x05, 0x2A, 0x01, 0x00, 0x00, 0x00,  // send time 5e9
@@ -246,7 +246,7 @@ TEST(ProtocolGolden, Heartbeat) {
 
 TEST(ProtocolGolden, Bye) {
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x02, 0x06, 0x00, 0x00,  // type Bye
+      'D',  'H',  'R',  'X',  0x03, 0x06, 0x00, 0x00,  // type Bye
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0B, 0x00, 0x00, 0x00,                          // sequence 11
       0x03,                                            // reason: shutdown

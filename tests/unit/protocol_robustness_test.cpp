@@ -69,9 +69,9 @@ TEST(ProtocolRobustness, HeaderFieldsAreChecked) {
   b[0] = 'X';
   EXPECT_EQ(decode_datagram(b, out), DecodeError::kBadMagic);
   b = good;
-  b[4] = 3;
+  b[4] = 2;
   EXPECT_EQ(decode_header(b, header), DecodeError::kWrongVersion);
-  EXPECT_EQ(header.version, 3);  // reported so the receiver can log the peer's version
+  EXPECT_EQ(header.version, 2);  // reported so the receiver can log the peer's version
   b = good;
   b[5] = 0;
   EXPECT_EQ(decode_datagram(b, out), DecodeError::kUnknownType);

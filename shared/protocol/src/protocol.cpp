@@ -303,6 +303,8 @@ const char* to_string(ByeReason reason) {
     case ByeReason::kUnknownSession: return "unknown session";
     case ByeReason::kBadHello: return "bad hello";
     case ByeReason::kUnknownScene: return "unknown scene";
+    case ByeReason::kAuthRequired: return "authentication required";
+    case ByeReason::kAuthFailed: return "authentication failed";
   }
   return "unknown";
 }

@@ -19,15 +19,20 @@
 namespace dhr {
 
 inline constexpr std::array<uint8_t, 4> kProtocolMagic = {'D', 'H', 'R', 'X'};
-inline constexpr uint8_t kProtocolVersion = 2;  // 2: codec v2 capability, acknowledgements in PoseUpdate
+// 2: codec v2 capability, acknowledgements in PoseUpdate; 3: the header's flags (authentication,
+// secure/envelope.hpp), shard payloads leave room for the seal's tag, Bye reasons 8 and 9.
+inline constexpr uint8_t kProtocolVersion = 3;
 
 inline constexpr size_t kHeaderSize = 20;
 inline constexpr size_t kViewWireSize = 56;  // f64 x3 position, f32 x4 quaternion (x,y,z,w), f32 x4 FOV
 // Largest datagram either side sends or accepts: fits the IPv6 minimum MTU path with room to spare
 // over Ethernet (1280 + 8 UDP + 20 IPv4 < 1500), so no IP fragmentation.
 inline constexpr size_t kMaxDatagramSize = 1280;
+// A sealed datagram (secure/envelope.hpp) carries a 16-byte tag: every message leaves room for it.
+inline constexpr size_t kSealOverhead = 16;
+inline constexpr size_t kMaxPlainDatagramSize = kMaxDatagramSize - kSealOverhead;  // 1264
 inline constexpr size_t kShardFixedSize = kHeaderSize + 28 + kViewWireSize;  // everything but the payload
-inline constexpr size_t kMaxShardPayload = kMaxDatagramSize - kShardFixedSize;  // 1176
+inline constexpr size_t kMaxShardPayload = kMaxPlainDatagramSize - kShardFixedSize;  // 1160
 static_assert(kMaxShardPayload <= 1200);
 inline constexpr size_t kMaxSceneIdLength = 128;
 // |q|^2 of a decoded quaternion must be within this of 1 (float rounding is ~1e-7); then renormalized.
@@ -53,8 +58,10 @@ enum class ByeReason : uint8_t {
   kUnknownSession = 5,   // the token is not (or no longer) known: the client must send Hello again
   kBadHello = 6,         // Hello parameters unacceptable (size, lights, capabilities)
   kUnknownScene = 7,     // the requested scene id is not available
+  kAuthRequired = 8,     // the server only takes authenticated datagrams: the client has no key
+  kAuthFailed = 9,       // the Hello's tag did not verify: the client holds another key
 };
-inline constexpr uint8_t kMaxByeReason = 7;
+inline constexpr uint8_t kMaxByeReason = 9;
 
 // Capability bits (Hello: what the client supports; Welcome: what the server will use).
 inline constexpr uint32_t kCapabilityLz4RowShards = 1u << 0;  // codec v1: LZ4 chunk shards (always supported)
