@@ -10,6 +10,14 @@
 namespace dhr::server::cli {
 int run_serve_command(const ServerOptions& options) {
   std::string error;
+  std::optional<secure::Key> key;
+  if (!options.key_file.empty()) {
+    key = secure::load_key_file(options.key_file, &error);
+    if (!key) {
+      std::fprintf(stderr, "dhr-server: %s\n", error.c_str());
+      return 2;
+    }
+  }
   std::optional<Scene> scene = load_server_scene(options, &error);
   if (!scene) return fail_setup(error);
   std::unique_ptr<VisibilityTracer> tracer;
@@ -25,6 +33,7 @@ int run_serve_command(const ServerOptions& options) {
   serve.max_seconds = options.max_seconds;
   serve.impairment = options.impairment;
   ServiceConfig& config = serve.service;
+  config.key = key;
   config.scene_id = std::filesystem::path(options.scene_path).stem().string();
   config.scene_hash = scene_content_hash(*scene);
   config.max_sessions = options.max_sessions;
@@ -38,6 +47,8 @@ int run_serve_command(const ServerOptions& options) {
   if (options.predict_horizon_ms >= 0.0)
     config.predict_horizon_ns = static_cast<int64_t>(options.predict_horizon_ms * static_cast<double>(net::kNsPerMs));
 
+  std::fprintf(stderr, "%s\n", key ? "authentication on (key from --key-file)"
+                                  : "authentication OFF (--insecure): anyone who reaches the port may connect");
   std::fprintf(stderr, "serving scene '%s' (%s, hash %016llx, %u lights) with %s (%s)%s%s\n",
                config.scene_id.c_str(), options.scene_path.c_str(), static_cast<unsigned long long>(config.scene_hash),
                tracer->light_count(), tracer_backend_name(tracer->backend()), tracer->device_description().c_str(),

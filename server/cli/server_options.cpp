@@ -154,6 +154,18 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
                "widen each eye's traced field of view beyond the guard band by how far the displayed views "
                "recently strayed from the traced ones (within the session's buffer: coarser pixels)")
       ->group(kServeGroup);
+  auto* gen_key = app.add_option("--gen-key", out.gen_key_path,
+                                 "write a new random deployment key to FILE (mode 0600, never over an existing "
+                                 "file) and exit; give the same file to the server and its clients (--key-file)")
+                      ->type_name("FILE");
+  app.add_option("--key-file", out.key_file,
+                 "the deployment key (from --gen-key): clients must prove they hold it, every datagram is "
+                 "authenticated and sealed (docs/security.md)")
+      ->type_name("FILE")
+      ->group(kServeGroup);
+  app.add_flag("--insecure", out.insecure,
+               "serve without a key: anyone who can reach the port may connect and read or forge datagrams")
+      ->group(kServeGroup);
   net::add_impairment_options(app, out.impairment);
 
   try {
@@ -197,6 +209,16 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
     out.port = *p;
     out.mode = Mode::kServe;
     if (out.bind_address.empty()) return fail("--bind: the address must not be empty");
+  }
+  if (out.mode == Mode::kServe) {
+    if (out.key_file.empty() && !out.insecure)
+      return fail("serving needs a key: --key-file FILE (make one with --gen-key FILE), or --insecure to serve "
+                  "without authentication");
+    if (!out.key_file.empty() && out.insecure) return fail("--key-file and --insecure exclude each other");
+  }
+  if (*gen_key) {
+    if (out.gen_key_path.empty()) return fail("--gen-key: the file name must not be empty");
+    out.mode = Mode::kGenKey;
   }
   if (check_flag) out.mode = Mode::kCheck;
   if (*snapshot) {

@@ -12,7 +12,7 @@
 
 namespace dhr::server::cli {
 
-enum class Mode { kNone, kCheck, kSnapshot, kServe };
+enum class Mode { kNone, kCheck, kSnapshot, kServe, kGenKey };
 
 struct ServerOptions {
   Mode mode = Mode::kNone;
@@ -39,6 +39,10 @@ struct ServerOptions {
   double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
   bool adaptive_fov = false;            // widen the traced FOV from the measured shortfall (server/fov_margin.hpp)
   net::ImpairmentParams impairment;     // on everything the server sends
+  // Authentication (docs/security.md): serving needs --key-file unless --insecure; --gen-key writes a key.
+  std::string key_file;
+  bool insecure = false;
+  std::string gen_key_path;
 };
 
 // The guard band in effect for the options (explicit, or the reference band scaled to the eye size).

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "codec/codec_v2.hpp"
+#include "secure/envelope.hpp"
+#include "secure/replay_window.hpp"
 
 namespace dhr::server {
 
@@ -20,6 +22,12 @@ struct VisibilityService::Session {
   net::PeerAddress peer;
   Hello hello;
   Welcome welcome;
+  // With a key: both handshake randoms, the session's keys and the replay window of the client's datagrams.
+  bool secure = false;
+  secure::Random client_random{};
+  secure::Random server_random{};
+  secure::SessionKeys keys;
+  secure::ReplayWindow replay;
   int64_t last_receive_ns = 0;
   int64_t last_heartbeat_sent_ns = 0;
   int64_t last_echo_ns = 0;

@@ -31,6 +31,7 @@ VisibilityService::VisibilityService(VisibilityTracer& tracer, const ServiceConf
   }
   rng_.seed(seed);
   reply_window_start_ns_ = clock_.now_ns();
+  if (config_.key) handshake_key_.emplace(*config_.key);
 }
 
 VisibilityService::~VisibilityService() = default;
@@ -51,25 +52,6 @@ bool VisibilityService::allow_unsolicited_reply(int64_t now_ns) {
   }
   ++replies_in_window_;
   return true;
-}
-
-size_t VisibilityService::send_message(Session* session, uint64_t token, const Message& message,
-                                       const net::PeerAddress& to) {
-  Datagram datagram;
-  datagram.session_token = token;
-  datagram.sequence = session ? session->next_sequence.fetch_add(1, std::memory_order_relaxed)
-                              : unsolicited_sequence_.fetch_add(1, std::memory_order_relaxed);
-  datagram.message = message;
-  std::array<uint8_t, kMaxDatagramSize> bytes;
-  const size_t size = encode_datagram(datagram, bytes);
-  if (size == 0 || !sender_.send_to(std::span<const uint8_t>(bytes.data(), size), to)) {
-    send_failures_.fetch_add(1, std::memory_order_relaxed);
-    return 0;
-  }
-  datagrams_sent_.fetch_add(1, std::memory_order_relaxed);
-  bytes_sent_.fetch_add(size, std::memory_order_relaxed);
-  if (session) session->datagrams_sent.fetch_add(1, std::memory_order_relaxed);
-  return size;
 }
 
 Heartbeat VisibilityService::make_heartbeat(Session& session, int64_t now_ns) const {
@@ -110,8 +92,14 @@ void VisibilityService::notify(const std::vector<std::pair<SessionInfo, ByeReaso
   if (opened) observer(*opened, true, ByeReason::kNormal);
 }
 
-void VisibilityService::on_datagram(std::span<const uint8_t> bytes, const net::PeerAddress& from) {
+void VisibilityService::on_datagram(std::span<const uint8_t> wire, const net::PeerAddress& from) {
   try {
+    // Authentication first: nothing is decoded, allocated or traced for a datagram that fails it.
+    std::array<uint8_t, kMaxDatagramSize> plain;
+    std::optional<secure::Random> hello_random;
+    const std::optional<std::span<const uint8_t>> unwrapped = unwrap(wire, from, plain, hello_random);
+    if (!unwrapped) return;
+    const std::span<const uint8_t> bytes = *unwrapped;
     Datagram datagram;
     const DecodeError error = decode_datagram(bytes, datagram);
     if (error != DecodeError::kNone) {
@@ -137,7 +125,7 @@ void VisibilityService::on_datagram(std::span<const uint8_t> bytes, const net::P
       return;
     }
     if (const auto* hello = std::get_if<Hello>(&datagram.message)) {
-      handle_hello(*hello, datagram.sequence, from);
+      handle_hello(*hello, hello_random, from);
     } else {
       handle_session_message(datagram, from);
     }

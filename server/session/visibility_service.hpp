@@ -14,6 +14,8 @@
 #include "net/clock.hpp"
 #include "net/peer_address.hpp"
 #include "net/udp_socket.hpp"
+#include "secure/envelope.hpp"
+#include "secure/key.hpp"
 #include "fov_margin.hpp"
 #include "pose_predictor.hpp"
 #include "visibility_tracer.hpp"
@@ -34,6 +36,10 @@
 namespace dhr::server {
 
 struct ServiceConfig {
+  // The deployment key (docs/security.md): Hellos must carry its handshake tag, Welcomes carry the server's,
+  // every session datagram is sealed with the session's keys, replays are dropped. std::nullopt: no
+  // authentication (dhr-server --insecure); a client's authenticated Hello then gets a plain Welcome.
+  std::optional<secure::Key> key;
   std::string scene_id;     // Hello's scene id must be empty, this, or a path/file name with this stem
   uint64_t scene_hash = 0;  // sent in Welcome (see scene_content_hash)
   uint32_t max_sessions = 8;
@@ -78,6 +84,11 @@ struct ServiceStats {
   uint64_t unknown_token = 0;       // well-formed, token of no session
   uint64_t wrong_peer = 0;          // known token, from an address other than the session's Hello
   uint64_t unexpected_type = 0;     // Welcome / VisibilityShard sent to the server
+  // Authentication (ServiceConfig::key), each dropped before any decoding, allocation or trace:
+  uint64_t auth_failed = 0;         // a tag that did not verify: forged, damaged, or another deployment key
+  uint64_t replayed = 0;            // a sealed datagram whose sequence was seen (or fell behind the window)
+  uint64_t unauthenticated = 0;     // a plain datagram (no tag) where the key requires one
+  uint64_t hellos_replayed = 0;     // an authenticated Hello whose random was already used
   // Handshake and sessions.
   uint64_t hellos = 0;              // well-formed Hellos
   uint64_t hellos_repeated = 0;     // same address and nonce: the same Welcome again
@@ -168,15 +179,28 @@ class VisibilityService {
   struct Session;
   struct Work;
 
-  void handle_hello(const Hello& hello, uint32_t sequence, const net::PeerAddress& from);
+  void handle_hello(const Hello& hello, const std::optional<secure::Random>& random, const net::PeerAddress& from);
   void handle_session_message(const Datagram& datagram, const net::PeerAddress& from);
   bool reject_hello(const Hello& hello, std::string& out_reason, ByeReason& out_bye) const;
   Welcome make_welcome(const Hello& hello) const;
   uint64_t new_token();
   bool allow_unsolicited_reply(int64_t now_ns);
 
-  // Encodes into a stack buffer and sends; returns the bytes sent (0 when refused). Any thread.
-  size_t send_message(Session* session, uint64_t token, const Message& message, const net::PeerAddress& to);
+  // Encodes into a stack buffer, protects it as the key asks and sends; returns the bytes sent (0 when
+  // refused). With a key: a Welcome carries the handshake tag bound to its Hello's random; other messages
+  // of a session are sealed; messages without a session carry the handshake tag bound to `bind` (the
+  // rejected Hello's random, or nothing); kPlain sends without protection (Bye(auth required / failed):
+  // the peer cannot verify anything from us). Any thread.
+  enum class Envelope : uint8_t { kAuto, kPlain };
+  size_t send_message(Session* session, uint64_t token, const Message& message, const net::PeerAddress& to,
+                      std::span<const uint8_t> bind = {}, Envelope envelope = Envelope::kAuto);
+  // Checks an incoming datagram's protection (with a key) and returns the plain datagram: `bytes` itself or
+  // a part of `out`. std::nullopt when it was dropped (counted; Byes telling the client why, within the
+  // reply budget).
+  std::optional<std::span<const uint8_t>> unwrap(std::span<const uint8_t> bytes, const net::PeerAddress& from,
+                                                 std::span<uint8_t> out, std::optional<secure::Random>& hello_random);
+  size_t open_sealed(std::span<const uint8_t> bytes, const net::PeerAddress& from, std::span<uint8_t> out);
+  void count_drop(uint64_t ServiceStats::*counter, const char* what, const net::PeerAddress& from);
   Heartbeat make_heartbeat(Session& session, int64_t now_ns) const;
   void close_session(std::map<uint64_t, std::shared_ptr<Session>>::iterator it, bool send_bye, ByeReason reason,
                      std::vector<std::pair<SessionInfo, ByeReason>>& closed);
@@ -198,6 +222,10 @@ class VisibilityService {
   std::map<uint64_t, std::shared_ptr<Session>> sessions_;  // by token
   ServiceStats stats_;
   std::mt19937_64 rng_;
+  std::optional<secure::HandshakeKey> handshake_key_;  // from config_.key
+  std::vector<secure::Random> recent_hello_randoms_;   // ring of the randoms of recent accepted Hellos
+  size_t next_hello_random_ = 0;
+  int64_t last_auth_log_ns_ = 0;
   int64_t reply_window_start_ns_ = 0;
   uint32_t replies_in_window_ = 0;
   SessionEvent observer_;

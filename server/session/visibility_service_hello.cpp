@@ -3,6 +3,8 @@
 
 #include "log/log.hpp"
 
+#include <algorithm>
+
 namespace dhr::server {
 
 using namespace session_detail;
@@ -64,7 +66,8 @@ Welcome VisibilityService::make_welcome(const Hello& hello) const {
   return w;
 }
 
-void VisibilityService::handle_hello(const Hello& hello, uint32_t /*sequence*/, const net::PeerAddress& from) {
+void VisibilityService::handle_hello(const Hello& hello, const std::optional<secure::Random>& random,
+                                     const net::PeerAddress& from) {
   std::vector<std::pair<SessionInfo, ByeReason>> closed;
   std::optional<SessionInfo> opened;
   {
@@ -75,7 +78,8 @@ void VisibilityService::handle_hello(const Hello& hello, uint32_t /*sequence*/, 
     for (auto it = sessions_.begin(); it != sessions_.end(); ++it) {
       Session& s = *it->second;
       if (s.peer != from) continue;
-      if (s.hello.client_nonce == hello.client_nonce) {  // idempotent: the same Welcome again
+      if (s.hello.client_nonce == hello.client_nonce && (!random || *random == s.client_random)) {
+        // Idempotent: the same Welcome again (a retried Hello carries the same nonce and random).
         ++stats_.hellos_repeated;
         ++s.datagrams_received;
         s.last_receive_ns = now;
@@ -85,6 +89,13 @@ void VisibilityService::handle_hello(const Hello& hello, uint32_t /*sequence*/, 
       ++stats_.sessions_replaced;  // the client started over from the same socket
       close_session(it, false, ByeReason::kNormal, closed);
       break;
+    }
+    if (random && std::find(recent_hello_randoms_.begin(), recent_hello_randoms_.end(), *random) !=
+                      recent_hello_randoms_.end()) {
+      // An authenticated Hello seen before, not from its session's address: a replay. No session, no reply.
+      ++stats_.hellos_replayed;
+      ++stats_.datagrams_rejected;
+      return;
     }
     std::string reason;
     ByeReason bye = ByeReason::kBadHello;
@@ -97,7 +108,8 @@ void VisibilityService::handle_hello(const Hello& hello, uint32_t /*sequence*/, 
       ++stats_.hellos_rejected;
       if (allow_unsolicited_reply(now)) {  // the log follows the reply budget: a flood logs little
         log::info("rejected Hello from %s: %s", from.to_string().c_str(), reason.c_str());
-        if (send_message(nullptr, 0, Bye{bye}, from)) ++stats_.byes_sent;
+        const std::span<const uint8_t> bind = random ? std::span<const uint8_t>(*random) : std::span<const uint8_t>{};
+        if (send_message(nullptr, 0, Bye{bye}, from, bind)) ++stats_.byes_sent;
       }
     } else {
       auto session = std::make_shared<Session>();
@@ -105,6 +117,20 @@ void VisibilityService::handle_hello(const Hello& hello, uint32_t /*sequence*/, 
       session->peer = from;
       session->hello = hello;
       session->welcome = make_welcome(hello);
+      if (random && config_.key) {
+        session->secure = true;
+        session->client_random = *random;
+        session->server_random = secure::random_bytes();
+        session->keys = secure::derive_session_keys(*config_.key, session->client_random, session->server_random,
+                                                    session->token);
+        constexpr size_t kRecentHellos = 256;
+        if (recent_hello_randoms_.size() < kRecentHellos) {
+          recent_hello_randoms_.push_back(*random);
+        } else {
+          recent_hello_randoms_[next_hello_random_] = *random;
+          next_hello_random_ = (next_hello_random_ + 1) % kRecentHellos;
+        }
+      }
       if (config_.predict || config_.adaptive_fov.enabled) session->predictor = PosePredictor(config_.predictor);
       if (config_.adaptive_fov.enabled) session->fov_margin = FovMarginTracker(config_.adaptive_fov);
       session->last_receive_ns = now;

@@ -11,7 +11,7 @@ export DHR_TEST_LIB="$here"
 . "$here/server_lib.sh"
 scene="$src/assets/scenes/default_room.gltf"
 start_server "$server_exe" "$scene" "$tmp"
-"$src/runtime-config/with-monado" "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --frames 300 \
+"$src/runtime-config/with-monado" "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --frames 300 \
   --snapshot-dir "$tmp/png" --png-every 100 --timeout 150 >"$tmp/client.out" 2>"$tmp/client.err" || {
   tail -n 20 "$tmp/client.err"; echo "FAIL: dhr-xrclient exited with an error"; exit 1; }
 summary="$(tail -n 1 "$tmp/client.out")"
@@ -42,7 +42,7 @@ for eye in ("left", "right"):
 print("PASS")
 PY
 # --render-scale: the eyes are rendered (and traced) at half the runtime's size, the compositor scales them up.
-"$src/runtime-config/with-monado" "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --frames 60 \
+"$src/runtime-config/with-monado" "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --frames 60 \
   --render-scale 0.5 --timeout 150 >"$tmp/half.out" 2>"$tmp/half.err" || {
   tail -n 20 "$tmp/half.err"; echo "FAIL: dhr-xrclient --render-scale 0.5 exited with an error"; exit 1; }
 python3 - "$summary" "$(tail -n 1 "$tmp/half.out")" <<'PY'

@@ -17,8 +17,11 @@ cleanup() {
 }
 trap cleanup EXIT
 
+key_file="$tmp/dhr.key"
+"$server_exe" --gen-key "$key_file" 2>/dev/null
 serve() {  # port (0: any), log file; sets server_pid and port
-  "$server_exe" --scene "$scene" --port "$1" --threads 1 --session-timeout-ms 1000 2>"$2" >/dev/null &
+  "$server_exe" --scene "$scene" --port "$1" --threads 1 --session-timeout-ms 1000 --key-file "$key_file" \
+    2>"$2" >/dev/null &
   server_pid=$!
   for _ in $(seq 1 300); do
     port="$(sed -n 's/.*listening on .*:\([0-9][0-9]*\)$/\1/p' "$2" | head -n1)"
@@ -31,7 +34,7 @@ serve() {  # port (0: any), log file; sets server_pid and port
 serve 0 "$tmp/server1.log"
 mkdir -p "$tmp/out"
 # 720 frames paced at 90 Hz: 8 s of presenting.
-"$client_exe" --scene "$scene" --server "127.0.0.1:$port" --trace "$trace" --offscreen "$tmp/out" \
+"$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --trace "$trace" --offscreen "$tmp/out" \
   --eye-size 64x48 --frames 720 --png-every 0 --warp full --connect-timeout 0.5 \
   --stats-jsonl "$tmp/out/stats.jsonl" >"$tmp/client.out" 2>"$tmp/client.err" &
 client_pid=$!

@@ -17,7 +17,7 @@ export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json DHR_LOG=warn
 run_client() {  # name, then extra arguments
   local name="$1"; shift
   mkdir -p "$tmp/$name"
-  "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --trace "$trace" --offscreen "$tmp/$name" \
+  "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --trace "$trace" --offscreen "$tmp/$name" \
     --eye-size 96x72 --frames 45 --png-every 44 --stats-jsonl "$tmp/$name/stats.jsonl" "$@" \
     >"$tmp/$name.out" 2>"$tmp/$name.err"
 }
@@ -59,14 +59,14 @@ assert lit + shadowed + colours.get((255, 0, 0), 0) > w * h // 2, colours
 PY
 
 # Bad --view values: a usage error (exit 2) or, for a light the server does not trace, a clear one-line error.
-if "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --view sideways >/dev/null 2>"$tmp/bad1.err"; then
+if "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --view sideways >/dev/null 2>"$tmp/bad1.err"; then
   echo "FAIL: --view sideways accepted"; exit 1; fi
 grep -q -- "--view 'sideways'" "$tmp/bad1.err" || { cat "$tmp/bad1.err"; echo "FAIL: no --view message"; exit 1; }
 if run_client badlight --view light:9; then echo "FAIL: --view light:9 accepted for 3 lights"; exit 1; fi
 grep -q -- "--view light:9" "$tmp/badlight.err" || { cat "$tmp/badlight.err"; echo "FAIL: no light message"; exit 1; }
 # An odd guard band cannot be split evenly between the sides: a usage error, exit 2.
 set +e
-"$client_exe" --scene "$scene" --server "127.0.0.1:$port" --guard 7x6 >/dev/null 2>"$tmp/badguard.err"
+"$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --guard 7x6 >/dev/null 2>"$tmp/badguard.err"
 rc=$?
 set -e
 [ "$rc" -eq 2 ] || { cat "$tmp/badguard.err"; echo "FAIL: --guard 7x6 exit $rc, expected 2"; exit 1; }

@@ -3,8 +3,11 @@
 // tracer's, and on SIGTERM says Bye, exits 0 and prints its statistics as one JSON line.
 #include "child_process.hpp"
 #include "loopback_rig.hpp"
+#include "secure/key.hpp"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <signal.h>
 
 #include <atomic>
@@ -37,9 +40,17 @@ TEST(ServerExecutable, ServesTheClientAndStopsCleanlyOnSigterm) {
   std::atomic<bool> client_started{false};
   std::thread client_thread;
 
+  // A deployment key both sides load (docs/security.md): the session is authenticated and sealed.
+  const std::string key_path = (std::filesystem::temp_directory_path() /
+                                ("dhr_server_exe_test_" + std::to_string(::getpid()) + ".key")).string();
+  std::filesystem::remove(key_path);
+  ASSERT_EQ(secure::generate_key_file(key_path), std::nullopt);
+  std::string key_error;
+  const std::optional<secure::Key> key = secure::load_key_file(key_path, &key_error);
+  ASSERT_TRUE(key) << key_error;
   test::ChildSpec spec;
   spec.argv = {DHR_SERVER_EXE, "--scene", std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf",
-               "--backend", "embree", "--port", "0", "--max-seconds", "40"};
+               "--backend", "embree", "--port", "0", "--max-seconds", "40", "--key-file", key_path};
   spec.env = {{"DHR_LOG", "warn"}};
   spec.deadline = std::chrono::seconds(50);
   spec.on_output = [&](pid_t pid, const std::string&, const std::string& err) {
@@ -50,7 +61,9 @@ TEST(ServerExecutable, ServesTheClientAndStopsCleanlyOnSigterm) {
     client_thread = std::thread([&, pid, port] {
       try {
         client::UdpVisibilityClient client;
-        client.connect(client_config(record.size), "127.0.0.1", port);
+        client::VisibilityClientConfig config = client_config(record.size);
+        config.key = key;
+        client.connect(config, "127.0.0.1", port);
         run_frames(client, 60, record);
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
         while (std::chrono::steady_clock::now() < deadline) {
@@ -70,6 +83,7 @@ TEST(ServerExecutable, ServesTheClientAndStopsCleanlyOnSigterm) {
   };
   const test::ChildResult result = test::run_child(spec);
   if (client_thread.joinable()) client_thread.join();
+  std::filesystem::remove(key_path);
 
   ASSERT_TRUE(result.started) << result.err;
   ASSERT_TRUE(client_started) << "no 'listening on' line:\n" << result.err;

@@ -1,7 +1,11 @@
 // dhr-server --port: starts, names its port, answers a real Hello over loopback UDP, stops on
-// --max-seconds or SIGTERM with Bye(shutdown) and a JSON stats line; bad serving options exit 2.
+// --max-seconds or SIGTERM with Bye(shutdown) and a JSON stats line; bad serving options exit 2; --gen-key
+// writes a private key once; with --key-file only an authenticated Hello gets a (tagged) Welcome.
 #include "protocol/protocol.hpp"
 #include "net/udp_socket.hpp"
+#include "secure/envelope.hpp"
+#include "secure/key.hpp"
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -108,14 +112,27 @@ struct Client {
   net::UdpSocket socket;
   std::mutex mutex;
   std::vector<Datagram> received;
+  std::vector<std::vector<uint8_t>> raw;  // everything, as it arrived
 
   Client() {
     socket.open(net::UdpSocketConfig{}, [this](const net::ReceivedDatagram& d) {
+      std::lock_guard lock(mutex);
+      raw.emplace_back(d.bytes.begin(), d.bytes.end());
       Datagram dg;
       if (decode_datagram(d.bytes, dg) != DecodeError::kNone) return;
-      std::lock_guard lock(mutex);
       received.push_back(dg);
     });
+  }
+  std::optional<std::vector<uint8_t>> wait_raw(std::chrono::seconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      {
+        std::lock_guard lock(mutex);
+        if (!raw.empty()) return raw.front();
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return std::nullopt;
   }
   template <class T>
   std::optional<std::pair<uint64_t, T>> wait_for(std::chrono::seconds timeout) {
@@ -151,7 +168,7 @@ nlohmann::json last_json_line(const std::string& out) {
 }
 
 TEST(ServeCli, ServesAHelloAndStopsAfterMaxSeconds) {
-  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "3"});
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "3", "--insecure"});
   ASSERT_TRUE(server.started());
   const uint16_t port = server.wait_for_port(std::chrono::seconds(60));
   ASSERT_NE(port, 0) << server.err();
@@ -180,7 +197,7 @@ TEST(ServeCli, ServesAHelloAndStopsAfterMaxSeconds) {
 
 TEST(ServeCli, ImpairedSendsStillDeliverTheFinalBye) {
   // 40 ms delay on everything sent: the Welcome arrives late, and shutdown waits for the held Bye.
-  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "2", "--net-delay", "40"});
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "2", "--net-delay", "40", "--insecure"});
   ASSERT_TRUE(server.started());
   const uint16_t port = server.wait_for_port(std::chrono::seconds(60));
   ASSERT_NE(port, 0) << server.err();
@@ -202,7 +219,7 @@ TEST(ServeCli, HelpDescribesServing) {
 }
 
 TEST(ServeCli, SigtermStopsCleanly) {
-  ServerProcess server({"--port", "0", "--bind", "127.0.0.1"});
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--insecure"});
   ASSERT_TRUE(server.started());
   ASSERT_NE(server.wait_for_port(std::chrono::seconds(60)), 0) << server.err();
   server.signal(SIGTERM);
@@ -210,6 +227,64 @@ TEST(ServeCli, SigtermStopsCleanly) {
   const nlohmann::json stats = last_json_line(server.out());
   EXPECT_EQ(stats.at("sessions_opened").get<int>(), 0);
   EXPECT_TRUE(stats.contains("datagrams_received"));
+}
+
+TEST(ServeCli, GenKeyOnceAndOnlyAuthenticatedHellosAreWelcomed) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("dhr_serve_key_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string key_path = (dir / "dhr.key").string();
+  {
+    ServerProcess gen({"--gen-key", key_path});
+    ASSERT_EQ(gen.wait_exit(std::chrono::seconds(30)), 0) << gen.err();
+    struct stat st {};
+    ASSERT_EQ(::stat(key_path.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0600u);
+    ServerProcess again({"--gen-key", key_path});
+    EXPECT_EQ(again.wait_exit(std::chrono::seconds(30)), 2);
+    EXPECT_NE(again.err().find("exists"), std::string::npos) << again.err();
+  }
+  std::string error;
+  const std::optional<secure::Key> key = secure::load_key_file(key_path, &error);
+  ASSERT_TRUE(key) << error;
+
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "3", "--key-file", key_path});
+  ASSERT_TRUE(server.started());
+  const uint16_t port = server.wait_for_port(std::chrono::seconds(60));
+  ASSERT_NE(port, 0) << server.err();
+  EXPECT_NE(server.err().find("authentication on"), std::string::npos) << server.err();
+  {  // A plain Hello: Bye(authentication required), in the clear.
+    Client plain;
+    ASSERT_TRUE(plain.socket.send_to(encode_datagram(Datagram{0, 0, small_hello()}), net::PeerAddress::loopback_ipv4(port)));
+    const auto bye = plain.wait_for<Bye>(std::chrono::seconds(5));
+    ASSERT_TRUE(bye) << server.err();
+    EXPECT_EQ(bye->second.reason, ByeReason::kAuthRequired);
+  }
+  {  // An authenticated Hello: a Welcome whose tag verifies against this Hello's random.
+    Client client;
+    std::array<uint8_t, kMaxDatagramSize> hello{};
+    const size_t plain_size = encode_datagram(Datagram{0, 0, small_hello()}, hello);
+    const secure::HandshakeKey hs(*key);
+    const secure::Random random = secure::random_bytes();
+    const size_t n = hs.authenticate(hello, plain_size, random);
+    ASSERT_GT(n, 0u);
+    ASSERT_TRUE(client.socket.send_to(std::span<const uint8_t>(hello.data(), n), net::PeerAddress::loopback_ipv4(port)));
+    const std::optional<std::vector<uint8_t>> raw = client.wait_raw(std::chrono::seconds(5));
+    ASSERT_TRUE(raw) << server.err();
+    std::array<uint8_t, kMaxDatagramSize> plain{};
+    const auto verified = hs.verify(*raw, plain, random);
+    ASSERT_TRUE(verified) << "the Welcome's tag does not verify";
+    Datagram welcome;
+    ASSERT_EQ(decode_datagram(std::span<const uint8_t>(plain.data(), verified->size), welcome), DecodeError::kNone);
+    ASSERT_TRUE(std::holds_alternative<Welcome>(welcome.message));
+    EXPECT_EQ(std::get<Welcome>(welcome.message).client_nonce, 0x1234u);
+  }
+  ASSERT_EQ(server.wait_exit(std::chrono::seconds(30)), 0) << server.err();
+  const nlohmann::json stats = last_json_line(server.out());
+  EXPECT_EQ(stats.at("unauthenticated").get<int>(), 1);
+  EXPECT_EQ(stats.at("sessions_opened").get<int>(), 1);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ServeCli, BadServingOptionsExitTwo) {
@@ -220,10 +295,14 @@ TEST(ServeCli, BadServingOptionsExitTwo) {
   const std::vector<Case> cases = {
       {{"--port", "70000"}, "--port: expected an integer 0..65535, got '70000'"},
       {{"--port", "abc"}, "--port: expected an integer 0..65535, got 'abc'"},
-      {{"--port", "0", "--net-loss", "2"}, "--net-loss"},
-      {{"--port", "0", "--check"}, "--check"},
-      {{"--port", "0", "--max-sessions", "0"}, "--max-sessions"},
-      {{"--port", "0", "--bind", "not-an-address"}, "not-an-address"},
+      {{"--port", "0", "--insecure", "--net-loss", "2"}, "--net-loss"},
+      {{"--port", "0", "--insecure", "--check"}, "--check"},
+      {{"--port", "0", "--insecure", "--max-sessions", "0"}, "--max-sessions"},
+      {{"--port", "0", "--insecure", "--bind", "not-an-address"}, "not-an-address"},
+      {{"--port", "0"}, "serving needs a key: --key-file FILE"},
+      {{"--port", "0", "--insecure", "--key-file", "k"}, "--key-file and --insecure exclude each other"},
+      {{"--port", "0", "--key-file", "/nonexistent/dhr.key"}, "cannot read key file /nonexistent/dhr.key"},
+      {{"--gen-key", "/nonexistent/dir/dhr.key"}, "--gen-key: cannot create /nonexistent/dir/dhr.key"},
   };
   for (const Case& c : cases) {
     ServerProcess server(c.args);

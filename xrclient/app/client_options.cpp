@@ -76,6 +76,10 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   app.add_flag("--smoke", out.smoke, "Smoke session: clear both eyes for --frames frames, print one JSON line");
   app.add_option("--scene", out.scene, "glTF scene (.gltf/.glb), the same the server traces");
   app.add_option("--server", out.server, "dhr-server address HOST:PORT");
+  app.add_option("--key-file", out.key_file,
+                 "the deployment key the server was given (dhr-server --gen-key FILE): authenticates and seals "
+                 "every datagram (docs/security.md); without it the client speaks only to an --insecure server")
+      ->type_name("FILE");
   app.add_option("--trace", out.trace, "Play this pose trace offscreen (needs --offscreen)");
   app.add_option("--offscreen", out.offscreen, "Render offscreen (no OpenXR): PNGs and statistics go to DIR");
   app.add_option("--frames", frames, "Frames to present (default 300; with --trace: the trace's length)")

@@ -40,6 +40,7 @@ struct ClientOptions {
   std::string view = "shaded";  // --view: shaded | light | unknown | motion | albedo | normal
   uint32_t view_light = 0;      // --view light:N
   net::ImpairmentParams impairment;
+  std::string key_file;  // the deployment key (docs/security.md); empty: no authentication
 };
 
 enum class ParseOutcome { kRun, kExit };

@@ -27,6 +27,11 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
     throw std::runtime_error("--server: expected HOST:PORT, got '" + options.server + "'");
   }
   VisibilityClientConfig config;
+  if (!options.key_file.empty()) {
+    std::string error;
+    config.key = secure::load_key_file(options.key_file, &error);
+    if (!config.key) throw AuthenticationError("--key-file: " + error);
+  }
   config.format = TracedFormat{eye, guard};
   config.codec_v2 = options.codec_v2;
   config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);
@@ -40,6 +45,9 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
     link->client().tick();
     if (link->client().connected()) break;
     if (link->client().failed()) {
+      if (link->client().failed_authentication()) {
+        throw AuthenticationError("dhr-server at " + options.server + ": " + link->client().failure());
+      }
       throw std::runtime_error("no dhr-server reachable at " + options.server + ": " + link->client().failure());
     }
     if (config.keep_retrying &&

@@ -46,13 +46,25 @@ VisibilityClient::VisibilityClient(const VisibilityClientConfig& config, net::Da
       rng_state_(config.nonce_seed),
       responses_(config.response_history) {
   validate_config(config_);
+  if (config_.key) handshake_key_.emplace(*config_.key);
 }
 
 VisibilityClient::~VisibilityClient() = default;
 
 bool VisibilityClient::send(const Message& message, uint64_t token) {
-  const size_t size = encode_datagram(Datagram{token, tx_sequence_, message}, tx_);
-  if (size == 0 || !sender_.send_to(std::span<const uint8_t>(tx_.data(), size), config_.server)) {
+  size_t size = encode_datagram(Datagram{token, tx_sequence_, message}, tx_);
+  std::array<uint8_t, kMaxDatagramSize> sealed;
+  const uint8_t* bytes = tx_.data();
+  if (size > 0 && handshake_key_) {
+    if (std::holds_alternative<Hello>(message)) {
+      size = handshake_key_->authenticate(tx_, size, client_random_);
+    } else {
+      // The sequence is the seal's nonce: never reused under a session's key (a session that long restarts).
+      size = tx_sequence_ == 0xFFFFFFFFu ? 0 : secure::seal(keys_.client_to_server, std::span(tx_).first(size), sealed);
+      bytes = sealed.data();
+    }
+  }
+  if (size == 0 || !sender_.send_to(std::span<const uint8_t>(bytes, size), config_.server)) {
     ++stats_.send_failures;
     return false;
   }
@@ -67,6 +79,7 @@ void VisibilityClient::start_handshake(int64_t now) {
   welcome_.reset();
   do nonce_ = next_random(rng_state_);
   while (nonce_ == 0);
+  if (handshake_key_) client_random_ = secure::random_bytes();
   handshake_start_ns_ = now;
   hello_interval_ns_ = config_.hello_retry_ns;
   send_hello(now);
@@ -105,9 +118,16 @@ void VisibilityClient::send_heartbeat(int64_t now) {
   if (send(hb, token_)) ++stats_.heartbeats_sent;
 }
 
-void VisibilityClient::fail(std::string reason) {
+void VisibilityClient::fail(std::string reason, bool authentication) {
   if (state_ == State::kFailed) return;
-  log::error("visibility client: %s", reason.c_str());
+  // A session that ends is an error worth a line; a handshake that fails is reported by whoever waits for it
+  // (the setup throws, the frame loop warns once).
+  if (state_ == State::kConnected) {
+    log::error("visibility client: %s", reason.c_str());
+  } else {
+    log::info("visibility client: %s", reason.c_str());
+  }
+  failed_authentication_ = authentication;
   failure_ = std::move(reason);
   state_ = State::kFailed;
   token_ = 0;
@@ -187,6 +207,11 @@ bool VisibilityClient::failed() const {
 std::string VisibilityClient::failure() const {
   const std::lock_guard lock(mutex_);
   return failure_;
+}
+
+bool VisibilityClient::failed_authentication() const {
+  const std::lock_guard lock(mutex_);
+  return state_ == State::kFailed && failed_authentication_;
 }
 
 bool VisibilityClient::send_pose(const FramePose& pose) {

@@ -24,6 +24,9 @@
 #include "link/response_tracker.hpp"
 #include "link/sequence_tracker.hpp"
 #include "net/udp_socket.hpp"
+#include "secure/envelope.hpp"
+#include "secure/key.hpp"
+#include "secure/replay_window.hpp"
 
 #include <array>
 #include <atomic>
@@ -39,6 +42,9 @@
 namespace dhr::client {
 
 struct VisibilityClientConfig {
+  // The deployment key (docs/security.md): the Hello carries its handshake tag, the Welcome must carry the
+  // server's, every session datagram is sealed and replays are dropped. std::nullopt: no authentication.
+  std::optional<secure::Key> key;
   // Displayed size per eye (>= 1x1) and guard band per side, as the Hello asks for them; the server may grant
   // a smaller guard band (Welcome).
   TracedFormat format;
@@ -68,6 +74,10 @@ struct ClientNetStats {
   uint64_t datagrams_unexpected = 0;  // valid, but a message the client never takes (Hello, PoseUpdate)
   uint64_t datagrams_handled = 0;
   DecodeErrorCounts rejections;       // decode errors of datagrams, plus shards the reassembler rejected
+  // With a key, dropped before decoding (part of datagrams_rejected):
+  uint64_t auth_failed = 0;      // a tag that did not verify (forged, damaged, another key, another Hello)
+  uint64_t replayed = 0;         // a sealed datagram whose sequence was seen (or fell behind the window)
+  uint64_t unauthenticated = 0;  // a plain datagram the key does not allow
   // From the server's sequence numbers (current session's datagrams): exact within an 8192 window.
   uint64_t server_datagrams_unique = 0;
   uint64_t server_datagrams_duplicate = 0;
@@ -139,6 +149,9 @@ class VisibilityClient {
   std::optional<Welcome> welcome() const;  // the current session's, while connected
   bool failed() const;                     // terminal: gave up on Hello, or the server refused it
   std::string failure() const;             // one line, empty unless failed()
+  // failed() because of authentication: the server refused the key or requires one, or answered without
+  // authenticating itself to a client with a key.
+  bool failed_authentication() const;
 
   // Render thread: sends a PoseUpdate (when connected; frame numbers strictly increasing) and remembers
   // its send time. False when not sent (not connected, frame not newer, negative time, send refused).
@@ -173,7 +186,7 @@ class VisibilityClient {
   void send_hello(int64_t now);
   void send_heartbeat(int64_t now);
   bool send(const Message& message, uint64_t token);
-  void fail(std::string reason);
+  void fail(std::string reason, bool authentication = false);
   void restart_session(int64_t now, const char* why);
 
   void handle_welcome(const Datagram& datagram, int64_t now);
@@ -184,6 +197,11 @@ class VisibilityClient {
   void publish(Eye eye, const ReassembledFrame& frame, int64_t now);
   void publish_quiet_partials(int64_t now);
   void count_rejection(DecodeError error, int64_t now);
+  // With a key: checks the datagram's protection and returns the plain datagram (`bytes` itself when it is not
+  // protected, else opened into rx_bytes_); std::nullopt when dropped (counted). `authenticated`: it carried
+  // a valid tag or seal.
+  std::optional<std::span<const uint8_t>> unwrap(std::span<const uint8_t> bytes, int64_t now, bool& authenticated);
+  void count_auth_drop(uint64_t ClientNetStats::*counter, const char* what, int64_t now);
 
   const VisibilityClientConfig config_;
   net::DatagramSender& sender_;
@@ -192,6 +210,7 @@ class VisibilityClient {
   mutable std::mutex mutex_;
   State state_ = State::kIdle;
   std::string failure_;
+  bool failed_authentication_ = false;
   uint64_t rng_state_;
   uint64_t nonce_ = 0;
   uint64_t token_ = 0;
@@ -215,6 +234,13 @@ class VisibilityClient {
   std::array<int64_t, kDecodeErrorCount> last_log_ns_{};
   Datagram rx_;                                    // decode target (a shard is ~1.3 KB)
   std::array<uint8_t, kMaxDatagramSize> tx_{};     // encode buffer
+  std::array<uint8_t, kMaxDatagramSize> rx_bytes_{};  // an opened datagram
+  std::optional<secure::HandshakeKey> handshake_key_;  // from config_.key
+  secure::Random client_random_{};   // this handshake's (the same on every retry of its Hello)
+  secure::Random server_random_{};   // from the newest verified handshake datagram
+  secure::SessionKeys keys_;         // the session's, from the Welcome
+  secure::ReplayWindow replay_;      // of the session's sealed datagrams
+  int64_t last_auth_log_ns_ = 0;
   std::atomic<uint64_t> frames_taken_{0};
 };
 

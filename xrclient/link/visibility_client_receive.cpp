@@ -17,7 +17,15 @@ void add_frame_counts(ReassemblerStats& into, const ReassemblerStats& from) {
 
 bool refuses_hello(ByeReason reason) {
   return reason == ByeReason::kBadHello || reason == ByeReason::kUnknownScene ||
-         reason == ByeReason::kVersionMismatch;
+         reason == ByeReason::kVersionMismatch || reason == ByeReason::kAuthRequired ||
+         reason == ByeReason::kAuthFailed;
+}
+
+// A refusal the server cannot authenticate (it cannot prove a key we do not share, or it speaks another
+// version): taken in the clear, while handshaking only.
+bool plain_refusal(ByeReason reason, bool have_key) {
+  return reason == ByeReason::kVersionMismatch ||
+         (have_key ? reason == ByeReason::kAuthFailed : reason == ByeReason::kAuthRequired);
 }
 
 }  // namespace
@@ -27,6 +35,12 @@ void VisibilityClient::on_datagram(std::span<const uint8_t> bytes) { on_datagram
 void VisibilityClient::on_datagram(std::span<const uint8_t> bytes, int64_t now) {
   const std::lock_guard lock(mutex_);
   ++stats_.datagrams_received;
+  bool authenticated = false;
+  if (handshake_key_) {
+    const std::optional<std::span<const uint8_t>> plain = unwrap(bytes, now, authenticated);
+    if (!plain) return;
+    bytes = *plain;
+  }
   const DecodeError error = decode_datagram(bytes, rx_);
   if (error != DecodeError::kNone) {
     ++stats_.datagrams_rejected;
@@ -36,6 +50,26 @@ void VisibilityClient::on_datagram(std::span<const uint8_t> bytes, int64_t now) 
         decode_header(bytes, header) == DecodeError::kWrongVersion)
       fail("the server speaks protocol version " + std::to_string(header.version) + ", this client version " +
            std::to_string(kProtocolVersion));
+    return;
+  }
+  if (handshake_key_ && !authenticated) {
+    // In the clear with a key: only what no key can prove is taken (a refusal; a plain Welcome ends the
+    // handshake with the reason).
+    if (const auto* bye = std::get_if<Bye>(&rx_.message); bye && plain_refusal(bye->reason, true)) {
+      handle_bye(rx_, now);
+    } else if (std::holds_alternative<Welcome>(rx_.message) && state_ == State::kHandshaking &&
+               std::get<Welcome>(rx_.message).client_nonce == nonce_) {
+      fail("the server answered without authentication (is it running with --insecure?); this client has a "
+           "key and takes no unauthenticated session", true);
+    } else {
+      ++stats_.datagrams_rejected;
+      count_auth_drop(&ClientNetStats::unauthenticated, "a datagram without authentication", now);
+    }
+    return;
+  }
+  if (const auto* bye = std::get_if<Bye>(&rx_.message);
+      !handshake_key_ && bye != nullptr && bye->reason == ByeReason::kAuthFailed) {
+    ++stats_.datagrams_foreign;  // the answer to a tagged Hello: not ours (we sent no tag)
     return;
   }
   switch (message_type(rx_.message)) {
@@ -77,6 +111,11 @@ void VisibilityClient::handle_welcome(const Datagram& datagram, int64_t now) {
   }
   ++stats_.datagrams_handled;
   if (!(w.capabilities & kCapabilityLz4RowShards)) return fail("the server does not offer the LZ4 shard codec");
+  if (handshake_key_) {  // the Welcome's tag verified against this Hello's random: derive the session's keys
+    keys_ = secure::derive_session_keys(*config_.key, client_random_, server_random_, datagram.session_token);
+    replay_.reset();
+    replay_.accept(datagram.sequence);
+  }
   if ((w.capabilities & kCapabilityCodecV2) && !config_.codec_v2)
     return fail("the server granted codec v2, which this client did not offer");
   if (w.format().display != config_.format.display)
@@ -143,6 +182,11 @@ void VisibilityClient::handle_bye(const Datagram& datagram, int64_t now) {
   ++stats_.datagrams_handled;
   ++stats_.byes_received;
   if (ours) sequences_.add(datagram.sequence);
+  if (reason == ByeReason::kAuthFailed)
+    return fail("the server rejected this client's key (authentication failed): the server and the client need "
+                "the same key file", true);
+  if (reason == ByeReason::kAuthRequired)
+    return fail("the server requires authentication: give the deployment's key with --key-file FILE", true);
   if (refuses_hello(reason)) return fail(std::string("the server refused the Hello: ") + to_string(reason));
   restart_session(now, to_string(reason));
 }
@@ -219,6 +263,61 @@ void VisibilityClient::publish_quiet_partials(int64_t now) {
         now - state.last_shard_ns >= config_.partial_publish_after_ns)
       publish(eye, *frame, now);
   }
+}
+
+std::optional<std::span<const uint8_t>> VisibilityClient::unwrap(std::span<const uint8_t> bytes, int64_t now,
+                                                                 bool& authenticated) {
+  authenticated = false;
+  // Short, another version, or plain: the decoder judges it (and what a plain one may say, after decoding).
+  const uint16_t flags = secure::datagram_flags(bytes);
+  if (bytes.size() < kHeaderSize || bytes[4] != kProtocolVersion || flags == 0) return bytes;
+  if (flags == secure::kFlagAuthenticated) {
+    // Bound to this Hello's random (Welcome, a refusal), or to nothing (Bye(unknown session): the server lost
+    // the session, e.g. it restarted).
+    auto v = handshake_key_->verify(bytes, rx_bytes_, client_random_);
+    if (!v && bytes.size() > 5 && bytes[5] == static_cast<uint8_t>(MessageType::kBye)) {
+      v = handshake_key_->verify(bytes, rx_bytes_);
+    }
+    if (!v) {
+      ++stats_.datagrams_rejected;
+      count_auth_drop(&ClientNetStats::auth_failed, "a handshake tag that does not verify", now);
+      return std::nullopt;
+    }
+    server_random_ = v->random;
+    authenticated = true;
+    return std::span<const uint8_t>(rx_bytes_.data(), v->size);
+  }
+  if (flags == secure::kFlagSealed) {
+    uint64_t token = 0;
+    for (size_t i = 0; i < 8; ++i) token |= uint64_t{bytes[8 + i]} << (8 * i);
+    if (state_ != State::kConnected || token != token_) {
+      ++stats_.datagrams_foreign;
+      return std::nullopt;
+    }
+    const std::optional<size_t> n = secure::open(keys_.server_to_client, bytes, rx_bytes_);
+    if (!n) {
+      ++stats_.datagrams_rejected;
+      count_auth_drop(&ClientNetStats::auth_failed, "a sealed datagram that does not open", now);
+      return std::nullopt;
+    }
+    if (!replay_.accept(secure::datagram_sequence(bytes))) {
+      ++stats_.datagrams_rejected;
+      count_auth_drop(&ClientNetStats::replayed, "a replayed datagram", now);
+      return std::nullopt;
+    }
+    authenticated = true;
+    return std::span<const uint8_t>(rx_bytes_.data(), *n);
+  }
+  return bytes;  // unknown flags: the decoder rejects them (reserved field)
+}
+
+void VisibilityClient::count_auth_drop(uint64_t ClientNetStats::*counter, const char* what, int64_t now) {
+  ++(stats_.*counter);
+  if (last_auth_log_ns_ != 0 && now - last_auth_log_ns_ < net::kNsPerSecond) return;
+  last_auth_log_ns_ = now == 0 ? 1 : now;
+  log::warn("visibility client: dropped %s (auth failed %llu, replayed %llu, unauthenticated %llu so far)", what,
+            static_cast<unsigned long long>(stats_.auth_failed), static_cast<unsigned long long>(stats_.replayed),
+            static_cast<unsigned long long>(stats_.unauthenticated));
 }
 
 void VisibilityClient::count_rejection(DecodeError error, int64_t now) {
