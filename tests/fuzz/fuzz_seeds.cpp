@@ -8,6 +8,8 @@
 #include "fuzz_layouts.hpp"
 #include "fuzz_support.hpp"
 #include "protocol_fixtures.hpp"
+#include "secure/envelope.hpp"
+#include "secure/key.hpp"
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -40,6 +42,36 @@ std::vector<Seed> datagram_seeds() {
   if (other_version.size() > 4) other_version[4] = kProtocolVersion + 1;
   out.push_back({"hello_version2", other_version});
   return out;
+}
+
+// The fixed key of fuzz_secure_datagram.cpp.
+secure::Key fuzz_key() {
+  std::array<uint8_t, secure::kKeySize> bytes{};
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<uint8_t>(i * 7 + 1);
+  return secure::Key(bytes);
+}
+
+std::vector<Seed> secure_datagram_seeds() {
+  std::vector<Seed> out;
+  const secure::Key key = fuzz_key();
+  const secure::HandshakeKey handshake(key);
+  for (const Datagram& d : test::sample_datagrams()) {
+    const Bytes plain = encode_datagram(d);
+    Bytes sealed(plain.size() + secure::kSealTagSize);
+    if (secure::seal(key, plain, sealed) > 0) out.push_back({std::string("sealed_") + to_string(message_type(d.message)), sealed});
+    Bytes tagged(plain.size() + secure::kHandshakeTrailerSize);
+    std::copy(plain.begin(), plain.end(), tagged.begin());
+    secure::Random random{};
+    random[0] = 42;
+    if (handshake.authenticate(tagged, plain.size(), random) > 0)
+      out.push_back({std::string("tagged_") + to_string(message_type(d.message)), tagged});
+  }
+  return out;
+}
+
+std::vector<Seed> key_file_seeds() {
+  const std::string text = "# deployment key\n" + secure::format_key(fuzz_key());
+  return {{"key", Bytes(text.begin(), text.end())}, {"empty", Bytes{}}};
 }
 
 struct TestBuffer {
@@ -241,7 +273,8 @@ std::vector<Seed> pose_trace_seeds() {
 }  // namespace
 
 std::vector<std::string> seed_targets() {
-  return {"datagram", "shard_payload", "shard_payload_v2", "codec_roundtrip", "reassembler", "scene", "pose_trace"};
+  return {"datagram",   "shard_payload", "shard_payload_v2", "codec_roundtrip", "reassembler",
+          "scene",      "pose_trace",    "secure_datagram",  "key_file"};
 }
 
 std::vector<Seed> seeds_for(const std::string& target) {
@@ -252,6 +285,8 @@ std::vector<Seed> seeds_for(const std::string& target) {
   if (target == "reassembler") return reassembler_seeds();
   if (target == "scene") return scene_seeds();
   if (target == "pose_trace") return pose_trace_seeds();
+  if (target == "secure_datagram") return secure_datagram_seeds();
+  if (target == "key_file") return key_file_seeds();
   return {};
 }
 
