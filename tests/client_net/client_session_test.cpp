@@ -166,6 +166,22 @@ TEST(ClientSession, TimeoutRestartsWithANewNonce) {
   EXPECT_EQ(h.client.stats().sessions_started, 2u);
 }
 
+TEST(ClientSession, AClientThatHadASessionNeverGivesUpOnTheServer) {
+  Harness h;  // keep_retrying off: only a client that never reached a server gives up
+  h.connect();
+  h.run_for(5'100 * kMs);  // the server went silent: the session times out
+  EXPECT_FALSE(h.client.connected());
+  h.run_for(30'000 * kMs);  // far past the 5 s give-up time
+  EXPECT_FALSE(h.client.failed()) << h.client.failure();
+  const ClientNetStats s = h.client.stats();
+  EXPECT_GT(s.hellos_backed_off, 0u);
+  const auto hellos = h.received<Hello>();
+  h.server_send(h.welcome_for(hellos.back().client_nonce));  // the server is back
+  h.run_for(kMs);
+  EXPECT_TRUE(h.client.connected());
+  EXPECT_EQ(h.client.stats().sessions_started, 2u);
+}
+
 TEST(ClientSession, ByeUnknownSessionRestartsAndAForeignByeDoesNot) {
   Harness h;
   h.connect();

@@ -64,6 +64,7 @@ assert local == back - first_lost and local > 60, "every frame without the serve
 assert sum(have[back:]) > 60 and have[-1], "server visibility again after the restart"
 assert summary["frames_local"] >= local and summary["pixels_shadow_map"] > 0, summary
 assert summary["net"]["sessions_restarted"] >= 1 and summary["net"]["hellos_backed_off"] >= 1, summary["net"]
+assert summary["reconnects"] == summary["net"]["sessions_restarted"], summary
 # Visibility traced by the second server is for frames after the restart.
 assert frames[-1]["eyes"][0]["visibility_frame"] > back, frames[-1]
 PY

@@ -98,6 +98,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   j["view"] = options.view == "light" ? "light:" + std::to_string(options.view_light) : options.view;
   j["frames_with_visibility"] = frames.frames_with_visibility();
   j["frames_local"] = frames.frames_local();
+  j["reconnects"] = net.sessions_restarted;
   j["pixels_shadow_map"] = frames.pixels_shadow_map();
   j["pixels_other_eye"] = frames.pixels_other_eye();
   j["pixels_older"] = frames.pixels_older();

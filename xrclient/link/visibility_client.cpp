@@ -154,7 +154,9 @@ void VisibilityClient::tick() {
       break;
     case State::kHandshaking: {
       const bool past_give_up = now - handshake_start_ns_ >= config_.hello_give_up_ns;
-      if (past_give_up && !config_.keep_retrying) {
+      // Once a session existed the server is worth waiting for (it restarted, the network came back): only a
+      // client that never reached one gives up, unless it keeps retrying anyway.
+      if (past_give_up && !config_.keep_retrying && stats_.sessions_started == 0) {
         fail("no Welcome from the server after " + std::to_string(stats_.hellos_sent) + " Hello(s) in " +
              std::to_string((now - handshake_start_ns_) / net::kNsPerMs) + " ms");
       } else if (now - last_hello_ns_ >= hello_interval_ns_) {

@@ -54,8 +54,9 @@ struct VisibilityClientConfig {
   int64_t hello_retry_ns = 250 * net::kNsPerMs;
   int64_t hello_give_up_ns = 5 * net::kNsPerSecond;
   // Offline mode: past hello_give_up_ns keep sending Hello, the interval doubling from hello_retry_ns up to
-  // hello_backoff_max_ns, instead of failing (the client shades with its own shadow maps meanwhile). A server
-  // that refuses the Hello still ends the session for good.
+  // hello_backoff_max_ns, instead of failing (the client shades with its own shadow maps meanwhile). A client
+  // that once had a session does so whatever this says (its server restarted or the network came back). A
+  // server that refuses the Hello still ends the session for good.
   bool keep_retrying = false;
   int64_t hello_backoff_max_ns = 2 * net::kNsPerSecond;
   size_t max_frames_in_flight = 4;  // reassembler frames per eye, 2..64
