@@ -154,6 +154,11 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
                "widen each eye's traced field of view beyond the guard band by how far the displayed views "
                "recently strayed from the traced ones (within the session's buffer: coarser pixels)")
       ->group(kServeGroup);
+  bool no_rate_adapt = false;
+  app.add_flag("--no-rate-adapt", no_rate_adapt,
+               "trace every session as often as it sends poses, whatever its client reports losing (by default a "
+               "session whose client reports more than 10 % loss is traced less often, docs/reliability.md)")
+      ->group(kServeGroup);
   auto* gen_key = app.add_option("--gen-key", out.gen_key_path,
                                  "write a new random deployment key to FILE (mode 0600, never over an existing "
                                  "file) and exit; give the same file to the server and its clients (--key-file)")
@@ -201,6 +206,7 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       return fail("--guard: eye size plus guard band exceeds " + std::to_string(kMaxBufferDimension) + " pixels");
   }
   if (no_skip) out.tracer.skip = SkipOptions::none();
+  out.rate_adapt = !no_rate_adapt;
   out.codec_v2 = codec == "v2";
   out.skip_identical_pose = !trace_identical;
   if (*serve) {

@@ -39,6 +39,7 @@ struct VisibilityService::Session {
   int64_t pending_receive_ns = 0;
   PosePredictor predictor;        // used with ServiceConfig::predict or adaptive_fov (frame period)
   FovMarginTracker fov_margin;    // used with ServiceConfig::adaptive_fov
+  SendRateController rate;        // used with ServiceConfig::rate_control
   int64_t last_process_ns = 0;    // the last trace-and-send of both eyes (service clock)
   // The last pose handed to the tracer (identical-pose skip).
   bool have_traced = false;

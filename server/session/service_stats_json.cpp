@@ -17,6 +17,8 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
           {"replayed", s.replayed},
           {"unauthenticated", s.unauthenticated},
           {"hellos_replayed", s.hellos_replayed},
+          {"rate_decreases", s.rate_decreases},
+          {"sessions_rate_capped", s.sessions_rate_capped},
           {"hellos", s.hellos},
           {"hellos_repeated", s.hellos_repeated},
           {"hellos_rejected", s.hellos_rejected},

@@ -187,6 +187,10 @@ void VisibilityService::handle_session_message(const Datagram& datagram, const n
       s.peer_heartbeat_send_ns = hb->send_time_ns;
       s.peer_heartbeat_receive_ns = now;
       if (hb->echo_time_ns != 0) s.offset.add_echo(hb->echo_time_ns, hb->echo_delay_ns, hb->send_time_ns, now);
+      const uint64_t decreases = s.rate.decreases();
+      s.rate.on_report(now, hb->datagrams_received, s.datagrams_sent.load(std::memory_order_relaxed),
+                       s.frames_done.load(std::memory_order_relaxed));
+      stats_.rate_decreases += s.rate.decreases() - decreases;
       // Echo at once (a tight clock sample for the client), at most 4 times per heartbeat interval.
       if (!s.echoed || now - s.last_echo_ns >= config_.heartbeat_interval_ns / 4) {
         s.echoed = true;
@@ -240,14 +244,20 @@ void VisibilityService::close_all(ByeReason reason) {
 
 bool VisibilityService::wait_for_pending(int64_t timeout_ns) {
   std::unique_lock lock(mutex_);
-  const auto any_pending = [&] {
+  // Pending and due (a session whose trace rate is capped waits for its next slot).
+  const auto any_due = [&] {
+    const int64_t now = clock_.now_ns();
     for (const auto& [token, s] : sessions_)
-      if (s->pending) return true;
+      if (s->pending && s->rate.due(now, s->last_trace_ns)) return true;
     return false;
   };
-  work_ready_.wait_for(lock, std::chrono::nanoseconds(timeout_ns), [&] { return interrupted_ || any_pending(); });
+  const int64_t now = clock_.now_ns();
+  for (const auto& [token, s] : sessions_) {
+    if (s->pending) timeout_ns = std::min(timeout_ns, std::max<int64_t>(s->rate.next_due_ns(s->last_trace_ns) - now, 0));
+  }
+  work_ready_.wait_for(lock, std::chrono::nanoseconds(timeout_ns), [&] { return interrupted_ || any_due(); });
   interrupted_ = false;
-  return any_pending();
+  return any_due();
 }
 
 void VisibilityService::interrupt_wait() {
@@ -262,6 +272,7 @@ ServiceStats VisibilityService::stats() const {
   std::lock_guard lock(mutex_);
   ServiceStats out = stats_;
   out.sessions_active = sessions_.size();
+  for (const auto& [token, s] : sessions_) out.sessions_rate_capped += s->rate.cap_fps() ? 1 : 0;
   out.datagrams_sent = datagrams_sent_.load(std::memory_order_relaxed);
   out.bytes_sent = bytes_sent_.load(std::memory_order_relaxed);
   out.send_failures = send_failures_.load(std::memory_order_relaxed);

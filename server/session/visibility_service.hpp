@@ -17,6 +17,7 @@
 #include "secure/envelope.hpp"
 #include "secure/key.hpp"
 #include "fov_margin.hpp"
+#include "session/rate_control.hpp"
 #include "pose_predictor.hpp"
 #include "visibility_tracer.hpp"
 
@@ -68,6 +69,9 @@ struct ServiceConfig {
   // beyond the guard band by the recent shortfall of the traced views against the views the client displayed
   // (the horizon is the automatic one above, or predict_horizon_ns), within the session's buffer.
   FovMarginConfig adaptive_fov;
+  // Per-session trace rate from the client's reports of what arrived (session/rate_control.hpp), off by
+  // default; dhr-server turns it on.
+  RateControlConfig rate_control;
   // Unsolicited replies (Bye to an unknown token, a rejected Hello, another version's Hello) are
   // limited to this many per second over all peers: no reflection flood toward a spoofed source.
   uint32_t max_unsolicited_replies_per_second = 20;
@@ -119,6 +123,8 @@ struct ServiceStats {
   double prediction_horizon_ms = 0.0;    // sum of the horizons used
   uint64_t eyes_fov_widened = 0;         // eyes traced with a FOV widened beyond the guard band (adaptive_fov)
   double fov_span_ratio = 0.0;           // sum over traced eyes (adaptive_fov) of widened / display tangent area
+  uint64_t rate_decreases = 0;           // a session's trace rate capped lower after its client reported loss
+  uint64_t sessions_rate_capped = 0;     // sessions whose trace rate is capped now
   uint64_t eyes_coded_v2_inter = 0;      // eyes sent with codec v2 against an acknowledged reference
   uint64_t eyes_coded_v2_intra = 0;      // eyes sent with codec v2 on their own
   double trace_ms = 0.0;                 // sums over all eyes traced (tracer wall time)

@@ -133,6 +133,7 @@ void VisibilityService::handle_hello(const Hello& hello, const std::optional<sec
       }
       if (config_.predict || config_.adaptive_fov.enabled) session->predictor = PosePredictor(config_.predictor);
       if (config_.adaptive_fov.enabled) session->fov_margin = FovMarginTracker(config_.adaptive_fov);
+      session->rate = SendRateController(config_.rate_control);
       session->last_receive_ns = now;
       session->last_heartbeat_sent_ns = now;
       session->datagrams_received = 1;

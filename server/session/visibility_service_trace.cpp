@@ -15,6 +15,7 @@ size_t VisibilityService::process_pending() {
     const int64_t now = clock_.now_ns();
     for (auto& [token, s] : sessions_) {
       if (!s->pending) continue;
+      if (!s->rate.due(now, s->last_trace_ns)) continue;  // capped: the pose waits (a newer one replaces it)
       PoseUpdate pose = *s->pending;
       s->pending.reset();
       const bool identical = s->have_traced && same_view(pose.views[0], s->traced_views[0]) &&
