@@ -44,6 +44,7 @@ int run_serve_command(const ServerOptions& options) {
   config.predict = options.predict;
   config.adaptive_fov.enabled = options.adaptive_fov;
   config.rate_control.enabled = options.rate_adapt;
+  config.workers = options.workers;
   config.codec_v2 = options.codec_v2;
   if (options.predict_horizon_ms >= 0.0)
     config.predict_horizon_ns = static_cast<int64_t>(options.predict_horizon_ms * static_cast<double>(net::kNsPerMs));

@@ -154,6 +154,12 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
                "widen each eye's traced field of view beyond the guard band by how far the displayed views "
                "recently strayed from the traced ones (within the session's buffer: coarser pixels)")
       ->group(kServeGroup);
+  app.add_option("--workers", out.workers,
+                 "sessions traced in parallel, one per worker at a time (the Embree backend; Vulkan traces one at a "
+                 "time)")
+      ->check(CLI::Range(1u, 64u))
+      ->capture_default_str()
+      ->group(kServeGroup);
   bool no_rate_adapt = false;
   app.add_flag("--no-rate-adapt", no_rate_adapt,
                "trace every session as often as it sends poses, whatever its client reports losing (by default a "

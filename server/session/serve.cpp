@@ -12,6 +12,7 @@
 #include <memory>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 namespace dhr::server {
 namespace {
@@ -96,11 +97,18 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
   std::fflush(stderr);
 
   std::atomic<bool> stopping{false};
-  std::thread worker([&] {
-    while (!stopping.load(std::memory_order_acquire)) {
-      if (service.wait_for_pending(100 * net::kNsPerMs)) service.process_pending();
-    }
-  });
+  // Sessions are traced in parallel by up to `workers` threads (one session each at a time); the Vulkan
+  // tracer takes one call at a time.
+  const uint32_t workers =
+      tracer.backend() == TracerBackend::kEmbree ? std::max<uint32_t>(1, options.service.workers) : 1u;
+  std::vector<std::thread> worker_threads;
+  for (uint32_t i = 0; i < workers; ++i) {
+    worker_threads.emplace_back([&] {
+      while (!stopping.load(std::memory_order_acquire)) {
+        if (service.wait_for_pending(100 * net::kNsPerMs)) service.process_pending();
+      }
+    });
+  }
 
   const int64_t start_ns = clock.now_ns();
   const int64_t limit_ns = options.max_seconds > 0.0 ? static_cast<int64_t>(options.max_seconds * 1e9) : 0;
@@ -123,7 +131,7 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
 
   stopping.store(true, std::memory_order_release);
   service.interrupt_wait();
-  worker.join();
+  for (std::thread& t : worker_threads) t.join();
   service.close_all(ByeReason::kShutdown);
   // Let the Byes out: the impairment holds them for its delay, and the socket discards what is still
   // queued when it stops.

@@ -40,6 +40,7 @@ struct VisibilityService::Session {
   PosePredictor predictor;        // used with ServiceConfig::predict or adaptive_fov (frame period)
   FovMarginTracker fov_margin;    // used with ServiceConfig::adaptive_fov
   SendRateController rate;        // used with ServiceConfig::rate_control
+  bool busy = false;              // a worker is tracing it (claim_work)
   int64_t last_process_ns = 0;    // the last trace-and-send of both eyes (service clock)
   // The last pose handed to the tracer (identical-pose skip).
   bool have_traced = false;

@@ -248,7 +248,7 @@ bool VisibilityService::wait_for_pending(int64_t timeout_ns) {
   const auto any_due = [&] {
     const int64_t now = clock_.now_ns();
     for (const auto& [token, s] : sessions_)
-      if (s->pending && s->rate.due(now, s->last_trace_ns)) return true;
+      if (s->pending && !s->busy && s->rate.due(now, s->last_trace_ns)) return true;
     return false;
   };
   const int64_t now = clock_.now_ns();

@@ -72,6 +72,9 @@ struct ServiceConfig {
   // Per-session trace rate from the client's reports of what arrived (session/rate_control.hpp), off by
   // default; dhr-server turns it on.
   RateControlConfig rate_control;
+  // Worker threads run_serve starts to trace sessions in parallel (one session per worker at a time); the
+  // Vulkan tracer takes one at a time, so it is clamped to 1 there.
+  uint32_t workers = 1;
   // Unsolicited replies (Bye to an unknown token, a rejected Hello, another version's Hello) are
   // limited to this many per second over all peers: no reflection flood toward a spoofed source.
   uint32_t max_unsolicited_replies_per_second = 20;
@@ -147,9 +150,11 @@ class VisibilityService {
   // traces.
   void on_datagram(std::span<const uint8_t> bytes, const net::PeerAddress& from);
 
-  // For every session with a pending pose: traces both eyes of the newest pose, encodes and sends all
-  // shards to the session's peer. Returns the number of (session, frame) pairs traced. One caller at a
-  // time (calls are serialized internally). Never throws (tracer errors are counted).
+  // Until no session is left to trace: claims the due session with a pending pose that was traced least
+  // recently and no other caller is tracing, traces both eyes of its newest pose, encodes and sends all shards
+  // to its peer. Returns the number of (session, frame) pairs traced. Several threads may call it at once
+  // (ServiceConfig::workers): each session is traced by one of them at a time; the tracer must then allow
+  // concurrent calls (Embree does). Never throws (tracer errors are counted).
   size_t process_pending();
 
   // Timeouts (Bye(timeout) once, session dropped) and a heartbeat to each session every interval.
@@ -214,7 +219,8 @@ class VisibilityService {
   bool trace_and_send(const Work& work);
   void widen_fov(Session& s, int64_t target_time_ns, std::array<View, 2>& views);
   std::vector<VisibilityShard> encode_v2(Session& s, Eye eye, const Work& work, const Camera& camera,
-                                         uint64_t& inter_eyes, uint64_t& intra_eyes);
+                                         const VisibilityBuffer& traced, uint64_t& inter_eyes, uint64_t& intra_eyes);
+  std::optional<Work> claim_work();
 
   VisibilityTracer& tracer_;
   const ServiceConfig config_;
@@ -244,8 +250,6 @@ class VisibilityService {
   std::atomic<uint64_t> shards_sent_{0};
   std::atomic<uint32_t> unsolicited_sequence_{0};
 
-  std::mutex trace_mutex_;  // serializes process_pending (scratch buffers below)
-  VisibilityBuffer traced_;  // the session's requested lights only (VisibilityTracer::trace_lights)
 };
 
 // Whether a Hello's scene id names the served scene: empty, equal, or a path / file name whose stem

@@ -7,58 +7,75 @@ namespace dhr::server {
 
 using namespace session_detail;
 
-size_t VisibilityService::process_pending() {
-  std::lock_guard trace_lock(trace_mutex_);
-  std::vector<Work> work;
-  {
-    std::lock_guard lock(mutex_);
-    const int64_t now = clock_.now_ns();
+// Claims the next session to trace (under mutex_): due, pending, not being traced by another worker, and the
+// one traced least recently (never traced first), so sessions take turns whoever sends faster. A pose
+// identical to the last one traced is skipped (counted) and the search goes on. Marks the session busy.
+std::optional<VisibilityService::Work> VisibilityService::claim_work() {
+  const int64_t now = clock_.now_ns();
+  for (;;) {
+    std::shared_ptr<Session> next;
     for (auto& [token, s] : sessions_) {
-      if (!s->pending) continue;
-      if (!s->rate.due(now, s->last_trace_ns)) continue;  // capped: the pose waits (a newer one replaces it)
-      PoseUpdate pose = *s->pending;
-      s->pending.reset();
-      const bool identical = s->have_traced && same_view(pose.views[0], s->traced_views[0]) &&
-                             same_view(pose.views[1], s->traced_views[1]);
-      const bool refresh_due = config_.identical_refresh_ns > 0 && now - s->last_trace_ns >= config_.identical_refresh_ns;
-      if (config_.skip_identical_pose && identical && !refresh_due) {
-        ++stats_.poses_skipped_identical;
-        ++s->frames_dropped;
-        continue;
-      }
-      s->have_traced = true;
-      s->traced_views = pose.views;
-      s->last_trace_ns = now;
-      Work w{s, pose, {s->codec[0].acked, s->codec[1].acked}};
-      if (config_.predict || config_.adaptive_fov.enabled) {
-        int64_t horizon = config_.predict_horizon_ns;
-        if (horizon < 0) {
-          horizon = s->offset.rtt_ns() + (now - s->pending_receive_ns) + s->last_process_ns;
-          if (config_.horizon_on_frame_grid) horizon = round_up_to_frame_grid(horizon, s->predictor.frame_period_ns());
-        }
-        if (config_.predict) {
-          const PredictedViews predicted = s->predictor.predict(pose.display_time_ns + horizon);
-          w.traced.views = predicted.views;
-          ++stats_.frames_predicted;
-          if (predicted.fell_back) ++stats_.prediction_fallbacks;
-          stats_.prediction_horizon_ms += static_cast<double>(predicted.horizon_ns) / 1e6;
-        }
-        if (config_.adaptive_fov.enabled) widen_fov(*s, pose.display_time_ns + horizon, w.traced.views);
-      }
-      work.push_back(std::move(w));
+      if (!s->pending || s->busy || !s->rate.due(now, s->last_trace_ns)) continue;  // capped: the pose waits
+      if (!next || s->last_trace_ns < next->last_trace_ns) next = s;
     }
+    if (!next) return std::nullopt;
+    Session* s = next.get();
+    PoseUpdate pose = *s->pending;
+    s->pending.reset();
+    const bool identical = s->have_traced && same_view(pose.views[0], s->traced_views[0]) &&
+                           same_view(pose.views[1], s->traced_views[1]);
+    const bool refresh_due = config_.identical_refresh_ns > 0 && now - s->last_trace_ns >= config_.identical_refresh_ns;
+    if (config_.skip_identical_pose && identical && !refresh_due) {
+      ++stats_.poses_skipped_identical;
+      ++s->frames_dropped;
+      continue;
+    }
+    s->have_traced = true;
+    s->traced_views = pose.views;
+    s->last_trace_ns = now;
+    s->busy = true;
+    Work w{next, pose, {s->codec[0].acked, s->codec[1].acked}};
+    if (config_.predict || config_.adaptive_fov.enabled) {
+      int64_t horizon = config_.predict_horizon_ns;
+      if (horizon < 0) {
+        horizon = s->offset.rtt_ns() + (now - s->pending_receive_ns) + s->last_process_ns;
+        if (config_.horizon_on_frame_grid) horizon = round_up_to_frame_grid(horizon, s->predictor.frame_period_ns());
+      }
+      if (config_.predict) {
+        const PredictedViews predicted = s->predictor.predict(pose.display_time_ns + horizon);
+        w.traced.views = predicted.views;
+        ++stats_.frames_predicted;
+        if (predicted.fell_back) ++stats_.prediction_fallbacks;
+        stats_.prediction_horizon_ms += static_cast<double>(predicted.horizon_ns) / 1e6;
+      }
+      if (config_.adaptive_fov.enabled) widen_fov(*s, pose.display_time_ns + horizon, w.traced.views);
+    }
+    return w;
   }
+}
+
+size_t VisibilityService::process_pending() {
   size_t traced = 0;
-  for (const Work& w : work) {
+  for (;;) {
+    std::optional<Work> work;
+    {
+      std::lock_guard lock(mutex_);
+      work = claim_work();
+    }
+    if (!work) return traced;
     try {
-      traced += trace_and_send(w) ? 1 : 0;
+      traced += trace_and_send(*work) ? 1 : 0;
     } catch (const std::exception& e) {  // bad_alloc: the frame is lost, the service goes on
-      log::error("session %016llx: %s", static_cast<unsigned long long>(w.session->token), e.what());
+      log::error("session %016llx: %s", static_cast<unsigned long long>(work->session->token), e.what());
       std::lock_guard lock(mutex_);
       ++stats_.trace_errors;
     }
+    {
+      std::lock_guard lock(mutex_);
+      work->session->busy = false;
+    }
+    work_ready_.notify_one();  // a pose for it may have arrived meanwhile
   }
-  return traced;
 }
 
 // Adaptive FOV: remembers the views traced for the target time (measured when the client's pose for it
@@ -78,9 +95,10 @@ void VisibilityService::widen_fov(Session& s, int64_t target_time_ns, std::array
 
 // Codec v2 for one eye: against the frame the client acknowledged, if this eye's ring of sent frames still has
 // it (then fewer than kV2ReferenceFrames newer frames were sent, so the client still holds it), unless an intra
-// refresh is due; then remembers the traced buffer as a future reference. Worker only (trace_mutex_).
+// refresh is due; then remembers the traced buffer as a future reference. By the worker that claimed the session.
 std::vector<VisibilityShard> VisibilityService::encode_v2(Session& s, Eye eye, const Work& work, const Camera& camera,
-                                                         uint64_t& inter_eyes, uint64_t& intra_eyes) {
+                                                         const VisibilityBuffer& traced, uint64_t& inter_eyes,
+                                                         uint64_t& intra_eyes) {
   Session::EyeCodec& ec = s.codec[static_cast<size_t>(eye)];
   if (ec.sent.empty()) ec.sent.resize(kV2ReferenceFrames);
   const int64_t now = clock_.now_ns();
@@ -93,7 +111,7 @@ std::vector<VisibilityShard> VisibilityService::encode_v2(Session& s, Eye eye, c
   }
   const V2Reference reference{ref ? &ref->buffer : nullptr, ref ? ref->frame : 0, &camera, ref ? &ref->camera : nullptr};
   std::vector<EncodedShard> encoded;
-  if (!encode_visibility_v2(traced_, work.traced.frame, ref ? &reference : nullptr, config_.encode, encoded)) return {};
+  if (!encode_visibility_v2(traced, work.traced.frame, ref ? &reference : nullptr, config_.encode, encoded)) return {};
   if (ref) {
     ++inter_eyes;
   } else {
@@ -103,10 +121,10 @@ std::vector<VisibilityShard> VisibilityService::encode_v2(Session& s, Eye eye, c
   }
   Session::SentFrame& slot = ec.sent[ec.next];
   slot.frame = work.traced.frame;
-  slot.buffer = traced_;  // recycled storage after the ring's first round
+  slot.buffer = traced;  // recycled storage after the ring's first round
   slot.camera = camera;
   ec.next = (ec.next + 1) % ec.sent.size();
-  return shards_as_messages(traced_, work.traced.frame, eye, work.traced.views[static_cast<size_t>(eye)], encoded);
+  return shards_as_messages(traced, work.traced.frame, eye, work.traced.views[static_cast<size_t>(eye)], encoded);
 }
 
 bool VisibilityService::trace_and_send(const Work& work) {
@@ -117,13 +135,15 @@ bool VisibilityService::trace_and_send(const Work& work) {
   uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0;
   bool ok = true;
   const int64_t start_ns = clock_.now_ns();
+  // Each worker thread its own scratch (the session's requested lights only): no allocation in steady state.
+  thread_local VisibilityBuffer scratch;
   for (int e = 0; e < 2 && ok; ++e) {
     const View& view = work.traced.views[e];
     const Camera camera = format.camera(view);
     TraceStats trace_stats;
     try {
       // Only the lights the client asked for (the first light_count): the others cost no ray.
-      tracer_.trace_lights(camera, light_count, traced_, trace_stats);
+      tracer_.trace_lights(camera, light_count, scratch, trace_stats);
     } catch (const std::exception& ex) {
       log::warn("session %016llx frame %llu: trace failed: %s", static_cast<unsigned long long>(s.token),
                 static_cast<unsigned long long>(work.traced.frame), ex.what());
@@ -134,8 +154,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
     const int64_t encode_start = net::steady_now_ns();
     const std::vector<VisibilityShard> encoded =
         (s.welcome.capabilities & kCapabilityCodecV2)
-            ? encode_v2(s, static_cast<Eye>(e), work, camera, inter_eyes, intra_eyes)
-            : make_visibility_shards(traced_, work.traced.frame, static_cast<Eye>(e), view, config_.encode);
+            ? encode_v2(s, static_cast<Eye>(e), work, camera, scratch, inter_eyes, intra_eyes)
+            : make_visibility_shards(scratch, work.traced.frame, static_cast<Eye>(e), view, config_.encode);
     if (encoded.empty()) {
       ok = false;
       break;

@@ -1,6 +1,6 @@
 // Load and soak (docs/reliability.md): dhr-server as its own process (Embree, a deployment key, 8 sessions at
 // most) and 8 real clients in this process, each sending poses at 90 Hz over loopback UDP for DHR_SOAK_SECONDS
-// (default 4), while a ninth socket sprays 100,000 hostile datagrams at the server (random bytes, forged
+// (default 4; DHR_SOAK_WORKERS sets the server's --workers), while a ninth socket sprays 100,000 hostile datagrams at the server (random bytes, forged
 // sealed datagrams of unknown sessions, Hellos with a wrong key's tag, plain poses). Checks: the server runs
 // to the end and exits cleanly; its resident memory after the warm-up grows by less than 64 MiB; every client
 // keeps its one session (no failure, no restart, nothing dropped as unauthenticated on its side) and its share
@@ -137,6 +137,10 @@ TEST(Soak, EightClientsAt90HzWithAHostileSprayStayFairBoundedAndUnharmed) {
   spec.argv = {DHR_SERVER_EXE, "--scene", std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf",
                "--backend", "embree", "--port", "0", "--bind", "127.0.0.1", "--max-sessions",
                std::to_string(kClients), "--key-file", key_path, "--max-seconds", std::to_string(seconds + 60.0)};
+  if (const char* workers = std::getenv("DHR_SOAK_WORKERS")) {  // the server's --workers (default: its own)
+    spec.argv.push_back("--workers");
+    spec.argv.push_back(workers);
+  }
   spec.env = {{"DHR_LOG", "error"}};
   spec.deadline = std::chrono::milliseconds(static_cast<int64_t>((seconds + 90.0) * 1000.0));
   spec.on_output = [&](pid_t pid, const std::string&, const std::string& err) {

@@ -1,6 +1,11 @@
 // VisibilityService over a SimulatedLink and a VirtualClock, with the real Embree tracer on the default
-// room: handshake, sessions, pose handling, exact reassembly, fewer lights, prediction.
+// room: handshake, sessions, pose handling, exact reassembly, fewer lights, prediction, concurrent workers,
+// fair turns.
 #include "service_test_rig.hpp"
+
+#include <atomic>
+#include <set>
+#include <thread>
 
 namespace dhr::server {
 namespace {
@@ -215,6 +220,60 @@ TEST_F(VisibilityServiceTest, AutomaticHorizonLandsOnTheClientFrameGrid) {
     EXPECT_EQ(s.prediction_fallbacks, 1u);  // the first pose has no velocity: horizon 0
     EXPECT_NEAR(s.prediction_horizon_ms, grid ? 22.0 : 6.0, 1e-9);
   }
+}
+
+}  // namespace
+}  // namespace dhr::server
+
+namespace dhr::server {
+namespace {
+
+using namespace test_rig;
+
+TEST_F(VisibilityServiceTest, ConcurrentWorkersTraceEachPendingSessionOnceAndExactly) {
+  std::array<Welcome, 4> welcomes;
+  std::array<uint64_t, 4> tokens{};
+  std::array<std::array<View, 2>, 4> views;
+  for (uint8_t i = 0; i < 4; ++i) {
+    tokens[i] = connect(peer(static_cast<uint8_t>(10 + i)), 1, &welcomes[i]);
+    ASSERT_NE(tokens[i], 0u);
+  }
+  for (uint8_t i = 0; i < 4; ++i) views[i] = send_pose(tokens[i], peer(static_cast<uint8_t>(10 + i)), 5, bookmark_views(i));
+  std::atomic<size_t> traced{0};
+  std::thread other([&] { traced += service_->process_pending(); });
+  traced += service_->process_pending();
+  other.join();
+  EXPECT_EQ(traced.load(), 4u);
+  EXPECT_EQ(service_->stats().frames_traced, 4u);
+  auto sent = drain();
+  for (uint8_t i = 0; i < 4; ++i) {
+    const auto got = reassemble(welcomes[i], shards_of(sent[peer(static_cast<uint8_t>(10 + i))]), 5);
+    EXPECT_EQ(got[0], trace_directly(views[i][0])) << "session " << int{i};
+    EXPECT_EQ(got[1], trace_directly(views[i][1])) << "session " << int{i};
+  }
+}
+
+TEST_F(VisibilityServiceTest, AFloodingSessionIsTracedNoMoreOftenThanAPoliteOne) {
+  const uint64_t flood = connect(peer(1), 1);
+  const uint64_t polite = connect(peer(2), 1);
+  uint64_t frame = 0;
+  for (int round = 0; round < 5; ++round) {
+    for (int k = 0; k < 10; ++k) {
+      ++frame;
+      send_pose(flood, peer(1), frame, bookmark_views(static_cast<size_t>(frame)));
+    }
+    send_pose(polite, peer(2), static_cast<uint64_t>(round + 1), bookmark_views(static_cast<size_t>(round + 7)));
+    EXPECT_EQ(service_->process_pending(), 2u);  // one each
+  }
+  const auto sent = drain();
+  auto frames_of = [&](const net::PeerAddress& p) {
+    std::set<uint64_t> frames;
+    for (const VisibilityShard& s : shards_of(sent.at(p))) frames.insert(s.frame_number);
+    return frames.size();
+  };
+  EXPECT_EQ(frames_of(peer(1)), 5u);
+  EXPECT_EQ(frames_of(peer(2)), 5u);
+  EXPECT_EQ(service_->stats().poses_superseded, 5u * 9u);
 }
 
 }  // namespace
