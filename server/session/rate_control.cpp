@@ -23,6 +23,7 @@ void SendRateController::on_report(int64_t now_ns, uint32_t client_received, uin
   sent_ = sent;
   frames_ = frames_traced;
   if (sent_delta < 1.0) return;  // nothing sent: nothing learned
+  if (frame_rate > 0.0) datagrams_per_frame_ = sent_delta / (frame_rate * seconds);
   last_loss_ = std::clamp(1.0 - received_delta / sent_delta, 0.0, 1.0);
   if (last_loss_ > config_.loss_high) {
     const double target = std::max(config_.min_fps, frame_rate * (1.0 - last_loss_) * config_.decrease);
@@ -33,6 +34,11 @@ void SendRateController::on_report(int64_t now_ns, uint32_t client_received, uin
     *cap_fps_ += config_.increase_fps_per_s * seconds;
     if (*cap_fps_ >= config_.max_fps) cap_fps_.reset();
   }
+}
+
+std::optional<double> SendRateController::pacing_dps() const {
+  if (!cap_fps_ || datagrams_per_frame_ <= 0.0) return std::nullopt;
+  return *cap_fps_ * datagrams_per_frame_ / 0.9;
 }
 
 int64_t SendRateController::next_due_ns(int64_t last_trace_ns) const {

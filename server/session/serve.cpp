@@ -15,7 +15,10 @@
 #include <vector>
 
 namespace dhr::server {
+
 namespace {
+
+constexpr int64_t kPaceIntervalNs = 2 * net::kNsPerMs;  // how often pace() runs
 
 volatile std::sig_atomic_t g_stop_signal = 0;
 
@@ -114,10 +117,15 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
   const int64_t limit_ns = options.max_seconds > 0.0 ? static_cast<int64_t>(options.max_seconds * 1e9) : 0;
   int64_t last_report_ns = start_ns;
   ServiceStats reported = service.stats();
+  int64_t last_tick_ns = 0;
   while (g_stop_signal == 0) {
     const int64_t now = clock.now_ns();
     if (limit_ns > 0 && now - start_ns >= limit_ns) break;
-    service.tick();
+    service.pace();  // every pass: rate-capped sessions' datagrams leave a few at a time
+    if (last_tick_ns == 0 || now - last_tick_ns >= options.tick_interval_ns) {
+      service.tick();
+      last_tick_ns = now;
+    }
     if (now - last_report_ns >= net::kNsPerSecond) {
       const ServiceStats s = service.stats();
       if (s.datagrams_received != reported.datagrams_received || s.sessions_active != reported.sessions_active)
@@ -125,7 +133,8 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
       reported = s;
       last_report_ns = now;
     }
-    std::this_thread::sleep_for(std::chrono::nanoseconds(std::max<int64_t>(options.tick_interval_ns, net::kNsPerMs)));
+    std::this_thread::sleep_for(std::chrono::nanoseconds(std::clamp<int64_t>(options.tick_interval_ns, net::kNsPerMs,
+                                                                              kPaceIntervalNs)));
   }
   if (g_stop_signal != 0) std::fprintf(stderr, "serve: signal %d, shutting down\n", static_cast<int>(g_stop_signal));
 

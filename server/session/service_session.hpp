@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <deque>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -41,6 +43,12 @@ struct VisibilityService::Session {
   FovMarginTracker fov_margin;    // used with ServiceConfig::adaptive_fov
   SendRateController rate;        // used with ServiceConfig::rate_control
   bool busy = false;              // a worker is tracing it (claim_work)
+  // Pacing (rate control): while the trace rate is capped, the newest frame's datagrams, protected, wait here
+  // and pace() sends them at the controller's pacing rate; a newer frame's replace what is left.
+  std::mutex pace_mutex;
+  std::deque<std::vector<uint8_t>> paced;
+  double pace_credit = 1.0;
+  int64_t pace_last_ns = 0;
   int64_t last_process_ns = 0;    // the last trace-and-send of both eyes (service clock)
   // The last pose handed to the tracer (identical-pose skip).
   bool have_traced = false;
@@ -85,6 +93,7 @@ struct VisibilityService::Work {
   std::shared_ptr<Session> session;
   FramePose traced;
   std::array<std::optional<uint64_t>, 2> acked;  // codec v2: the client's acknowledgements when taken
+  bool paced = false;  // the session's rate is capped: its datagrams go through the pacing queue
 };
 
 namespace session_detail {

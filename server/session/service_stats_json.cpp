@@ -19,6 +19,7 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
           {"hellos_replayed", s.hellos_replayed},
           {"rate_decreases", s.rate_decreases},
           {"sessions_rate_capped", s.sessions_rate_capped},
+          {"datagrams_shed", s.datagrams_shed},
           {"hellos", s.hellos},
           {"hellos_repeated", s.hellos_repeated},
           {"hellos_rejected", s.hellos_rejected},

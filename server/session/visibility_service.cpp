@@ -233,6 +233,35 @@ void VisibilityService::tick() {
   if (!closed.empty()) notify(closed, nullptr);
 }
 
+void VisibilityService::pace() {
+  std::vector<std::pair<std::shared_ptr<Session>, std::optional<double>>> sessions;
+  {
+    std::lock_guard lock(mutex_);
+    sessions.reserve(sessions_.size());
+    for (const auto& [token, s] : sessions_) sessions.emplace_back(s, s->rate.pacing_dps());
+  }
+  const int64_t now = clock_.now_ns();
+  for (const auto& [s, dps] : sessions) {
+    std::lock_guard pace_lock(s->pace_mutex);
+    if (s->paced.empty()) {
+      s->pace_credit = 1.0;  // the next frame's first datagram leaves at once
+      s->pace_last_ns = now;
+      continue;
+    }
+    if (dps) {
+      s->pace_credit = std::min(s->pace_credit + *dps * static_cast<double>(now - s->pace_last_ns) * 1e-9, 2.0);
+    } else {
+      s->pace_credit = static_cast<double>(s->paced.size());  // the cap is gone: everything now
+    }
+    s->pace_last_ns = now;
+    while (s->pace_credit >= 1.0 && !s->paced.empty()) {
+      if (s->open.load(std::memory_order_acquire)) send_bytes(s.get(), s->paced.front(), s->peer);
+      s->paced.pop_front();
+      s->pace_credit -= 1.0;
+    }
+  }
+}
+
 void VisibilityService::close_all(ByeReason reason) {
   std::vector<std::pair<SessionInfo, ByeReason>> closed;
   {

@@ -24,6 +24,7 @@
 #include <array>
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -127,6 +128,7 @@ struct ServiceStats {
   uint64_t eyes_fov_widened = 0;         // eyes traced with a FOV widened beyond the guard band (adaptive_fov)
   double fov_span_ratio = 0.0;           // sum over traced eyes (adaptive_fov) of widened / display tangent area
   uint64_t rate_decreases = 0;           // a session's trace rate capped lower after its client reported loss
+  uint64_t datagrams_shed = 0;           // paced datagrams of a frame not sent before the next frame's came
   uint64_t sessions_rate_capped = 0;     // sessions whose trace rate is capped now
   uint64_t eyes_coded_v2_inter = 0;      // eyes sent with codec v2 against an acknowledged reference
   uint64_t eyes_coded_v2_intra = 0;      // eyes sent with codec v2 on their own
@@ -159,6 +161,9 @@ class VisibilityService {
 
   // Timeouts (Bye(timeout) once, session dropped) and a heartbeat to each session every interval.
   void tick();
+
+  // Sends what the pacing queues of rate-capped sessions may send by now (call often: every few ms).
+  void pace();
 
   // Bye(shutdown) to every session; all sessions are dropped. Later datagrams are handled as usual.
   void close_all(ByeReason reason = ByeReason::kShutdown);
@@ -203,8 +208,11 @@ class VisibilityService {
   // rejected Hello's random, or nothing); kPlain sends without protection (Bye(auth required / failed):
   // the peer cannot verify anything from us). Any thread.
   enum class Envelope : uint8_t { kAuto, kPlain };
+  // With `queue`, the protected datagram is appended there instead of being sent (pacing).
   size_t send_message(Session* session, uint64_t token, const Message& message, const net::PeerAddress& to,
-                      std::span<const uint8_t> bind = {}, Envelope envelope = Envelope::kAuto);
+                      std::span<const uint8_t> bind = {}, Envelope envelope = Envelope::kAuto,
+                      std::deque<std::vector<uint8_t>>* queue = nullptr);
+  bool send_bytes(Session* session, std::span<const uint8_t> bytes, const net::PeerAddress& to);
   // Checks an incoming datagram's protection (with a key) and returns the plain datagram: `bytes` itself or
   // a part of `out`. std::nullopt when it was dropped (counted; Byes telling the client why, within the
   // reply budget).

@@ -11,7 +11,7 @@ using namespace session_detail;
 
 size_t VisibilityService::send_message(Session* session, uint64_t token, const Message& message,
                                        const net::PeerAddress& to, std::span<const uint8_t> bind,
-                                       Envelope envelope) {
+                                       Envelope envelope, std::deque<std::vector<uint8_t>>* queue) {
   Datagram datagram;
   datagram.session_token = token;
   datagram.sequence = session ? session->next_sequence.fetch_add(1, std::memory_order_relaxed)
@@ -35,14 +35,22 @@ size_t VisibilityService::send_message(Session* session, uint64_t token, const M
       bytes = std::span<const uint8_t>(plain.data(), n);
     }
   }
+  if (queue != nullptr && !bytes.empty()) {
+    queue->emplace_back(bytes.begin(), bytes.end());
+    return bytes.size();
+  }
+  return send_bytes(session, bytes, to) ? bytes.size() : 0;
+}
+
+bool VisibilityService::send_bytes(Session* session, std::span<const uint8_t> bytes, const net::PeerAddress& to) {
   if (bytes.empty() || !sender_.send_to(bytes, to)) {
     send_failures_.fetch_add(1, std::memory_order_relaxed);
-    return 0;
+    return false;
   }
   datagrams_sent_.fetch_add(1, std::memory_order_relaxed);
   bytes_sent_.fetch_add(bytes.size(), std::memory_order_relaxed);
   if (session) session->datagrams_sent.fetch_add(1, std::memory_order_relaxed);
-  return bytes.size();
+  return true;
 }
 
 void VisibilityService::count_drop(uint64_t ServiceStats::*counter, const char* what, const net::PeerAddress& from) {

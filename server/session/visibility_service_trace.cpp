@@ -34,7 +34,7 @@ std::optional<VisibilityService::Work> VisibilityService::claim_work() {
     s->traced_views = pose.views;
     s->last_trace_ns = now;
     s->busy = true;
-    Work w{next, pose, {s->codec[0].acked, s->codec[1].acked}};
+    Work w{next, pose, {s->codec[0].acked, s->codec[1].acked}, s->rate.pacing_dps().has_value()};
     if (config_.predict || config_.adaptive_fov.enabled) {
       int64_t horizon = config_.predict_horizon_ns;
       if (horizon < 0) {
@@ -132,7 +132,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
   const TracedFormat format = s.welcome.format();
   const uint32_t light_count = s.welcome.light_count;
   double trace_ms = 0.0, encode_ms = 0.0;
-  uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0;
+  uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0, shed = 0;
   bool ok = true;
   const int64_t start_ns = clock_.now_ns();
   // Each worker thread its own scratch (the session's requested lights only): no allocation in steady state.
@@ -161,8 +161,18 @@ bool VisibilityService::trace_and_send(const Work& work) {
       break;
     }
     if (!s.open.load(std::memory_order_acquire)) return false;  // closed while tracing: nothing to send
-    for (const VisibilityShard& shard : encoded)
-      if (send_message(&s, s.token, shard, s.peer) > 0) ++shards;
+    if (work.paced) {  // into the pacing queue; what is left of an older frame is shed
+      std::lock_guard pace_lock(s.pace_mutex);
+      if (e == 0 && !s.paced.empty()) {
+        shed += s.paced.size();
+        s.paced.clear();
+      }
+      for (const VisibilityShard& shard : encoded)
+        if (send_message(&s, s.token, shard, s.peer, {}, Envelope::kAuto, &s.paced) > 0) ++shards;
+    } else {
+      for (const VisibilityShard& shard : encoded)
+        if (send_message(&s, s.token, shard, s.peer) > 0) ++shards;
+    }
     encode_ms += elapsed_ms(encode_start);
   }
   shards_sent_.fetch_add(shards, std::memory_order_relaxed);
@@ -171,6 +181,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
   stats_.encode_ms += encode_ms;
   stats_.eyes_coded_v2_inter += inter_eyes;
   stats_.eyes_coded_v2_intra += intra_eyes;
+  stats_.datagrams_shed += shed;
   if (!ok) {
     ++stats_.trace_errors;
     return false;

@@ -183,11 +183,12 @@ TEST(Bottleneck, AtTheBucketsRateTheServerCapsItsTraceRateAndFramesArriveWhole) 
   const Outcome on = run(ns, key_path, *key, true);
   std::filesystem::remove(key_path);
   for (const auto& [name, o] : {std::pair{"off", &off}, std::pair{"on", &on}}) {
-    std::printf("bottleneck %s Mbit/s, rate control %s: %llu poses, server traced %llu frames, sent %.1f Mbit/s, rate decreases %llu; "
+    std::printf("bottleneck %s Mbit/s, rate control %s: %llu poses, server traced %llu frames, sent %.1f Mbit/s, rate decreases %llu, shed %llu; "
                 "client: loss %.1f %%, frames completed %llu, evicted incomplete %llu, response mean %.1f ms (max %.1f)\n",
                 rate_text().c_str(), name, static_cast<unsigned long long>(o->poses),
                 static_cast<unsigned long long>(o->server.value("frames_traced", 0ull)),
                 o->server.value("bytes_sent", 0.0) * 8e-6 / 8.0, static_cast<unsigned long long>(o->server.value("rate_decreases", 0ull)),
+                static_cast<unsigned long long>(o->server.value("datagrams_shed", 0ull)),
                 100.0 * o->loss(), static_cast<unsigned long long>(o->client.frames_completed),
                 static_cast<unsigned long long>(o->client.frames_evicted), o->client.response.mean_ns() * 1e-6,
                 o->client.response.max_ns * 1e-6);
