@@ -10,6 +10,7 @@
 #include "child_process.hpp"
 #include "loopback_rig.hpp"
 #include "secure/key.hpp"
+#include "server_child.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -87,16 +88,6 @@ class NamespacePair {
   std::string server_ns_, client_ns_, server_address_;
 };
 
-uint16_t listening_port(const std::string& err) {
-  const size_t at = err.find("listening on ");
-  if (at == std::string::npos) return 0;
-  const size_t eol = err.find('\n', at);
-  const size_t colon = err.rfind(':', eol);
-  if (eol == std::string::npos || colon == std::string::npos || colon < at) return 0;
-  const int port = std::atoi(err.substr(colon + 1, eol - colon - 1).c_str());
-  return port > 0 && port < 65536 ? static_cast<uint16_t>(port) : 0;
-}
-
 struct Outcome {
   client::ClientNetStats client;
   std::string failure;
@@ -171,17 +162,9 @@ TEST(Bottleneck, AtTheBucketsRateTheServerCapsItsTraceRateAndFramesArriveWhole) 
   if (::geteuid() != 0) GTEST_SKIP() << "needs root to make network namespaces";
   const NamespacePair ns;
   if (!ns.ok()) GTEST_SKIP() << "network namespaces or tc tbf not permitted here: " << ns.error();
-  const std::string key_path = (std::filesystem::temp_directory_path() /
-                                ("dhr_bottleneck_" + std::to_string(::getpid()) + ".key")).string();
-  std::filesystem::remove(key_path);
-  ASSERT_EQ(secure::generate_key_file(key_path), std::nullopt);
-  std::string error;
-  const std::optional<secure::Key> key = secure::load_key_file(key_path, &error);
-  ASSERT_TRUE(key) << error;
-
-  const Outcome off = run(ns, key_path, *key, false);
-  const Outcome on = run(ns, key_path, *key, true);
-  std::filesystem::remove(key_path);
+  const TempKeyFile key("bottleneck");
+  const Outcome off = run(ns, key.path(), key.key(), false);
+  const Outcome on = run(ns, key.path(), key.key(), true);
   for (const auto& [name, o] : {std::pair{"off", &off}, std::pair{"on", &on}}) {
     std::printf("bottleneck %s Mbit/s, rate control %s: %llu poses, server traced %llu frames, sent %.1f Mbit/s, rate decreases %llu, shed %llu; "
                 "client: loss %.1f %%, frames completed %llu, evicted incomplete %llu, response mean %.1f ms (max %.1f)\n",

@@ -3,7 +3,7 @@
 // tracer's, and on SIGTERM says Bye, exits 0 and prints its statistics as one JSON line.
 #include "child_process.hpp"
 #include "loopback_rig.hpp"
-#include "secure/key.hpp"
+#include "server_child.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,21 +18,6 @@
 namespace dhr::integration {
 namespace {
 
-// The port of the first complete "listening on ADDR:PORT" line, or 0.
-uint16_t listening_port(const std::string& err) {
-  const size_t at = err.find("listening on ");
-  if (at == std::string::npos) return 0;
-  const size_t eol = err.find('\n', at);
-  const size_t colon = err.rfind(':', eol);
-  if (eol == std::string::npos || colon == std::string::npos || colon < at) return 0;
-  try {
-    const int port = std::stoi(err.substr(colon + 1, eol - colon - 1));
-    return port > 0 && port < 65536 ? static_cast<uint16_t>(port) : 0;
-  } catch (const std::exception&) {
-    return 0;
-  }
-}
-
 TEST(ServerExecutable, ServesTheClientAndStopsCleanlyOnSigterm) {
   RunRecord record;
   client::ClientNetStats stats;
@@ -40,17 +25,10 @@ TEST(ServerExecutable, ServesTheClientAndStopsCleanlyOnSigterm) {
   std::atomic<bool> client_started{false};
   std::thread client_thread;
 
-  // A deployment key both sides load (docs/security.md): the session is authenticated and sealed.
-  const std::string key_path = (std::filesystem::temp_directory_path() /
-                                ("dhr_server_exe_test_" + std::to_string(::getpid()) + ".key")).string();
-  std::filesystem::remove(key_path);
-  ASSERT_EQ(secure::generate_key_file(key_path), std::nullopt);
-  std::string key_error;
-  const std::optional<secure::Key> key = secure::load_key_file(key_path, &key_error);
-  ASSERT_TRUE(key) << key_error;
+  const TempKeyFile key("server_exe_test");  // both sides load it: the session is authenticated and sealed
   test::ChildSpec spec;
   spec.argv = {DHR_SERVER_EXE, "--scene", std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf",
-               "--backend", "embree", "--port", "0", "--max-seconds", "40", "--key-file", key_path};
+               "--backend", "embree", "--port", "0", "--max-seconds", "40", "--key-file", key.path()};
   spec.env = {{"DHR_LOG", "warn"}};
   spec.deadline = std::chrono::seconds(50);
   spec.on_output = [&](pid_t pid, const std::string&, const std::string& err) {
@@ -62,7 +40,7 @@ TEST(ServerExecutable, ServesTheClientAndStopsCleanlyOnSigterm) {
       try {
         client::UdpVisibilityClient client;
         client::VisibilityClientConfig config = client_config(record.size);
-        config.key = key;
+        config.key = key.key();
         client.connect(config, "127.0.0.1", port);
         run_frames(client, 60, record);
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
@@ -83,7 +61,6 @@ TEST(ServerExecutable, ServesTheClientAndStopsCleanlyOnSigterm) {
   };
   const test::ChildResult result = test::run_child(spec);
   if (client_thread.joinable()) client_thread.join();
-  std::filesystem::remove(key_path);
 
   ASSERT_TRUE(result.started) << result.err;
   ASSERT_TRUE(client_started) << "no 'listening on' line:\n" << result.err;

@@ -10,6 +10,7 @@
 #include "loopback_rig.hpp"
 #include "secure/envelope.hpp"
 #include "secure/key.hpp"
+#include "server_child.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -29,16 +30,6 @@ namespace {
 
 constexpr int kClients = 8;
 constexpr uint64_t kSprayDatagrams = 100'000;
-
-uint16_t listening_port(const std::string& err) {
-  const size_t at = err.find("listening on ");
-  if (at == std::string::npos) return 0;
-  const size_t eol = err.find('\n', at);
-  const size_t colon = err.rfind(':', eol);
-  if (eol == std::string::npos || colon == std::string::npos || colon < at) return 0;
-  const int port = std::atoi(err.substr(colon + 1, eol - colon - 1).c_str());
-  return port > 0 && port < 65536 ? static_cast<uint16_t>(port) : 0;
-}
 
 // VmRSS of a process in KiB (0 when unreadable).
 uint64_t resident_kib(pid_t pid) {
@@ -120,13 +111,8 @@ std::vector<uint8_t> hostile(std::mt19937_64& rng, uint64_t i) {
 
 TEST(Soak, EightClientsAt90HzWithAHostileSprayStayFairBoundedAndUnharmed) {
   const double seconds = soak_seconds();
-  const std::string key_path = (std::filesystem::temp_directory_path() /
-                                ("dhr_soak_" + std::to_string(::getpid()) + ".key")).string();
-  std::filesystem::remove(key_path);
-  ASSERT_EQ(secure::generate_key_file(key_path), std::nullopt);
-  std::string key_error;
-  const std::optional<secure::Key> key = secure::load_key_file(key_path, &key_error);
-  ASSERT_TRUE(key) << key_error;
+  const TempKeyFile key_file("soak");
+  const std::optional<secure::Key> key = key_file.key();
 
   std::array<ClientRun, kClients> runs;
   uint64_t sprayed = 0;
@@ -136,7 +122,7 @@ TEST(Soak, EightClientsAt90HzWithAHostileSprayStayFairBoundedAndUnharmed) {
   test::ChildSpec spec;
   spec.argv = {DHR_SERVER_EXE, "--scene", std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf",
                "--backend", "embree", "--port", "0", "--bind", "127.0.0.1", "--max-sessions",
-               std::to_string(kClients), "--key-file", key_path, "--max-seconds", std::to_string(seconds + 60.0)};
+               std::to_string(kClients), "--key-file", key_file.path(), "--max-seconds", std::to_string(seconds + 60.0)};
   if (const char* workers = std::getenv("DHR_SOAK_WORKERS")) {  // the server's --workers (default: its own)
     spec.argv.push_back("--workers");
     spec.argv.push_back(workers);
@@ -198,7 +184,6 @@ TEST(Soak, EightClientsAt90HzWithAHostileSprayStayFairBoundedAndUnharmed) {
   };
   const test::ChildResult result = test::run_child(spec);
   if (driver.joinable()) driver.join();
-  std::filesystem::remove(key_path);
 
   ASSERT_TRUE(result.started) << result.err;
   ASSERT_TRUE(started) << "no 'listening on' line:\n" << result.err;

@@ -100,6 +100,19 @@ struct SourceLookup {
   double margin = std::numeric_limits<double>::infinity();
 };
 
+// The depth test's plane check for old pixel (a, b) of `src` (its traced depth must be there): whether the old
+// surface there lies within `tolerance` of this pixel's tangent plane (p_old, n_old in the old eye's space);
+// lowers `margin` by how close the distance is to the tolerance. False too where the old pixel saw no surface.
+bool on_tangent_plane(const WarpInput& input, const WarpSource& src, int a, int b, const glm::dvec3& p_old,
+                      const glm::dvec3& n_old, double depth_old, double tolerance, double& margin) {
+  const double ds = src.traced_depth[static_cast<size_t>(b) * src.traced.extent.width + static_cast<size_t>(a)];
+  if (!(ds > 0.0)) return false;
+  const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray(a + 0.5, b + 0.5);
+  const double dist = std::abs(glm::dot(n_old, q - p_old));
+  margin = std::min(margin, std::abs(dist - tolerance) / depth_old * 200.0);
+  return dist <= tolerance;
+}
+
 SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::dvec3& p_world,
                      const glm::dvec3& n_world) {
   SourceLookup r;
@@ -152,13 +165,9 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
     if (a < 0 || b < 0 || a >= static_cast<int>(old.width) || b >= static_cast<int>(old.height)) continue;
     if (!src.row_valid.empty() && src.row_valid[static_cast<size_t>(b)] == 0) continue;
     ++rows;
-    if (depth_test && !(same_ray && k == k_exact)) {
-      const double ds = src.traced_depth[static_cast<size_t>(b) * old.width + static_cast<size_t>(a)];
-      if (!(ds > 0.0)) continue;
-      const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray(a + 0.5, b + 0.5);
-      const double dist = std::abs(glm::dot(n_old, q - p_old));
-      r.margin = std::min(r.margin, std::abs(dist - tolerance) / depth_old * 200.0);
-      if (!(dist <= tolerance)) continue;
+    if (depth_test && !(same_ray && k == k_exact) &&
+        !on_tangent_plane(input, src, a, b, p_old, n_old, depth_old, tolerance, r.margin)) {
+      continue;
     }
     const uint32_t m = src.visibility->get(static_cast<uint32_t>(a), static_cast<uint32_t>(b));
     masks[k] = m;
@@ -229,12 +238,7 @@ SourceLookup look_up_neighbours(const WarpInput& input, const WarpSource& src, c
     if (!src.row_valid.empty() && src.row_valid[static_cast<size_t>(b)] == 0) continue;
     for (int a = ci - kNeighbourRadius; a <= ci + kNeighbourRadius; ++a) {
       if (a < 0 || a >= static_cast<int>(old.width)) continue;
-      const double ds = src.traced_depth[static_cast<size_t>(b) * old.width + static_cast<size_t>(a)];
-      if (!(ds > 0.0)) continue;
-      const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray(a + 0.5, b + 0.5);
-      const double dist = std::abs(glm::dot(n_old, q - p_old));
-      r.margin = std::min(r.margin, std::abs(dist - tolerance) / depth_old * 200.0);
-      if (!(dist <= tolerance)) continue;
+      if (!on_tangent_plane(input, src, a, b, p_old, n_old, depth_old, tolerance, r.margin)) continue;
       const double ex = a + 0.5 - rep.pixel.x, ey = b + 0.5 - rep.pixel.y;
       const double d2 = ex * ex + ey * ey;
       passing.push_back(d2);
