@@ -32,6 +32,7 @@ int run_serve_command(const ServerOptions& options) {
   serve.port = options.port;
   serve.max_seconds = options.max_seconds;
   serve.impairment = options.impairment;
+  serve.metrics_port = options.metrics_port;
   ServiceConfig& config = serve.service;
   config.key = key;
   config.scene_id = std::filesystem::path(options.scene_path).stem().string();

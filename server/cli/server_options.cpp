@@ -160,6 +160,10 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       ->check(CLI::Range(1u, 64u))
       ->capture_default_str()
       ->group(kServeGroup);
+  app.add_option("--metrics-port", out.metrics_port,
+                 "serve the statistics in the Prometheus text format on http://BIND:PORT/metrics (0: off)")
+      ->check(CLI::Range(0, 65535))
+      ->group(kServeGroup);
   bool no_rate_adapt = false;
   app.add_flag("--no-rate-adapt", no_rate_adapt,
                "trace every session as often as it sends poses, whatever its client reports losing (by default a "

@@ -38,7 +38,8 @@ struct ServerOptions {
   bool predict = false;                 // server-side pose prediction
   double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
   bool adaptive_fov = false;            // widen the traced FOV from the measured shortfall (server/fov_margin.hpp)
-  uint32_t workers = 2;                 // sessions traced in parallel (Embree; Vulkan: 1)
+  uint32_t workers = 2;
+  uint16_t metrics_port = 0;            // > 0: Prometheus text on http://BIND:PORT/metrics                 // sessions traced in parallel (Embree; Vulkan: 1)
   bool rate_adapt = true;               // cap a session's trace rate when its client reports loss (--no-rate-adapt)
   net::ImpairmentParams impairment;     // on everything the server sends
   // Authentication (docs/security.md): serving needs --key-file unless --insecure; --gen-key writes a key.

@@ -1,5 +1,8 @@
 #include "session/serve.hpp"
 
+#include "session/metrics_server.hpp"
+#include "session/metrics_text.hpp"
+
 #include "net/endpoints.hpp"
 #include "net/impaired_sender.hpp"
 #include "session/service_stats_json.hpp"
@@ -97,6 +100,13 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
   endpoint_config.max_datagram_size = kMaxDatagramSize;
   endpoint.start(endpoint_config, [&service](const net::ReceivedDatagram& d) { service.on_datagram(d.bytes, d.from); });
   std::fprintf(stderr, "listening on %s\n", endpoint.local_address().to_string().c_str());
+  std::unique_ptr<MetricsServer> metrics;
+  if (options.metrics_port > 0) {
+    metrics = std::make_unique<MetricsServer>(options.bind_address, options.metrics_port,
+                                              [&service] { return prometheus_text(service.stats()); });
+    std::fprintf(stderr, "metrics on http://%s:%u/metrics\n", options.bind_address.c_str(),
+                 static_cast<unsigned>(options.metrics_port));
+  }
   std::fflush(stderr);
 
   std::atomic<bool> stopping{false};

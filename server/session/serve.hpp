@@ -20,6 +20,7 @@ struct ServeOptions {
   ServiceConfig service;
   int64_t tick_interval_ns = 20 * net::kNsPerMs;
   bool handle_signals = true;  // SIGINT / SIGTERM stop the loop (restored on return)
+  uint16_t metrics_port = 0;   // > 0: GET /metrics on bind_address:metrics_port (Prometheus text)
 };
 
 // Serves until a signal or max_seconds. Prints "listening on ADDR:PORT" to stderr once bound. Returns the

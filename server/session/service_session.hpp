@@ -94,6 +94,7 @@ struct VisibilityService::Work {
   FramePose traced;
   std::array<std::optional<uint64_t>, 2> acked;  // codec v2: the client's acknowledgements when taken
   bool paced = false;  // the session's rate is capped: its datagrams go through the pacing queue
+  int64_t received_ns = 0;  // when the pose arrived (service clock)
 };
 
 namespace session_detail {

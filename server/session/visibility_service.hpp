@@ -17,6 +17,7 @@
 #include "secure/envelope.hpp"
 #include "secure/key.hpp"
 #include "fov_margin.hpp"
+#include "session/latency_histogram.hpp"
 #include "session/rate_control.hpp"
 #include "pose_predictor.hpp"
 #include "visibility_tracer.hpp"
@@ -132,6 +133,9 @@ struct ServiceStats {
   uint64_t sessions_rate_capped = 0;     // sessions whose trace rate is capped now
   uint64_t eyes_coded_v2_inter = 0;      // eyes sent with codec v2 against an acknowledged reference
   uint64_t eyes_coded_v2_intra = 0;      // eyes sent with codec v2 on their own
+  uint64_t rays = 0;                     // primary and shadow rays traced
+  LatencyHistogram trace_hist;           // trace time per eye
+  LatencyHistogram response_hist;        // pose received -> its frame's last datagram handed to the socket
   double trace_ms = 0.0;                 // sums over all eyes traced (tracer wall time)
   double encode_ms = 0.0;                // sums: light-count repacking, codec, datagram encoding and send
 };

@@ -34,7 +34,7 @@ std::optional<VisibilityService::Work> VisibilityService::claim_work() {
     s->traced_views = pose.views;
     s->last_trace_ns = now;
     s->busy = true;
-    Work w{next, pose, {s->codec[0].acked, s->codec[1].acked}, s->rate.pacing_dps().has_value()};
+    Work w{next, pose, {s->codec[0].acked, s->codec[1].acked}, s->rate.pacing_dps().has_value(), s->pending_receive_ns};
     if (config_.predict || config_.adaptive_fov.enabled) {
       int64_t horizon = config_.predict_horizon_ns;
       if (horizon < 0) {
@@ -132,7 +132,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
   const TracedFormat format = s.welcome.format();
   const uint32_t light_count = s.welcome.light_count;
   double trace_ms = 0.0, encode_ms = 0.0;
-  uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0, shed = 0;
+  uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0, shed = 0, rays = 0;
+  std::array<double, 2> eye_trace_ms{};
   bool ok = true;
   const int64_t start_ns = clock_.now_ns();
   // Each worker thread its own scratch (the session's requested lights only): no allocation in steady state.
@@ -151,6 +152,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
       break;
     }
     trace_ms += trace_stats.trace_ms;
+    eye_trace_ms[static_cast<size_t>(e)] = trace_stats.trace_ms;
+    rays += trace_stats.primary_rays + trace_stats.shadow_rays;
     const int64_t encode_start = net::steady_now_ns();
     const std::vector<VisibilityShard> encoded =
         (s.welcome.capabilities & kCapabilityCodecV2)
@@ -182,11 +185,14 @@ bool VisibilityService::trace_and_send(const Work& work) {
   stats_.eyes_coded_v2_inter += inter_eyes;
   stats_.eyes_coded_v2_intra += intra_eyes;
   stats_.datagrams_shed += shed;
+  stats_.rays += rays;
   if (!ok) {
     ++stats_.trace_errors;
     return false;
   }
   ++stats_.frames_traced;
+  for (const double ms : eye_trace_ms) stats_.trace_hist.add(ms);
+  stats_.response_hist.add(static_cast<double>(std::max<int64_t>(clock_.now_ns() - work.received_ns, 0)) * 1e-6);
   s.last_process_ns = std::max<int64_t>(clock_.now_ns() - start_ns, 0);
   s.frames_done.fetch_add(1, std::memory_order_relaxed);
   s.newest_frame_traced = std::max(s.newest_frame_traced, work.traced.frame);

@@ -5,6 +5,7 @@
 #include "net/udp_socket.hpp"
 #include "secure/envelope.hpp"
 #include "secure/key.hpp"
+#include <glm/gtc/quaternion.hpp>
 #include <sys/stat.h>
 
 #include <gtest/gtest.h>
@@ -13,6 +14,9 @@
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -285,6 +289,76 @@ TEST(ServeCli, GenKeyOnceAndOnlyAuthenticatedHellosAreWelcomed) {
   EXPECT_EQ(stats.at("unauthenticated").get<int>(), 1);
   EXPECT_EQ(stats.at("sessions_opened").get<int>(), 1);
   std::filesystem::remove_all(dir);
+}
+
+// A free TCP port on 127.0.0.1 (bound, read back, released).
+uint16_t free_tcp_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof addr;
+  uint16_t port = 0;
+  if (fd >= 0 && ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) == 0)
+    port = ntohs(addr.sin_port);
+  if (fd >= 0) ::close(fd);
+  return port;
+}
+
+// GET path over HTTP/1.0 from 127.0.0.1:port; the whole response (headers and body), "" on failure.
+std::string http_get(uint16_t port, const std::string& path) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  addr.sin_port = htons(port);
+  std::string response;
+  if (fd >= 0 && ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
+    const std::string request = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n";
+    if (::send(fd, request.data(), request.size(), 0) == static_cast<ssize_t>(request.size())) {
+      char buffer[4096];
+      for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) response.append(buffer, static_cast<size_t>(n));
+    }
+  }
+  if (fd >= 0) ::close(fd);
+  return response;
+}
+
+TEST(ServeCli, MetricsPortServesPrometheusTextOfTheRunningServer) {
+  const uint16_t metrics_port = free_tcp_port();
+  ASSERT_NE(metrics_port, 0);
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "4", "--insecure", "--metrics-port",
+                        std::to_string(metrics_port)});
+  ASSERT_TRUE(server.started());
+  const uint16_t port = server.wait_for_port(std::chrono::seconds(60));
+  ASSERT_NE(port, 0) << server.err();
+  EXPECT_NE(server.err().find("metrics on http://127.0.0.1:" + std::to_string(metrics_port) + "/metrics"),
+            std::string::npos) << server.err();
+  Client client;
+  ASSERT_TRUE(client.socket.send_to(encode_datagram(Datagram{0, 0, small_hello()}), net::PeerAddress::loopback_ipv4(port)));
+  ASSERT_TRUE(client.wait_for<Welcome>(std::chrono::seconds(5))) << server.err();
+  // A pose of a session the server does not know: dropped as unknown_token.
+  PoseUpdate pose;
+  pose.frame = 1;
+  pose.views[0].pose.orientation = glm::dquat(1, 0, 0, 0);
+  pose.views[1] = pose.views[0];
+  pose.views[0].fov = pose.views[1].fov = Fov{-0.7f, 0.7f, 0.6f, -0.6f};
+  ASSERT_TRUE(client.socket.send_to(encode_datagram(Datagram{12345, 0, pose}), net::PeerAddress::loopback_ipv4(port)));
+  std::string response;
+  for (int i = 0; i < 50; ++i) {  // until the drop is counted
+    response = http_get(metrics_port, "/metrics");
+    if (response.find("dhr_datagrams_dropped_total{reason=\"unknown_token\"} 1") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_NE(response.find("HTTP/1.1 200 OK"), std::string::npos) << response;
+  EXPECT_NE(response.find("Content-Type: text/plain; version=0.0.4"), std::string::npos) << response;
+  for (const char* line : {"dhr_sessions_active 1", "dhr_sessions_opened_total 1",
+                           "dhr_datagrams_dropped_total{reason=\"unknown_token\"} 1", "dhr_auth_failures_total 0",
+                           "# TYPE dhr_trace_ms histogram", "dhr_response_ms_bucket{le=\"+Inf\"} 0"})
+    EXPECT_NE(response.find(line), std::string::npos) << line << "\n" << response;
+  EXPECT_NE(http_get(metrics_port, "/elsewhere").find("404"), std::string::npos);
+  ASSERT_EQ(server.wait_exit(std::chrono::seconds(30)), 0) << server.err();
 }
 
 TEST(ServeCli, BadServingOptionsExitTwo) {
