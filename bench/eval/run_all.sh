@@ -53,7 +53,7 @@ maps_off="full-no-shadow-fill-no-shadow-edges-no-shadow-first"
 one living_room_user1_fills_without_maps --scene "$living" --trace "$user1" --trace-start 2 --frames 90 \
   --eye-size 160x120 --rtt-ms 100,200 --method "$maps_off,$maps_off-no-older,$maps_off-no-neighbour,$maps_off-no-older-no-neighbour,$maps_off-no-other-eye-no-older-no-neighbour"
 # The server's adaptive FOV with and without the client's fills (without them, what no buffer covers is lit).
-afov=(--trace-start 2 --frames 90 --eye-size 160x120 --rtt-ms 50,100,200 --method full-no-other-eye-no-shadow-fill,full-no-other-eye-no-shadow-fill-no-adaptive-fov,full,full-no-adaptive-fov)
+afov=(--trace-start 2 --frames 90 --eye-size 160x120 --rtt-ms 50,100,200 --method full-no-other-eye-no-shadow-fill-no-older-no-neighbour,full-no-other-eye-no-shadow-fill-no-older-no-neighbour-no-adaptive-fov,full,full-no-adaptive-fov)
 one living_room_user1_adaptive_fov --scene "$living" --trace "$user1" "${afov[@]}"
 one living_room_user2_adaptive_fov --scene "$living" --trace "$user2" "${afov[@]}"
 for user in 1 2 3; do

@@ -1,0 +1,8 @@
+set terminal svg size 720,440 dynamic enhanced font 'sans,12' background '#ffffff'
+set output 'docs/eval/living_room_user1_fills_without_maps/response_vs_ping.svg'
+set title 'pose sent -> visibility in use' noenhanced
+set xlabel 'round trip (ms)' noenhanced
+set ylabel 'response (ms)' noenhanced
+set key outside right top noenhanced
+set grid
+plot 'docs/eval/living_room_user1_fills_without_maps/response_vs_ping.dat' index 0 using 1:2 with linespoints pt 1 title 'full-no-shadow-fill-no-shadow-edges-no-shadow-first', 'docs/eval/living_room_user1_fills_without_maps/response_vs_ping.dat' index 1 using 1:2 with linespoints pt 2 title 'full-no-shadow-fill-no-shadow-edges-no-shadow-first-no-older', 'docs/eval/living_room_user1_fills_without_maps/response_vs_ping.dat' index 2 using 1:2 with linespoints pt 3 title 'full-no-shadow-fill-no-shadow-edges-no-shadow-first-no-neighbour', 'docs/eval/living_room_user1_fills_without_maps/response_vs_ping.dat' index 3 using 1:2 with linespoints pt 4 title 'full-no-shadow-fill-no-shadow-edges-no-shadow-first-no-older-no-neighbour', 'docs/eval/living_room_user1_fills_without_maps/response_vs_ping.dat' index 4 using 1:2 with linespoints pt 5 title 'full-no-other-eye-no-shadow-fill-no-shadow-edges-no-shadow-first-no-older-no-neighbour'
