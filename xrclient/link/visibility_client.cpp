@@ -58,9 +58,13 @@ bool VisibilityClient::send(const Message& message, uint64_t token) {
   if (size > 0 && handshake_key_) {
     if (std::holds_alternative<Hello>(message)) {
       size = handshake_key_->authenticate(tx_, size, client_random_);
+    } else if (tx_sequence_ == 0xFFFFFFFFu) {
+      // The sequence is the seal's nonce and must never repeat under a session's key: a session this long
+      // starts over (new keys, the sequence from 0).
+      restart_session(clock_.now_ns(), "2^32 - 1 datagrams sent under its keys");
+      return false;
     } else {
-      // The sequence is the seal's nonce: never reused under a session's key (a session that long restarts).
-      size = tx_sequence_ == 0xFFFFFFFFu ? 0 : secure::seal(keys_.client_to_server, std::span(tx_).first(size), sealed);
+      size = secure::seal(keys_.client_to_server, std::span(tx_).first(size), sealed);
       bytes = sealed.data();
     }
   }
@@ -79,7 +83,10 @@ void VisibilityClient::start_handshake(int64_t now) {
   welcome_.reset();
   do nonce_ = next_random(rng_state_);
   while (nonce_ == 0);
-  if (handshake_key_) client_random_ = secure::random_bytes();
+  if (handshake_key_) {
+    client_random_ = secure::random_bytes();
+    tx_sequence_ = 0;  // new session keys: the nonces start over
+  }
   handshake_start_ns_ = now;
   hello_interval_ns_ = config_.hello_retry_ns;
   send_hello(now);
