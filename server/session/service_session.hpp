@@ -76,7 +76,9 @@ struct VisibilityService::Session {
   int64_t peer_heartbeat_receive_ns = 0;
   net::ClockOffsetEstimator offset;
   // Counters for our Heartbeats. Atomics: the worker sends shards without the service lock.
-  std::atomic<uint32_t> next_sequence{0};
+  // 64 bits so that a session that sent 2^32 datagrams is noticed (the wire carries the low 32 bits; sealed
+  // datagrams use them as the nonce and stop there, see send_message).
+  std::atomic<uint64_t> next_sequence{0};
   std::atomic<uint64_t> datagrams_sent{0};
   std::atomic<uint64_t> frames_done{0};
   std::atomic<bool> open{true};

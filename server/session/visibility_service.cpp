@@ -282,7 +282,10 @@ bool VisibilityService::wait_for_pending(int64_t timeout_ns) {
   };
   const int64_t now = clock_.now_ns();
   for (const auto& [token, s] : sessions_) {
-    if (s->pending) timeout_ns = std::min(timeout_ns, std::max<int64_t>(s->rate.next_due_ns(s->last_trace_ns) - now, 0));
+    // A session another worker is tracing is not due (and must not make this wait spin).
+    if (s->pending && !s->busy) {
+      timeout_ns = std::min(timeout_ns, std::max<int64_t>(s->rate.next_due_ns(s->last_trace_ns) - now, 0));
+    }
   }
   work_ready_.wait_for(lock, std::chrono::nanoseconds(timeout_ns), [&] { return interrupted_ || any_due(); });
   interrupted_ = false;

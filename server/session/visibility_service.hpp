@@ -72,7 +72,8 @@ struct ServiceConfig {
   // (the horizon is the automatic one above, or predict_horizon_ns), within the session's buffer.
   FovMarginConfig adaptive_fov;
   // Per-session trace rate from the client's reports of what arrived (session/rate_control.hpp), off by
-  // default; dhr-server turns it on.
+  // default; dhr-server turns it on. A capped session's datagrams wait in its pacing queue: whoever drives
+  // the service must then call pace() every few milliseconds (run_serve does).
   RateControlConfig rate_control;
   // Worker threads run_serve starts to trace sessions in parallel (one session per worker at a time); the
   // Vulkan tracer takes one at a time, so it is clamped to 1 there.

@@ -14,8 +14,9 @@ size_t VisibilityService::send_message(Session* session, uint64_t token, const M
                                        Envelope envelope, std::deque<std::vector<uint8_t>>* queue) {
   Datagram datagram;
   datagram.session_token = token;
-  datagram.sequence = session ? session->next_sequence.fetch_add(1, std::memory_order_relaxed)
-                              : unsolicited_sequence_.fetch_add(1, std::memory_order_relaxed);
+  const uint64_t sequence = session ? session->next_sequence.fetch_add(1, std::memory_order_relaxed)
+                                     : unsolicited_sequence_.fetch_add(1, std::memory_order_relaxed);
+  datagram.sequence = static_cast<uint32_t>(sequence);
   datagram.message = message;
   std::array<uint8_t, kMaxDatagramSize> plain;
   const size_t plain_size = encode_datagram(datagram, plain);
@@ -24,8 +25,9 @@ size_t VisibilityService::send_message(Session* session, uint64_t token, const M
   if (plain_size > 0 && config_.key && envelope == Envelope::kAuto) {
     const bool welcome = std::holds_alternative<Welcome>(message);
     if (session != nullptr && session->secure && !welcome) {
-      // The sequence is the seal's nonce: never reuse one under a key. A session this long is ended instead.
-      const size_t n = datagram.sequence == 0xFFFFFFFFu ? 0 : secure::seal(session->keys.server_to_client, bytes, sealed);
+      // The sequence is the seal's nonce: never reuse one under a key. A session that used them all sends
+      // nothing more (its client times out and starts a new session with new keys).
+      const size_t n = sequence >= 0xFFFFFFFFu ? 0 : secure::seal(session->keys.server_to_client, bytes, sealed);
       bytes = std::span<const uint8_t>(sealed.data(), n);
     } else {
       const secure::Random random = session != nullptr && session->secure ? session->server_random : secure::Random{};

@@ -101,8 +101,6 @@ struct Outcome {
 
 Outcome run(const NamespacePair& ns, const std::string& key_path, const secure::Key& key, bool adapt) {
   Outcome outcome;
-  std::atomic<bool> started{false};
-  std::thread driver;
   test::ChildSpec spec;
   spec.argv = {"ip", "netns", "exec", ns.server_ns(), DHR_SERVER_EXE, "--scene",
                std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf", "--backend", "embree", "--port", "0",
@@ -111,44 +109,39 @@ Outcome run(const NamespacePair& ns, const std::string& key_path, const secure::
   if (!adapt) spec.argv.push_back("--no-rate-adapt");
   spec.env = {{"DHR_LOG", "error"}};
   spec.deadline = std::chrono::seconds(90);
-  spec.on_output = [&](pid_t pid, const std::string&, const std::string& err) {
-    if (started) return;
-    const uint16_t port = listening_port(err);
-    if (port == 0) return;
-    started = true;
-    driver = std::thread([&, pid, port] {
-      // This thread joins the client's namespace: the client's socket is made there.
-      const int fd = ::open(("/var/run/netns/" + ns.client_ns()).c_str(), O_RDONLY | O_CLOEXEC);
-      if (fd < 0 || ::setns(fd, CLONE_NEWNET) != 0) {
-        outcome.failure = "cannot enter the client's namespace";
-      } else {
-        const EyeSize size{480, 360, 16, 12};
-        client::VisibilityClientConfig config = client_config(size);
-        config.key = key;
-        config.codec_v2 = false;  // LZ4: more than the bucket takes at 90 Hz
-        client::UdpVisibilityClient link;
-        link.connect(config, ns.server_address(), port);
-        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(8);
-        while (std::chrono::steady_clock::now() < end && !link.client().failed()) {
-          link.client().tick();
-          if (link.client().connected() &&
-              link.client().send_pose(FramePose{outcome.poses + 1, link.clock().now_ns(), views_for_frame(outcome.poses + 1, size)}))
-            ++outcome.poses;
-          VisibilityFrame taken;
-          for (const Eye eye : {Eye::kLeft, Eye::kRight}) link.client().take_newest(eye, taken);
-          std::this_thread::sleep_for(std::chrono::microseconds(11'100));
-        }
-        outcome.client = link.client().stats();
-        outcome.failure = link.client().failure();
-        link.close();
+  DriveWhenListening driver([&](pid_t, uint16_t port) {
+    // This thread joins the client's namespace: the client's socket is made there.
+    const int fd = ::open(("/var/run/netns/" + ns.client_ns()).c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || ::setns(fd, CLONE_NEWNET) != 0) {
+      outcome.failure = "cannot enter the client's namespace";
+    } else {
+      const EyeSize size{480, 360, 16, 12};
+      client::VisibilityClientConfig config = client_config(size);
+      config.key = key;
+      config.codec_v2 = false;  // LZ4: more than the bucket takes at 90 Hz
+      client::UdpVisibilityClient link;
+      link.connect(config, ns.server_address(), port);
+      const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(8);
+      while (std::chrono::steady_clock::now() < end && !link.client().failed()) {
+        link.client().tick();
+        if (link.client().connected() &&
+            link.client().send_pose(FramePose{outcome.poses + 1, link.clock().now_ns(), views_for_frame(outcome.poses + 1, size)}))
+          ++outcome.poses;
+        VisibilityFrame taken;
+        for (const Eye eye : {Eye::kLeft, Eye::kRight}) link.client().take_newest(eye, taken);
+        std::this_thread::sleep_for(std::chrono::microseconds(11'100));
       }
-      if (fd >= 0) ::close(fd);
-      kill(pid, SIGTERM);
-    });
-  };
+      outcome.client = link.client().stats();
+      outcome.failure = link.client().failure();
+      link.close();
+    }
+    if (fd >= 0) ::close(fd);
+  });
+  driver.attach(spec);
   const test::ChildResult result = test::run_child(spec);
-  if (driver.joinable()) driver.join();
-  EXPECT_TRUE(started) << result.err;
+  driver.join();
+  EXPECT_TRUE(driver.started()) << result.err;
+  EXPECT_TRUE(driver.failure().empty()) << driver.failure();
   EXPECT_EQ(result.exit_code, 0) << result.err;
   try {
     outcome.server = nlohmann::json::parse(test::last_line(result.out));

@@ -1,14 +1,19 @@
 // Helpers for the integration tests that run dhr-server as a child process: the port its "listening on"
 // line names, and a deployment key file for one test (removed with it).
 #pragma once
+#include "child_process.hpp"
 #include "secure/key.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace dhr::integration {
 
@@ -50,6 +55,45 @@ class TempKeyFile {
  private:
   std::string path_;
   secure::Key key_;
+};
+
+// Runs `body(pid, port)` on its own thread once the child dhr-server prints its "listening on" line, then
+// sends the child SIGTERM whatever happened (an exception from `body` becomes failure(): the test reports it
+// instead of the process ending, and the server does not wait for --max-seconds).
+class DriveWhenListening {
+ public:
+  explicit DriveWhenListening(std::function<void(pid_t, uint16_t)> body) : body_(std::move(body)) {}
+  ~DriveWhenListening() { join(); }
+  DriveWhenListening(const DriveWhenListening&) = delete;
+  DriveWhenListening& operator=(const DriveWhenListening&) = delete;
+
+  void attach(test::ChildSpec& spec) {
+    spec.on_output = [this](pid_t pid, const std::string&, const std::string& err) {
+      if (started_) return;
+      const uint16_t port = listening_port(err);
+      if (port == 0) return;
+      started_ = true;
+      thread_ = std::thread([this, pid, port] {
+        try {
+          body_(pid, port);
+        } catch (const std::exception& e) {
+          failure_ = e.what();
+        }
+        kill(pid, SIGTERM);
+      });
+    };
+  }
+  void join() {
+    if (thread_.joinable()) thread_.join();
+  }
+  bool started() const { return started_; }
+  const std::string& failure() const { return failure_; }  // after join()
+
+ private:
+  std::function<void(pid_t, uint16_t)> body_;
+  std::atomic<bool> started_{false};
+  std::thread thread_;
+  std::string failure_;
 };
 
 }  // namespace dhr::integration

@@ -117,8 +117,6 @@ TEST(Soak, EightClientsAt90HzWithAHostileSprayStayFairBoundedAndUnharmed) {
   std::array<ClientRun, kClients> runs;
   uint64_t sprayed = 0;
   uint64_t rss_warm_kib = 0, rss_max_kib = 0;
-  std::atomic<bool> started{false};
-  std::thread driver;
   test::ChildSpec spec;
   spec.argv = {DHR_SERVER_EXE, "--scene", std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf",
                "--backend", "embree", "--port", "0", "--bind", "127.0.0.1", "--max-sessions",
@@ -129,64 +127,61 @@ TEST(Soak, EightClientsAt90HzWithAHostileSprayStayFairBoundedAndUnharmed) {
   }
   spec.env = {{"DHR_LOG", "error"}};
   spec.deadline = std::chrono::milliseconds(static_cast<int64_t>((seconds + 90.0) * 1000.0));
-  spec.on_output = [&](pid_t pid, const std::string&, const std::string& err) {
-    if (started) return;
-    const uint16_t port = listening_port(err);
-    if (port == 0) return;
-    started = true;
-    driver = std::thread([&, pid, port] {
-      const auto end = std::chrono::steady_clock::now() +
-                       std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
-      std::array<std::unique_ptr<client::UdpVisibilityClient>, kClients> links;
-      std::vector<std::thread> threads;
-      for (int c = 0; c < kClients; ++c) {
-        client::VisibilityClientConfig config = client_config(EyeSize{});
-        config.key = key;
-        config.nonce_seed = 100 + static_cast<uint64_t>(c);
-        links[static_cast<size_t>(c)] = std::make_unique<client::UdpVisibilityClient>();
-        links[static_cast<size_t>(c)]->connect(config, "127.0.0.1", port);
-        threads.emplace_back([&, c] {
-          drive(*links[static_cast<size_t>(c)], EyeSize{}, end, 37 * static_cast<uint64_t>(c), runs[static_cast<size_t>(c)]);
-        });
+  DriveWhenListening driver([&](pid_t pid, uint16_t port) {
+    const auto end = std::chrono::steady_clock::now() +
+                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+    std::array<std::unique_ptr<client::UdpVisibilityClient>, kClients> links;
+    std::vector<std::thread> threads;
+    for (int c = 0; c < kClients; ++c) {
+      client::VisibilityClientConfig config = client_config(EyeSize{});
+      config.key = key;
+      config.nonce_seed = 100 + static_cast<uint64_t>(c);
+      links[static_cast<size_t>(c)] = std::make_unique<client::UdpVisibilityClient>();
+      links[static_cast<size_t>(c)]->connect(config, "127.0.0.1", port);  // all before any thread: may throw
+    }
+    for (int c = 0; c < kClients; ++c) {
+      threads.emplace_back([&, c] {
+        drive(*links[static_cast<size_t>(c)], EyeSize{}, end, 37 * static_cast<uint64_t>(c), runs[static_cast<size_t>(c)]);
+      });
+    }
+    // The spray, spread over the run; the server's memory sampled meanwhile.
+    net::UdpSocket spray;
+    spray.open(net::UdpSocketConfig{}, [](const net::ReceivedDatagram&) {});
+    std::mt19937_64 rng(2026);
+    const auto start = std::chrono::steady_clock::now();
+    const auto warm_at = start + std::chrono::milliseconds(1000);
+    auto next_sample = start;
+    for (uint64_t i = 0; i < kSprayDatagrams; ++i) {
+      const std::vector<uint8_t> b = hostile(rng, i);
+      if (!b.empty() && spray.send_to(b, net::PeerAddress::loopback_ipv4(port))) ++sprayed;
+      if (i % 500 == 499) {
+        // Pace: all of it within ~80 % of the run.
+        const auto due = start + std::chrono::duration<double>(0.8 * seconds * static_cast<double>(i + 1) /
+                                                                static_cast<double>(kSprayDatagrams));
+        std::this_thread::sleep_until(due);
       }
-      // The spray, spread over the run; the server's memory sampled meanwhile.
-      net::UdpSocket spray;
-      spray.open(net::UdpSocketConfig{}, [](const net::ReceivedDatagram&) {});
-      std::mt19937_64 rng(2026);
-      const auto start = std::chrono::steady_clock::now();
-      const auto warm_at = start + std::chrono::milliseconds(1000);
-      auto next_sample = start;
-      for (uint64_t i = 0; i < kSprayDatagrams; ++i) {
-        const std::vector<uint8_t> b = hostile(rng, i);
-        if (!b.empty() && spray.send_to(b, net::PeerAddress::loopback_ipv4(port))) ++sprayed;
-        if (i % 500 == 499) {
-          // Pace: all of it within ~80 % of the run.
-          const auto due = start + std::chrono::duration<double>(0.8 * seconds * static_cast<double>(i + 1) /
-                                                                  static_cast<double>(kSprayDatagrams));
-          std::this_thread::sleep_until(due);
-        }
-        if (std::chrono::steady_clock::now() >= next_sample) {
-          const uint64_t rss = resident_kib(pid);
-          rss_max_kib = std::max(rss_max_kib, rss);
-          if (rss_warm_kib == 0 && std::chrono::steady_clock::now() >= warm_at) rss_warm_kib = rss;
-          next_sample += std::chrono::milliseconds(100);
-        }
+      if (std::chrono::steady_clock::now() >= next_sample) {
+        const uint64_t rss = resident_kib(pid);
+        rss_max_kib = std::max(rss_max_kib, rss);
+        if (rss_warm_kib == 0 && std::chrono::steady_clock::now() >= warm_at) rss_warm_kib = rss;
+        next_sample += std::chrono::milliseconds(100);
       }
-      while (std::chrono::steady_clock::now() < end) {
-        rss_max_kib = std::max(rss_max_kib, resident_kib(pid));
-        if (rss_warm_kib == 0 && std::chrono::steady_clock::now() >= warm_at) rss_warm_kib = resident_kib(pid);
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      }
-      for (std::thread& t : threads) t.join();
-      for (auto& link : links) link->close();
-      kill(pid, SIGTERM);
-    });
-  };
+    }
+    while (std::chrono::steady_clock::now() < end) {
+      rss_max_kib = std::max(rss_max_kib, resident_kib(pid));
+      if (rss_warm_kib == 0 && std::chrono::steady_clock::now() >= warm_at) rss_warm_kib = resident_kib(pid);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    for (std::thread& t : threads) t.join();
+    for (auto& link : links) link->close();
+  });
+  driver.attach(spec);
   const test::ChildResult result = test::run_child(spec);
-  if (driver.joinable()) driver.join();
+  driver.join();
 
   ASSERT_TRUE(result.started) << result.err;
-  ASSERT_TRUE(started) << "no 'listening on' line:\n" << result.err;
+  ASSERT_TRUE(driver.started()) << "no 'listening on' line:\n" << result.err;
+  ASSERT_TRUE(driver.failure().empty()) << driver.failure();
   EXPECT_FALSE(result.killed_at_deadline);
   EXPECT_EQ(result.exit_code, 0) << result.err;
   const nlohmann::json server = nlohmann::json::parse(test::last_line(result.out));
