@@ -10,15 +10,16 @@
 namespace dhr::eval {
 
 EyeRenderer::EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye,
-                         const render::ShadowMapSettings& shadow_maps)
+                         const render::ShadowMapSettings& shadow_maps, bool forward)
     : context_(&context), scene_(context, scene), shadow_settings_(shadow_maps),
       light_count_(static_cast<uint32_t>(std::min<size_t>(scene.lights.size(), kMaxLights))) {
   render::EyePipelineOptions options;
   options.frames_in_flight = 1;  // every frame is submitted and waited for
-  // Every method and the truth on the deferred path: one shading computation for all (the forward path's colours
-  // differ by up to 2/255, which the image metrics would count against the methods that cannot use it), so the
-  // metrics compare visibility only. The shipped client's cost is bench/client_bench's.
-  options.forward = false;
+  // `dhr-eval run`: every method and the truth on the deferred path: one shading computation for all (the forward
+  // path's colours differ by up to 2/255, which the image metrics would count against the methods that cannot use
+  // it), so the metrics compare visibility only. The shipped client's cost is bench/client_bench's.
+  options.forward = forward;
+  options.forward_mask = true;  // render() reads the masks back
   for (auto& pipeline : eyes_) pipeline = std::make_unique<render::EyePipeline>(context, scene_, eye, options);
 }
 

@@ -29,9 +29,10 @@ struct EyeRender {
 
 class EyeRenderer {
  public:
-  // Throws (setup) when the scene cannot be uploaded.
+  // Throws (setup) when the scene cannot be uploaded. forward: take the client's forward path where it applies
+  // (render::EyePipelineOptions::forward), to match pictures the client rendered that way; otherwise deferred.
   EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye,
-              const render::ShadowMapSettings& shadow_maps = {});
+              const render::ShadowMapSettings& shadow_maps = {}, bool forward = false);
   // Renders both eyes with the given warp settings (each eye's input is the other's source 1, `older` each
   // eye's previous buffer, source 2); shadow maps are rendered the first time settings need them.
   std::array<EyeRender, 2> render(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs,

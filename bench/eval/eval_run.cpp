@@ -5,6 +5,7 @@
 #include "eval_render.hpp"
 #include "eval_results.hpp"
 #include "eval_session.hpp"
+#include "eval_truth.hpp"
 #include "json_writer.hpp"
 #include "pose/trace_pose_source.hpp"
 #include "vk/context.hpp"
@@ -56,30 +57,6 @@ void progress(uint64_t done, uint64_t total, size_t settings, double elapsed_s) 
                total > 0 ? static_cast<int>(100 * done / total) : 100, static_cast<unsigned long long>(done),
                static_cast<unsigned long long>(total), settings, elapsed_s, eta);
   std::fflush(stderr);
-}
-
-// Traced with the setting's guard band too (only the display region is used): a camera with another guard
-// band computes its ray directions with other rounding, which can flip a silhouette pixel.
-Truth ground_truth(server::VisibilityTracer& tracer, EyeRenderer& renderer, Extent eye_size, GuardBand guard,
-                   const FramePose& sample) {
-  Truth truth;
-  std::array<VisibilityBuffer, 2> exact;
-  std::array<VisibilityInput, 2> inputs;
-  for (int eye = 0; eye < 2; ++eye) {
-    const Camera camera = Camera::with_guard_band(sample.views[eye], eye_size, guard);
-    server::TraceStats stats;
-    tracer.trace(camera, exact[eye], stats);
-    inputs[eye].buffer = &exact[eye];
-    inputs[eye].traced = camera;
-  }
-  std::array<EyeRender, 2> renders = renderer.render(sample.views, inputs);  // the paper's warp at identity
-  for (int eye = 0; eye < 2; ++eye) {
-    EyeRender& r = renders[eye];
-    truth.luma[eye] = luma_from_rgba8(r.rgba, eye_size.width, eye_size.height);
-    truth.rgba[eye] = std::move(r.rgba);
-    truth.mask[eye] = std::move(r.mask);
-  }
-  return truth;
 }
 
 }  // namespace
@@ -150,7 +127,8 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
       std::map<std::string, Truth> truths;  // per guard band
       if (measured) {
         for (const Setting& s : settings) {
-          if (!truths.contains(s.guard)) truths[s.guard] = ground_truth(*tracer, renderer, options.eye, s.guard_band, sample);
+          if (truths.contains(s.guard)) continue;
+          truths[s.guard] = ground_truth(*tracer, renderer, options.eye, s.guard_band, sample.views);
         }
       }
       for (auto& session : sessions) {

@@ -11,6 +11,7 @@
 #include "metrics/image_metrics.hpp"
 #include "eval_render.hpp"
 #include "eval_settings.hpp"
+#include "eval_truth.hpp"
 #include "net/clock.hpp"
 #include "net/simulated_link.hpp"
 #include "link/visibility_client.hpp"
@@ -27,12 +28,6 @@
 
 namespace dhr::eval {
 
-// The ground truth of one frame: visibility traced exactly for the displayed views, shaded by the client.
-struct Truth {
-  std::array<std::vector<uint8_t>, 2> rgba;  // display-sized sRGB bytes
-  std::array<LumaImage, 2> luma;
-  std::array<VisibilityBuffer, 2> mask;
-};
 
 // Sums over measured frames and eyes (means are taken when the results are written).
 struct SettingTotals {

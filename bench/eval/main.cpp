@@ -1,8 +1,10 @@
 // dhr-eval: run time against error. `run` simulates the whole pipeline (VisibilityClient -> simulated network ->
 // VisibilityService -> simulated network -> the client's real GPU passes) on a virtual 90 Hz clock over a sweep
 // of settings, against the exactly traced ground truth; `report` turns the results into plots and Markdown;
-// `make-trace` writes a small synthetic 6-DoF trace. docs/evaluation.md.
+// `make-trace` writes a small synthetic 6-DoF trace; `compare` sets frames a client saved beside the exact shading
+// for the same views. docs/evaluation.md.
 #include "traces/pose_trace.hpp"
+#include "eval_compare.hpp"
 #include "eval_report.hpp"
 #include "eval_run.hpp"
 #include "eval_settings.hpp"
@@ -105,6 +107,20 @@ int main(int argc, char** argv) {
   make_trace->add_option("FILE", trace_out, "output file")->required();
   make_trace->add_option("--seconds", seconds, "duration")->capture_default_str()->check(dhr::cli::FiniteRange(0.1, 3600.0));
 
+  CompareOptions compare_options;
+  CLI::App* compare = app.add_subcommand(
+      "compare", "set the frames a client saved (views.jsonl + PNGs) beside the exact shading for the same views");
+  compare->add_option("--scene", compare_options.scene, "the scene the client rendered (.gltf/.glb)")->required();
+  compare->add_option("--shown", compare_options.shown_dir,
+                      "directory of the client's PNGs and views.jsonl (dhr-xrclient --snapshot-dir or --offscreen)")
+      ->required();
+  compare->add_option("--out", compare_options.out_dir, "where the pictures go (default: the --shown directory)");
+  compare->add_option("--tolerance", compare_options.tolerance,
+                      "largest channel difference (0-255) not counted as differing")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 255));
+  compare->add_option("--threads", compare_options.threads, "Embree threads (0: all cores)");
+
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) {
@@ -138,6 +154,7 @@ int main(int argc, char** argv) {
     return run_eval(options, command_line);
   }
   if (report->parsed()) return write_report(report_dir);
+  if (compare->parsed()) return run_compare(compare_options);
   if (make_trace->parsed()) {
     std::string error;
     if (!dhr::write_pose_trace(trace_out, synthetic_head_trace(seconds, 200.0), &error)) {

@@ -95,7 +95,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   }
   j["schedule"] = schedule_name(options.schedule);
   j["x_max"] = options.x_max;
-  j["view"] = options.view == "light" ? "light:" + std::to_string(options.view_light) : options.view;
+  j["view"] = view_name(options);
   j["frames_with_visibility"] = frames.frames_with_visibility();
   j["frames_local"] = frames.frames_local();
   j["reconnects"] = net.sessions_restarted;
@@ -153,6 +153,14 @@ CoordinatorOptions coordinator_options(const ClientOptions& options) {
   out.eye.forward = !options.deferred;
   out.eye.motion_vectors = needed.motion;
   return out;
+}
+
+std::string view_name(const ClientOptions& options) {
+  return options.view == "light" ? "light:" + std::to_string(options.view_light) : options.view;
+}
+
+void describe_pictures(PngSink& png, const FrameCoordinator& coordinator, const ClientOptions& options) {
+  png.describe(coordinator, options.warp_full ? "full" : "paper", view_name(options));
 }
 
 void note_source_failure(const VisibilitySource& source, bool& warned) {

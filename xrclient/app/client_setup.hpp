@@ -13,6 +13,7 @@
 #include "link/udp_visibility_client.hpp"
 #include "pose/pose_guard.hpp"
 #include "pose/pose_source.hpp"
+#include "sink/png_sink.hpp"
 
 namespace dhr::client {
 
@@ -32,6 +33,12 @@ FrameInput frame_input(const FramePose& sample, PoseGuard& guard);
 // The frame loop's options from the command line: schedule, x_max and the shading view (a debug view also
 // turns on the warp outputs it reads).
 CoordinatorOptions coordinator_options(const ClientOptions& options);
+
+// The --view as the summary names it: "shaded", "light:2", ...
+std::string view_name(const ClientOptions& options);
+
+// Writes views.jsonl next to the PNGs (`dhr-eval compare` renders the exact shading for those views).
+void describe_pictures(PngSink& png, const FrameCoordinator& coordinator, const ClientOptions& options);
 
 // Logs the visibility source's failure the first time it is seen (`warned` remembers it); rendering goes on.
 void note_source_failure(const VisibilitySource& source, bool& warned);

@@ -78,7 +78,9 @@ int run_openxr(const ClientOptions& options) {
   sinks.add(swapchain);
   std::unique_ptr<PngSink> snapshots;
   if (!options.snapshot_dir.empty()) {
-    snapshots = std::make_unique<PngSink>(vulkan, options.snapshot_dir, options.png_every);
+    snapshots = std::make_unique<PngSink>(vulkan, options.snapshot_dir, options.png_every,
+                                          frame_options.eye.shading.swap_red_blue);
+    if (options.png_every != 0) describe_pictures(*snapshots, coordinator, options);
     sinks.add(*snapshots);
   }
   const EyeModel eyes = EyeModel::monado_simulated();

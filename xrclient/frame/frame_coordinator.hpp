@@ -67,12 +67,18 @@ class FrameCoordinator {
   const std::string& last_error() const { return error_; }
   Extent eye_extent() const { return extent_; }
   render::EyePipeline& eye(uint32_t index) { return *eyes_[index]; }
+  const render::EyePipeline& eye(uint32_t index) const { return *eyes_[index]; }
   const ViewHistory& history() const { return planner_.history(); }
   // The newest visibility held for an eye (what the next frame will use), if any.
   const std::optional<VisibilityFrame>& visibility(uint32_t eye) const { return planner_.held(eye); }
   // The views the last frame's eye images were rendered with (the planner's choice): what the compositor
   // must be given with those images.
   const std::array<View, 2>& rendered_views() const { return rendered_views_; }
+  // What the planner chose for the last submitted frame (its GPU statistics are not known yet: `eyes[].stats`
+  // stay empty); for sinks that describe the images they are given.
+  const FrameRecord& last_submitted() const { return last_submitted_; }
+  // The session's traced format (display size and guard band), once the server has answered.
+  std::optional<TracedFormat> traced_format() const;
 
  private:
   struct Slot {
@@ -93,6 +99,7 @@ class FrameCoordinator {
   std::unique_ptr<render::ShadowMaps> shadow_maps_;  // when the warp settings need them
   FramePlanner planner_;
   std::array<View, 2> rendered_views_{};
+  FrameRecord last_submitted_;
   vk::CommandPool pool_;
   std::vector<Slot> slots_;
   uint64_t submitted_ = 0;

@@ -25,8 +25,9 @@ std::vector<uint8_t> read_rgba8(const vk::Context& context, vk::Image& image) {
   return pixels;
 }
 
-OffscreenPngSink::OffscreenPngSink(const vk::Context& context, std::string directory, uint32_t every_nth)
-    : context_(&context), directory_(std::move(directory)), every_nth_(every_nth) {
+OffscreenPngSink::OffscreenPngSink(const vk::Context& context, std::string directory, uint32_t every_nth,
+                                   bool swap_red_blue)
+    : context_(&context), directory_(std::move(directory)), every_nth_(every_nth), swap_red_blue_(swap_red_blue) {
   std::error_code ec;
   std::filesystem::create_directories(directory_, ec);
   if (ec || !std::filesystem::is_directory(directory_)) {
@@ -47,9 +48,9 @@ std::optional<std::string> OffscreenPngSink::write(uint64_t frame, uint32_t eye,
   const std::vector<uint8_t> rgba = read_rgba8(*context_, image);
   std::vector<uint8_t> rgb(rgba.size() / 4 * 3);
   for (size_t i = 0, j = 0; i < rgba.size(); i += 4, j += 3) {
-    rgb[j] = rgba[i];
+    rgb[j] = rgba[swap_red_blue_ ? i + 2 : i];
     rgb[j + 1] = rgba[i + 1];
-    rgb[j + 2] = rgba[i + 2];
+    rgb[j + 2] = rgba[swap_red_blue_ ? i : i + 2];
   }
   const std::string path = path_for(frame, eye);
   if (auto err = write_png(path, image.width(), image.height(), 3, rgb)) throw std::runtime_error(*err);

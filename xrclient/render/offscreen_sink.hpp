@@ -21,7 +21,9 @@ std::vector<uint8_t> read_rgba8(const vk::Context& context, vk::Image& image);
 class OffscreenPngSink {
  public:
   // Creates `directory` when missing; throws std::runtime_error when that fails. every_nth == 0: never.
-  OffscreenPngSink(const vk::Context& context, std::string directory, uint32_t every_nth = 1);
+  // swap_red_blue: the images hold blue in the red channel (shaded for a B8G8R8A8 swapchain); the PNGs swap back.
+  OffscreenPngSink(const vk::Context& context, std::string directory, uint32_t every_nth = 1,
+                   bool swap_red_blue = false);
 
   bool wants(uint64_t frame) const { return every_nth_ != 0 && frame % every_nth_ == 0; }
   // "<directory>/frame_<frame, 6 digits>_<left|right>.png" (eye 0 left, 1 right, others "eye<N>").
@@ -37,6 +39,7 @@ class OffscreenPngSink {
   const vk::Context* context_;
   std::string directory_;
   uint32_t every_nth_;
+  bool swap_red_blue_;
   uint64_t files_written_ = 0;
 };
 
