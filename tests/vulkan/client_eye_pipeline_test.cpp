@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "client_test_helpers.hpp"
+#include "image/png_reader.hpp"
 #include "image/png_writer.hpp"
 #include "scene/scene.hpp"
 #include "render/client_scene.hpp"
@@ -132,6 +133,24 @@ TEST_F(ClientEyePipelineTest, DefaultRoomWithHalfShadowedVisibilityGivesLitAndDa
   ASSERT_GT(bytes.size(), 100u);
   EXPECT_EQ(std::string(bytes.data() + 1, 3), "PNG");
   EXPECT_EQ(sink.files_written(), 1u);
+  // Its pixels are the image's; a sink for images shaded for a BGRA swapchain swaps red and blue back.
+  const std::vector<uint8_t> rgba = read_rgba8(ctx(), eye.output());
+  std::string png_error;
+  const auto png = dhr::read_png_rgb(*path, &png_error);
+  ASSERT_TRUE(png) << png_error;
+  OffscreenPngSink swapping(ctx(), (dir / "swapped").string(), 1, /*swap_red_blue=*/true);
+  const auto swapped = dhr::read_png_rgb(*swapping.write(2, 1, eye.output()), &png_error);
+  ASSERT_TRUE(swapped) << png_error;
+  size_t coloured = 0;
+  for (size_t i = 0; i < rgba.size() / 4; ++i) {
+    ASSERT_EQ(png->rgb[i * 3], rgba[i * 4]);
+    ASSERT_EQ(png->rgb[i * 3 + 2], rgba[i * 4 + 2]);
+    ASSERT_EQ(swapped->rgb[i * 3], rgba[i * 4 + 2]);
+    ASSERT_EQ(swapped->rgb[i * 3 + 1], rgba[i * 4 + 1]);
+    ASSERT_EQ(swapped->rgb[i * 3 + 2], rgba[i * 4]);
+    if (rgba[i * 4] != rgba[i * 4 + 2]) ++coloured;
+  }
+  EXPECT_GT(coloured, 0u) << "the swap must be visible somewhere";
   fs::remove_all(dir);
 
   // DHR_TEST_PNG_DIR=<dir>: keep PNGs of this frame and its debug views for people to look at.
