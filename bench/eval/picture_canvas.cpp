@@ -3,17 +3,7 @@
 // stb_truetype's implementation, private to this file (static).
 #define STB_TRUETYPE_IMPLEMENTATION
 #define STBTT_STATIC
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wdouble-promotion"
-#pragma GCC diagnostic ignored "-Wcast-align"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <stb/stb_truetype.h>
-#pragma GCC diagnostic pop
 
 #include <algorithm>
 #include <cstdlib>
