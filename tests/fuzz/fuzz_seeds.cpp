@@ -3,6 +3,7 @@
 #include "codec/codec.hpp"
 #include "codec/codec_v2.hpp"
 #include "traces/pose_trace.hpp"
+#include "traces/shown_frame.hpp"
 #include "protocol/protocol.hpp"
 #include "metrics/visibility_synthetic.hpp"
 #include "fuzz_layouts.hpp"
@@ -72,6 +73,28 @@ std::vector<Seed> secure_datagram_seeds() {
 std::vector<Seed> key_file_seeds() {
   const std::string text = "# deployment key\n" + secure::format_key(fuzz_key());
   return {{"key", Bytes(text.begin(), text.end())}, {"empty", Bytes{}}};
+}
+
+std::vector<Seed> shown_frame_seeds() {
+  ShownFrame f;
+  f.frame = 100;
+  f.eye_size = {160, 120};
+  f.traced = TracedFormat{f.eye_size, GuardBand{3, 2}};
+  f.render_path = "forward";
+  f.warp = "paper";
+  for (int e = 0; e < 2; ++e) {
+    f.eyes[e].view.pose.position = {0.03 * (2 * e - 1), 1.6, 0.0};
+    f.eyes[e].file = e == 0 ? "frame_000100_left.png" : "frame_000100_right.png";
+    f.eyes[e].has_visibility = true;
+    f.eyes[e].visibility_frame = 99;
+    f.eyes[e].age = 1;
+    f.eyes[e].complete = true;
+  }
+  const std::string line = shown_frame_json(f);
+  f.traced.reset();
+  f.eyes[1].has_visibility = false;
+  const std::string without = shown_frame_json(f);
+  return {{"frame", Bytes(line.begin(), line.end())}, {"no_session", Bytes(without.begin(), without.end())}};
 }
 
 struct TestBuffer {
@@ -274,7 +297,7 @@ std::vector<Seed> pose_trace_seeds() {
 
 std::vector<std::string> seed_targets() {
   return {"datagram",   "shard_payload", "shard_payload_v2", "codec_roundtrip", "reassembler",
-          "scene",      "pose_trace",    "secure_datagram",  "key_file"};
+          "scene",      "pose_trace",    "secure_datagram",  "key_file",        "shown_frame"};
 }
 
 std::vector<Seed> seeds_for(const std::string& target) {
@@ -287,6 +310,7 @@ std::vector<Seed> seeds_for(const std::string& target) {
   if (target == "pose_trace") return pose_trace_seeds();
   if (target == "secure_datagram") return secure_datagram_seeds();
   if (target == "key_file") return key_file_seeds();
+  if (target == "shown_frame") return shown_frame_seeds();
   return {};
 }
 

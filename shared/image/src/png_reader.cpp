@@ -4,7 +4,6 @@
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
 #define STBI_ONLY_PNG
-#define STBI_NO_STDIO_WRITE
 #include <stb/stb_image.h>
 
 #include <cstdio>
