@@ -1,6 +1,7 @@
 # Runs an executable and checks its exit status and output: cmake -DEXE=... -DARGS=a|b|c -DEXPECT_RC=2
 #   -DEXPECT_OUTPUT=regex (stdout + stderr) -DWORK_DIR=dir [-DINPUT_TEXT=text with \n] [-DCHECK_FILE=f
-#   -DCHECK_REGEX=regex] [-DDATA_DIR=dir] -P expect_run.cmake
+#   -DCHECK_REGEX=regex] [-DDATA_DIR=dir] [-DEMULATOR=qemu-aarch64|-L|dir] -P expect_run.cmake
+# EMULATOR (cross builds) is the command line EXE runs under, '|'-separated like ARGS.
 # In ARGS, @INPUT@ stands for WORK_DIR/input.csv (written from INPUT_TEXT) and @DATA@ for DATA_DIR; a test
 # that needs DATA_DIR when it is absent prints "SKIPPED:" (the test's SKIP_REGULAR_EXPRESSION).
 file(REMOVE_RECURSE "${WORK_DIR}")
@@ -16,7 +17,8 @@ endif()
 string(REPLACE "@INPUT@" "${WORK_DIR}/input.csv" args "${ARGS}")
 string(REPLACE "@DATA@" "${DATA_DIR}" args "${args}")
 string(REPLACE "|" ";" args "${args}")
-execute_process(COMMAND "${EXE}" ${args} WORKING_DIRECTORY "${WORK_DIR}"
+string(REPLACE "|" ";" emulator "${EMULATOR}")
+execute_process(COMMAND ${emulator} "${EXE}" ${args} WORKING_DIRECTORY "${WORK_DIR}"
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 set(all "${out}${err}")
 message("exit status ${rc}; output:\n${all}")
