@@ -121,7 +121,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 255));
   compare->add_option("--threads", compare_options.threads, "Embree threads (0: all cores)");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help (code 0) or the error
+    return code == 0 ? 0 : 2;     // usage errors: 2, as dhr-server and dhr-xrclient
+  }
 
   if (run->parsed()) {
     std::string error;

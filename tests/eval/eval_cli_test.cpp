@@ -282,6 +282,15 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   EXPECT_EQ(r.exit_code, 1);
   r = run_cli("report /nonexistent-dir");
   EXPECT_EQ(r.exit_code, 1);
+  // Usage errors of any subcommand exit with 2 (a missing option, a value out of range); --help with 0.
+  r = run_cli("compare --shown " + out.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--scene is required"), std::string::npos) << r.output;
+  r = run_cli("compare --scene " + kScene + " --shown " + out.string() + " --tolerance 300");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run_cli("run --scene " + kScene + " --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(run_cli("compare --help").exit_code, 0);
   fs::remove_all(out);
 }
 
