@@ -43,8 +43,11 @@ void add_lights(Scene& scene, uint32_t total) {
   while (scene.lights.size() < total) {
     SceneLight l;
     l.name = "bench light " + std::to_string(scene.lights.size());
-    l.position = glm::vec3(b.min.x + u(rng) * (b.max.x - b.min.x), b.min.y + (0.6f + 0.3f * u(rng)) * (b.max.y - b.min.y),
-                           b.min.z + u(rng) * (b.max.z - b.min.z));
+    // One draw per statement, z first: the order x86-64's GCC evaluated them in as a call's arguments (which
+    // C++ leaves unspecified, and aarch64's GCC takes left to right), so the lights measured so far stay.
+    const float z = u(rng), y = u(rng), x = u(rng);
+    l.position = glm::vec3(b.min.x + x * (b.max.x - b.min.x), b.min.y + (0.6f + 0.3f * y) * (b.max.y - b.min.y),
+                           b.min.z + z * (b.max.z - b.min.z));
     l.intensity = 20.0f;
     scene.lights.push_back(l);
   }

@@ -169,14 +169,24 @@ VisibilityBuffer make_room_visibility(uint32_t width, uint32_t height, uint32_t 
     const double r = rng.uniform(0.15, 0.45);
     spheres.push_back(Sphere{{rng.uniform(-2.4, 2.4), r + rng.uniform(0.0, 0.6), rng.uniform(-3.5, 0.5)}, r});
   }
+  // One draw per statement: the order in which a call's arguments are evaluated is unspecified (GCC takes them
+  // right to left on x86-64, left to right on aarch64), so draws inside one call gave each CPU another room.
+  // The draws below keep the order x86-64 used, so every buffer measured there stays the same.
   for (int i = 0; i < 5; ++i) {
-    const glm::dvec3 c(rng.uniform(-2.4, 2.4), 0.0, rng.uniform(-3.5, 0.5));
-    const glm::dvec3 half(rng.uniform(0.15, 0.6), rng.uniform(0.2, 1.0), rng.uniform(0.15, 0.6));
-    boxes.push_back(Box{{c.x - half.x, 0.0, c.z - half.z}, {c.x + half.x, 2.0 * half.y, c.z + half.z}});
+    const double cz = rng.uniform(-3.5, 0.5);
+    const double cx = rng.uniform(-2.4, 2.4);
+    const double hz = rng.uniform(0.15, 0.6);
+    const double hy = rng.uniform(0.2, 1.0);
+    const double hx = rng.uniform(0.15, 0.6);
+    boxes.push_back(Box{{cx - hx, 0.0, cz - hz}, {cx + hx, 2.0 * hy, cz + hz}});
   }
   std::vector<glm::dvec3> lights;
-  for (uint32_t l = 0; l < light_count; ++l)
-    lights.emplace_back(rng.uniform(-2.5, 2.5), rng.uniform(1.6, 2.6), rng.uniform(-3.5, 2.0));
+  for (uint32_t l = 0; l < light_count; ++l) {
+    const double z = rng.uniform(-3.5, 2.0);
+    const double y = rng.uniform(1.6, 2.6);
+    const double x = rng.uniform(-2.5, 2.5);
+    lights.emplace_back(x, y, z);
+  }
   const double light_range = 7.0;
 
   // Camera at eye height near the front wall, looking down the room and slightly down; 90 deg horizontal FOV.
