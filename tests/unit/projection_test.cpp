@@ -125,6 +125,9 @@ TEST(Pose, ComposeInverseAndValidate) {
   bad.orientation = glm::dquat(0, 0, 0, 0);
   EXPECT_TRUE(validate_pose(bad).has_value());
   bad = a;
+  bad.orientation = glm::dquat(1e308, 0, 0, 0);  // finite, but its norm overflows
+  EXPECT_TRUE(validate_pose(bad).has_value());
+  bad = a;
   bad.position.y = INFINITY;
   EXPECT_TRUE(validate_pose(bad).has_value());
   bad = a;

@@ -40,6 +40,8 @@ std::optional<std::string> validate_pose(const Pose& pose) {
     return "pose orientation is not finite";
   const double norm2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
   if (!(norm2 > 1e-12)) return "pose orientation is a zero quaternion";
+  // Finite components whose squares overflow (|q| > ~1e154) normalize to zeros or NaN.
+  if (!std::isfinite(norm2)) return "pose orientation is too large to normalize";
   if (glm::length(pose.position) > kMaxPositionMetres)
     return "pose position is farther than " + std::to_string(kMaxPositionMetres) + " m from the origin";
   return std::nullopt;

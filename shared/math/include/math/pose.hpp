@@ -45,8 +45,8 @@ struct FramePose {
   std::array<View, 2> views{};
 };
 
-// Returns an error message when the pose is unusable (non-finite values, zero quaternion,
-// |position| > kMaxPositionMetres); otherwise std::nullopt.
+// Returns an error message when the pose is unusable (non-finite values, a zero quaternion or one too large to
+// normalize, |position| > kMaxPositionMetres); otherwise std::nullopt.
 inline constexpr double kMaxPositionMetres = 1.0e6;
 std::optional<std::string> validate_pose(const Pose& pose);
 std::optional<std::string> validate_fov(const Fov& fov);
