@@ -159,17 +159,11 @@ bool FrameCoordinator::record_and_submit(const FrameInput& input, FrameSink& sin
     return false;
   }
   slot.pending = true;
-  last_submitted_ = record;
   slot.record = std::move(record);
+  last_slot_ = slot_index;
   ++submitted_;
   sink.after_submit(pose.frame, images);
   return true;
-}
-
-std::optional<TracedFormat> FrameCoordinator::traced_format() const {
-  const std::optional<VisibilityFormat> format = visibility_->format();
-  if (!format) return std::nullopt;
-  return format->traced;
 }
 
 bool FrameCoordinator::finish() {

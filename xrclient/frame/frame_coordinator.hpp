@@ -74,11 +74,11 @@ class FrameCoordinator {
   // The views the last frame's eye images were rendered with (the planner's choice): what the compositor
   // must be given with those images.
   const std::array<View, 2>& rendered_views() const { return rendered_views_; }
-  // What the planner chose for the last submitted frame (its GPU statistics are not known yet: `eyes[].stats`
-  // stay empty); for sinks that describe the images they are given.
-  const FrameRecord& last_submitted() const { return last_submitted_; }
-  // The session's traced format (display size and guard band), once the server has answered.
-  std::optional<TracedFormat> traced_format() const;
+  // What the planner chose for the last submitted frame, for sinks that describe the images they are given (in
+  // after_submit). Its GPU statistics are not known yet: `eyes[].stats` are filled when its slot completes.
+  const FrameRecord& last_submitted() const { return slots_[last_slot_].record; }
+  // The session's format (traced size and guard band, lights, scene hash), once the server has answered.
+  std::optional<VisibilityFormat> visibility_format() const { return visibility_->format(); }
 
  private:
   struct Slot {
@@ -99,7 +99,7 @@ class FrameCoordinator {
   std::unique_ptr<render::ShadowMaps> shadow_maps_;  // when the warp settings need them
   FramePlanner planner_;
   std::array<View, 2> rendered_views_{};
-  FrameRecord last_submitted_;
+  uint32_t last_slot_ = 0;  // the slot of the last submitted frame
   vk::CommandPool pool_;
   std::vector<Slot> slots_;
   uint64_t submitted_ = 0;
