@@ -7,6 +7,7 @@
 #include "log/log.hpp"
 #include "metrics/image_metrics.hpp"
 #include "scene/scene.hpp"
+#include "session/scene_hash.hpp"
 #include "traces/shown_frame.hpp"
 #include "vk/context.hpp"
 
@@ -72,7 +73,8 @@ std::string visibility_words(const ShownFrame& f) {
 
 class Comparer {
  public:
-  Comparer(const CompareOptions& options, const Scene& scene) : options_(options), scene_(scene) {
+  Comparer(const CompareOptions& options, const Scene& scene)
+      : options_(options), scene_(scene), scene_hash_(server::scene_content_hash(scene)) {
     vk::ContextOptions vk_options;
     vk_options.app_name = "dhr-eval";
     context_ = vk::Context::create(vk_options);
@@ -88,6 +90,14 @@ class Comparer {
 
   // Compares one saved frame; throws std::runtime_error with a one-line reason.
   Json compare(const ShownFrame& f) {
+    // The Welcome's hash of what the server traced: another file (or dhr-server --lights) makes the exact
+    // shading of --scene meaningless for this frame.
+    if (f.scene_hash && *f.scene_hash != scene_hash_) {
+      char text[96];
+      std::snprintf(text, sizeof text, "the server traced another scene (hash %016llx; --scene has %016llx)",
+                    static_cast<unsigned long long>(*f.scene_hash), static_cast<unsigned long long>(scene_hash_));
+      throw std::runtime_error(text);
+    }
     std::array<RgbImage, 2> shown;
     for (size_t e = 0; e < 2; ++e) {
       const std::string path = (fs::path(options_.shown_dir) / f.eyes[e].file).string();
@@ -170,6 +180,7 @@ class Comparer {
 
   const CompareOptions& options_;
   const Scene& scene_;
+  uint64_t scene_hash_;
   std::unique_ptr<vk::Context> context_;
   std::unique_ptr<server::VisibilityTracer> tracer_;
   std::unique_ptr<TextFace> face_;
@@ -185,7 +196,9 @@ int run_compare(const CompareOptions& given) {
   std::string error;
   const auto frames = read_shown_frames(views_path, &error);
   if (!frames) {
-    std::fprintf(stderr, "dhr-eval compare: %s (dhr-xrclient writes it next to its PNGs)\n", error.c_str());
+    const bool missing = !fs::exists(views_path);
+    std::fprintf(stderr, "dhr-eval compare: %s%s\n", error.c_str(),
+                 missing ? " (dhr-xrclient writes it next to its PNGs: --snapshot-dir or --offscreen)" : "");
     return 1;
   }
   if (frames->empty()) {

@@ -4,7 +4,8 @@
 # answer (the paper's warp shades it lit): it may only be too lit, never too dark, and its shadows are missing.
 # Frame 30 used visibility traced for the same still pose: it equals the exact shading but for the few pixels the
 # pose's float rounding on the wire flips. Also: the pictures' sizes, and bad input (no views file, a malformed
-# line, a PNG of the wrong size) fails with one line naming the problem while the other frames are compared.
+# line, a PNG of the wrong size, a frame whose server traced another scene) fails with one line naming the problem
+# while the other frames are compared.
 # Usage: eval_compare_cli.sh DHR_SERVER DHR_XRCLIENT DHR_EVAL SOURCE_DIR
 set -euo pipefail
 server_exe="$1" client_exe="$2" eval_exe="$3" src="$4"
@@ -34,6 +35,7 @@ views = [json.loads(l) for l in open(f"{work}/shown/views.jsonl")]
 assert [v["frame"] for v in views] == [0, 30], views
 assert views[0]["eye_size"] == [96, 72] and views[0]["render_path"] == "forward", views[0]
 assert views[1]["guard_per_side"] is not None, "frame 30 was rendered in a session"
+assert all(len(v["scene_hash"]) == 16 for v in views), "the Welcome's scene hash is recorded"
 lines = [json.loads(l) for l in open(f"{work}/compare.out").read().splitlines()]
 frames, summary = lines[:-1], lines[-1]
 assert summary["summary"] and summary["compared"] == 2 and summary["failed"] == 0, summary
@@ -82,4 +84,15 @@ import json, sys
 lines = [json.loads(l) for l in open(sys.argv[1])]
 assert "differing_frac" in lines[0] and "error" in lines[1] and lines[2]["failed"] == 1, lines
 PY
+# A frame the server traced from another scene (its Welcome's hash differs from --scene's): refused.
+mkdir -p "$work/other"
+cp "$work/shown"/*.png "$work/other/"
+python3 - "$work/shown/views.jsonl" "$work/other/views.jsonl" <<'PY'
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+lines[1]["scene_hash"] = "0123456789abcdef"
+open(sys.argv[2], "w").write("".join(json.dumps(l) + "\n" for l in lines))
+PY
+expect_failure other_scene "frame 30: the server traced another scene (hash 0123456789abcdef" --shown "$work/other" \
+  --out "$work/other_out"
 echo "PASS bad input"

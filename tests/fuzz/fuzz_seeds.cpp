@@ -80,6 +80,7 @@ std::vector<Seed> shown_frame_seeds() {
   f.frame = 100;
   f.eye_size = {160, 120};
   f.traced = TracedFormat{f.eye_size, GuardBand{3, 2}};
+  f.scene_hash = 0x0123456789abcdefull;
   f.render_path = "forward";
   f.warp = "paper";
   for (int e = 0; e < 2; ++e) {
@@ -92,6 +93,7 @@ std::vector<Seed> shown_frame_seeds() {
   }
   const std::string line = shown_frame_json(f);
   f.traced.reset();
+  f.scene_hash.reset();
   f.eyes[1].has_visibility = false;
   const std::string without = shown_frame_json(f);
   return {{"frame", Bytes(line.begin(), line.end())}, {"no_session", Bytes(without.begin(), without.end())}};

@@ -23,6 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   DHR_FUZZ_CHECK_MSG(again.has_value(), "a written frame does not parse back");
   DHR_FUZZ_CHECK(again->frame == frame->frame && again->eye_size == frame->eye_size);
   DHR_FUZZ_CHECK(again->traced == frame->traced && again->render_path == frame->render_path);
+  DHR_FUZZ_CHECK(again->scene_hash == frame->scene_hash);
   for (size_t e = 0; e < 2; ++e) {
     DHR_FUZZ_CHECK(again->eyes[e].view.pose.position == frame->eyes[e].view.pose.position);
     DHR_FUZZ_CHECK(again->eyes[e].view.pose.orientation == frame->eyes[e].view.pose.orientation);

@@ -7,7 +7,7 @@
 # Usage: demo_script.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
 src="$1" build="$2"
-if [ ! -f "$HOME/.cache/dhr-xr/env.sh" ]; then echo "SKIP: Monado not set up (scripts/setup)"; exit 0; fi
+if [ ! -f "$HOME/.cache/dhr-xr/env.sh" ]; then echo "SKIP: Monado not set up (scripts/setup)"; exit 77; fi
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 DHR_DEMO_SKIP_SETUP=1 DHR_BUILD_DIR="$build" "$src/scripts/demo" --out "$out/demo" --frames 201 \

@@ -23,6 +23,7 @@ ShownFrame sample_frame() {
   f.frame = 200;
   f.eye_size = {160, 120};
   f.traced = dhr::TracedFormat{f.eye_size, dhr::GuardBand{5, 4}};
+  f.scene_hash = 0xfedcba9876543210ull;
   f.render_path = "forward";
   f.warp = "paper";
   f.view = "shaded";
@@ -51,6 +52,8 @@ TEST(ShownFrame, RoundTripKeepsEveryBit) {
   EXPECT_EQ(back->eye_size, f.eye_size);
   ASSERT_TRUE(back->traced);
   EXPECT_EQ(*back->traced, *f.traced);
+  EXPECT_EQ(back->scene_hash, f.scene_hash);
+  EXPECT_NE(line.find("\"scene_hash\":\"fedcba9876543210\""), std::string::npos) << line;
   EXPECT_EQ(back->render_path, "forward");
   EXPECT_EQ(back->warp, "paper");
   EXPECT_EQ(back->view, "shaded");
@@ -72,11 +75,14 @@ TEST(ShownFrame, RoundTripKeepsEveryBit) {
 TEST(ShownFrame, WithoutASessionTheGuardIsNull) {
   ShownFrame f = sample_frame();
   f.traced.reset();
+  f.scene_hash.reset();
   const std::string line = dhr::shown_frame_json(f);
   EXPECT_NE(line.find("\"guard_per_side\":null"), std::string::npos) << line;
+  EXPECT_NE(line.find("\"scene_hash\":null"), std::string::npos) << line;
   const auto back = dhr::parse_shown_frame(line, nullptr);
   ASSERT_TRUE(back);
   EXPECT_FALSE(back->traced);
+  EXPECT_FALSE(back->scene_hash);
 }
 
 // Replaces the first occurrence of `from` in a good line.
@@ -107,6 +113,10 @@ TEST(ShownFrame, MalformedLinesAreRejectedWithTheReason) {
   expect_rejected(edited("\"guard_per_side\":[5,4]", "\"guard_per_side\":[5]"), "\"guard_per_side\"");
   expect_rejected(edited("\"guard_per_side\":[5,4]", "\"guard_per_side\":[5000,4]"), "larger than 4096");
   expect_rejected(edited("\"eyes\":[", "\"eyes\":[{},"), "\"eyes\" is not an array of two eyes");
+  expect_rejected(edited("\"fedcba9876543210\"", "\"fedcba98765432100\""), "\"scene_hash\" is not null or 1-16 hex");
+  expect_rejected(edited("\"fedcba9876543210\"", "\"0x12\""), "\"scene_hash\"");
+  expect_rejected(edited("\"fedcba9876543210\"", "12"), "\"scene_hash\"");
+  expect_rejected(edited("\"fedcba9876543210\"", "\"\""), "\"scene_hash\"");
   expect_rejected(edited("\"position\":[0.1,", "\"position\":[\"x\","), "not a finite number");
   expect_rejected(edited("\"position\":[", "\"position\":[1e999,"), "not valid JSON");  // out of double's range
   expect_rejected(edited("\"orientation\":[", "\"orientation\":[0,0,0,0,"), "\"orientation\" is not an array of 4");

@@ -7,7 +7,7 @@ namespace dhr::client {
 std::optional<VisibilityFormat> NetworkVisibilitySource::format() const {
   const std::optional<Welcome> w = client_->welcome();
   if (!w) return std::nullopt;
-  return VisibilityFormat{w->format(), w->light_count};
+  return VisibilityFormat{w->format(), w->light_count, w->scene_hash};
 }
 
 bool NetworkVisibilitySource::take_newest(uint32_t eye, VisibilityFrame& out) {

@@ -15,11 +15,12 @@
 
 namespace dhr::client {
 
-// What the session agreed on (the Welcome): the traced format (display size and guard band per side) and the
-// lights in every mask.
+// What the session agreed on (the Welcome): the traced format (display size and guard band per side), the
+// lights in every mask, and the hash of the scene content the server traces (0: not known).
 struct VisibilityFormat {
   TracedFormat traced;
   uint32_t light_count = 0;
+  uint64_t scene_hash = 0;
 };
 
 struct VisibilitySourceStats {

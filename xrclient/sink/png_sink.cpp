@@ -29,7 +29,10 @@ void PngSink::after_submit(uint64_t frame, const EyeImages& eyes) {
   const FrameRecord& record = coordinator_->last_submitted();
   shown.frame = frame;
   shown.eye_size = coordinator_->eye_extent();
-  shown.traced = coordinator_->traced_format();
+  if (const std::optional<VisibilityFormat> format = coordinator_->visibility_format()) {
+    shown.traced = format->traced;
+    if (format->scene_hash != 0) shown.scene_hash = format->scene_hash;
+  }
   shown.render_path = coordinator_->eye(0).uses_forward() ? "forward" : "deferred";
   shown.warp = warp_;
   shown.view = view_;

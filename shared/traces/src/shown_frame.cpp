@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 namespace dhr {
@@ -156,6 +157,13 @@ std::string shown_frame_json(const ShownFrame& f) {
            {"warp", f.warp},
            {"view", f.view}};
   out["guard_per_side"] = f.traced ? Json{f.traced->guard.x, f.traced->guard.y} : Json(nullptr);
+  if (f.scene_hash) {
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(*f.scene_hash));
+    out["scene_hash"] = hex;  // a string: JSON readers that hold numbers as doubles keep 53 bits only
+  } else {
+    out["scene_hash"] = nullptr;
+  }
   out["eyes"] = std::move(eyes);
   return out.dump();
 }
@@ -175,6 +183,7 @@ std::optional<ShownFrame> parse_shown_frame(std::string_view line, std::string* 
   const auto warp = r.text(j, "warp", "frame");
   const auto view = r.text(j, "view", "frame");
   const Json* guard = r.field(j, "guard_per_side", "frame");
+  const Json* hash = r.field(j, "scene_hash", "frame");
   const Json* eyes = r.field(j, "eyes", "frame");
   if (!r.error.empty()) return fail(r.error);
   f.frame = *frame;
@@ -190,6 +199,13 @@ std::optional<ShownFrame> parse_shown_frame(std::string_view line, std::string* 
     if (!g) return fail(r.error);
     if (g->width > 4096 || g->height > 4096) return fail("frame: \"guard_per_side\" is larger than 4096 pixels per side");
     f.traced = TracedFormat{f.eye_size, GuardBand{g->width, g->height}};
+  }
+  if (!hash->is_null()) {
+    const std::string text = hash->is_string() ? hash->get<std::string>() : std::string();
+    if (text.empty() || text.size() > 16 || text.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) {
+      return fail("frame: \"scene_hash\" is not null or 1-16 hex digits");
+    }
+    f.scene_hash = std::stoull(text, nullptr, 16);
   }
   if (!eyes->is_array() || eyes->size() != 2) return fail("frame: \"eyes\" is not an array of two eyes");
   for (size_t e = 0; e < 2; ++e) {

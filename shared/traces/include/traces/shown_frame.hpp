@@ -31,6 +31,7 @@ struct ShownFrame {
   uint64_t frame = 0;
   Extent eye_size;                      // rendered size of each eye
   std::optional<TracedFormat> traced;   // the session's traced format (display + guard band per side)
+  std::optional<uint64_t> scene_hash;   // the scene content the server traced (its Welcome's hash)
   std::string render_path;              // "forward" or "deferred"
   std::string warp;                     // "paper" or "full"
   std::string view = "shaded";          // what the pictures show (--view)
@@ -41,8 +42,8 @@ struct ShownFrame {
 std::string shown_frame_json(const ShownFrame& frame);
 
 // Parses one line; std::nullopt with a one-line reason for malformed JSON, missing or mistyped fields,
-// unusable views (validate_view), sizes outside 1..kMaxImageDimension, a traced display other than
-// eye_size, render paths or warps it does not know, and file names that are not plain names.
+// unusable views (validate_view), sizes outside 1..kMaxImageDimension, render paths or warps it does not know, scene hashes that are not 1-16 hex digits, and file names
+// that are not plain names.
 std::optional<ShownFrame> parse_shown_frame(std::string_view line, std::string* out_error);
 
 // Every non-empty line of a views file; errors name the file and line.
