@@ -5,7 +5,7 @@
 # Frame 30 used visibility traced for the same still pose: it equals the exact shading but for the few pixels the
 # pose's float rounding on the wire flips. Also: the pictures' sizes, and bad input (no views file, a malformed
 # line, a PNG of the wrong size, a frame whose server traced another scene) fails with one line naming the problem
-# while the other frames are compared.
+# while the other frames are compared; frames saved with a debug --view are skipped with the reason.
 # Usage: eval_compare_cli.sh DHR_SERVER DHR_XRCLIENT DHR_EVAL SOURCE_DIR
 set -euo pipefail
 server_exe="$1" client_exe="$2" eval_exe="$3" src="$4"
@@ -95,4 +95,16 @@ open(sys.argv[2], "w").write("".join(json.dumps(l) + "\n" for l in lines))
 PY
 expect_failure other_scene "frame 30: the server traced another scene (hash 0123456789abcdef" --shown "$work/other" \
   --out "$work/other_out"
+# Frames saved with a debug view are skipped with the reason, not compared with the shaded exact image.
+"$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --trace "$work/still.csv" \
+  --offscreen "$work/light" --eye-size 96x72 --frames 31 --png-every 30 --view light:0 >/dev/null 2>"$work/light.err" || {
+  tail -n 20 "$work/light.err"; echo "FAIL: dhr-xrclient --view light:0"; exit 1; }
+"$eval_exe" compare --scene "$scene" --shown "$work/light" --threads 1 >"$work/light.out" 2>/dev/null || {
+  echo "FAIL: compare of debug-view frames exited with an error"; exit 1; }
+python3 - "$work/light.out" <<'PY'
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+assert [l.get("skipped") for l in lines[:-1]] == ["the pictures show --view light:0, not the shaded image"] * 2, lines
+assert lines[-1]["compared"] == 0 and lines[-1]["skipped"] == 2, lines[-1]
+PY
 echo "PASS bad input"
