@@ -1,6 +1,6 @@
 #include "bare_embree.hpp"
 
-#include "embree_trace_tile.hpp"
+#include "trace/embree/embree_trace_tile.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -3,8 +3,8 @@
 // on the same Embree scene with the same thread count. What the tracer adds on top (ray generation,
 // surface reconstruction, light tests, packing bits) shows up as the gap between the two rays/s figures.
 #pragma once
-#include "embree_scene.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/embree/embree_scene.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <embree3/rtcore.h>
 

@@ -21,28 +21,28 @@ std::vector<std::string> default_trace_scenes(const std::string& shared_data_dir
   return out;
 }
 
-std::vector<server::CameraBookmark> bench_bookmarks(const std::string& scene_path, const Scene& scene,
+std::vector<CameraBookmark> bench_bookmarks(const std::string& scene_path, const Scene& scene,
                                                     std::string& note) {
-  const std::string path = server::camera_bookmarks_path(scene_path);
+  const std::string path = camera_bookmarks_path(scene_path);
   if (std::filesystem::exists(path)) {
     std::string error;
-    auto loaded = server::load_camera_bookmarks(path, &error);
+    auto loaded = load_camera_bookmarks(path, &error);
     if (!loaded) throw std::runtime_error(error);
     note = path;
     return *loaded;
   }
   note = "no " + path + ": one camera in front of the bounding box";
-  return {server::front_bookmark(scene.bounds)};
+  return {front_bookmark(scene.bounds)};
 }
 
 GuardBand bench_guard_band(Extent display) { return paper_guard_band(display); }
 
-std::optional<Camera> bench_eye_camera(const server::CameraBookmark& bookmark, int eye, Extent display) {
-  const std::optional<Pose> head = server::look_at_pose(bookmark);
+std::optional<Camera> bench_eye_camera(const CameraBookmark& bookmark, int eye, Extent display) {
+  const std::optional<Pose> head = look_at_pose(bookmark);
   if (!head) return std::nullopt;
   // left_eye_pose moves by -ipd/2 along the head's x axis: a negative IPD gives the right eye.
-  const double ipd = eye == 0 ? server::kDefaultIpdMetres : -server::kDefaultIpdMetres;
-  const View view{server::left_eye_pose(*head, ipd), server::symmetric_fov(kTraceBenchFovDegrees, display)};
+  const double ipd = eye == 0 ? kDefaultIpdMetres : -kDefaultIpdMetres;
+  const View view{left_eye_pose(*head, ipd), symmetric_fov(kTraceBenchFovDegrees, display)};
   return Camera::with_guard_band(view, display, bench_guard_band(display));
 }
 

@@ -1,6 +1,6 @@
 // Scenes, cameras and eye views for bench/trace_bench.
 #pragma once
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
 
@@ -17,7 +17,7 @@ std::vector<std::string> default_trace_scenes(const std::string& shared_data_dir
 // (in front of the bounding box (+Z) and a little above, looking at its centre from where its bounding
 // sphere just fits the view; `note` says so).
 // Throws std::runtime_error with a one-line reason for a malformed bookmark file.
-std::vector<server::CameraBookmark> bench_bookmarks(const std::string& scene_path, const Scene& scene,
+std::vector<CameraBookmark> bench_bookmarks(const std::string& scene_path, const Scene& scene,
                                                     std::string& note);
 
 inline constexpr double kTraceBenchFovDegrees = 90.0;  // horizontal, of the displayed region
@@ -27,6 +27,6 @@ GuardBand bench_guard_band(Extent display);
 
 // The guard-banded camera of one eye (0 left, 1 right; IPD 63 mm) of a bookmark, or std::nullopt when the
 // bookmark has no usable look-at pose.
-std::optional<Camera> bench_eye_camera(const server::CameraBookmark& bookmark, int eye, Extent display);
+std::optional<Camera> bench_eye_camera(const CameraBookmark& bookmark, int eye, Extent display);
 
 }  // namespace dhr::bench

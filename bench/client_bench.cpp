@@ -30,8 +30,8 @@
 #include <vector>
 
 #include "bench_views.hpp"
-#include "camera_bookmarks.hpp"
-#include "embree_tracer.hpp"
+#include "scene/camera_bookmarks.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
 #include "render/forward_pass.hpp"
@@ -126,12 +126,12 @@ int run(const Options& o) {
   if (light_count == 0) throw std::runtime_error("the scene has no light");
 
   std::string note;
-  const std::vector<server::CameraBookmark> bookmarks = bench_bookmarks(o.scene, scene, note);
-  const std::optional<Pose> head = server::look_at_pose(bookmarks.at(0));
+  const std::vector<CameraBookmark> bookmarks = bench_bookmarks(o.scene, scene, note);
+  const std::optional<Pose> head = look_at_pose(bookmarks.at(0));
   if (!head) throw std::runtime_error("the scene's first camera bookmark has no usable pose");
   View view;
   view.pose = *head;
-  view.fov = server::symmetric_fov(kTraceBenchFovDegrees, *size);
+  view.fov = symmetric_fov(kTraceBenchFovDegrees, *size);
   // The pose the server traced: one 90 Hz frame earlier, the head turning at 60 degrees per second.
   View traced_view = view;
   traced_view.pose.orientation =

@@ -7,6 +7,7 @@
 // light count). Per set: encode/decode MB/s of raw mask bytes (one thread), compressed bytes per eye
 // frame (sharded scheme vs whole-frame LZ4), shard count, Mbit/s at 90 Hz stereo, and `lz4 -b1` on the
 // same bytes as the reference. docs/performance.md ("Codec") has measured numbers.
+#include "cli/exit_codes.hpp"
 #include "codec_measure.hpp"
 #include "protocol/protocol.hpp"
 #include "metrics/visibility_synthetic.hpp"
@@ -229,7 +230,9 @@ int main(int argc, char** argv) {
       lights = traced.buffers.front().light_count;
       sets.push_back(std::move(traced));
     } else {
-      notes.push_back("no traced buffers: " + error);
+      // A scene the user named that cannot be traced is an error, not a footnote to synthetic results.
+      std::fprintf(stderr, "codec_bench: --scene %s: %s\n", o.scene.c_str(), error.c_str());
+      return exit_code::kUsage;
     }
 #else
     notes.push_back("no traced buffers: built without dhr_server (DHR_BUILD_SERVER=OFF)");

@@ -8,7 +8,7 @@
 #include "traced_buffers.hpp"
 #include "traces/eye_model.hpp"
 #include "traces/pose_trace.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <algorithm>
 #include <array>

@@ -8,10 +8,10 @@
 //   skip_bench [--scene PATH]... [--size WxH] [--repeat N] [--threads N] [--lights SPECS]
 // Without --scene: default_room, and living_room and LightsPunctualLamp from ../shared/data when present.
 // Scenes without a bookmark file get four cameras orbiting their bounds. docs/performance.md, "Skipped work".
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "codec/codec.hpp"
 #include "json_writer.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <glm/gtc/constants.hpp>
 
@@ -74,13 +74,13 @@ struct NamedCamera {
 std::vector<NamedCamera> cameras_for(const std::string& path, const Scene& scene, Extent eye) {
   std::vector<NamedCamera> out;
   const GuardBand guard = paper_guard_band(eye);
-  const Fov fov = server::symmetric_fov(90.0, eye);
+  const Fov fov = symmetric_fov(90.0, eye);
   std::string error;
-  const std::string bookmark_file = server::camera_bookmarks_path(path);
+  const std::string bookmark_file = camera_bookmarks_path(path);
   if (std::filesystem::exists(bookmark_file)) {
-    if (auto bookmarks = server::load_camera_bookmarks(bookmark_file, &error)) {
-      for (const server::CameraBookmark& b : *bookmarks)
-        out.push_back({b.name, Camera::with_guard_band(View{server::left_eye_pose(*server::look_at_pose(b)), fov}, eye,
+    if (auto bookmarks = load_camera_bookmarks(bookmark_file, &error)) {
+      for (const CameraBookmark& b : *bookmarks)
+        out.push_back({b.name, Camera::with_guard_band(View{left_eye_pose(*look_at_pose(b)), fov}, eye,
                                                        guard)});
       return out;
     }
@@ -90,11 +90,11 @@ std::vector<NamedCamera> cameras_for(const std::string& path, const Scene& scene
   const double r = std::max(0.5, double(scene.bounds.diagonal()));
   for (int i = 0; i < 4; ++i) {
     const double a = 0.6 + glm::two_pi<double>() * i / 4;
-    server::CameraBookmark b;
+    CameraBookmark b;
     b.name = "orbit" + std::to_string(i);
     b.position = c + glm::dvec3(r * std::sin(a), 0.4 * r, r * std::cos(a));
     b.target = c;
-    out.push_back({b.name, Camera::with_guard_band(View{*server::look_at_pose(b), fov}, eye, guard)});
+    out.push_back({b.name, Camera::with_guard_band(View{*look_at_pose(b), fov}, eye, guard)});
   }
   return out;
 }

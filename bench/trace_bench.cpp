@@ -14,10 +14,11 @@
 //   error    what could not be measured, with a one-line reason
 // docs/performance.md ("Server tracing") has the measured numbers and the commands.
 #include "bare_embree.hpp"
+#include "cli/exit_codes.hpp"
 #include "bench_views.hpp"
-#include "embree_tracer.hpp"
-#include "stats_json.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
+#include "trace/stats_json.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -157,7 +158,7 @@ struct LoadedScene {
   std::string path;
   Scene scene;
   double load_ms = 0.0;
-  std::vector<server::CameraBookmark> bookmarks;
+  std::vector<CameraBookmark> bookmarks;
   std::string bookmark_source;
 };
 
@@ -225,7 +226,7 @@ std::vector<EyeResult> trace_views(server::VisibilityTracer& tracer, const Loade
   Totals totals;
   VisibilityBuffer vis;
   bool warmed = false;
-  for (const server::CameraBookmark& b : s.bookmarks) {
+  for (const CameraBookmark& b : s.bookmarks) {
     for (int eye = 0; eye < 2; ++eye) {
       const std::optional<Camera> camera = bench_eye_camera(b, eye, display);
       if (!camera) continue;
@@ -298,7 +299,7 @@ void bare_views(const server::EmbreeTracer& tracer, const LoadedScene& s, Extent
   uint64_t tracer_rays = 0, bare_rays = 0;
   double tracer_ms = 0.0, bare_ms = 0.0, tracer_cpu_ms = 0.0, bare_cpu_ms = 0.0;
   size_t index = 0;
-  for (const server::CameraBookmark& b : s.bookmarks) {
+  for (const CameraBookmark& b : s.bookmarks) {
     for (int eye = 0; eye < 2; ++eye) {
       const std::optional<Camera> camera = bench_eye_camera(b, eye, display);
       if (!camera || index >= tracer_eyes.size()) continue;
@@ -362,8 +363,14 @@ void bare_views(const server::EmbreeTracer& tracer, const LoadedScene& s, Extent
   emit(j);
 }
 
+// Error records decide the exit code: a scene that cannot be loaded is bad input (2), anything else that could
+// not be measured a failure (1).
+int g_input_errors = 0;
+int g_errors = 0;
+
 void emit_error(const std::string& scene, const std::string& what, const std::string& message) {
   emit(Json{{"record", "error"}, {"scene", scene}, {"what", what}, {"error", message}});
+  ++(what == "load" || what == "scenes" || what == "bookmarks" ? g_input_errors : g_errors);
 }
 
 void bench_scene(const std::string& path, const Options& o, unsigned threads) {
@@ -443,5 +450,6 @@ int main(int argc, char** argv) {
             {"scenes", scenes}});
   if (o.scenes.empty()) emit_error("", "scenes", "no scene found (give --scene PATH)");
   for (const std::string& path : o.scenes) bench_scene(path, o, threads);
-  return 0;
+  if (g_input_errors > 0) return exit_code::kUsage;
+  return g_errors > 0 ? exit_code::kFailure : exit_code::kOk;
 }

@@ -1,8 +1,8 @@
 #include "traced_buffers.hpp"
 
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "scene/scene.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <chrono>
 #include <exception>
@@ -29,7 +29,7 @@ bool trace_bookmark_buffers(const std::string& scene_path, Extent traced, unsign
       *out_error = loaded.error;
       return false;
     }
-    const auto bookmarks = server::load_camera_bookmarks(server::camera_bookmarks_path(scene_path), out_error);
+    const auto bookmarks = load_camera_bookmarks(camera_bookmarks_path(scene_path), out_error);
     if (!bookmarks) return false;
     server::TracerOptions options;
     options.threads = threads;
@@ -41,15 +41,15 @@ bool trace_bookmark_buffers(const std::string& scene_path, Extent traced, unsign
     out.source = scene_path + " (" + std::to_string(bookmarks->size()) + " camera bookmarks, both eyes)";
     out.tracer = tracer->device_description();
     double trace_ms = 0.0;
-    for (const server::CameraBookmark& b : *bookmarks) {
-      const auto head = server::look_at_pose(b);
+    for (const CameraBookmark& b : *bookmarks) {
+      const auto head = look_at_pose(b);
       if (!head) continue;
       Pose right = *head;
-      right.position = head->transform_point(glm::dvec3(0.5 * server::kDefaultIpdMetres, 0.0, 0.0));
-      const Pose eyes[2] = {server::left_eye_pose(*head), right};
+      right.position = head->transform_point(glm::dvec3(0.5 * kDefaultIpdMetres, 0.0, 0.0));
+      const Pose eyes[2] = {left_eye_pose(*head), right};
       const char* names[2] = {"left", "right"};
       for (int e = 0; e < 2; ++e) {
-        const View view{eyes[e], server::symmetric_fov(kBenchFovDegrees, display)};
+        const View view{eyes[e], symmetric_fov(kBenchFovDegrees, display)};
         VisibilityBuffer vis;
         server::TraceStats stats;
         const auto start = std::chrono::steady_clock::now();

@@ -37,9 +37,15 @@ int main(int argc, char** argv) {
     if (options.smoke) return run_smoke_mode(options.smoke_options);
     if (!options.offscreen.empty()) return dhr::client::run_offscreen(options);
     return dhr::client::run_openxr(options);
+  } catch (const dhr::client::InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return dhr::client::kExitBadInput;
   } catch (const dhr::client::AuthenticationError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return dhr::client::kExitAuth;
+  } catch (const dhr::client::SceneMismatchError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return dhr::client::kExitSceneMismatch;
   } catch (const std::exception& e) {
     // One line, last on stderr: the loader and the runtime may have printed their own before.
     std::fflush(stdout);

@@ -1,5 +1,7 @@
 #include "eval_compare.hpp"
 
+#include "cli/exit_codes.hpp"
+
 #include "compare_pictures.hpp"
 #include "eval_render.hpp"
 #include "eval_truth.hpp"
@@ -7,7 +9,7 @@
 #include "log/log.hpp"
 #include "metrics/image_metrics.hpp"
 #include "scene/scene.hpp"
-#include "session/scene_hash.hpp"
+#include "scene/scene_hash.hpp"
 #include "traces/shown_frame.hpp"
 #include "vk/context.hpp"
 
@@ -74,7 +76,7 @@ std::string visibility_words(const ShownFrame& f) {
 class Comparer {
  public:
   Comparer(const CompareOptions& options, const Scene& scene)
-      : options_(options), scene_(scene), scene_hash_(server::scene_content_hash(scene)) {
+      : options_(options), scene_(scene), scene_hash_(scene_content_hash(scene)) {
     vk::ContextOptions vk_options;
     vk_options.app_name = "dhr-eval";
     context_ = vk::Context::create(vk_options);
@@ -199,21 +201,21 @@ int run_compare(const CompareOptions& given) {
     const bool missing = !fs::exists(views_path);
     std::fprintf(stderr, "dhr-eval compare: %s%s\n", error.c_str(),
                  missing ? " (dhr-xrclient writes it next to its PNGs: --snapshot-dir or --offscreen)" : "");
-    return 1;
+    return exit_code::kUsage;
   }
   if (frames->empty()) {
     std::fprintf(stderr, "dhr-eval compare: %s: no saved frames\n", views_path.c_str());
-    return 1;
+    return exit_code::kUsage;
   }
   std::error_code ec;
   fs::create_directories(options.out_dir, ec);
   if (ec || !fs::is_directory(options.out_dir)) {
     std::fprintf(stderr, "dhr-eval compare: %s: cannot create the output directory\n", options.out_dir.c_str());
-    return 1;
+    return exit_code::kFailure;
   }
   try {
     const SceneLoadResult loaded = load_scene(options.scene);
-    if (!loaded) throw std::runtime_error(loaded.error);
+    if (!loaded) throw cli::InputError(loaded.error);
     Comparer comparer(options, *loaded.scene);
     uint64_t compared = 0, skipped = 0, failed = 0;
     double differing_sum = 0.0;
@@ -250,10 +252,13 @@ int run_compare(const CompareOptions& given) {
                        {"device", comparer.device()},
                        {"out", options.out_dir}};
     std::printf("%s\n", summary.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
-    return failed > 0 ? 1 : 0;
+    return failed > 0 ? exit_code::kFailure : exit_code::kOk;
+  } catch (const cli::InputError& e) {
+    std::fprintf(stderr, "dhr-eval compare: %s\n", e.what());
+    return exit_code::kUsage;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dhr-eval compare: %s\n", e.what());
-    return 1;
+    return exit_code::kFailure;
   }
 }
 

@@ -1,5 +1,7 @@
 #include "eval_run.hpp"
 
+#include "cli/exit_codes.hpp"
+
 #include "traces/eye_model.hpp"
 #include "log/log.hpp"
 #include "eval_render.hpp"
@@ -59,18 +61,27 @@ void progress(uint64_t done, uint64_t total, size_t settings, double elapsed_s) 
   std::fflush(stderr);
 }
 
+// The trace the command line names: unreadable or malformed is bad input.
+PoseTrace load_input_trace(const std::string& path) {
+  try {
+    return client::TracePoseSource::load(path);
+  } catch (const std::exception& e) {
+    throw cli::InputError(e.what());
+  }
+}
+
 }  // namespace
 
 int run_eval(const RunOptions& options, const std::string& command_line) {
   const auto started = std::chrono::steady_clock::now();
   try {
     const SceneLoadResult loaded = load_scene(options.scene);
-    if (!loaded) throw std::runtime_error(loaded.error);
+    if (!loaded) throw cli::InputError(loaded.error);
     const Scene& scene = *loaded.scene;
-    if (scene.lights.size() > kMaxLights) throw std::runtime_error(options.scene + ": more than 32 lights");
-    PoseTrace trace = client::TracePoseSource::load(options.trace);
+    if (scene.lights.size() > kMaxLights) throw cli::InputError(options.scene + ": more than 32 lights");
+    PoseTrace trace = load_input_trace(options.trace);
     if (options.trace_start_s >= trace.duration()) {
-      throw std::runtime_error(options.trace + ": --trace-start is past the end of the trace");
+      throw cli::InputError(options.trace + ": --trace-start is past the end of the trace");
     }
     trace = skip_start(trace, options.trace_start_s);
     std::string placement_note;
@@ -179,10 +190,13 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
                 static_cast<unsigned long long>(frames), settings.size(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
                 (out / "results.json").string().c_str());
-    return 0;
+    return exit_code::kOk;
+  } catch (const cli::InputError& e) {
+    std::fprintf(stderr, "dhr-eval: %s\n", e.what());
+    return exit_code::kUsage;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dhr-eval: %s\n", e.what());
-    return 1;
+    return exit_code::kFailure;
   }
 }
 

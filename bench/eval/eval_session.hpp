@@ -18,7 +18,7 @@
 #include "plan/frame_planner.hpp"
 #include "pose/pose_source.hpp"
 #include "session/visibility_service.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <array>
 #include <cstdint>

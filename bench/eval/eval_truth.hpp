@@ -6,7 +6,7 @@
 #include "math/pose.hpp"
 #include "math/projection.hpp"
 #include "visibility/visibility.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <array>
 #include <cstdint>

@@ -5,7 +5,7 @@
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
 #include "visibility/visibility.hpp"
-#include "embree_scene.hpp"
+#include "trace/embree/embree_scene.hpp"
 
 #include <cstdint>
 #include <vector>

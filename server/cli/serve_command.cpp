@@ -1,7 +1,7 @@
 #include "serve_command.hpp"
 
 #include "scene_setup.hpp"
-#include "session/scene_hash.hpp"
+#include "scene/scene_hash.hpp"
 #include "session/serve.hpp"
 
 #include <cstdio>

@@ -3,7 +3,7 @@
 #pragma once
 #include "math/projection.hpp"
 #include "net/impairment.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <cstdint>
 #include <optional>

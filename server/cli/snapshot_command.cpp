@@ -1,11 +1,11 @@
 #include "snapshot_command.hpp"
 
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "image/png_writer.hpp"
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "preview_shading.hpp"
 #include "scene_setup.hpp"
-#include "stats_json.hpp"
+#include "trace/stats_json.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -4,7 +4,7 @@
 # Usage: client_monado_demo.sh DHR_SERVER DHR_XRCLIENT SOURCE_DIR
 set -euo pipefail
 server_exe="$1" client_exe="$2" src="$3"
-if [ ! -f "$HOME/.cache/dhr-xr/env.sh" ]; then echo "SKIP: Monado not set up (scripts/setup)"; exit 0; fi
+if [ ! -f "$HOME/.cache/dhr-xr/env.sh" ]; then echo "SKIP: Monado not set up (scripts/setup)"; exit 77; fi
 tmp="$(mktemp -d)"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 export DHR_TEST_LIB="$here"

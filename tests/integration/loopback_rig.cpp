@@ -1,7 +1,7 @@
 #include "loopback_rig.hpp"
 
-#include "camera_bookmarks.hpp"
-#include "session/scene_hash.hpp"
+#include "scene/camera_bookmarks.hpp"
+#include "scene/scene_hash.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -30,7 +30,7 @@ LoopbackServer::LoopbackServer(server::VisibilityTracer& tracer, const net::Impa
   net::DatagramSender& sender = impaired_ ? static_cast<net::DatagramSender&>(*impaired_) : endpoint_;
   server::ServiceConfig config;
   config.scene_id = "default_room";
-  config.scene_hash = server::scene_content_hash(TracedScene::get().scene);
+  config.scene_hash = scene_content_hash(TracedScene::get().scene);
   config.token_seed = 99;
   if (tweak) tweak(config);
   service_ = std::make_unique<server::VisibilityService>(tracer, config, sender, clock_);
@@ -80,16 +80,16 @@ client::VisibilityClientConfig client_config(const EyeSize& size) {
 }
 
 std::array<View, 2> views_for_frame(uint64_t frame, const EyeSize& size) {
-  server::CameraBookmark head;
+  CameraBookmark head;
   const double phase = 0.02 * static_cast<double>(frame);
   head.position = {0.4 * std::sin(phase), 1.6 + 0.05 * std::sin(3.0 * phase), 1.35};
   head.target = {-0.1, 0.5, -0.9};
-  const Pose T_world_head = server::look_at_pose(head).value();
-  const Fov fov = server::symmetric_fov(90.0, Extent{size.width, size.height});
+  const Pose T_world_head = look_at_pose(head).value();
+  const Fov fov = symmetric_fov(90.0, Extent{size.width, size.height});
   std::array<View, 2> views;
   for (int e = 0; e < 2; ++e) {
     Pose T_head_eye;
-    T_head_eye.position = {(e == 0 ? -0.5 : 0.5) * server::kDefaultIpdMetres, 0.0, 0.0};
+    T_head_eye.position = {(e == 0 ? -0.5 : 0.5) * kDefaultIpdMetres, 0.0, 0.0};
     views[e] = View{normalized(T_world_head * T_head_eye), fov};
   }
   return views;

@@ -10,7 +10,7 @@
 #include "net/impaired_sender.hpp"
 #include "link/udp_visibility_client.hpp"
 #include "session/visibility_service.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <array>
 #include <atomic>

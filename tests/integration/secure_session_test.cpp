@@ -14,7 +14,7 @@
 
 #include "net/simulated_link.hpp"
 #include "secure/envelope.hpp"
-#include "session/scene_hash.hpp"
+#include "scene/scene_hash.hpp"
 
 namespace dhr::integration {
 namespace {
@@ -28,7 +28,7 @@ class SecurePair {
       : up_({}, clock_), down_({}, clock_) {
     server::ServiceConfig config;
     config.scene_id = "default_room";
-    config.scene_hash = server::scene_content_hash(TracedScene::get().scene);
+    config.scene_hash = scene_content_hash(TracedScene::get().scene);
     config.token_seed = 7;
     config.key = std::move(server_key);
     service_ = std::make_unique<server::VisibilityService>(*TracedScene::get().tracer, config, down_, clock_);

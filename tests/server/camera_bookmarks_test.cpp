@@ -1,5 +1,5 @@
 // Camera bookmark files, --camera specs, look-at poses, eye offsets.
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
 // The visibility codec and reassembler on real traced buffers (Embree, living room or the default room):
 // exact round trips over the wire format, and a lossy delivery that costs only the lost shards' rows.
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "codec/codec.hpp"
 #include "protocol/protocol.hpp"
 #include "codec/reassembly.hpp"
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>

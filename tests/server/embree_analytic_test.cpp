@@ -1,7 +1,7 @@
 // The Embree tracer against analytic answers on hand-made scenes: a floor with a floating box and
 // point / directional / spot lights, range cut-off, back-facing lights, single/double-sided surfaces.
 // Pixels whose answer changes within a small margin (silhouettes, shadow boundaries) are not checked.
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>

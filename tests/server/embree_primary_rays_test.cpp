@@ -1,9 +1,9 @@
 // The Embree tracer's primary rays come from per-frame column/row tables (embree_trace_tile.hpp): they must be
 // bit-identical to the camera maths they replace, normalize(R * camera.eye_ray(x + 0.5, y + 0.5)) in double.
 // They start at the client's near plane: what the client's rasterizer clips is not traced in its place.
-#include "embree_scene.hpp"
-#include "embree_tracer.hpp"
-#include "embree_trace_tile.hpp"
+#include "trace/embree/embree_scene.hpp"
+#include "trace/embree/embree_tracer.hpp"
+#include "trace/embree/embree_trace_tile.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Properties of the Embree tracer: skipping and culling never change a bit, output independent of thread
 // count and repetition, no shadow acne at grazing light, precision far from the world origin, mask width.
-#include "camera_bookmarks.hpp"
-#include "embree_tracer.hpp"
+#include "scene/camera_bookmarks.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>

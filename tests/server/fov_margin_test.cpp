@@ -8,7 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "fov_margin.hpp"
+#include "session/fov_margin.hpp"
 #include "service_test_rig.hpp"
 
 namespace dhr::server {

@@ -1,7 +1,7 @@
 // VisibilityTracer::trace_lights: a client asking for the first N of the scene's lights gets exactly the bits
 // the full trace gives those lights, and the other lights cost no light test and no ray (Embree backend here,
 // tests/vulkan/vulkan_tracer_test.cpp for Vulkan). Also the interface's default for wrapper tracers.
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>

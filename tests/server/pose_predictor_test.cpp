@@ -10,7 +10,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "pose_predictor.hpp"
+#include "session/pose_predictor.hpp"
 
 namespace dhr::server {
 namespace {

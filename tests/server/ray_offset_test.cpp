@@ -1,5 +1,5 @@
 // offset_ray_origin: moves toward +n, by an amount that scales with the coordinates, never a fixed epsilon.
-#include "ray_offset.hpp"
+#include "trace/ray_offset.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The dhr-server executable: --check exit codes and JSON, --snapshot files, argument errors.
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>

@@ -2,11 +2,11 @@
 // SimulatedLink carrying the server's datagrams and a VirtualClock; clients are peer addresses whose
 // datagrams go straight into on_datagram.
 #pragma once
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "codec/reassembly.hpp"
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "net/simulated_link.hpp"
-#include "session/scene_hash.hpp"
+#include "scene/scene_hash.hpp"
 #include "session/service_stats_json.hpp"
 #include "session/visibility_service.hpp"
 #include "test_scenes.hpp"

@@ -1,6 +1,6 @@
 #include "test_scenes.hpp"
 
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 
 #include <gtest/gtest.h>
 
@@ -104,12 +104,12 @@ SceneLight directional_light(const glm::vec3& direction, float lux) {
 
 Camera look_camera(const glm::dvec3& eye, const glm::dvec3& target, uint32_t width, uint32_t height,
                    double hfov_deg) {
-  server::CameraBookmark b;
+  CameraBookmark b;
   b.position = eye;
   b.target = target;
-  const auto pose = server::look_at_pose(b);
+  const auto pose = look_at_pose(b);
   const Extent extent{width, height};
-  return Camera::with_guard_band(View{pose.value(), server::symmetric_fov(hfov_deg, extent)}, extent, GuardBand{});
+  return Camera::with_guard_band(View{pose.value(), symmetric_fov(hfov_deg, extent)}, extent, GuardBand{});
 }
 
 std::optional<double> ray_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi) {
@@ -144,13 +144,13 @@ std::string shared_data_path(const std::string& relative) {
 
 std::vector<Camera> bookmark_cameras(const std::string& scene_path, Extent eye) {
   std::string error;
-  auto bookmarks = server::load_camera_bookmarks(server::camera_bookmarks_path(scene_path), &error);
+  auto bookmarks = load_camera_bookmarks(camera_bookmarks_path(scene_path), &error);
   EXPECT_TRUE(bookmarks) << error;
   std::vector<Camera> cameras;
   if (!bookmarks) return cameras;
   const GuardBand guard = paper_guard_band(eye);
-  for (const server::CameraBookmark& b : *bookmarks) {
-    const View view{server::left_eye_pose(server::look_at_pose(b).value()), server::symmetric_fov(90.0, eye)};
+  for (const CameraBookmark& b : *bookmarks) {
+    const View view{left_eye_pose(look_at_pose(b).value()), symmetric_fov(90.0, eye)};
     cameras.push_back(Camera::with_guard_band(view, eye, guard));
   }
   return cameras;

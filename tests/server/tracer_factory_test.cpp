@@ -1,7 +1,7 @@
 // Backend names and create_tracer. The test environment hides every Vulkan driver (CMakeLists.txt).
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "test_scenes.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Degenerate geometry (zero-area and sliver triangles, duplicate vertices, coplanar overlapping faces), the
 // 1.2M-triangle dense living room, and determinism: no crash, bounded memory, the same bits every run.
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "stress_support.hpp"
 #include "test_scenes.hpp"
-#include "vulkan_tracer.hpp"
+#include "trace/vulkan/vulkan_tracer.hpp"
 
 #include <gtest/gtest.h>
 

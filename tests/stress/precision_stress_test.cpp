@@ -5,10 +5,10 @@
 // to the origin exactly (a float near 1e5 minus 1e5 is exact), so only the tracer's arithmetic differs.
 // "input": against the original scene; this includes the rounding of the scene's float vertices at the
 // offset (8 mm at 1e5 m), which no tracer can undo.
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "stress_support.hpp"
 #include "test_scenes.hpp"
-#include "vulkan_tracer.hpp"
+#include "trace/vulkan/vulkan_tracer.hpp"
 
 #include <gtest/gtest.h>
 

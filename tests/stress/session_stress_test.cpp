@@ -3,9 +3,9 @@
 //    newest reassembled buffer of each eye has the same bits with the skip on and off;
 //  - PoseUpdates with NaN / Inf / zero quaternions / huge translations are rejected, counted per decode
 //    error, and never traced.
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 #include "codec/reassembly.hpp"
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "net/simulated_link.hpp"
 #include "session/visibility_service.hpp"
 #include "stress_support.hpp"
@@ -23,13 +23,13 @@ constexpr uint16_t kEyeW = 48, kEyeH = 36, kGuardX = 4, kGuardY = 3;
 
 std::array<View, 2> bookmark_views(size_t index) {
   std::string error;
-  const auto bookmarks = server::load_camera_bookmarks(
-      server::camera_bookmarks_path(test::source_path(kDefaultScenePath)), &error);
+  const auto bookmarks = load_camera_bookmarks(
+      camera_bookmarks_path(test::source_path(kDefaultScenePath)), &error);
   EXPECT_TRUE(bookmarks) << error;
-  const server::CameraBookmark b = bookmarks->at(index % bookmarks->size());
-  const Pose head = server::look_at_pose(b).value();
-  const Fov fov = server::symmetric_fov(90.0, Extent{kEyeW, kEyeH});
-  return {View{server::left_eye_pose(head), fov}, View{server::left_eye_pose(head, -server::kDefaultIpdMetres), fov}};
+  const CameraBookmark b = bookmarks->at(index % bookmarks->size());
+  const Pose head = look_at_pose(b).value();
+  const Fov fov = symmetric_fov(90.0, Extent{kEyeW, kEyeH});
+  return {View{left_eye_pose(head), fov}, View{left_eye_pose(head, -kDefaultIpdMetres), fov}};
 }
 
 // One service with its own link, clock and client-side reassembler.

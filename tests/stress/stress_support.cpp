@@ -1,6 +1,6 @@
 #include "stress_support.hpp"
 
-#include "camera_bookmarks.hpp"
+#include "scene/camera_bookmarks.hpp"
 
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>

@@ -6,7 +6,7 @@
 #include "scene/scene.hpp"
 #include "visibility/visibility.hpp"
 #include "test_scenes.hpp"
-#include "visibility_tracer.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <cstdint>
 #include <string>

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "client_test_helpers.hpp"
-#include "embree_tracer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "metrics/visibility_synthetic.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"

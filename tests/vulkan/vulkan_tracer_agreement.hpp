@@ -3,10 +3,10 @@
 // fewer than 0.1% of the pixel-light bits differ and every differing bit lies within a pixel of a silhouette
 // or a shadow boundary.
 #pragma once
-#include "camera_bookmarks.hpp"
-#include "embree_tracer.hpp"
+#include "scene/camera_bookmarks.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "test_scenes.hpp"
-#include "vulkan_tracer.hpp"
+#include "trace/vulkan/vulkan_tracer.hpp"
 
 #include "vk/context.hpp"
 

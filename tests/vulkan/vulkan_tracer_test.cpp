@@ -3,7 +3,7 @@
 // double-sided / mirrored instances, skipping that changes no bit, statistics, mask widths, far-from-origin precision, bad input.
 #include "test_scenes.hpp"
 #include "vulkan_tracer_agreement.hpp"
-#include "vulkan_tracer_internal.hpp"
+#include "trace/vulkan/vulkan_tracer_internal.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>

@@ -75,6 +75,9 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   uint32_t frames = 0;
   app.add_flag("--smoke", out.smoke, "Smoke session: clear both eyes for --frames frames, print one JSON line");
   app.add_option("--scene", out.scene, "glTF scene (.gltf/.glb), the same the server traces");
+  app.add_option("--lights", out.lights,
+                 "replace the scene's lights, as dhr-server --lights (the same specs: the server's Welcome names "
+                 "the scene hash, lights included, and a mismatch ends the run with exit code 5)");
   app.add_option("--server", out.server, "dhr-server address HOST:PORT");
   app.add_option("--key-file", out.key_file,
                  "the deployment key the server was given (dhr-server --gen-key FILE): authenticates and seals "

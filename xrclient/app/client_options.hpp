@@ -17,6 +17,7 @@ struct ClientOptions {
   SmokeOptions smoke_options;  // --frames, --timeout, --vk-device, --swapchain-format also apply to --smoke
 
   std::string scene;        // --scene FILE
+  std::string lights;       // --lights SPECS: the override the server was started with (scene hash must match)
   std::string server;       // --server HOST:PORT
   std::string trace;        // --trace FILE (offscreen playback)
   std::string offscreen;    // --offscreen DIR (no OpenXR; PNGs and statistics)

@@ -9,29 +9,33 @@
 #include "app/run_modes.hpp"
 #include "log/log.hpp"
 #include "net/peer_address.hpp"
+#include "scene/session_scene.hpp"
 
 namespace dhr::client {
 
-Scene load_client_scene(const std::string& path) {
-  SceneLoadResult loaded = load_scene(path);
-  if (!loaded) throw std::runtime_error("cannot load scene: " + loaded.error);
-  for (const std::string& w : loaded.scene->warnings) log::warn("scene: %s", w.c_str());
-  log::info("scene: %s", scene_summary(*loaded.scene).c_str());
-  return std::move(*loaded.scene);
+Scene load_client_scene(const ClientOptions& options) {
+  std::string error;
+  std::optional<Scene> scene = load_session_scene(options.scene, options.lights, &error);
+  if (!scene) throw InputError("cannot load scene: " + error);
+  for (const std::string& w : scene->warnings) log::warn("scene: %s", w.c_str());
+  log::info("scene: %s", scene_summary(*scene).c_str());
+  return std::move(*scene);
 }
 
-std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard) {
+std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard,
+                                                       uint64_t scene_hash) {
   std::string host;
   uint16_t port = 0;
   if (!net::split_host_port(options.server, host, port)) {
-    throw std::runtime_error("--server: expected HOST:PORT, got '" + options.server + "'");
+    throw InputError("--server: expected HOST:PORT, got '" + options.server + "'");
   }
   VisibilityClientConfig config;
   if (!options.key_file.empty()) {
     std::string error;
     config.key = secure::load_key_file(options.key_file, &error);
-    if (!config.key) throw AuthenticationError("--key-file: " + error);
+    if (!config.key) throw InputError("--key-file: " + error);
   }
+  config.scene_hash = scene_hash;
   config.format = TracedFormat{eye, guard};
   config.codec_v2 = options.codec_v2;
   config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);
@@ -47,6 +51,9 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
     if (link->client().failed()) {
       if (link->client().failed_authentication()) {
         throw AuthenticationError("dhr-server at " + options.server + ": " + link->client().failure());
+      }
+      if (link->client().failure_kind() == ClientFailure::kSceneMismatch) {
+        throw SceneMismatchError("dhr-server at " + options.server + ": " + link->client().failure());
       }
       throw std::runtime_error("no dhr-server reachable at " + options.server + ": " + link->client().failure());
     }
@@ -176,7 +183,12 @@ int finish_run(const RunSummary& run, const ClientOptions& options, const FrameS
   std::fflush(stderr);
   std::printf("%s\n", summary.c_str());
   std::fflush(stdout);
-  return run.exit == "clean" ? kExitOk : kExitNotClean;
+  if (run.exit == "clean") return kExitOk;
+  return run.exit == kExitScene ? kExitSceneMismatch : kExitNotClean;
+}
+
+bool scene_mismatch(const UdpVisibilityClient& link) {
+  return link.client().failure_kind() == ClientFailure::kSceneMismatch;
 }
 
 }  // namespace dhr::client

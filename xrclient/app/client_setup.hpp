@@ -17,12 +17,21 @@
 
 namespace dhr::client {
 
-// Throws std::runtime_error("cannot load scene: <file>: <problem>").
-Scene load_client_scene(const std::string& path);
+// --scene with --lights applied, as dhr-server loads it (load_session_scene). Throws InputError("cannot load
+// scene: <file>: <problem>").
+Scene load_client_scene(const ClientOptions& options);
 
-// Connects and waits for the Welcome (tick() every few ms, at most --connect-timeout). Throws
-// std::runtime_error with one line: bad address, "no dhr-server answered at HOST:PORT ...", or the refusal.
-std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard);
+// Connects and waits for the Welcome (tick() every few ms, at most --connect-timeout); a Welcome that names
+// another scene than `scene_hash` (scene_content_hash of the client's scene) is refused. Throws with one line:
+// InputError (bad address, unusable key file), AuthenticationError, SceneMismatchError, or std::runtime_error
+// ("no dhr-server reachable at HOST:PORT: ...", a refusal).
+std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard,
+                                                       uint64_t scene_hash);
+
+// The client failed for good because the server (restarted, or answering late in offline mode) traces another
+// scene: the run stops and exits with kExitSceneMismatch.
+bool scene_mismatch(const UdpVisibilityClient& link);
+inline constexpr const char* kExitScene = "scene mismatch";  // RunSummary::exit of such a run
 
 // The pose guard of a run; its fallback views are the eye model standing at the origin, looking down -Z.
 PoseGuard make_pose_guard(const EyeModel& eyes);
@@ -62,7 +71,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
                          const UdpVisibilityClient& link);
 
 // The end of a run: says Bye (closes the link), prints the summary as the last stdout line, and returns
-// the exit code (kExitOk for a clean run, kExitNotClean otherwise).
+// the exit code (kExitOk for a clean run, kExitSceneMismatch for kExitScene, kExitNotClean otherwise).
 int finish_run(const RunSummary& run, const ClientOptions& options, const FrameSummary& frames,
                UdpVisibilityClient& link);
 

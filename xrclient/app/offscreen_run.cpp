@@ -14,6 +14,7 @@
 #include "pose/pose_guard.hpp"
 #include "pose/trace_pose_source.hpp"
 #include "render/client_scene.hpp"
+#include "scene/scene_hash.hpp"
 #include "sink/png_sink.hpp"
 #include "sink/stats_sink.hpp"
 #include "vk/context.hpp"
@@ -35,7 +36,7 @@ std::unique_ptr<PoseSource> make_pose_source(const ClientOptions& options, const
 }  // namespace
 
 int run_offscreen(const ClientOptions& options) {
-  const Scene scene = load_client_scene(options.scene);
+  const Scene scene = load_client_scene(options);
   const EyeModel eyes = EyeModel::monado_simulated();
   std::unique_ptr<PoseSource> poses = make_pose_source(options, eyes);
   log::info("pose source: %s", poses->describe().c_str());
@@ -48,7 +49,7 @@ int run_offscreen(const ClientOptions& options) {
 
   const Extent eye = options.eye_size;
   const GuardBand guard = options.guard.value_or(default_guard_band(eye));
-  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard);
+  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene));
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
 
   FrameCoordinator coordinator(*context, client_scene, eye, source, coordinator_options(options));
@@ -85,6 +86,10 @@ int run_offscreen(const ClientOptions& options) {
       break;
     }
     note_source_failure(source, warned_failure);
+    if (scene_mismatch(*link)) {
+      run.exit = kExitScene;
+      break;
+    }
     const FrameInput input = frame_input(sample, guard_poses);
     if (!coordinator.run_frame(input, png)) {
       log::error("offscreen: frame %llu failed: %s", static_cast<unsigned long long>(sample.frame),

@@ -13,6 +13,7 @@
 #include "pose/openxr_pose_source.hpp"
 #include "pose/pose_guard.hpp"
 #include "render/client_scene.hpp"
+#include "scene/scene_hash.hpp"
 #include "session_loop.hpp"
 #include "sink/png_sink.hpp"
 #include "sink/stats_sink.hpp"
@@ -35,7 +36,7 @@ bool is_bgra(VkFormat f) { return f == VK_FORMAT_B8G8R8A8_SRGB || f == VK_FORMAT
 int run_openxr(const ClientOptions& options) {
   Watchdog watchdog(std::chrono::milliseconds(static_cast<int64_t>(options.timeout_s * 1000.0)) + kHardCapMargin,
                     "dhr-xrclient exceeded its wall-clock cap (a runtime call did not return)");
-  const Scene scene = load_client_scene(options.scene);
+  const Scene scene = load_client_scene(options);
 
   xr::HeadsetOptions headset_options;
   headset_options.instance.app_name = "dhr-xrclient";
@@ -58,7 +59,7 @@ int run_openxr(const ClientOptions& options) {
   headset->frame_loop().set_image_extent({eye.width, eye.height});
   const render::ClientScene client_scene(vulkan, scene);
   const GuardBand guard = options.guard.value_or(default_guard_band(eye));
-  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard);
+  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene));
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
 
   CoordinatorOptions frame_options = coordinator_options(options);
@@ -114,11 +115,13 @@ int run_openxr(const ClientOptions& options) {
   loop_options.timeout_s = options.timeout_s;
   loop_options.log_name = "xrclient";
   const SessionLoopResult result = run_session_loop(*headset, loop_options, render, [&](const xr::FrameState&) {
-    return coordinator.last_error().empty();
+    return coordinator.last_error().empty() && !scene_mismatch(*link);
   });
   if (!coordinator.finish() || !coordinator.last_error().empty()) {
     log::error("xrclient: rendering failed: %s", coordinator.last_error().c_str());
     run.exit = "error";
+  } else if (scene_mismatch(*link)) {
+    run.exit = kExitScene;
   } else {
     run.exit = result.exit;
   }

@@ -3,18 +3,28 @@
 // throw with a one-line message.
 #pragma once
 #include "app/client_options.hpp"
+#include "cli/exit_codes.hpp"
 
 #include <stdexcept>
 
 namespace dhr::client {
 
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitError = 1;      // setup failed
-inline constexpr int kExitNotClean = 3;   // the run ended, but not cleanly (GPU error, session error, timeout)
-inline constexpr int kExitAuth = 4;       // the server refused the key (or requires one), or did not authenticate
+// The project's exit-code table (cli/exit_codes.hpp, docs/exit-codes.md).
+inline constexpr int kExitOk = exit_code::kOk;
+inline constexpr int kExitError = exit_code::kFailure;        // setup or the run failed
+inline constexpr int kExitBadInput = exit_code::kUsage;       // a scene, trace, key file or address unusable
+inline constexpr int kExitNotClean = exit_code::kNotClean;    // the run ended, but not cleanly
+inline constexpr int kExitAuth = exit_code::kAuthentication;  // the server refused the key, or did not authenticate
+inline constexpr int kExitSceneMismatch = exit_code::kSceneMismatch;  // the server traces another scene
 
+// Thrown by the setup when an input the command line names is unusable (exit code kExitBadInput).
+using InputError = cli::InputError;
 // Thrown by the setup when the handshake failed on authentication (exit code kExitAuth).
 struct AuthenticationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// Thrown by the setup when the server's Welcome names another scene (exit code kExitSceneMismatch).
+struct SceneMismatchError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 

@@ -125,7 +125,7 @@ void VisibilityClient::send_heartbeat(int64_t now) {
   if (send(hb, token_)) ++stats_.heartbeats_sent;
 }
 
-void VisibilityClient::fail(std::string reason, bool authentication) {
+void VisibilityClient::fail(std::string reason, ClientFailure kind) {
   if (state_ == State::kFailed) return;
   // A session that ends is an error worth a line; a handshake that fails is reported by whoever waits for it
   // (the setup throws, the frame loop warns once).
@@ -134,7 +134,7 @@ void VisibilityClient::fail(std::string reason, bool authentication) {
   } else {
     log::info("visibility client: %s", reason.c_str());
   }
-  failed_authentication_ = authentication;
+  failure_kind_ = kind;
   failure_ = std::move(reason);
   state_ = State::kFailed;
   token_ = 0;
@@ -218,9 +218,11 @@ std::string VisibilityClient::failure() const {
   return failure_;
 }
 
-bool VisibilityClient::failed_authentication() const {
+bool VisibilityClient::failed_authentication() const { return failure_kind() == ClientFailure::kAuthentication; }
+
+ClientFailure VisibilityClient::failure_kind() const {
   const std::lock_guard lock(mutex_);
-  return state_ == State::kFailed && failed_authentication_;
+  return state_ == State::kFailed ? failure_kind_ : ClientFailure::kNone;
 }
 
 bool VisibilityClient::send_pose(const FramePose& pose) {

@@ -41,6 +41,14 @@
 
 namespace dhr::client {
 
+// Why a client failed for good (VisibilityClient::failed()).
+enum class ClientFailure : uint8_t {
+  kNone,
+  kOther,           // no Welcome in time, the server refused the Hello, an unusable Welcome
+  kAuthentication,  // the server refused the key or requires one, or did not authenticate itself
+  kSceneMismatch,   // the Welcome names another scene than the client's (VisibilityClientConfig::scene_hash)
+};
+
 struct VisibilityClientConfig {
   // The deployment key (docs/security.md): the Hello carries its handshake tag, the Welcome must carry the
   // server's, every session datagram is sealed and replays are dropped. std::nullopt: no authentication.
@@ -50,6 +58,9 @@ struct VisibilityClientConfig {
   TracedFormat format;
   uint8_t light_count_wanted = 0;  // 0 = as many as the scene has (up to 32)
   std::string scene_id;            // empty = the server's default scene
+  // The hash of the scene this client renders (scene_content_hash, --lights applied): a Welcome that names
+  // another scene fails the client for good (ClientFailure::kSceneMismatch). std::nullopt: not checked.
+  std::optional<uint64_t> scene_hash;
   bool codec_v2 = true;            // offer codec v2 (the server decides; v1 is always offered)
   int64_t hello_retry_ns = 250 * net::kNsPerMs;
   int64_t hello_give_up_ns = 5 * net::kNsPerSecond;
@@ -153,6 +164,7 @@ class VisibilityClient {
   // failed() because of authentication: the server refused the key or requires one, or answered without
   // authenticating itself to a client with a key.
   bool failed_authentication() const;
+  ClientFailure failure_kind() const;  // kNone unless failed()
 
   // Render thread: sends a PoseUpdate (when connected; frame numbers strictly increasing) and remembers
   // its send time. False when not sent (not connected, frame not newer, negative time, send refused).
@@ -187,7 +199,7 @@ class VisibilityClient {
   void send_hello(int64_t now);
   void send_heartbeat(int64_t now);
   bool send(const Message& message, uint64_t token);
-  void fail(std::string reason, bool authentication = false);
+  void fail(std::string reason, ClientFailure kind = ClientFailure::kOther);
   void restart_session(int64_t now, const char* why);
 
   void handle_welcome(const Datagram& datagram, int64_t now);
@@ -211,7 +223,7 @@ class VisibilityClient {
   mutable std::mutex mutex_;
   State state_ = State::kIdle;
   std::string failure_;
-  bool failed_authentication_ = false;
+  ClientFailure failure_kind_ = ClientFailure::kNone;
   uint64_t rng_state_;
   uint64_t nonce_ = 0;
   uint64_t token_ = 0;

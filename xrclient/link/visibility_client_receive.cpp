@@ -3,7 +3,9 @@
 #include "log/log.hpp"
 #include "link/visibility_client.hpp"
 
+#include <cstdio>
 #include <stdexcept>
+#include <string>
 #include <variant>
 
 namespace dhr::client {
@@ -26,6 +28,15 @@ bool refuses_hello(ByeReason reason) {
 bool plain_refusal(ByeReason reason, bool have_key) {
   return reason == ByeReason::kVersionMismatch ||
          (have_key ? reason == ByeReason::kAuthFailed : reason == ByeReason::kAuthRequired);
+}
+
+std::string scene_mismatch_message(uint64_t server_hash, uint64_t own_hash) {
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "the server traces another scene (hash %016llx) than this client renders (hash %016llx): give both "
+                "the same --scene file and the same --lights",
+                static_cast<unsigned long long>(server_hash), static_cast<unsigned long long>(own_hash));
+  return text;
 }
 
 }  // namespace
@@ -60,7 +71,7 @@ void VisibilityClient::on_datagram(std::span<const uint8_t> bytes, int64_t now) 
     } else if (std::holds_alternative<Welcome>(rx_.message) && state_ == State::kHandshaking &&
                std::get<Welcome>(rx_.message).client_nonce == nonce_) {
       fail("the server answered without authentication (is it running with --insecure?); this client has a "
-           "key and takes no unauthenticated session", true);
+           "key and takes no unauthenticated session", ClientFailure::kAuthentication);
     } else {
       ++stats_.datagrams_rejected;
       count_auth_drop(&ClientNetStats::unauthenticated, "a datagram without authentication", now);
@@ -126,6 +137,11 @@ void VisibilityClient::handle_welcome(const Datagram& datagram, int64_t now) {
   if (config_.light_count_wanted > 0 && w.light_count > config_.light_count_wanted)
     return fail("the server sends " + std::to_string(w.light_count) + " lights, " +
                 std::to_string(config_.light_count_wanted) + " were asked for");
+  if (config_.scene_hash && w.scene_hash != *config_.scene_hash) {
+    // Shadows traced from another scene would be shown as if they were this one's: end the session at once.
+    send(Bye{ByeReason::kNormal}, datagram.session_token);
+    return fail(scene_mismatch_message(w.scene_hash, *config_.scene_hash), ClientFailure::kSceneMismatch);
+  }
   adopt_session(datagram, now);
 }
 
@@ -184,9 +200,9 @@ void VisibilityClient::handle_bye(const Datagram& datagram, int64_t now) {
   if (ours) sequences_.add(datagram.sequence);
   if (reason == ByeReason::kAuthFailed)
     return fail("the server rejected this client's key (authentication failed): the server and the client need "
-                "the same key file", true);
+                "the same key file", ClientFailure::kAuthentication);
   if (reason == ByeReason::kAuthRequired)
-    return fail("the server requires authentication: give the deployment's key with --key-file FILE", true);
+    return fail("the server requires authentication: give the deployment's key with --key-file FILE", ClientFailure::kAuthentication);
   if (refuses_hello(reason)) return fail(std::string("the server refused the Hello: ") + to_string(reason));
   restart_session(now, to_string(reason));
 }

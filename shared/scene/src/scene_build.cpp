@@ -217,6 +217,7 @@ class Builder {
           lights_.push_back(light_from_gltf(model_, light, world));
         }
       }
+      if (node.extensions.count("EXT_lights_area") != 0) ++area_light_nodes_;
       if (node.skin >= 0) ++skinned_nodes_;
       for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, world);
     }
@@ -281,6 +282,7 @@ class Builder {
       warnings_.add(format("%u primitives have morph targets: morphing is ignored (base shape)", morphed_primitives_));
     }
     if (!model_.animations.empty()) warnings_.add("animations are ignored (static scene)");
+    warn_unimplemented_lights_and_extensions();
     for (const SceneMesh& mesh : out_->meshes) {
       for (std::uint32_t i : mesh.indices) out_->bounds.extend(mesh.positions[i]);
       out_->triangle_count += mesh.triangle_count();
@@ -301,6 +303,36 @@ class Builder {
     }
   }
 
+  // What the file asks for and this loader does not implement is named, never dropped silently (DESIGN 5b).
+  void warn_unimplemented_lights_and_extensions() {
+    for (const std::string& name : model_.extensionsUsed) {
+      if (name == "EXT_lights_area" || extension_implemented(name)) continue;
+      warnings_.add(format("extension %s is used but not implemented: what it adds is ignored", name.c_str()));
+    }
+    if (area_light_nodes_ > 0 || has_extension_used("EXT_lights_area")) {
+      warnings_.add(format("EXT_lights_area: %u area light(s) on nodes are ignored (area lights are not "
+                           "implemented)", area_light_nodes_));
+    }
+    for (std::size_t i = 0; i < model_.lights.size(); ++i) {
+      const tinygltf::Light& light = model_.lights[i];
+      const char* name = light.name.empty() ? "" : light.name.c_str();
+      if (light.extras.IsObject() && light.extras.Has("radius")) {
+        warnings_.add(format("light %zu ('%s'): extras.radius (a sphere light) is not implemented; it is traced as "
+                             "a point light", i, name));
+      }
+      if (light.extras.IsObject() && light.extras.Has("angle")) {
+        warnings_.add(format("light %zu ('%s'): extras.angle (a sun disk) is not implemented; it is traced as a "
+                             "directional light", i, name));
+      }
+    }
+  }
+
+  bool has_extension_used(const char* name) const {
+    for (const std::string& used : model_.extensionsUsed)
+      if (used == name) return true;
+    return false;
+  }
+
   const tinygltf::Model& model_;
   const SceneLoadOptions& options_;
   const ImageDecodeContext& images_;
@@ -314,6 +346,7 @@ class Builder {
   int default_material_ = -1;
   std::vector<SceneLight> lights_;
   std::uint32_t skinned_nodes_ = 0;
+  std::uint32_t area_light_nodes_ = 0;  // nodes carrying an EXT_lights_area light
   std::uint32_t morphed_primitives_ = 0;
 };
 

@@ -46,6 +46,10 @@ struct ContainerInfo {
 std::optional<std::string> validate_gltf_json(const nlohmann::json& root, const ContainerInfo& info,
                                               WarningSink& warnings);
 
+// Extensions this loader implements, or that only change shading terms the Lambertian client does not evaluate
+// (KHR_materials_*): a file may require them; any other used extension is ignored with a warning naming it.
+bool extension_implemented(const std::string& name);
+
 // Image indices used as a base-colour texture by any material (only those get decoded).
 std::vector<bool> base_color_image_mask(const nlohmann::json& root);
 

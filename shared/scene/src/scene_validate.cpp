@@ -11,12 +11,6 @@
 namespace dhr::scene_detail {
 namespace {
 
-// Extensions that only change shading (or that this loader implements) may be required.
-bool required_extension_supported(const std::string& name) {
-  return name == "KHR_lights_punctual" || name == "KHR_texture_transform" || name == "KHR_mesh_quantization" ||
-         name.rfind("KHR_materials_", 0) == 0;
-}
-
 std::uint64_t component_bytes(std::uint64_t component_type) {
   switch (component_type) {
     case 5120:
@@ -46,6 +40,11 @@ std::uint64_t element_bytes(const std::string& type, std::uint64_t comp) {
 }
 
 }  // namespace
+
+bool extension_implemented(const std::string& name) {
+  return name == "KHR_lights_punctual" || name == "KHR_texture_transform" || name == "KHR_mesh_quantization" ||
+         name.rfind("KHR_materials_", 0) == 0;
+}
 
 std::optional<std::string> GltfValidator::run() {
   if (!root_.is_object()) return std::string("the top level is ") + kind_name(root_) + ", not a JSON object";
@@ -86,7 +85,7 @@ bool GltfValidator::check_extensions() {
                     "KHR_draco_mesh_compression (Draco-compressed meshes) is not supported; "
                     "export the scene without Draco compression");
       }
-      if (!required_extension_supported(name)) {
+      if (!extension_implemented(name)) {
         return fail("extensionsRequired", "required extension " + name + " is not supported");
       }
     }

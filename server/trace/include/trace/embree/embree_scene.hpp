@@ -1,0 +1,97 @@
+// The Embree side of a Scene: one Embree 3 device and one flattened triangle scene (one Embree geometry per
+// SceneMesh, geometry ID = mesh index), built in coordinates relative to the scene's bounding-box centre
+// so that large world offsets keep float precision. Also turns Embree hits into surface points.
+#pragma once
+#include "trace/ray_offset.hpp"
+#include "trace/visibility_tracer.hpp"
+
+#include <embree3/rtcore.h>
+#include <glm/vec3.hpp>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dhr::server {
+
+struct EmbreeBuildOptions {
+  // Measured on living_room.glb (docs/server.md): HIGH (spatial splits) traces faster and its extra build
+  // time is small; ROBUST keeps rays from slipping through shared edges at a small cost.
+  bool high_quality = true;
+  bool robust = true;
+  uint32_t threads = 0;  // Embree's build threads; 0 = all cores
+};
+
+// A primary hit, in the scene's relative frame (EmbreeScene::origin() is its world position).
+struct SurfaceHit {
+  uint32_t mesh = 0;      // index into Scene::meshes
+  uint32_t triangle = 0;  // triangle index within the mesh
+  float u = 0.0f;         // barycentrics: p = (1-u-v) v0 + u v1 + v v2
+  float v = 0.0f;
+  glm::vec3 position{0.0f};          // from the triangle's vertices and the barycentrics (not o + t d)
+  glm::vec3 geometric_normal{0.0f};  // unit, on the viewer's side (flipped for back hits)
+  glm::vec3 shading_normal{0.0f};    // unit interpolated vertex normal, flipped together with the above
+  bool back_face = false;            // the ray hit the back of a (double-sided) triangle
+};
+
+// Per-mesh data the tracer needs after the build (the Scene itself need not outlive the tracer).
+struct EmbreeMesh {
+  std::vector<glm::vec3> positions;  // relative to the origin; one padding element at the end (Embree)
+  std::vector<glm::vec3> normals;    // world space unit normals, one per vertex
+  std::vector<uint32_t> indices;
+  bool double_sided = false;
+};
+
+class EmbreeScene {
+ public:
+  // Throws std::runtime_error when Embree cannot be initialised or the build fails.
+  static std::unique_ptr<EmbreeScene> create(const Scene& scene, const EmbreeBuildOptions& options = {});
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  RTCScene handle() const { return scene_; }
+  // World position of the relative frame's origin (the bounding-box centre).
+  const glm::dvec3& origin() const { return origin_; }
+  glm::vec3 to_relative(const glm::dvec3& world) const { return glm::vec3(world - origin_); }
+  // Shadow-ray origin offset for this scene's size (ray_offset.hpp).
+  const RayOffset& ray_offset() const { return ray_offset_; }
+  const AccelStats& stats() const { return stats_; }
+  const std::vector<EmbreeMesh>& meshes() const { return meshes_; }
+  // "Embree 3.13.5 (<ISA>), N threads"-style text for the device field of reports.
+  std::string description(uint32_t trace_threads) const;
+
+  // Surface point of Embree hit (geometry = mesh index, primitive, u, v) seen along ray direction `dir`.
+  SurfaceHit surface(uint32_t mesh, uint32_t triangle, float u, float v, const glm::vec3& dir) const;
+
+  // Single primary ray (origin relative, any direction length): the closest front face, or a face of a
+  // double-sided material. std::nullopt on a miss.
+  std::optional<SurfaceHit> intersect(const glm::vec3& origin, const glm::vec3& dir, float tnear = 0.0f) const;
+  // Shadow-style query: any surface (both sides) within (0, tfar) along dir.
+  bool occluded(const glm::vec3& origin, const glm::vec3& dir, float tfar) const;
+
+ private:
+  EmbreeScene() = default;
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  glm::dvec3 origin_{0.0};
+  RayOffset ray_offset_;
+  AccelStats stats_;
+  std::vector<EmbreeMesh> meshes_;
+  std::atomic<int64_t> memory_bytes_{0};
+  static bool on_memory(void* user, ssize_t bytes, bool post);
+};
+
+// The tracer's one ray set-up: origin, direction, (0, tfar), every mask bit, no time. Shared by the
+// single-ray queries above and the tile kernel's packets and streams.
+RTCRay make_rtc_ray(const glm::vec3& origin, const glm::vec3& dir, float tfar);
+
+// Embree intersection filter: rejects hits on the back of single-sided triangles (the client's rasterizer
+// culls those). Set on single-sided geometries for rtcIntersect only; shadow rays (rtcOccluded) see
+// every face. Exposed for tests.
+void reject_back_faces(const RTCFilterFunctionNArguments* args);
+
+}  // namespace dhr::server

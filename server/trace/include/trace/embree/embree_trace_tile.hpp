@@ -1,0 +1,91 @@
+// Internal to the Embree tracer: everything one tile needs, and the tile kernel (public for bench/trace_bench and
+// the primary-ray test, which replay exactly the tracer's rays). Includes go one way: the tracer includes this.
+#pragma once
+#include "scene/lighting.hpp"
+#include "trace/embree/embree_scene.hpp"
+#include "trace/embree/shadow_query.hpp"
+#include "trace/visibility_tracer.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace dhr::server::detail {
+
+// Per-frame constants shared read-only by all threads.
+struct FrameSetup {
+  const EmbreeScene* scene = nullptr;
+  const Camera* camera = nullptr;
+  glm::vec3 eye{0.0f};          // eye position in the scene's relative frame
+  glm::dmat3 world_from_eye{1.0};
+  // Primary-ray tables: the terms of R * (tx, ty, -1) (R = world_from_eye) that depend on the column or
+  // the row only, so a pixel costs two additions, not the camera maths (primary_direction sums them in
+  // the product's own order: bit-identical to normalize(R * camera.eye_ray(x + 0.5, y + 0.5))).
+  std::vector<glm::dvec3> ray_columns;  // R[0] * tx of column x
+  std::vector<glm::dvec3> ray_rows;     // R[1] * ty of row y
+  glm::dvec3 ray_forward{0.0};          // R[2] * -1
+  double primary_near = kClipNearPlane;  // TracerOptions::primary_near
+  std::vector<PackedLight> lights;      // all lights, relative frame
+  std::vector<uint32_t> active_lights;  // indices of lights not culled for this view
+  uint32_t culled_lights = 0;
+  SkipOptions skip;
+  bool primary_packets = true;
+  ShadowQuery shadow_query = ShadowQuery::kStream;
+};
+
+// One queued occlusion ray's destination.
+struct PendingShadowRay {
+  uint32_t slot = 0;         // pixel slot within the tile (block * 16 + lane): packets group by block
+  uint32_t hit = 0;          // index into TileScratch::hits
+  uint32_t light = 0;        // light index (bit)
+  bool contributes = false;  // light_test said kContributes (else traced only because a skip is off)
+};
+
+// Where a hit pixel is.
+struct HitPixel {
+  uint32_t slot = 0;
+  uint32_t x = 0;
+  uint32_t y = 0;
+};
+
+// Per-thread buffers reused from tile to tile. Only pixels whose primary ray hit are stored (in slot
+// order), so background pixels cost no bookkeeping past their primary ray.
+struct TileScratch {
+  std::vector<SurfaceHit> hits;
+  std::vector<HitPixel> hit_pixels;  // parallel to hits
+  std::vector<RTCRay> rays;
+  std::vector<PendingShadowRay> pending;
+  std::vector<uint32_t> masks;  // parallel to hits
+};
+
+// The frame constants for one camera: the eye in the scene's relative frame, the packed lights and which of
+// the first `requested` of them `skip.cull_lights` leaves active (lights past `requested` are never
+// tested or traced). Query kinds stay at their defaults (the tracer sets them).
+FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
+                            const SkipOptions& skip, uint32_t requested = UINT32_MAX);
+
+// Unit primary-ray direction through pixel (x, y)'s centre, relative frame (from the frame's tables).
+inline glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y) {
+  return glm::vec3(glm::normalize((frame.ray_columns[x] + frame.ray_rows[y]) + frame.ray_forward));
+}
+
+// Where a primary ray along `dir` starts: the client's near plane (frame.primary_near along the view axis),
+// so nothing the client's rasterizer clips is traced in its place.
+inline float primary_tnear(const FrameSetup& frame, const glm::vec3& dir) {
+  return static_cast<float>(frame.primary_near / glm::dot(glm::dvec3(dir), frame.ray_forward));
+}
+
+// One surface point and light: true with the occlusion ray to trace (and whether the light contributes, else
+// the ray is traced only because a skip is off), or false when frame.skip skips the pair (counted in `stats`
+// by reason). bench/trace_bench uses it to replay exactly the tracer's rays.
+bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
+                    RTCRay& out_ray, bool& out_contributes);
+
+// Traces pixels [x0, x1) x [y0, y1) into `out` and adds to `stats` (counts only, no times).
+void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
+                TraceStats& stats, TileScratch& scratch);
+
+}  // namespace dhr::server::detail

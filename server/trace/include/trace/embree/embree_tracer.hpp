@@ -1,0 +1,53 @@
+// The Embree backend of VisibilityTracer (CPU; also the reference for the Vulkan backend).
+//
+// Per eye: the image is cut into tiles handed to `threads` std::threads through an atomic counter; each
+// pixel's result depends only on its own rays, so the output is identical for any thread count. Primary
+// rays go through pixel centres (16-ray packets by default); each hit becomes a surface point rebuilt from
+// the triangle's vertices; then one occlusion ray per light that can contribute (see light_eval.h), from
+// an origin offset along the geometric normal (ray_offset.hpp). See docs/server.md.
+#pragma once
+#include "trace/embree/embree_scene.hpp"
+#include "trace/embree/shadow_query.hpp"
+#include "trace/visibility_tracer.hpp"
+
+#include <memory>
+
+namespace dhr::server {
+
+// Internal knobs, measured in docs/server.md; the defaults are the fastest found on this machine's kind.
+struct EmbreeTracerConfig {
+  EmbreeBuildOptions build;
+  bool primary_packets = true;                  // rtcIntersect16 per 4x4 block (false: rtcIntersect1 per pixel)
+  ShadowQuery shadow_query = ShadowQuery::kStream;
+  uint32_t tile_size = 16;                      // pixels per tile side (a multiple of 4)
+};
+
+class EmbreeTracer final : public VisibilityTracer {
+ public:
+  // Throws std::runtime_error when the scene has more than kMaxLights lights or Embree fails.
+  EmbreeTracer(const Scene& scene, const TracerOptions& options, const EmbreeTracerConfig& config = {});
+  ~EmbreeTracer() override;
+
+  TracerBackend backend() const override { return TracerBackend::kEmbree; }
+  std::string device_description() const override;
+  const AccelStats& accel_stats() const override;
+  uint32_t light_count() const override;
+  void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) override;
+  void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats) override;
+
+  // The Embree scene (e.g. to cast primary rays for a shaded preview with the same geometry).
+  const EmbreeScene& embree_scene() const { return *scene_; }
+  const EmbreeTracerConfig& config() const { return config_; }
+
+ private:
+  std::unique_ptr<EmbreeScene> scene_;
+  std::vector<SceneLight> lights_;
+  TracerOptions options_;
+  EmbreeTracerConfig config_;
+  uint32_t threads_ = 1;
+};
+
+std::unique_ptr<VisibilityTracer> create_embree_tracer(const Scene& scene, const TracerOptions& options,
+                                                       const EmbreeTracerConfig& config = {});
+
+}  // namespace dhr::server

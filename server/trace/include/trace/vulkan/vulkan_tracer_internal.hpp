@@ -1,0 +1,98 @@
+// Internal to the Vulkan tracer (server/trace/src/vulkan/*.cpp; tests may use it): the CPU-side plan of the GPU scene,
+// its upload into acceleration structures and storage buffers, and the ray-tracing pipeline.
+#pragma once
+#include "scene/lighting.hpp"
+#include "shader_interface.h"
+#include "trace/vulkan/vulkan_tracer.hpp"
+
+#include "vk/acceleration_structure.hpp"
+#include "vk/buffer.hpp"
+#include "vk/context.hpp"
+#include "vk/handle.hpp"
+#include "vk/ray_tracing_pipeline.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dhr::server::detail {
+
+// Triangle order along a Morton (Z-order) curve through the triangles' centroids: out[i] is the original
+// index of the i-th triangle in the new order. Ties keep the original order (deterministic).
+// positions_xyz: x, y, z per vertex; indices: 3 per triangle, each < vertex count.
+std::vector<uint32_t> morton_triangle_order(std::span<const float> positions_xyz, std::span<const uint32_t> indices);
+
+// One bottom-level structure to build.
+struct BlasPlan {
+  std::vector<float> positions;     // x, y, z per vertex in the BLAS's space (local or scene-relative world)
+  std::vector<uint32_t> indices;    // triangles in build order (spatially sorted when asked)
+  uint32_t index_offset = 0;        // its triangles in original order: ScenePlan::indices from here
+  uint32_t permutation_offset = 0;  // build order -> original triangle: ScenePlan::permutation from here
+  bool mirrored = false;            // local -> world reverses orientation (negative determinant)
+  // Instanced BLASes: positions = local - local_centre (the local bounding-box centre, so BLAS coordinates
+  // stay small even when a file bakes large offsets into its vertices); instances add it back.
+  glm::dvec3 local_centre{0.0};
+};
+
+// One TLAS instance: a SceneMesh placed with its BLAS.
+struct InstancePlan {
+  uint32_t mesh = 0;  // Scene::meshes index, the instance's custom index
+  uint32_t blas = 0;  // ScenePlan::blases index
+  float transform[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  // BLAS space -> scene-relative world
+  bool double_sided = false;
+  bool mirrored = false;
+};
+
+// Everything the GPU scene holds, prepared on the CPU (no Vulkan).
+struct ScenePlan {
+  glm::dvec3 origin{0.0};  // world position of the scene-relative frame (bounding-box centre)
+  std::vector<BlasPlan> blases;
+  std::vector<InstancePlan> instances;
+  std::vector<shader::VisMesh> meshes;  // one per Scene mesh (meshes without triangles are never hit)
+  std::vector<float> positions;         // per mesh, scene-relative world, x, y, z per vertex
+  std::vector<float> normals;           // per mesh, world, x, y, z per vertex (zero where missing)
+  std::vector<uint32_t> indices;        // per BLAS, original triangle order, mesh-local vertex indices
+  std::vector<uint32_t> permutation;    // per BLAS
+  uint64_t triangles = 0;               // over all instances
+};
+
+// Validates the meshes (indices in range, finite positions) and plans BLASes and instances.
+// Throws std::runtime_error naming the mesh and the problem.
+ScenePlan plan_gpu_scene(const Scene& scene, const VulkanTracerConfig& config);
+
+// The plan on the device. No TLAS when the scene has no triangles (every pixel is background).
+struct GpuScene {
+  vk::Buffer lights;  // PackedLight[] (at least one element: bindings need a non-empty buffer)
+  vk::Buffer meshes;
+  vk::Buffer positions;
+  vk::Buffer normals;
+  vk::Buffer indices;
+  vk::Buffer permutation;
+  std::vector<vk::AccelerationStructure> blases;
+  vk::AccelerationStructure tlas;
+  AccelStats stats;  // build_ms covers the device work only (upload_gpu_scene's caller adds planning)
+};
+
+// Throws std::runtime_error when a buffer exceeds the device's maxStorageBufferRange.
+GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std::span<const PackedLight> lights,
+                          const VulkanTracerConfig& config);
+
+// The visibility pipeline with its single descriptor set.
+struct TracerPipeline {
+  vk::DescriptorSetLayout set_layout;
+  vk::PipelineLayout layout;
+  vk::DescriptorPool pool;
+  VkDescriptorSet set = VK_NULL_HANDLE;  // freed with the pool
+  vk::RayTracingPipeline pipeline;
+};
+
+TracerPipeline create_tracer_pipeline(const vk::Context& context);
+// Binds the scene's TLAS and buffers (once, after the build).
+void write_scene_descriptors(const vk::Context& context, const TracerPipeline& pipeline, const GpuScene& scene);
+// Binds the per-frame outputs (after they are (re)allocated; never while a trace is in flight).
+void write_frame_descriptors(const vk::Context& context, const TracerPipeline& pipeline, const vk::Buffer& masks,
+                             const vk::Buffer& counters);
+
+}  // namespace dhr::server::detail

@@ -1,0 +1,198 @@
+#include "trace/embree/embree_scene.hpp"
+
+#include "log/log.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace dhr::server {
+namespace {
+
+void on_embree_error(void* /*user*/, RTCError code, const char* message) {
+  log::error("embree: error %d: %s", static_cast<int>(code), message ? message : "");
+}
+
+std::string device_error_text(RTCDevice device) {
+  switch (rtcGetDeviceError(device)) {
+    case RTC_ERROR_NONE: return "no error";
+    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+    default: return "unknown error";
+  }
+}
+
+glm::vec3 face_normal(const EmbreeMesh& mesh, uint32_t triangle) {
+  const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(triangle)];
+  const glm::vec3& a = mesh.positions[idx[0]];
+  return glm::cross(mesh.positions[idx[1]] - a, mesh.positions[idx[2]] - a);  // CCW front (glTF)
+}
+
+}  // namespace
+
+void reject_back_faces(const RTCFilterFunctionNArguments* args) {
+  const auto* mesh = static_cast<const EmbreeMesh*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const glm::vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                        RTCRayN_dir_z(args->ray, args->N, i));
+    const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    // Edge-on (dot == 0) counts as back-facing: a rasterizer produces no fragments for it either.
+    if (!(glm::dot(face_normal(*mesh, prim), dir) < 0.0f)) args->valid[i] = 0;
+  }
+}
+
+bool EmbreeScene::on_memory(void* user, ssize_t bytes, bool /*post*/) {
+  static_cast<EmbreeScene*>(user)->memory_bytes_.fetch_add(static_cast<int64_t>(bytes));
+  return true;
+}
+
+std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const EmbreeBuildOptions& options) {
+  std::unique_ptr<EmbreeScene> es(new EmbreeScene());
+  const uint32_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  // set_affinity=0: the server shares the machine with the client in the eval; no thread pinning.
+  const std::string config = "threads=" + std::to_string(threads) + ",set_affinity=0";
+  es->device_ = rtcNewDevice(config.c_str());
+  if (!es->device_) throw std::runtime_error("embree: cannot create a device: " + device_error_text(nullptr));
+  rtcSetDeviceErrorFunction(es->device_, on_embree_error, nullptr);
+  rtcSetDeviceMemoryMonitorFunction(es->device_, &EmbreeScene::on_memory, es.get());
+
+  const auto t0 = std::chrono::steady_clock::now();
+  es->origin_ = scene.bounds.empty() ? glm::dvec3(0.0) : glm::dvec3(scene.bounds.min) * 0.5 +
+                                                              glm::dvec3(scene.bounds.max) * 0.5;
+  es->ray_offset_ = scaled_ray_offset(ray_offset_scale(scene.bounds));
+  es->scene_ = rtcNewScene(es->device_);
+  rtcSetSceneBuildQuality(es->scene_, options.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+  rtcSetSceneFlags(es->scene_, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+
+  es->meshes_.resize(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const SceneMesh& src = scene.meshes[m];
+    EmbreeMesh& dst = es->meshes_[m];
+    const size_t tri_count = src.indices.size() / 3;
+    if (tri_count == 0 || src.positions.empty()) continue;
+    // The loader validates files; scenes built in code get the same guarantee here (Embree does not check).
+    for (size_t i = 0; i < tri_count * 3; ++i) {
+      if (src.indices[i] >= src.positions.size())
+        throw std::runtime_error("embree: mesh '" + src.name + "': index " + std::to_string(src.indices[i]) +
+                                 " out of range (" + std::to_string(src.positions.size()) + " vertices)");
+    }
+    for (const glm::vec3& p : src.positions) {
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        throw std::runtime_error("embree: mesh '" + src.name + "': non-finite vertex position");
+    }
+    dst.double_sided = src.material < scene.materials.size() && scene.materials[src.material].double_sided;
+    // Subtract the origin in double: the float result keeps full precision near the scene.
+    dst.positions.reserve(src.positions.size() + 1);
+    for (const glm::vec3& p : src.positions) dst.positions.push_back(glm::vec3(glm::dvec3(p) - es->origin_));
+    dst.positions.emplace_back(0.0f);  // Embree reads vertex buffers with 16-byte loads: pad the last one
+    dst.normals = src.normals;
+    if (dst.normals.size() != src.positions.size()) dst.normals.assign(src.positions.size(), glm::vec3(0.0f));
+    dst.indices.assign(src.indices.begin(), src.indices.begin() + static_cast<std::ptrdiff_t>(tri_count * 3));
+
+    RTCGeometry geom = rtcNewGeometry(es->device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, dst.positions.data(), 0,
+                               sizeof(glm::vec3), src.positions.size());
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, dst.indices.data(), 0,
+                               3 * sizeof(uint32_t), tri_count);
+    rtcSetGeometryUserData(geom, &dst);
+    if (!dst.double_sided) rtcSetGeometryIntersectFilterFunction(geom, reject_back_faces);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(es->scene_, geom, static_cast<unsigned>(m));
+    rtcReleaseGeometry(geom);
+    es->stats_.triangles += tri_count;
+    ++es->stats_.blas_count;
+  }
+  rtcCommitScene(es->scene_);
+  if (rtcGetDeviceError(es->device_) != RTC_ERROR_NONE)
+    throw std::runtime_error("embree: scene build failed: " + device_error_text(es->device_));
+  es->stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  es->stats_.bytes = static_cast<uint64_t>(std::max<int64_t>(0, es->memory_bytes_.load()));
+  es->stats_.instance_count = 0;  // flattened: no instances
+  return es;
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+std::string EmbreeScene::description(uint32_t trace_threads) const {
+  return std::string("Embree ") + RTC_VERSION_STRING + " (CPU), " + std::to_string(trace_threads) +
+         (trace_threads == 1 ? " thread" : " threads");
+}
+
+SurfaceHit EmbreeScene::surface(uint32_t mesh, uint32_t triangle, float u, float v, const glm::vec3& dir) const {
+  const EmbreeMesh& m = meshes_[mesh];
+  const uint32_t* idx = &m.indices[3 * static_cast<size_t>(triangle)];
+  const float w = 1.0f - u - v;
+  SurfaceHit hit;
+  hit.mesh = mesh;
+  hit.triangle = triangle;
+  hit.u = u;
+  hit.v = v;
+  const glm::vec3& p0 = m.positions[idx[0]];
+  const glm::vec3& p1 = m.positions[idx[1]];
+  const glm::vec3& p2 = m.positions[idx[2]];
+  hit.position = w * p0 + u * p1 + v * p2;
+  glm::vec3 ng = glm::cross(p1 - p0, p2 - p0);
+  const float ng_len = glm::length(ng);
+  ng = ng_len > 0.0f ? ng / ng_len : -glm::normalize(dir);
+  glm::vec3 ns = w * m.normals[idx[0]] + u * m.normals[idx[1]] + v * m.normals[idx[2]];
+  const float ns_len = glm::length(ns);
+  ns = ns_len > 1e-6f && std::isfinite(ns_len) ? ns / ns_len : ng;
+  // Double-sided back hits: the rasterizer's gl_FrontFacing flip, applied to both normals.
+  if (glm::dot(ng, dir) > 0.0f) {
+    hit.back_face = true;
+    ng = -ng;
+    ns = -ns;
+  }
+  hit.geometric_normal = ng;
+  hit.shading_normal = ns;
+  return hit;
+}
+
+RTCRay make_rtc_ray(const glm::vec3& origin, const glm::vec3& dir, float tfar) {
+  RTCRay ray{};
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = dir.x;
+  ray.dir_y = dir.y;
+  ray.dir_z = dir.z;
+  ray.tnear = 0.0f;
+  ray.tfar = tfar;
+  ray.mask = 0xFFFFFFFFu;
+  return ray;
+}
+
+std::optional<SurfaceHit> EmbreeScene::intersect(const glm::vec3& origin, const glm::vec3& dir, float tnear) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray = make_rtc_ray(origin, dir, std::numeric_limits<float>::infinity());
+  rh.ray.tnear = tnear;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  return surface(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, dir);
+}
+
+bool EmbreeScene::occluded(const glm::vec3& origin, const glm::vec3& dir, float tfar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = make_rtc_ray(origin, dir, tfar);
+  rtcOccluded1(scene_, &context, &ray);
+  return ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+}  // namespace dhr::server

@@ -1,0 +1,244 @@
+#include "trace/embree/embree_trace_tile.hpp"
+
+#include "trace/ray_offset.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+
+namespace dhr::server::detail {
+namespace {
+
+constexpr uint32_t kBlock = 4;  // primary packets cover 4x4 pixels
+constexpr uint32_t kBlockPixels = kBlock * kBlock;
+// Point/spot shadow rays stop this fraction short of the light, so geometry exactly at the light (a
+// bulb's surface through the light's centre) does not count as an occluder of its own light.
+constexpr float kShadowTfarScale = 1.0f - 1e-5f;
+
+// The occlusion ray for one pixel-light pair: from the offset surface point toward the light.
+void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const LightSample& sample,
+                     const RayOffset& offset, RTCRay& out) {
+  // Leave from the side of the surface the light is on (the geometric normal, not the shading normal).
+  const glm::vec3 n = glm::dot(hit.geometric_normal, sample.l) >= 0.0f ? hit.geometric_normal : -hit.geometric_normal;
+  const glm::vec3 origin = offset_ray_origin(hit.position, n, offset);
+  if (light_eval::light_is_directional(light)) {
+    out = make_rtc_ray(origin, sample.l, std::numeric_limits<float>::infinity());
+    return;
+  }
+  const glm::vec3 d = glm::vec3(light.position_type) - origin;
+  const float dist = glm::length(d);
+  if (!(dist > 0.0f)) {
+    out = make_rtc_ray(origin, sample.l, 0.0f);  // at the light: nothing can be in between
+    return;
+  }
+  out = make_rtc_ray(origin, d / dist, dist * kShadowTfarScale);
+}
+
+// Appends a primary hit of pixel (x, y) (tile slot `slot`) to the scratch lists.
+void add_hit(TileScratch& scratch, const SurfaceHit& hit, uint32_t slot, uint32_t x, uint32_t y) {
+  scratch.hits.push_back(hit);
+  scratch.hit_pixels.push_back({slot, x, y});
+}
+
+// Primary rays of the 4x4 block at (bx, by) whose first slot is `slot0`; lanes outside the image are not
+// traced or counted. Hits go to the scratch lists in lane order; misses are only counted.
+void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint32_t x1, uint32_t y1,
+                         uint32_t slot0, TileScratch& scratch, TraceStats& stats) {
+  const EmbreeScene& scene = *frame.scene;
+  const uint32_t lanes_x = std::min(kBlock, x1 - bx), lanes_y = std::min(kBlock, y1 - by);
+  const uint32_t inside = lanes_x * lanes_y;
+  stats.primary_rays += inside;
+  const size_t hits_before = scratch.hits.size();
+  if (!frame.primary_packets) {
+    for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
+      const uint32_t x = bx + lane % kBlock, y = by + lane / kBlock;
+      if (x >= x1 || y >= y1) continue;
+      const glm::vec3 dir = primary_direction(frame, x, y);
+      if (const auto hit = scene.intersect(frame.eye, dir, primary_tnear(frame, dir)))
+        add_hit(scratch, *hit, slot0 + lane, x, y);
+    }
+    stats.background_pixels += inside - (scratch.hits.size() - hits_before);
+    return;
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) int valid[kBlockPixels];
+  alignas(64) RTCRayHit16 rh;
+  for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
+    const uint32_t lx = lane % kBlock, ly = lane / kBlock;
+    const bool in = lx < lanes_x && ly < lanes_y;
+    valid[lane] = in ? -1 : 0;
+    const glm::vec3 dir = in ? primary_direction(frame, bx + lx, by + ly) : glm::vec3(0.0f, 0.0f, -1.0f);
+    rh.ray.org_x[lane] = frame.eye.x;
+    rh.ray.org_y[lane] = frame.eye.y;
+    rh.ray.org_z[lane] = frame.eye.z;
+    rh.ray.dir_x[lane] = dir.x;
+    rh.ray.dir_y[lane] = dir.y;
+    rh.ray.dir_z[lane] = dir.z;
+    rh.ray.tnear[lane] = in ? primary_tnear(frame, dir) : 0.0f;
+    rh.ray.tfar[lane] = std::numeric_limits<float>::infinity();
+    rh.ray.time[lane] = 0.0f;
+    rh.ray.mask[lane] = 0xFFFFFFFFu;
+    rh.ray.id[lane] = lane;
+    rh.ray.flags[lane] = 0;
+    rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect16(valid, scene.handle(), &context, &rh);
+  for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
+    if (!valid[lane] || rh.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
+    const glm::vec3 dir(rh.ray.dir_x[lane], rh.ray.dir_y[lane], rh.ray.dir_z[lane]);
+    add_hit(scratch, scene.surface(rh.hit.geomID[lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane], dir),
+            slot0 + lane, bx + lane % kBlock, by + lane / kBlock);
+  }
+  stats.background_pixels += inside - (scratch.hits.size() - hits_before);
+}
+
+// Runs the queued occlusion rays in the configured way; afterwards tfar < 0 marks an occluded ray.
+void trace_shadow_rays(const FrameSetup& frame, TileScratch& scratch) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  std::vector<RTCRay>& rays = scratch.rays;
+  if (rays.empty()) return;
+  switch (frame.shadow_query) {
+    case ShadowQuery::kSingle:
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+      for (RTCRay& ray : rays) rtcOccluded1(frame.scene->handle(), &context, &ray);
+      return;
+    case ShadowQuery::kStream:
+      // Runs of rays from neighbouring pixels toward one light: coherent, Embree packs them itself.
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      rtcOccluded1M(frame.scene->handle(), &context, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRay));
+      return;
+    case ShadowQuery::kPackets: {
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      alignas(64) RTCRay16 packet;
+      alignas(64) int valid[kBlockPixels];
+      for (size_t begin = 0; begin < rays.size();) {
+        // A run: same light, same 4x4 block (at most 16 rays).
+        const uint32_t light = scratch.pending[begin].light, block = scratch.pending[begin].slot / kBlockPixels;
+        size_t end = begin;
+        while (end < rays.size() && end - begin < kBlockPixels && scratch.pending[end].light == light &&
+               scratch.pending[end].slot / kBlockPixels == block)
+          ++end;
+        for (uint32_t i = 0; i < kBlockPixels; ++i) {
+          const bool on = begin + i < end;
+          const RTCRay& r = rays[on ? begin + i : begin];
+          valid[i] = on ? -1 : 0;
+          packet.org_x[i] = r.org_x;
+          packet.org_y[i] = r.org_y;
+          packet.org_z[i] = r.org_z;
+          packet.dir_x[i] = r.dir_x;
+          packet.dir_y[i] = r.dir_y;
+          packet.dir_z[i] = r.dir_z;
+          packet.tnear[i] = r.tnear;
+          packet.tfar[i] = r.tfar;
+          packet.time[i] = 0.0f;
+          packet.mask[i] = r.mask;
+          packet.id[i] = i;
+          packet.flags[i] = 0;
+        }
+        rtcOccluded16(valid, frame.scene->handle(), &context, &packet);
+        for (size_t i = begin; i < end; ++i) rays[i].tfar = packet.tfar[i - begin];
+        begin = end;
+      }
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
+                            const SkipOptions& skip, uint32_t requested) {
+  FrameSetup frame;
+  frame.scene = &scene;
+  frame.camera = &camera;
+  frame.eye = scene.to_relative(camera.T_world_eye.position);
+  frame.world_from_eye = glm::mat3_cast(glm::normalize(camera.T_world_eye.orientation));
+  // The products of R * (tx, ty, -1) at the pixel centres, each computed once (see FrameSetup).
+  const glm::dmat3& R = frame.world_from_eye;
+  frame.ray_columns.resize(camera.extent.width);
+  for (uint32_t x = 0; x < camera.extent.width; ++x) frame.ray_columns[x] = R[0] * camera.eye_ray(x + 0.5, 0.5).x;
+  frame.ray_rows.resize(camera.extent.height);
+  for (uint32_t y = 0; y < camera.extent.height; ++y) frame.ray_rows[y] = R[1] * camera.eye_ray(0.5, y + 0.5).y;
+  frame.ray_forward = R[2] * -1.0;
+  frame.lights = pack_lights(lights, scene.origin());
+  frame.skip = skip;
+  const uint32_t traced = static_cast<uint32_t>(std::min<size_t>(requested, lights.size()));
+  for (uint32_t i = 0; i < traced; ++i) {
+    if (skip.cull_lights && !light_may_reach_view(lights[i], camera))
+      ++frame.culled_lights;
+    else
+      frame.active_lights.push_back(i);
+  }
+  return frame;
+}
+
+bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
+                    RTCRay& out_ray, bool& out_contributes) {
+  const LightSample sample = sample_light(light, hit.position, hit.shading_normal);
+  if (sample.test == LightTest::kOutOfRange && frame.skip.out_of_range) {
+    ++stats.skipped_out_of_range;
+    return false;
+  }
+  if (sample.test == LightTest::kBackfacing && frame.skip.backfacing) {
+    ++stats.skipped_backfacing;
+    return false;
+  }
+  make_shadow_ray(light, hit, sample, frame.scene->ray_offset(), out_ray);
+  out_contributes = sample.test == LightTest::kContributes;
+  return true;
+}
+
+void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
+                TraceStats& stats, TileScratch& scratch) {
+  const uint32_t blocks_x = (x1 - x0 + kBlock - 1) / kBlock, blocks_y = (y1 - y0 + kBlock - 1) / kBlock;
+
+  // 1. Primary rays, block by block (slot = block * 16 + lane); only hits are kept, in slot order.
+  scratch.hits.clear();
+  scratch.hit_pixels.clear();
+  for (uint32_t b = 0; b < blocks_x * blocks_y; ++b)
+    trace_primary_block(frame, x0 + (b % blocks_x) * kBlock, y0 + (b / blocks_x) * kBlock, x1, y1, b * kBlockPixels,
+                        scratch, stats);
+  const uint32_t hits = static_cast<uint32_t>(scratch.hits.size());
+  stats.skipped_culled_light += uint64_t{hits} * frame.culled_lights;
+
+  // 2. Per pixel-light pair: skip (counted by reason) or queue an occlusion ray. Light-major, then block by
+  // block: runs of up to 16 neighbouring rays toward the same light, which packets and streams bundle.
+  scratch.rays.clear();
+  scratch.pending.clear();
+  for (uint32_t li : frame.active_lights) {
+    const PackedLight& light = frame.lights[li];
+    for (uint32_t h = 0; h < hits; ++h) {
+      RTCRay ray;
+      bool contributes = false;
+      if (!shadow_ray_for(frame, light, scratch.hits[h], stats, ray, contributes)) continue;
+      scratch.rays.push_back(ray);
+      scratch.pending.push_back({scratch.hit_pixels[h].slot, h, li, contributes});
+    }
+  }
+  stats.shadow_rays += scratch.rays.size();
+
+  // 3. Occlusion queries (terminate on the first hit).
+  trace_shadow_rays(frame, scratch);
+
+  // 4. Bit = the light contributes and its ray reached it. The tile's rows are cleared in one go (background
+  // and unlit pixels: 0), then only hit pixels with a bit are written.
+  scratch.masks.assign(hits, 0u);
+  for (size_t r = 0; r < scratch.rays.size(); ++r) {
+    const bool reached = scratch.rays[r].tfar >= 0.0f;  // Embree sets tfar = -inf when occluded
+    if (reached && scratch.pending[r].contributes) scratch.masks[scratch.pending[r].hit] |= 1u << scratch.pending[r].light;
+  }
+  const size_t mask_bytes = out.bytes_per_mask();
+  for (uint32_t y = y0; y < y1; ++y)
+    std::memset(out.data.data() + (size_t{y} * out.width + x0) * mask_bytes, 0, (x1 - x0) * mask_bytes);
+  for (uint32_t h = 0; h < hits; ++h)
+    if (scratch.masks[h] != 0u) out.set(scratch.hit_pixels[h].x, scratch.hit_pixels[h].y, scratch.masks[h]);
+}
+
+}  // namespace dhr::server::detail

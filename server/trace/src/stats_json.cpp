@@ -1,0 +1,31 @@
+#include "trace/stats_json.hpp"
+
+namespace dhr::server {
+
+nlohmann::ordered_json to_json(const TraceStats& s) {
+  return {{"pixels", s.pixels},
+          {"background_pixels", s.background_pixels},
+          {"primary_rays", s.primary_rays},
+          {"shadow_rays", s.shadow_rays},
+          {"skipped_backfacing", s.skipped_backfacing},
+          {"skipped_out_of_range", s.skipped_out_of_range},
+          {"skipped_culled_light", s.skipped_culled_light},
+          {"lights_culled", s.lights_culled},
+          {"lights_unrequested", s.lights_unrequested},
+          {"trace_ms", s.trace_ms},
+          {"gpu_ms", s.gpu_ms}};
+}
+
+nlohmann::ordered_json to_json(const AccelStats& s) {
+  return {{"build_ms", s.build_ms},
+          {"bytes", s.bytes},
+          {"triangles", s.triangles},
+          {"blas_count", s.blas_count},
+          {"instance_count", s.instance_count}};
+}
+
+nlohmann::ordered_json to_json(const SkipOptions& s) {
+  return {{"backfacing", s.backfacing}, {"out_of_range", s.out_of_range}, {"cull_lights", s.cull_lights}};
+}
+
+}  // namespace dhr::server
