@@ -7,14 +7,24 @@
 # (declared in the generated header "<target>.hpp"), one entry per shader, named by its file name
 # (e.g. "smoke.rgen"). Look a module up with dhr::vk::find_spirv() from "vk/spirv.hpp".
 # Dependencies on #included files are tracked through glslang's depfiles.
+#
+# GLSL finds the headers shared with C++ as "shaders/<name>.h" (dhr_shader_headers below) and the GLSL-only
+# ones by their path under shaders/ (e.g. "client/cube_face.h").
 find_program(DHR_GLSLANG glslangValidator REQUIRED)
+
+# Headers shared by GLSL and C++ (binding numbers and layouts, the light math, the display encoding): plain
+# C/GLSL, no Vulkan, so shared/ topic libraries may link this. C++ includes them as "shaders/<name>.h" through
+# this target; glslang gets the same directories, so both languages spell an include the same way.
+add_library(dhr_shader_headers INTERFACE)
+target_include_directories(dhr_shader_headers INTERFACE ${PROJECT_SOURCE_DIR}/shaders/include)
 
 function(dhr_add_shader_library target)
   cmake_parse_arguments(ARG "" "" "SOURCES;INCLUDE_DIRS" ${ARGN})
   set(gen_dir ${CMAKE_CURRENT_BINARY_DIR}/${target}_gen)
   file(MAKE_DIRECTORY ${gen_dir})
-  set(include_flags -I${PROJECT_SOURCE_DIR}/shaders)
-  foreach(dir ${ARG_INCLUDE_DIRS})
+  get_target_property(shared_dirs dhr_shader_headers INTERFACE_INCLUDE_DIRECTORIES)
+  set(include_flags "")
+  foreach(dir ${shared_dirs} ${PROJECT_SOURCE_DIR}/shaders ${ARG_INCLUDE_DIRS})
     list(APPEND include_flags -I${dir})
   endforeach()
 
@@ -60,7 +70,8 @@ ${entries}};
 std::span<const dhr::vk::SpirvModule> ${target}_modules() { return kModules; }
 ")
   add_library(${target} STATIC ${cpp} ${headers})
-  # shader_interface.h (bindings, push constants) is shared with the C++ that drives the shaders.
-  target_include_directories(${target} PUBLIC ${gen_dir} ${PROJECT_SOURCE_DIR}/shaders)
-  target_link_libraries(${target} PUBLIC dhr_vk)
+  target_include_directories(${target} PUBLIC ${gen_dir})
+  # The C++ that drives the shaders includes "shaders/shader_interface.h" (bindings, push constants).
+  target_link_libraries(${target} PUBLIC dhr_shader_headers dhr_vk)
 endfunction()
+

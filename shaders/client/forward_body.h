@@ -2,10 +2,10 @@
 // forward_status.frag (+ the status attachment) and forward_status_mask.frag (+ the mask attachment): each
 // pipeline declares exactly the outputs it has attachments for. The includer defines DHR_FORWARD_STATUS and
 // DHR_FORWARD_MASK (0 or 1) before including this.
-#include "shader_interface.h"
-#include "light_eval.h"
+#include "shaders/shader_interface.h"
+#include "shaders/light_eval.h"
 #include "client/cube_face.h"
-#include "client/display_encode.h"
+#include "shaders/display_encode.h"
 
 // Forward: the G-buffer pass's material evaluation (gbuffer.frag: alpha mask, normal flipped on back faces),
 // then this fragment's light mask and the shading equation, in the raster pass: no G-buffer round trip. The mask

@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "shader_interface.h"
-#include "light_eval.h"
-#include "client/display_encode.h"
+#include "shaders/shader_interface.h"
+#include "shaders/light_eval.h"
+#include "shaders/display_encode.h"
 
 // Shading: I = albedo / pi * sum_i k_i * saturate(N.L_i) * E_i, with k_i the predicted mask bit and the
 // light math of light_eval.h (the server's notion of "contributes"). Positions are eye-relative (world axes):

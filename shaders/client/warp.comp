@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "shader_interface.h"
-#include "light_eval.h"
+#include "shaders/shader_interface.h"
+#include "shaders/light_eval.h"
 #include "client/cube_face.h"
 
 // Warp: each display pixel's surface point, reconstructed from this frame's depth, is projected into the old
