@@ -75,3 +75,42 @@ std::span<const dhr::vk::SpirvModule> ${target}_modules() { return kModules; }
   target_link_libraries(${target} PUBLIC dhr_shader_headers dhr_vk)
 endfunction()
 
+# dhr_check_shader_headers(HEADERS <client/x.h>... [DEFINES <NAME=value>...])
+# Compiles, at build time, one empty compute shader per GLSL helper header that includes only that header
+# (after the DEFINES), so a helper that leans on something its includers happen to declare fails the build.
+function(dhr_check_shader_headers)
+  cmake_parse_arguments(ARG "" "" "HEADERS;DEFINES" ${ARGN})
+  get_target_property(shared_dirs dhr_shader_headers INTERFACE_INCLUDE_DIRECTORIES)
+  set(include_flags "")
+  foreach(dir ${shared_dirs} ${PROJECT_SOURCE_DIR}/shaders)
+    list(APPEND include_flags -I${dir})
+  endforeach()
+  set(defines "")
+  foreach(def ${ARG_DEFINES})
+    string(REPLACE "=" " " def_line ${def})
+    string(APPEND defines "#define ${def_line}\n")
+  endforeach()
+  set(dir ${CMAKE_CURRENT_BINARY_DIR}/header_check)
+  set(stamps "")
+  foreach(header ${ARG_HEADERS})
+    string(MAKE_C_IDENTIFIER ${header} ident)
+    set(src ${dir}/${ident}.comp)
+    file(CONFIGURE OUTPUT ${src} CONTENT
+"#version 460
+#extension GL_GOOGLE_include_directive : require
+${defines}#include \"${header}\"
+layout(local_size_x = 1) in;
+void main() {}
+")
+    set(out ${dir}/${ident}.spv)
+    add_custom_command(
+      OUTPUT ${out}
+      COMMAND ${DHR_GLSLANG} --target-env vulkan1.2 --quiet ${include_flags} --depfile ${out}.d -o ${out} ${src}
+      DEPENDS ${src}
+      DEPFILE ${out}.d
+      COMMENT "glslang ${header} alone"
+      VERBATIM)
+    list(APPEND stamps ${out})
+  endforeach()
+  add_custom_target(dhr_shader_header_check ALL DEPENDS ${stamps})
+endfunction()
