@@ -7,14 +7,24 @@
 # (declared in the generated header "<target>.hpp"), one entry per shader, named by its file name
 # (e.g. "smoke.rgen"). Look a module up with dhr::vk::find_spirv() from "vk/spirv.hpp".
 # Dependencies on #included files are tracked through glslang's depfiles.
+#
+# GLSL finds the headers shared with C++ as "shaders/<name>.h" (dhr_shader_headers below) and the GLSL-only
+# ones by their path under shaders/ (e.g. "client/cube_face.h").
 find_program(DHR_GLSLANG glslangValidator REQUIRED)
+
+# Headers shared by GLSL and C++ (binding numbers and layouts, the light math, the display encoding): plain
+# C/GLSL, no Vulkan, so shared/ topic libraries may link this. C++ includes them as "shaders/<name>.h" through
+# this target; glslang gets the same directories, so both languages spell an include the same way.
+add_library(dhr_shader_headers INTERFACE)
+target_include_directories(dhr_shader_headers INTERFACE ${PROJECT_SOURCE_DIR}/shaders/include)
 
 function(dhr_add_shader_library target)
   cmake_parse_arguments(ARG "" "" "SOURCES;INCLUDE_DIRS" ${ARGN})
   set(gen_dir ${CMAKE_CURRENT_BINARY_DIR}/${target}_gen)
   file(MAKE_DIRECTORY ${gen_dir})
-  set(include_flags -I${PROJECT_SOURCE_DIR}/shaders)
-  foreach(dir ${ARG_INCLUDE_DIRS})
+  get_target_property(shared_dirs dhr_shader_headers INTERFACE_INCLUDE_DIRECTORIES)
+  set(include_flags "")
+  foreach(dir ${shared_dirs} ${PROJECT_SOURCE_DIR}/shaders ${ARG_INCLUDE_DIRS})
     list(APPEND include_flags -I${dir})
   endforeach()
 
@@ -60,7 +70,47 @@ ${entries}};
 std::span<const dhr::vk::SpirvModule> ${target}_modules() { return kModules; }
 ")
   add_library(${target} STATIC ${cpp} ${headers})
-  # shader_interface.h (bindings, push constants) is shared with the C++ that drives the shaders.
-  target_include_directories(${target} PUBLIC ${gen_dir} ${PROJECT_SOURCE_DIR}/shaders)
-  target_link_libraries(${target} PUBLIC dhr_vk)
+  target_include_directories(${target} PUBLIC ${gen_dir})
+  # The C++ that drives the shaders includes "shaders/shader_interface.h" (bindings, push constants).
+  target_link_libraries(${target} PUBLIC dhr_shader_headers dhr_vk)
+endfunction()
+
+# dhr_check_shader_headers(HEADERS <client/x.h>... [DEFINES <NAME=value>...])
+# Compiles, at build time, one empty compute shader per GLSL helper header that includes only that header
+# (after the DEFINES), so a helper that leans on something its includers happen to declare fails the build.
+function(dhr_check_shader_headers)
+  cmake_parse_arguments(ARG "" "" "HEADERS;DEFINES" ${ARGN})
+  get_target_property(shared_dirs dhr_shader_headers INTERFACE_INCLUDE_DIRECTORIES)
+  set(include_flags "")
+  foreach(dir ${shared_dirs} ${PROJECT_SOURCE_DIR}/shaders)
+    list(APPEND include_flags -I${dir})
+  endforeach()
+  set(defines "")
+  foreach(def ${ARG_DEFINES})
+    string(REPLACE "=" " " def_line ${def})
+    string(APPEND defines "#define ${def_line}\n")
+  endforeach()
+  set(dir ${CMAKE_CURRENT_BINARY_DIR}/header_check)
+  set(stamps "")
+  foreach(header ${ARG_HEADERS})
+    string(MAKE_C_IDENTIFIER ${header} ident)
+    set(src ${dir}/${ident}.comp)
+    file(CONFIGURE OUTPUT ${src} CONTENT
+"#version 460
+#extension GL_GOOGLE_include_directive : require
+${defines}#include \"${header}\"
+layout(local_size_x = 1) in;
+void main() {}
+")
+    set(out ${dir}/${ident}.spv)
+    add_custom_command(
+      OUTPUT ${out}
+      COMMAND ${DHR_GLSLANG} --target-env vulkan1.2 --quiet ${include_flags} --depfile ${out}.d -o ${out} ${src}
+      DEPENDS ${src}
+      DEPFILE ${out}.d
+      COMMENT "glslang ${header} alone"
+      VERBATIM)
+    list(APPEND stamps ${out})
+  endforeach()
+  add_custom_target(dhr_shader_header_check ALL DEPENDS ${stamps})
 endfunction()

@@ -2,10 +2,9 @@
 // forward_status.frag (+ the status attachment) and forward_status_mask.frag (+ the mask attachment): each
 // pipeline declares exactly the outputs it has attachments for. The includer defines DHR_FORWARD_STATUS and
 // DHR_FORWARD_MASK (0 or 1) before including this.
-#include "shader_interface.h"
-#include "light_eval.h"
-#include "client/cube_face.h"
-#include "client/display_encode.h"
+#include "shaders/shader_interface.h"
+#include "shaders/display_encode.h"
+#include "client/float3.h"
 
 // Forward: the G-buffer pass's material evaluation (gbuffer.frag: alpha mask, normal flipped on back faces),
 // then this fragment's light mask and the shading equation, in the raster pass: no G-buffer round trip. The mask
@@ -20,10 +19,6 @@ layout(set = 1, binding = kClientForwardBindingParams, std430) restrict readonly
 layout(set = 1, binding = kClientForwardBindingVisibility0, std430) readonly buffer Visibility0 { uint vis0[]; };
 layout(set = 1, binding = kClientForwardBindingRowValid0, std430) readonly buffer RowValid0 { uint rows0[]; };
 layout(set = 1, binding = kClientForwardBindingShadowMap) uniform sampler2D shadow_atlas;
-layout(set = 1, binding = kClientForwardBindingShadowLights, std430) readonly buffer ShadowLights {
-  ClientShadowLight shadow_lights[];
-};
-layout(set = 1, binding = kClientForwardBindingLights, std430) readonly buffer Lights { PackedLight lights[]; };
 layout(set = 1, binding = kClientForwardBindingShading, std430) restrict readonly buffer Shading {
   ClientForwardShading shading;
 };
@@ -40,8 +35,11 @@ layout(location = 1) out uint out_status;
 layout(location = 2) out uint out_mask;
 #endif
 
-vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
-
+// The lights and their shadow-map tiles are declared by the helpers (client/light_buffer.h, shadow_lookup.h).
+#define DHR_LIGHT_BUFFER_SET 1
+#define DHR_LIGHT_BUFFER_BINDING kClientForwardBindingLights
+#define DHR_SHADOW_LIGHT_BUFFER_SET 1
+#define DHR_SHADOW_LIGHT_BUFFER_BINDING kClientForwardBindingShadowLights
 #include "client/shadow_lookup.h"
 #include "client/paper_warp.h"
 #include "client/shade.h"
@@ -61,10 +59,12 @@ void main() {
   uint mask = 0xFFFFFFFFu;
   uint status = kClientStatusKnown;
   if (shading.mode == kClientForwardPaperWarp) {
+    const PaperWarpLookup at = paper_warp_lookup(pc, centre, d);
+    const uint row_word = paper_warp_reads_rows(pc) ? rows0[at.row >> 5] : 0u;
     vec2 motion;
-    status = paper_warp(centre, d, mask, motion);
+    status = paper_warp(pc, centre, d, at, row_word, vis0[at.mask_bit >> 5], mask, motion);
   } else if (shading.mode == kClientForwardShadowMaps) {
-    mask = shadow_lookup(p, n, (pc.near_plane / d) * pc.pixel_tangent).mask;
+    mask = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent).mask;
   }
   vec3 display = encode_radiance(shade_radiance(p, n, albedo, mask, shading.light_count), shading.exposure);
   if ((shading.flags & kClientShadingSwapRedBlue) != 0u) display = display.bgr;

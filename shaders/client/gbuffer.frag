@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 
 // G-buffer: world-space unit normal (flipped on back faces: only double-sided materials draw them) and
 // linear albedo = base colour factor x texture (the sRGB image format decodes the texels).

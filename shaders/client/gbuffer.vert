@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 
 // Camera-relative rasterization: positions are relative to their mesh's origin, the push constant adds
 // (mesh origin - eye) computed in double on the CPU, and the view-projection has the eye at the origin.

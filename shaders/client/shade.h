@@ -1,10 +1,13 @@
 // The client's shading equation (GLSL; included by shading.comp and client/forward_body.h):
 //   radiance = albedo / pi * sum_i k_i * saturate(N.L_i) * E_i
 // with k_i bit i of the light mask and the light math of light_eval.h (the server's notion of "contributes").
-// The including shader declares `lights` (PackedLight[], positions relative to the display eye) and includes
-// light_eval.h first. p: the surface point relative to the eye (world axes); n: unit normal.
+// The lights are client/light_buffer.h's: define its DHR_LIGHT_BUFFER_SET and DHR_LIGHT_BUFFER_BINDING first.
+// p: the surface point relative to the eye (world axes); n: unit normal.
 #ifndef DHR_SHADE_H
 #define DHR_SHADE_H
+
+#include "shaders/light_eval.h"
+#include "client/light_buffer.h"
 
 vec3 shade_radiance(vec3 p, vec3 n, vec3 albedo, uint mask, uint light_count) {
   vec3 sum = vec3(0.0);

@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "shader_interface.h"
-#include "light_eval.h"
-#include "client/display_encode.h"
+#include "shaders/shader_interface.h"
+#include "shaders/display_encode.h"
+#include "client/float3.h"
 
 // Shading: I = albedo / pi * sum_i k_i * saturate(N.L_i) * E_i, with k_i the predicted mask bit and the
 // light math of light_eval.h (the server's notion of "contributes"). Positions are eye-relative (world axes):
@@ -16,12 +16,11 @@ layout(set = 0, binding = kClientShadingBindingAlbedo) uniform sampler2D albedo_
 layout(set = 0, binding = kClientShadingBindingMask, r32ui) uniform readonly uimage2D mask_image;
 layout(set = 0, binding = kClientShadingBindingStatus, r32ui) uniform readonly uimage2D status_image;
 layout(set = 0, binding = kClientShadingBindingMotion, rg32f) uniform readonly image2D motion_image;
-layout(set = 0, binding = kClientShadingBindingLights, std430) readonly buffer Lights { PackedLight lights[]; };
 layout(set = 0, binding = kClientShadingBindingOutput, rgba8) uniform writeonly image2D output_image;
 layout(push_constant, std430) uniform Push { ClientShadingPush pc; };
-
-vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
-
+// The lights are declared by the helper (client/light_buffer.h, through shade.h).
+#define DHR_LIGHT_BUFFER_SET 0
+#define DHR_LIGHT_BUFFER_BINDING kClientShadingBindingLights
 #include "client/shade.h"
 
 void main() {

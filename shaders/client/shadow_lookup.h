@@ -1,9 +1,26 @@
-// The client's shadow-map lookup (GLSL; included by warp.comp and client/forward_body.h). The including shader declares
-// `pc` (ClientWarpParams: light_count and the shadow_* fields), `lights` (PackedLight[], display-eye-relative),
-// `shadow_lights` (ClientShadowLight[]), `shadow_atlas` (sampler2D) and v3(); light_eval.h and cube_face.h
-// come first. The CPU reference is render/shadow_maps.cpp's shadow_mask_reference.
+// The client's shadow-map lookup (GLSL; included by warp.comp and client/forward_body.h). The CPU reference is
+// render/shadow_maps.cpp's shadow_mask_reference. The warp's parameters (ClientWarpParams: light_count and the
+// shadow_* fields) and the shadow-map atlas come as arguments; the two per-light buffers the lookup loops over
+// are declared by headers (GLSL cannot pass them), at bindings the shader defines before including this:
+//   DHR_LIGHT_BUFFER_SET, DHR_LIGHT_BUFFER_BINDING                PackedLight[] (client/light_buffer.h)
+//   DHR_SHADOW_LIGHT_BUFFER_SET, DHR_SHADOW_LIGHT_BUFFER_BINDING  ClientShadowLight[] (below)
 #ifndef DHR_SHADOW_LOOKUP_H
 #define DHR_SHADOW_LOOKUP_H
+
+#if !defined(DHR_SHADOW_LIGHT_BUFFER_SET) || !defined(DHR_SHADOW_LIGHT_BUFFER_BINDING)
+#error "define DHR_SHADOW_LIGHT_BUFFER_SET and DHR_SHADOW_LIGHT_BUFFER_BINDING before including client/shadow_lookup.h"
+#endif
+
+#include "shaders/shader_interface.h"
+#include "shaders/light_eval.h"
+#include "client/cube_face.h"
+#include "client/float3.h"
+#include "client/light_buffer.h"
+
+layout(set = DHR_SHADOW_LIGHT_BUFFER_SET, binding = DHR_SHADOW_LIGHT_BUFFER_BINDING, std430)
+readonly buffer ShadowLights {
+  ClientShadowLight shadow_lights[];
+};
 
 // The shadow maps at surface point p (display-eye-relative, world axes) with unit normal n, per light: `mask`
 // 0 where the light cannot contribute (light_test) or the texel under the lookup holds a nearer surface than the
@@ -16,20 +33,20 @@ struct ShadowLookup {
   uint confident;
 };
 
-bool shadow_texel_lit(uint row, uint face, ivec2 t, float threshold) {
-  const uint size = pc.shadow_size;
+// Whether the atlas texel t (clamped to the face) of tile row `row`, cube face `face` is at or beyond `threshold`.
+bool shadow_texel_lit(sampler2D atlas, uint size, float near_plane, uint row, uint face, ivec2 t, float threshold) {
   const ivec2 c = clamp(t, ivec2(0), ivec2(int(size) - 1));
-  const float stored = texelFetch(shadow_atlas, ivec2(face * size + uint(c.x), row * size + uint(c.y)), 0).r;
-  const float occluder = stored > 0.0 ? pc.shadow_near / stored : 3.0e38;
+  const float stored = texelFetch(atlas, ivec2(face * size + uint(c.x), row * size + uint(c.y)), 0).r;
+  const float occluder = stored > 0.0 ? near_plane / stored : 3.0e38;
   return occluder >= threshold;
 }
 
-ShadowLookup shadow_lookup(vec3 p, vec3 n, float pixel_world) {
+ShadowLookup shadow_lookup(ClientWarpParams params, sampler2D atlas, vec3 p, vec3 n, float pixel_world) {
   ShadowLookup r;
   r.mask = 0u;
   r.confident = 0u;
-  const float size = float(pc.shadow_size);
-  for (uint i = 0u; i < pc.light_count; ++i) {
+  const float size = float(params.shadow_size);
+  for (uint i = 0u; i < params.light_count; ++i) {
     vec3 l;
     float dist;
     if (light_test(lights[i], p, n, l, dist) != kLightContributes) {
@@ -44,21 +61,24 @@ ShadowLookup shadow_lookup(vec3 p, vec3 n, float pixel_world) {
     const vec3 v0 = p - v3(sl.position);
     // Normal offset: a few texels (at this distance) along the normal, against acne on slopes.
     const float texel = 2.0 * cube_face_distance(v0) / size;
-    const vec3 v = v0 + (pc.shadow_normal_offset * texel) * n;
-    const CubeLookup c = cube_lookup(v, pc.shadow_size);
+    const vec3 v = v0 + (params.shadow_normal_offset * texel) * n;
+    const CubeLookup c = cube_lookup(v, params.shadow_size);
     // Slope-scaled: a texel spans more depth the more grazing the light (tan of the angle, at most 10).
     const float cos_nl = dot(n, l);
     const float tan_nl = min(sqrt(max(1.0 - cos_nl * cos_nl, 0.0)) / cos_nl, 10.0);
-    const float bias = pc.shadow_bias_rel * c.distance + pc.shadow_bias_abs + pc.shadow_bias_slope * texel * tan_nl;
+    const float bias =
+        params.shadow_bias_rel * c.distance + params.shadow_bias_abs + params.shadow_bias_slope * texel * tan_nl;
     const float threshold = c.distance - bias;
-    const bool lit = shadow_texel_lit(sl.tile_row, c.face, c.texel, threshold);
+    const bool lit =
+        shadow_texel_lit(atlas, params.shadow_size, params.shadow_near, sl.tile_row, c.face, c.texel, threshold);
     if (lit) r.mask |= 1u << i;
     // Confidence: the band around the point's distance, and the 2x2 footprint around the lookup.
     bool alike = true;
     if (texel > pixel_world) {
       const ivec2 t0 = ivec2(floor(c.position - 0.5));
       for (int k = 0; k < 4; ++k) {
-        alike = alike && shadow_texel_lit(sl.tile_row, c.face, t0 + ivec2(k & 1, k >> 1), threshold) == lit;
+        alike = alike && shadow_texel_lit(atlas, params.shadow_size, params.shadow_near, sl.tile_row, c.face,
+                                          t0 + ivec2(k & 1, k >> 1), threshold) == lit;
       }
     }
     if (alike) r.confident |= 1u << i;

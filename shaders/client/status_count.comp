@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 
 // Counts the forward pass's per-pixel statuses (kClientStatus*, background where nothing was drawn) into the
 // warp pass's counter layout (warp.comp: 10-bit fields, three per word, one subgroup sum per word and one

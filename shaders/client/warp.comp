@@ -1,9 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "shader_interface.h"
-#include "light_eval.h"
-#include "client/cube_face.h"
+#include "shaders/shader_interface.h"
+#include "client/float3.h"
 
 // Warp: each display pixel's surface point, reconstructed from this frame's depth, is projected into the old
 // guard-banded camera a visibility buffer was traced for, and that buffer's masks around the lookup are taken.
@@ -38,12 +37,13 @@ layout(set = 0, binding = kClientWarpBindingMotion, rg32f) uniform writeonly ima
 layout(set = 0, binding = kClientWarpBindingCounters, std430) buffer Counters { uint counters[]; };
 layout(set = 0, binding = kClientWarpBindingParams, std430) restrict readonly buffer Params { ClientWarpParams pc; };
 layout(set = 0, binding = kClientWarpBindingShadowMap) uniform sampler2D shadow_atlas;
-layout(set = 0, binding = kClientWarpBindingShadowLights, std430) readonly buffer ShadowLights {
-  ClientShadowLight shadow_lights[];
-};
-layout(set = 0, binding = kClientWarpBindingLights, std430) readonly buffer Lights { PackedLight lights[]; };
-
-vec3 v3(float a[3]) { return vec3(a[0], a[1], a[2]); }
+// The lights and their shadow-map tiles are declared by the helpers (client/light_buffer.h, shadow_lookup.h).
+#define DHR_LIGHT_BUFFER_SET 0
+#define DHR_LIGHT_BUFFER_BINDING kClientWarpBindingLights
+#define DHR_SHADOW_LIGHT_BUFFER_SET 0
+#define DHR_SHADOW_LIGHT_BUFFER_BINDING kClientWarpBindingShadowLights
+#include "client/shadow_lookup.h"
+#include "client/paper_warp.h"
 
 // Source s is dynamically uniform: these selections do not diverge.
 uint vis_word(uint s, uint index) { return s == 0u ? vis0[index] : s == 1u ? vis1[index] : vis2[index]; }
@@ -230,9 +230,6 @@ Lookup look_up_neighbours(uint s, float d, vec2 centre, vec3 n_world) {
   return r;
 }
 
-#include "client/shadow_lookup.h"
-#include "client/paper_warp.h"
-
 void main() {
   const uvec2 id = gl_GlobalInvocationID.xy;
   const bool in_image = id.x < pc.width && id.y < pc.height;
@@ -244,9 +241,13 @@ void main() {
                            kClientWarpShadowFirst | kClientWarpOlderBuffer | kClientWarpNeighbourFill;
   const bool paper = (pc.flags & ingredients) == 0u && (pc.source[1].flags & kClientSourceHasVisibility) == 0u;
   if (in_image && paper) {  // dynamically uniform
+    const vec2 centre = vec2(id) + 0.5;
+    const float d = texelFetch(depth_texture, ivec2(id), 0).r;
+    const PaperWarpLookup at = paper_warp_lookup(pc, centre, d);
+    const uint row_word = paper_warp_reads_rows(pc) ? rows0[at.row >> 5] : 0u;
     uint mask;
     vec2 motion;
-    status = paper_warp(vec2(id) + 0.5, texelFetch(depth_texture, ivec2(id), 0).r, mask, motion);
+    status = paper_warp(pc, centre, d, at, row_word, vis0[at.mask_bit >> 5], mask, motion);
     imageStore(mask_image, ivec2(id), uvec4(mask, 0u, 0u, 0u));
     if ((pc.flags & kClientWarpWriteStatus) != 0u) imageStore(status_image, ivec2(id), uvec4(status, 0u, 0u, 0u));
     if ((pc.flags & kClientWarpWriteMotion) != 0u) imageStore(motion_image, ivec2(id), vec4(motion, 0.0, 0.0));
@@ -301,7 +302,7 @@ void main() {
       if (need_shadow) {
         const vec3 p = (pc.near_plane / d) *
                        (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
-        shadow = shadow_lookup(p, n, (pc.near_plane / d) * pc.pixel_tangent);
+        shadow = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent);
       }
       if (have) {
         // Bits the samples agree on keep their value unless the shadow maps are confident (shadow-first);

@@ -1,5 +1,5 @@
-// shaders/light_eval.h must stay valid GLSL as well as C++: compile a compute shader that uses every
-// function with glslang (the same compiler the build uses for the project's shaders).
+// shaders/include/shaders/light_eval.h must stay valid GLSL as well as C++: compile a compute shader that
+// uses every function with glslang (the same compiler the build uses for the project's shaders).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,7 +15,7 @@ TEST(LightEvalGlsl, CompilesWithGlslang) {
   const auto src = dir / "light_eval_check.comp";
   std::ofstream(src) << R"(#version 460
 #extension GL_GOOGLE_include_directive : require
-#include "light_eval.h"
+#include "shaders/light_eval.h"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Lights { PackedLight lights[]; };
 layout(std430, binding = 1) writeonly buffer Result { vec4 result[]; };
@@ -35,7 +35,7 @@ void main() {
 }
 )";
   const std::string command = std::string(DHR_GLSLANG) + " -V --target-env vulkan1.2 --quiet -I" DHR_SOURCE_DIR
-                              "/shaders -o " + (dir / "out.spv").string() + " " + src.string();
+                              "/shaders/include -o " + (dir / "out.spv").string() + " " + src.string();
   EXPECT_EQ(std::system(command.c_str()), 0) << command;
   EXPECT_TRUE(std::filesystem::exists(dir / "out.spv"));
   std::filesystem::remove_all(dir);

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "client/display_encode.h"
 #include "client_test_helpers.hpp"
 #include "scene/lighting.hpp"
 #include "metrics/visibility_synthetic.hpp"
@@ -15,6 +14,7 @@
 #include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "render/shading_pass.hpp"
+#include "shaders/display_encode.h"
 #include "vulkan_test_fixture.hpp"
 
 namespace dhr::render {

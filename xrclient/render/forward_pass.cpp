@@ -4,14 +4,14 @@
 #include <stdexcept>
 #include <string>
 
-#include "client/display_encode.h"
 #include "dhr_shaders_client.hpp"
 #include "log/log.hpp"
 #include "render/client_scene.hpp"
 #include "render/gbuffer_pass.hpp"
 #include "render/shadow_maps.hpp"
 #include "scene/lighting.hpp"
-#include "shader_interface.h"
+#include "shaders/display_encode.h"
+#include "shaders/shader_interface.h"
 #include "vk/barriers.hpp"
 #include "vk/context.hpp"
 #include "vk/graphics_pipeline.hpp"

@@ -8,7 +8,7 @@
 #include "render/client_scene.hpp"
 #include "render/pass_util.hpp"
 #include "render/render_camera.hpp"
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 #include "vk/context.hpp"
 #include "vk/graphics_pipeline.hpp"
 #include "vk/pipeline.hpp"

@@ -6,7 +6,7 @@
 
 #include "render/client_scene.hpp"
 #include "render/render_camera.hpp"
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 #include "vk/pipeline.hpp"
 
 namespace dhr::render {

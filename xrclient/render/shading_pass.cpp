@@ -10,7 +10,7 @@
 #include "render/pass_util.hpp"
 #include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 #include "vk/barriers.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"

@@ -1,7 +1,7 @@
 // Shading pass, compute, one eye:
 //   I = albedo / pi * sum_i k_i * saturate(dot(N, L_i)) * E_i
 // over the scene's point, spot and directional lights (shaders/light_eval.h, the same "contributes" test as
-// the server), k_i = bit i of the predicted mask. Display encoding (shaders/client/display_encode.h):
+// the server), k_i = bit i of the predicted mask. Display encoding (shaders/display_encode.h):
 // exposure, ACES filmic approximation, sRGB transfer function; written as bytes to an R8G8B8A8_UNORM storage
 // image. Those bytes are sRGB-encoded: copy them (vkCmdCopyImage, not a blit) into an _SRGB swapchain image,
 // or into a _UNORM one, and they display as computed (B8G8R8A8 swapchains: ShadingSettings::swap_red_blue). Debug views (ShadingView) replace the shaded colour.

@@ -10,7 +10,7 @@
 #include "plan/visibility_input.hpp"
 #include "render/warp_reference.hpp"
 #include "scene/scene.hpp"
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 #include "visibility/visibility.hpp"
 #include "vk/buffer.hpp"
 

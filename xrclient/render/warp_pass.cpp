@@ -13,7 +13,7 @@
 #include "render/shadow_maps.hpp"
 #include "render/warp_params.hpp"
 #include "scene/lighting.hpp"
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 #include "vk/barriers.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"

@@ -1,13 +1,10 @@
-// C++ side of the shared light math (shaders/light_eval.h): packing SceneLights for evaluation and upload,
-// the per-point light test, and per-view light culling. The GLSL shaders include the same header, so the
-// CPU and GPU decide "this light can contribute here" identically.
+// C++ side of the shared light math (shaders/include/shaders/light_eval.h): packing SceneLights for
+// evaluation and upload, the per-point light test, and per-view light culling. The GLSL shaders include the
+// same header, so the CPU and GPU decide "this light can contribute here" identically.
 #pragma once
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
-
-// Relative path on purpose: light_eval.h lives with the shaders (GLSL includes it from there) and
-// dhr_shared's include root is shared/.
-#include "../../../../shaders/light_eval.h"
+#include "shaders/light_eval.h"  // dhr_shader_headers: the GLSL shaders include this same file
 
 #include <glm/vec3.hpp>
 

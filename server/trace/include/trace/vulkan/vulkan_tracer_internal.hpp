@@ -2,7 +2,7 @@
 // its upload into acceleration structures and storage buffers, and the ray-tracing pipeline.
 #pragma once
 #include "scene/lighting.hpp"
-#include "shader_interface.h"
+#include "shaders/shader_interface.h"
 #include "trace/vulkan/vulkan_tracer.hpp"
 
 #include "vk/acceleration_structure.hpp"

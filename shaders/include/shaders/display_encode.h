@@ -2,7 +2,7 @@
 // linear radiance -> exposure -> ACES filmic approximation (Narkowicz 2015, per channel) -> sRGB encoding.
 // The result is written as bytes into an RGBA8_UNORM storage image; the bytes are sRGB-encoded, so a copy
 // (not a blit) into an R8G8B8A8_SRGB swapchain image shows them unchanged.
-// Common subset of GLSL 4.5 and C++20 with GLM, as shaders/light_eval.h.
+// Common subset of GLSL 4.5 and C++20 with GLM, as light_eval.h; both include it as "shaders/display_encode.h".
 #ifndef DHR_DISPLAY_ENCODE_H
 #define DHR_DISPLAY_ENCODE_H
 

@@ -4,8 +4,9 @@
 //
 // Written in the common subset of GLSL 4.5 and C++20 with GLM: float literals carry an `f` suffix (valid
 // in both), no swizzles (vec3(v4) instead of v4.xyz), parameters through the LE_IN/LE_OUT macros.
-// GLSL: `#include "light_eval.h"` (GL_GOOGLE_include_directive). C++: include "core/lighting.hpp", which
-// wraps this header in namespace dhr::light_eval.
+// GLSL: `#include "shaders/light_eval.h"` (GL_GOOGLE_include_directive; dhr_add_shader_library passes the
+// include directory). C++: include "scene/lighting.hpp", which includes this header (namespace
+// dhr::light_eval) through the dhr_shader_headers target.
 //
 // All positions (surface points, PackedLight positions) must be in the same frame; callers pick one
 // close to the data (scene-centre- or camera-relative) so that large world coordinates keep precision.

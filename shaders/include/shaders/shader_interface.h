@@ -1,4 +1,5 @@
-// Shared by GLSL and C++: descriptor binding numbers, push-constant and result structs.
+// Shared by GLSL and C++: descriptor binding numbers, push-constant and result structs. Both include it as
+// "shaders/shader_interface.h" (C++ through the dhr_shader_headers target, GLSL through glslang's -I).
 // GLSL sees plain `const uint` and structs; C++ sees the same names in namespace dhr::shader with
 // fixed-width types. Keep members 4-byte scalars (no vec3) so std430/scalar and C++ layouts agree.
 #ifndef DHR_SHADER_INTERFACE_H
