@@ -9,6 +9,7 @@
 #include "eval_run.hpp"
 #include "eval_settings.hpp"
 #include "eval_trace_gen.hpp"
+#include "trace/visibility_tracer.hpp"
 
 #include <CLI/CLI.hpp>
 #include "cli/finite_range.hpp"
@@ -93,7 +94,8 @@ int main(int argc, char** argv) {
   run->add_option("--snapshot-frame", options.snapshot_frame,
                   "write PNGs of this measured frame (0: the first) to <out>/snapshots: every setting's eyes, "
                   "the exact ones and the wrong visibility bits");
-  run->add_option("--threads", options.threads, "Embree threads (0: all cores)");
+  run->add_option("--threads", options.threads, "Embree threads (0: all cores)")
+      ->check(CLI::Range(0u, dhr::server::kMaxTracerThreads));
   bool no_progress = false;
   run->add_flag("--no-progress", no_progress, "no progress bar on stderr");
 
@@ -119,7 +121,8 @@ int main(int argc, char** argv) {
                       "largest channel difference (0-255) not counted as differing")
       ->capture_default_str()
       ->check(CLI::Range(0, 255));
-  compare->add_option("--threads", compare_options.threads, "Embree threads (0: all cores)");
+  compare->add_option("--threads", compare_options.threads, "Embree threads (0: all cores)")
+      ->check(CLI::Range(0u, dhr::server::kMaxTracerThreads));
 
   try {
     app.parse(argc, argv);

@@ -2,6 +2,7 @@
 
 #include "scene/scene.hpp"
 #include "scene_setup.hpp"
+#include "cli/exit_codes.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -12,10 +13,7 @@ namespace dhr::server::cli {
 int run_check(const ServerOptions& options) {
   std::string error;
   std::optional<Scene> scene = load_server_scene(options, &error);
-  if (!scene) {
-    std::fprintf(stderr, "dhr-server: %s\n", error.c_str());
-    return 2;
-  }
+  if (!scene) return fail_setup(error);
   const nlohmann::ordered_json report = {{"scene", scene->source},
                                  {"meshes", scene->meshes.size()},
                                  {"triangles", scene->triangle_count},
@@ -26,7 +24,7 @@ int run_check(const ServerOptions& options) {
                                  {"warnings", scene->warnings}};
   // Replace invalid UTF-8 (from file names or glTF strings) instead of throwing.
   std::printf("%s\n", report.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
-  return 0;
+  return exit_code::kOk;
 }
 
 }  // namespace dhr::server::cli

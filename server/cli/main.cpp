@@ -4,6 +4,7 @@
 #include "serve_command.hpp"
 #include "server_options.hpp"
 #include "snapshot_command.hpp"
+#include "cli/exit_codes.hpp"
 #include "secure/key.hpp"
 
 #include <cstdio>
@@ -21,19 +22,19 @@ int main(int argc, char** argv) {
       case Mode::kGenKey: {
         if (const auto error = dhr::secure::generate_key_file(options.gen_key_path)) {
           std::fprintf(stderr, "dhr-server: --gen-key: %s\n", error->c_str());
-          return 2;
+          return dhr::exit_code::kUsage;
         }
         std::fprintf(stderr, "dhr-server: wrote a new deployment key to %s (give it to the server and its "
                              "clients with --key-file)\n", options.gen_key_path.c_str());
-        return 0;
+        return dhr::exit_code::kOk;
       }
       case Mode::kNone: break;
     }
     std::fprintf(stderr,
                  "dhr-server: nothing to do: give --check, --snapshot DIR, --port P or --gen-key FILE (see --help)\n");
-    return 2;
+    return dhr::exit_code::kUsage;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dhr-server: %s\n", e.what());
-    return 1;
+    return dhr::exit_code::kFailure;
   }
 }

@@ -16,4 +16,9 @@ int fail_setup(const std::string& message) {
   return exit_code::kUsage;
 }
 
+int fail_run(const std::string& message) {
+  std::fprintf(stderr, "dhr-server: %s\n", message.c_str());
+  return exit_code::kFailure;
+}
+
 }  // namespace dhr::server::cli

@@ -12,7 +12,11 @@ namespace dhr::server::cli {
 // triangles). std::nullopt with a one-line message otherwise.
 std::optional<Scene> load_server_scene(const ServerOptions& options, std::string* out_error);
 
-// Prints "dhr-server: MESSAGE" on stderr and returns 2, the exit code of an unusable setup.
+// Prints "dhr-server: MESSAGE" on stderr and returns exit_code::kUsage (2): an input the command line names is
+// unusable (cli/exit_codes.hpp).
 int fail_setup(const std::string& message);
+// The same for a run that failed (exit_code::kFailure, 1): a tracer that cannot be created, a socket that cannot
+// be bound, a file that cannot be written.
+int fail_run(const std::string& message);
 
 }  // namespace dhr::server::cli

@@ -13,10 +13,7 @@ int run_serve_command(const ServerOptions& options) {
   std::optional<secure::Key> key;
   if (!options.key_file.empty()) {
     key = secure::load_key_file(options.key_file, &error);
-    if (!key) {
-      std::fprintf(stderr, "dhr-server: %s\n", error.c_str());
-      return 2;
-    }
+    if (!key) return fail_setup(error);
   }
   std::optional<Scene> scene = load_server_scene(options, &error);
   if (!scene) return fail_setup(error);
@@ -24,7 +21,7 @@ int run_serve_command(const ServerOptions& options) {
   try {
     tracer = create_tracer(options.backend, *scene, options.tracer);
   } catch (const std::exception& e) {
-    return fail_setup(std::string("cannot create the tracer: ") + e.what());
+    return fail_run(std::string("cannot create the tracer: ") + e.what());
   }
 
   ServeOptions serve;
@@ -60,7 +57,7 @@ int run_serve_command(const ServerOptions& options) {
   try {
     return run_serve(serve, *tracer);
   } catch (const std::exception& e) {
-    return fail_setup(e.what());
+    return fail_run(e.what());
   }
 }
 

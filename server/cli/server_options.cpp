@@ -103,7 +103,9 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
                  "replace the scene's lights, ';'-separated: point:x,y,z:r,g,b:I[:range] | "
                  "spot:x,y,z:dx,dy,dz:r,g,b:I:inner_deg,outer_deg[:range] | dir:dx,dy,dz:r,g,b:I")
       ->type_name("SPEC");
-  app.add_option("--threads", out.tracer.threads, "CPU tracer threads (0 = all cores)")->capture_default_str();
+  app.add_option("--threads", out.tracer.threads, "CPU tracer threads (0 = all cores)")
+      ->check(CLI::Range(0u, kMaxTracerThreads))
+      ->capture_default_str();
   app.add_option("--repeat", out.repeat, "traces per bookmark; the report gives the median trace time")
       ->capture_default_str()
       ->check(dhr::cli::FiniteRange(1u, 1000u));

@@ -4,6 +4,7 @@
 #include "image/png_writer.hpp"
 #include "trace/embree/embree_tracer.hpp"
 #include "preview_shading.hpp"
+#include "cli/exit_codes.hpp"
 #include "scene_setup.hpp"
 #include "trace/stats_json.hpp"
 
@@ -46,13 +47,13 @@ int run_snapshot(const ServerOptions& options) {
   std::error_code ec;
   std::filesystem::create_directories(options.snapshot_dir, ec);
   if (ec || !std::filesystem::is_directory(options.snapshot_dir))
-    return fail_setup(options.snapshot_dir + ": cannot create the output directory");
+    return fail_run(options.snapshot_dir + ": cannot create the output directory");
 
   std::unique_ptr<VisibilityTracer> tracer;
   try {
     tracer = create_tracer(options.backend, *scene, options.tracer);
   } catch (const std::exception& e) {
-    return fail_setup(std::string("cannot create the tracer: ") + e.what());
+    return fail_run(std::string("cannot create the tracer: ") + e.what());
   }
   // The preview's primary rays come from Embree; reuse the tracer's scene when it is Embree.
   std::unique_ptr<EmbreeScene> own_preview_scene;
@@ -82,7 +83,7 @@ int run_snapshot(const ServerOptions& options) {
         times.push_back(stats.trace_ms);
       }
     } catch (const std::exception& e) {
-      return fail_setup("camera '" + bookmark.name + "': " + e.what());
+      return fail_run("camera '" + bookmark.name + "': " + e.what());
     }
     std::sort(times.begin(), times.end());
     stats.trace_ms = times[times.size() / 2];
@@ -98,12 +99,12 @@ int run_snapshot(const ServerOptions& options) {
     for (uint32_t li = 0; li < tracer->light_count(); ++li) {
       for (size_t i = 0; i < grey.size(); ++i) grey[i] = (visibility.mask_at(i) >> li & 1u) ? 255 : 0;
       const std::string path = (std::filesystem::path(options.snapshot_dir) / (base + "_light" + std::to_string(li) + ".png")).string();
-      if (const auto err = write_png(path, w, h, 1, grey)) return fail_setup(*err);
+      if (const auto err = write_png(path, w, h, 1, grey)) return fail_run(*err);
       files.push_back(path);
     }
     const std::string shaded = (std::filesystem::path(options.snapshot_dir) / (base + "_shaded.png")).string();
     if (const auto err = write_png(shaded, w, h, 3, shade_preview(*scene, *preview_scene, camera, visibility)))
-      return fail_setup(*err);
+      return fail_run(*err);
     files.push_back(shaded);
 
     nlohmann::ordered_json stats_json = to_json(stats);
@@ -128,7 +129,7 @@ int run_snapshot(const ServerOptions& options) {
     std::printf("%s\n", report.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
     std::fflush(stdout);
   }
-  return 0;
+  return exit_code::kOk;
 }
 
 }  // namespace dhr::server::cli

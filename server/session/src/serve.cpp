@@ -14,6 +14,8 @@
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
+#include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -116,11 +118,20 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
       tracer.backend() == TracerBackend::kEmbree ? std::max<uint32_t>(1, options.service.workers) : 1u;
   std::vector<std::thread> worker_threads;
   for (uint32_t i = 0; i < workers; ++i) {
-    worker_threads.emplace_back([&] {
-      while (!stopping.load(std::memory_order_acquire)) {
-        if (service.wait_for_pending(100 * net::kNsPerMs)) service.process_pending();
-      }
-    });
+    try {
+      worker_threads.emplace_back([&] {
+        while (!stopping.load(std::memory_order_acquire)) {
+          if (service.wait_for_pending(100 * net::kNsPerMs)) service.process_pending();
+        }
+      });
+    } catch (const std::system_error& e) {
+      // The started workers are stopped and joined: a joinable std::thread destroyed would end the process.
+      stopping.store(true, std::memory_order_release);
+      service.interrupt_wait();
+      for (std::thread& t : worker_threads) t.join();
+      throw std::runtime_error("serve: cannot start worker thread " + std::to_string(i + 1) + " of " +
+                               std::to_string(workers) + ": " + e.what());
+    }
   }
 
   const int64_t start_ns = clock.now_ns();

@@ -27,9 +27,13 @@ struct SkipOptions {
   static SkipOptions none() { return SkipOptions{false, false, false}; }
 };
 
+// CPU tracer threads at most (TracerOptions::threads, --threads): far above any core count a server has, low
+// enough that a typo cannot ask the system for millions of threads.
+inline constexpr uint32_t kMaxTracerThreads = 256;
+
 struct TracerOptions {
   SkipOptions skip;
-  uint32_t threads = 0;  // CPU backends: 0 = all cores
+  uint32_t threads = 0;  // CPU backends: 0 = all cores; at most kMaxTracerThreads
   // Primary rays start at this depth along the view axis: the client's near plane, so nothing it clips is
   // traced in place of what it shows (a scene drawn at another scale would scale it too).
   double primary_near = kClipNearPlane;

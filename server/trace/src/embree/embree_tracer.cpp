@@ -7,6 +7,8 @@
 #include <chrono>
 #include <exception>
 #include <stdexcept>
+#include <string>
+#include <system_error>
 #include <thread>
 
 namespace dhr::server {
@@ -18,7 +20,11 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, const TracerOptions& options, con
                              std::to_string(kMaxLights) + " supported");
   if (config_.tile_size == 0 || config_.tile_size % 4 != 0)
     throw std::runtime_error("embree tracer: tile size must be a positive multiple of 4");
-  threads_ = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  if (options.threads > kMaxTracerThreads)
+    throw std::invalid_argument("embree tracer: " + std::to_string(options.threads) + " threads, at most " +
+                                std::to_string(kMaxTracerThreads));
+  threads_ = options.threads ? options.threads
+                             : std::clamp(std::thread::hardware_concurrency(), 1u, kMaxTracerThreads);
   EmbreeBuildOptions build = config_.build;
   if (build.threads == 0) build.threads = threads_;
   scene_ = EmbreeScene::create(scene, build);
@@ -73,11 +79,23 @@ void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
       next_tile.store(tile_count);
     }
   };
+  // A thread that cannot start (the system's thread limit) ends the trace with an error, after the started ones
+  // finished: a std::thread still joinable when the pool is destroyed would terminate the process.
   std::vector<std::thread> pool;
   pool.reserve(workers - 1);
-  for (uint32_t w = 1; w < workers; ++w) pool.emplace_back(work, w);
-  work(0);
+  std::string start_error;
+  for (uint32_t w = 1; w < workers && start_error.empty(); ++w) {
+    try {
+      pool.emplace_back(work, w);
+    } catch (const std::system_error& e) {
+      start_error = "embree tracer: cannot start tracer thread " + std::to_string(w + 1) + " of " +
+                    std::to_string(workers) + ": " + e.what();
+      next_tile.store(tile_count);  // the started threads stop at their next tile
+    }
+  }
+  if (start_error.empty()) work(0);
   for (std::thread& th : pool) th.join();
+  if (!start_error.empty()) throw std::runtime_error(start_error);
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
 
