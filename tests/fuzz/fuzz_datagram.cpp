@@ -8,6 +8,7 @@
 // 1e-3 norm tolerance) and the encoder rounds it back to float, so the 16 quaternion bytes of each view
 // may move by up to ~1e-3 on the first round trip and by at most one float step on later ones.
 #include "protocol/protocol.hpp"
+#include "protocol/protocol_layout.hpp"
 #include "fuzz_support.hpp"
 
 #include <cmath>
@@ -18,15 +19,18 @@ namespace {
 
 using dhr::DecodeError;
 
-// Offsets of the 16 quaternion bytes of every view in an encoded message of this type.
+// Offsets of the 16 quaternion bytes of every view in an encoded message of this type (from the layout).
 std::vector<size_t> quaternion_offsets(dhr::MessageType type) {
-  constexpr size_t kQuatInView = 24;  // after the f64 x3 position
-  switch (type) {
-    case dhr::MessageType::kPoseUpdate:
-      return {dhr::kHeaderSize + 16 + kQuatInView, dhr::kHeaderSize + 16 + dhr::kViewWireSize + kQuatInView};
-    case dhr::MessageType::kVisibilityShard: return {dhr::kHeaderSize + 28 + kQuatInView};
-    default: return {};
-  }
+  const dhr::ProtocolLayout& layout = dhr::protocol_layout();
+  size_t in_view = 0;
+  for (const dhr::LayoutField& f : layout.view.fields)
+    if (f.name == "orientation") in_view = f.offset;
+  std::vector<size_t> offsets;
+  for (const dhr::LayoutBlock& m : layout.messages)
+    if (m.type == static_cast<uint8_t>(type))
+      for (const dhr::LayoutField& f : m.fields)
+        if (f.type == "View") offsets.push_back(f.offset + in_view);
+  return offsets;
 }
 
 float load_f32(const uint8_t* p) {

@@ -4,17 +4,101 @@
 -- A heuristic dissector on UDP: every datagram that starts with "DHRX". Each message type and field is
 -- decoded; sealed bodies (flags 1) are shown as ciphertext and tag, handshake tags (flags 2) as random and
 -- tag after the body. Anything that does not fit its layout is flagged malformed (expert info), never
--- decoded past the point where it stops fitting.
+-- decoded past the point where it stops fitting. The layouts below are data generated from the protocol's
+-- one field list (shared/protocol/include/protocol/wire_layout.hpp); the code walks them.
+
+-- BEGIN LAYOUT: written by `dhr-protocol-layout --update-wireshark tools/wireshark/dhr.lua` from
+-- shared/protocol/include/protocol/wire_layout.hpp (ProtocolLayout.WiresharkLayoutIsCurrent checks it).
+-- Per field: { offset, wire type, name }; offsets from the datagram's start (the View's from its own).
+local VERSION = 3
+local MAX_DATAGRAM = 1280
+local SEAL_TAG = 16
+local HEADER = { size = 20, fields = {
+  { 0, "u8 x4", "magic" },
+  { 4, "u8", "version" },
+  { 5, "u8", "type" },
+  { 6, "u16", "flags" },
+  { 8, "u64", "session_token" },
+  { 16, "u32", "sequence" },
+} }
+local VIEW = { size = 56, fields = {
+  { 0, "f64 x3", "position" },
+  { 24, "f32 x4", "orientation" },
+  { 40, "f32 x4", "fov" },
+} }
+local MESSAGES = {
+  [1] = { name = "Hello", size = 42, tail_length = "scene_id_length", fields = {
+    { 20, "u64", "client_nonce" },
+    { 28, "u32", "capabilities" },
+    { 32, "u16", "eye_width" },
+    { 34, "u16", "eye_height" },
+    { 36, "u16", "guard_x" },
+    { 38, "u16", "guard_y" },
+    { 40, "u8", "light_count_wanted" },
+    { 41, "u8", "scene_id_length" },
+    { 42, "u8[n]", "scene_id" },
+  } },
+  [3] = { name = "PoseUpdate", size = 152, fields = {
+    { 20, "u64", "frame" },
+    { 28, "i64", "display_time_ns" },
+    { 36, "View", "left_view" },
+    { 92, "View", "right_view" },
+    { 148, "u16 x2", "held_distance" },
+  } },
+  [2] = { name = "Welcome", size = 56, fields = {
+    { 20, "u64", "client_nonce" },
+    { 28, "u32", "capabilities" },
+    { 32, "u64", "scene_hash" },
+    { 40, "u8", "light_count" },
+    { 41, "u8", "mask_bits" },
+    { 42, "u16", "buffer_width" },
+    { 44, "u16", "buffer_height" },
+    { 46, "u16", "guard_x" },
+    { 48, "u16", "guard_y" },
+    { 50, "u16", "heartbeat_interval_ms" },
+    { 52, "u32", "session_timeout_ms" },
+  } },
+  [4] = { name = "VisibilityShard", size = 104, tail_length = "payload_size", fields = {
+    { 20, "u64", "frame_number" },
+    { 28, "u8", "eye" },
+    { 29, "u8", "mask_bits" },
+    { 30, "u16", "shard_index" },
+    { 32, "u16", "shard_count" },
+    { 34, "u16", "buffer_width" },
+    { 36, "u16", "buffer_height" },
+    { 38, "u16", "payload_size" },
+    { 40, "u32", "first_pixel" },
+    { 44, "u32", "pixel_count" },
+    { 48, "View", "view" },
+    { 104, "u8[p]", "payload" },
+  } },
+  [5] = { name = "Heartbeat", size = 72, fields = {
+    { 20, "i64", "send_time_ns" },
+    { 28, "i64", "echo_time_ns" },
+    { 36, "i64", "echo_delay_ns" },
+    { 44, "u64", "newest_frame" },
+    { 52, "u32", "datagrams_sent" },
+    { 56, "u32", "datagrams_received" },
+    { 60, "u32", "datagrams_rejected" },
+    { 64, "u32", "frames_done" },
+    { 68, "u32", "frames_dropped" },
+  } },
+  [6] = { name = "Bye", size = 21, fields = {
+    { 20, "u8", "reason" },
+  } },
+}
+-- END LAYOUT
 
 local dhr = Proto("dhr", "DHR-XR visibility protocol")
 
-local types = { [1] = "Hello", [2] = "Welcome", [3] = "PoseUpdate", [4] = "VisibilityShard", [5] = "Heartbeat",
-                [6] = "Bye" }
+local types = {}
+for id, m in pairs(MESSAGES) do types[id] = m.name end
 local reasons = { [0] = "normal", [1] = "timeout", [2] = "protocol error", [3] = "shutdown",
                   [4] = "version mismatch", [5] = "unknown session", [6] = "bad hello", [7] = "unknown scene",
                   [8] = "authentication required", [9] = "authentication failed" }
 local eyes = { [0] = "left", [1] = "right" }
 
+-- One filter field per layout field name (a name in several messages, like guard_x, shares one).
 local f = {
   magic = ProtoField.string("dhr.magic", "Magic"),
   version = ProtoField.uint8("dhr.version", "Version"),
@@ -22,30 +106,31 @@ local f = {
   flags = ProtoField.uint16("dhr.flags", "Flags", base.HEX),
   sealed = ProtoField.bool("dhr.flags.sealed", "Sealed", 16, nil, 0x0001),
   tagged = ProtoField.bool("dhr.flags.handshake_tag", "Handshake tag", 16, nil, 0x0002),
-  token = ProtoField.uint64("dhr.token", "Session token", base.HEX),
+  session_token = ProtoField.uint64("dhr.token", "Session token", base.HEX),
   sequence = ProtoField.uint32("dhr.sequence", "Sequence"),
-  nonce = ProtoField.uint64("dhr.nonce", "Client nonce", base.HEX),
-  caps = ProtoField.uint32("dhr.capabilities", "Capabilities", base.HEX),
+  client_nonce = ProtoField.uint64("dhr.nonce", "Client nonce", base.HEX),
+  capabilities = ProtoField.uint32("dhr.capabilities", "Capabilities", base.HEX),
   eye_width = ProtoField.uint16("dhr.eye_width", "Eye width"),
   eye_height = ProtoField.uint16("dhr.eye_height", "Eye height"),
   guard_x = ProtoField.uint16("dhr.guard_x", "Guard x"),
   guard_y = ProtoField.uint16("dhr.guard_y", "Guard y"),
-  lights_wanted = ProtoField.uint8("dhr.lights_wanted", "Lights wanted"),
+  light_count_wanted = ProtoField.uint8("dhr.lights_wanted", "Lights wanted"),
+  scene_id_length = ProtoField.uint8("dhr.scene_id_length", "Scene id length"),
   scene_id = ProtoField.string("dhr.scene_id", "Scene id"),
   scene_hash = ProtoField.uint64("dhr.scene_hash", "Scene hash", base.HEX),
   light_count = ProtoField.uint8("dhr.light_count", "Light count"),
   mask_bits = ProtoField.uint8("dhr.mask_bits", "Mask bits"),
   buffer_width = ProtoField.uint16("dhr.buffer_width", "Buffer width"),
   buffer_height = ProtoField.uint16("dhr.buffer_height", "Buffer height"),
-  heartbeat_ms = ProtoField.uint16("dhr.heartbeat_ms", "Heartbeat interval (ms)"),
-  timeout_ms = ProtoField.uint32("dhr.timeout_ms", "Session timeout (ms)"),
+  heartbeat_interval_ms = ProtoField.uint16("dhr.heartbeat_ms", "Heartbeat interval (ms)"),
+  session_timeout_ms = ProtoField.uint32("dhr.timeout_ms", "Session timeout (ms)"),
   frame = ProtoField.uint64("dhr.frame", "Frame"),
-  display_time = ProtoField.int64("dhr.display_time_ns", "Display time (ns)"),
+  display_time_ns = ProtoField.int64("dhr.display_time_ns", "Display time (ns)"),
   view = ProtoField.none("dhr.view", "View"),
   position = ProtoField.string("dhr.view.position", "Position (m)"),
   orientation = ProtoField.string("dhr.view.orientation", "Orientation (x, y, z, w)"),
   fov = ProtoField.string("dhr.view.fov", "FOV (left, right, up, down; rad)"),
-  held = ProtoField.uint16("dhr.held_distance", "Held distance"),
+  held_distance = ProtoField.uint16("dhr.held_distance", "Held distance"),
   eye = ProtoField.uint8("dhr.eye", "Eye", base.DEC, eyes),
   shard_index = ProtoField.uint16("dhr.shard_index", "Shard index"),
   shard_count = ProtoField.uint16("dhr.shard_count", "Shard count"),
@@ -53,11 +138,15 @@ local f = {
   first_pixel = ProtoField.uint32("dhr.first_pixel", "First pixel"),
   pixel_count = ProtoField.uint32("dhr.pixel_count", "Pixel count"),
   payload = ProtoField.bytes("dhr.payload", "Payload"),
-  send_time = ProtoField.int64("dhr.send_time_ns", "Send time (ns)"),
-  echo_time = ProtoField.int64("dhr.echo_time_ns", "Echo time (ns)"),
-  echo_delay = ProtoField.int64("dhr.echo_delay_ns", "Echo delay (ns)"),
+  send_time_ns = ProtoField.int64("dhr.send_time_ns", "Send time (ns)"),
+  echo_time_ns = ProtoField.int64("dhr.echo_time_ns", "Echo time (ns)"),
+  echo_delay_ns = ProtoField.int64("dhr.echo_delay_ns", "Echo delay (ns)"),
   newest_frame = ProtoField.uint64("dhr.newest_frame", "Newest frame"),
-  counter = ProtoField.uint32("dhr.counter", "Counter"),
+  datagrams_sent = ProtoField.uint32("dhr.datagrams_sent", "Datagrams sent"),
+  datagrams_received = ProtoField.uint32("dhr.datagrams_received", "Datagrams received"),
+  datagrams_rejected = ProtoField.uint32("dhr.datagrams_rejected", "Datagrams rejected"),
+  frames_done = ProtoField.uint32("dhr.frames_done", "Frames done"),
+  frames_dropped = ProtoField.uint32("dhr.frames_dropped", "Frames dropped"),
   reason = ProtoField.uint8("dhr.reason", "Reason", base.DEC, reasons),
   ciphertext = ProtoField.bytes("dhr.ciphertext", "Sealed body"),
   seal_tag = ProtoField.bytes("dhr.seal_tag", "Seal tag (Poly1305)"),
@@ -66,6 +155,17 @@ local f = {
 }
 dhr.fields = {}
 for _, field in pairs(f) do table.insert(dhr.fields, field) end
+-- Layout names shown under another's filter field (registered once above).
+f.frame_number = f.frame
+f.left_view = f.view
+f.right_view = f.view
+-- A layout field without a filter field is a bug in this file: say so when it loads, not mid-capture.
+local function check_names(block)
+  for _, fl in ipairs(block.fields) do assert(f[fl[3]], "dhr.lua: no filter field for layout field " .. fl[3]) end
+end
+check_names(HEADER)
+check_names(VIEW)
+for _, m in pairs(MESSAGES) do check_names(m) end
 
 local e_malformed = ProtoExpert.new("dhr.malformed", "Malformed DHR datagram", expert.group.MALFORMED,
                                     expert.severity.ERROR)
@@ -73,130 +173,126 @@ local e_version = ProtoExpert.new("dhr.other_version", "Another protocol version
                                   expert.group.PROTOCOL, expert.severity.WARN)
 dhr.experts = { e_malformed, e_version }
 
-local HEADER = 20
-local VIEW = 56
-local SEAL_TAG = 16
-local HS_TRAILER = 64
-local BODY = { [2] = 36, [3] = 16 + 2 * VIEW + 4, [5] = 52, [6] = 1 }  -- fixed body sizes (Hello, Shard vary)
+local HS_TRAILER = 64  -- a handshake tag's random and tag (docs/protocol.md, "Authentication")
+local SIZE = { u8 = 1, u16 = 2, u32 = 4, u64 = 8, i64 = 8, f32 = 4, f64 = 8 }
 
 local function malformed(tree, tvb, why)
   tree:add_proto_expert_info(e_malformed, why)
   return false
 end
 
-local function add_view(tree, tvb, at)
-  local v = tree:add(f.view, tvb(at, VIEW))
-  v:add(f.position, tvb(at, 24), string.format("%.6f, %.6f, %.6f", tvb(at, 8):le_float(), tvb(at + 8, 8):le_float(),
-                                                 tvb(at + 16, 8):le_float()))
-  v:add(f.orientation, tvb(at + 24, 16), string.format("%.6f, %.6f, %.6f, %.6f", tvb(at + 24, 4):le_float(),
-                                                         tvb(at + 28, 4):le_float(), tvb(at + 32, 4):le_float(),
-                                                         tvb(at + 36, 4):le_float()))
-  v:add(f.fov, tvb(at + 40, 16), string.format("%.6f, %.6f, %.6f, %.6f", tvb(at + 40, 4):le_float(),
-                                                 tvb(at + 44, 4):le_float(), tvb(at + 48, 4):le_float(),
-                                                 tvb(at + 52, 4):le_float()))
+-- "u16" -> "u16", 1; "f32 x4" -> "f32", 4; "u8[n]" -> "tail", 1; "View" -> "View", 1.
+local function split_type(t)
+  local base, n = t:match("^(%w+) x(%d+)$")
+  if base then return base, tonumber(n) end
+  if t:match("^u8%[") then return "tail", 1 end
+  return t, 1
 end
 
--- Decodes the body of a plain message in tvb(HEADER, len - HEADER); false (flagged) when it does not fit.
+local function field_named(block, name)
+  for _, fl in ipairs(block.fields) do if fl[3] == name then return fl end end
+end
+
+-- Adds a layout's fields at origin + offset; returns the values of the integer fields (by name) and the
+-- items added (by name). tail_len: bytes of the tail, if the layout has one.
+local function add_fields(tree, tvb, fields, origin, tail_len)
+  local values, items = {}, {}
+  for _, fl in ipairs(fields) do
+    local at, key = origin + fl[1], fl[3]
+    local base, n = split_type(fl[2])
+    if base == "View" then
+      items[key] = tree:add(f[key], tvb(at, VIEW.size))
+      add_fields(items[key], tvb, VIEW.fields, at, 0)
+    elseif base == "tail" then
+      if tail_len > 0 then items[key] = tree:add(f[key], tvb(at, tail_len)) end
+    elseif base == "f32" or base == "f64" then
+      local size, shown = SIZE[base], {}
+      for i = 0, n - 1 do shown[#shown + 1] = string.format("%.6f", tvb(at + i * size, size):le_float()) end
+      items[key] = tree:add(f[key], tvb(at, n * size), table.concat(shown, ", "))
+    elseif base == "u8" and n > 1 then
+      items[key] = tree:add(f[key], tvb(at, n))
+    else
+      local size = SIZE[base]
+      for i = 0, n - 1 do items[key] = tree:add_le(f[key], tvb(at + i * size, size)) end
+      if n == 1 and size <= 4 then values[key] = tvb(at, size):le_uint() end
+    end
+  end
+  return values, items
+end
+
+-- What a layout cannot say: values that make a datagram that fits its layout malformed anyway.
+local CHECKS = {
+  VisibilityShard = function(v)
+    if v.shard_index >= v.shard_count then return "VisibilityShard: shard index not below the count" end
+  end,
+  Bye = function(v)
+    if reasons[v.reason] == nil then return "Bye: unknown reason " .. v.reason end
+  end,
+}
+
+-- Decodes the body of a plain message in tvb(0, len); false (flagged) when it does not fit its layout.
 local function dissect_body(kind, tvb, len, tree)
-  local b = HEADER
-  local size = len - HEADER
-  if kind == 1 then
-    if size < 22 then return malformed(tree, tvb, "Hello shorter than 42 bytes") end
-    local n = tvb(b + 21, 1):uint()
-    if size ~= 22 + n then return malformed(tree, tvb, "Hello: scene id length " .. n .. " does not fit " .. len .. " bytes") end
-    tree:add_le(f.nonce, tvb(b, 8)); tree:add_le(f.caps, tvb(b + 8, 4))
-    tree:add_le(f.eye_width, tvb(b + 12, 2)); tree:add_le(f.eye_height, tvb(b + 14, 2))
-    tree:add_le(f.guard_x, tvb(b + 16, 2)); tree:add_le(f.guard_y, tvb(b + 18, 2))
-    tree:add(f.lights_wanted, tvb(b + 20, 1))
-    if n > 0 then tree:add(f.scene_id, tvb(b + 22, n)) end
-    return true
-  end
-  if kind == 4 then
-    if size < 28 + VIEW then return malformed(tree, tvb, "VisibilityShard shorter than its 104-byte header") end
-    local p = tvb(b + 18, 2):le_uint()
-    if size ~= 28 + VIEW + p then
-      return malformed(tree, tvb, "VisibilityShard: payload size " .. p .. " does not fit " .. len .. " bytes")
+  local m = MESSAGES[kind]
+  local tail_len = 0
+  if m.tail_length then
+    if len < m.size then return malformed(tree, tvb, m.name .. " shorter than " .. m.size .. " bytes") end
+    local lf = field_named(m, m.tail_length)
+    tail_len = tvb(lf[1], SIZE[lf[2]]):le_uint()
+    if len ~= m.size + tail_len then
+      return malformed(tree, tvb,
+                       m.name .. ": " .. m.tail_length .. " " .. tail_len .. " does not fit " .. len .. " bytes")
     end
-    tree:add_le(f.frame, tvb(b, 8)); tree:add(f.eye, tvb(b + 8, 1)); tree:add(f.mask_bits, tvb(b + 9, 1))
-    tree:add_le(f.shard_index, tvb(b + 10, 2)); tree:add_le(f.shard_count, tvb(b + 12, 2))
-    tree:add_le(f.buffer_width, tvb(b + 14, 2)); tree:add_le(f.buffer_height, tvb(b + 16, 2))
-    tree:add_le(f.payload_size, tvb(b + 18, 2)); tree:add_le(f.first_pixel, tvb(b + 20, 4))
-    tree:add_le(f.pixel_count, tvb(b + 24, 4))
-    add_view(tree, tvb, b + 28)
-    if p > 0 then tree:add(f.payload, tvb(b + 28 + VIEW, p)) end
-    if tvb(b + 10, 2):le_uint() >= tvb(b + 12, 2):le_uint() then
-      return malformed(tree, tvb, "VisibilityShard: shard index not below the count")
-    end
-    return true
+  elseif len ~= m.size then
+    return malformed(tree, tvb, m.name .. ": " .. len .. " bytes, expected " .. m.size)
   end
-  local want = BODY[kind]
-  if size ~= want then
-    return malformed(tree, tvb, (types[kind] or "?") .. ": " .. len .. " bytes, expected " .. (HEADER + want))
-  end
-  if kind == 2 then
-    tree:add_le(f.nonce, tvb(b, 8)); tree:add_le(f.caps, tvb(b + 8, 4)); tree:add_le(f.scene_hash, tvb(b + 12, 8))
-    tree:add(f.light_count, tvb(b + 20, 1)); tree:add(f.mask_bits, tvb(b + 21, 1))
-    tree:add_le(f.buffer_width, tvb(b + 22, 2)); tree:add_le(f.buffer_height, tvb(b + 24, 2))
-    tree:add_le(f.guard_x, tvb(b + 26, 2)); tree:add_le(f.guard_y, tvb(b + 28, 2))
-    tree:add_le(f.heartbeat_ms, tvb(b + 30, 2)); tree:add_le(f.timeout_ms, tvb(b + 32, 4))
-  elseif kind == 3 then
-    tree:add_le(f.frame, tvb(b, 8)); tree:add_le(f.display_time, tvb(b + 8, 8))
-    add_view(tree, tvb, b + 16); add_view(tree, tvb, b + 16 + VIEW)
-    tree:add_le(f.held, tvb(b + 16 + 2 * VIEW, 2)); tree:add_le(f.held, tvb(b + 18 + 2 * VIEW, 2))
-  elseif kind == 5 then
-    tree:add_le(f.send_time, tvb(b, 8)); tree:add_le(f.echo_time, tvb(b + 8, 8)); tree:add_le(f.echo_delay, tvb(b + 16, 8))
-    tree:add_le(f.newest_frame, tvb(b + 24, 8))
-    for i = 0, 4 do tree:add_le(f.counter, tvb(b + 32 + 4 * i, 4)) end
-  elseif kind == 6 then
-    local r = tvb(b, 1):uint()
-    tree:add(f.reason, tvb(b, 1))
-    if reasons[r] == nil then return malformed(tree, tvb, "Bye: unknown reason " .. r) end
-  end
+  local values = add_fields(tree, tvb, m.fields, 0, tail_len)
+  local why = CHECKS[m.name] and CHECKS[m.name](values)
+  if why then return malformed(tree, tvb, why) end
   return true
 end
 
 local function dissect(tvb, pinfo, root)
   local len = tvb:len()
-  if len < 4 or tvb(0, 4):string() ~= "DHRX" then return false end
+  local magic = field_named(HEADER, "magic")
+  if len < 4 or tvb(magic[1], 4):string() ~= "DHRX" then return false end
   pinfo.cols.protocol = "DHR"
   local tree = root:add(dhr, tvb(), "DHR-XR")
-  tree:add(f.magic, tvb(0, 4))
-  if len < HEADER then
-    malformed(tree, tvb, "shorter than the 20-byte header")
+  if len < HEADER.size then
+    tree:add(f.magic, tvb(magic[1], 4))
+    malformed(tree, tvb, "shorter than the " .. HEADER.size .. "-byte header")
     pinfo.cols.info = "DHR malformed (short)"
     return true
   end
-  local version = tvb(4, 1):uint()
-  local kind = tvb(5, 1):uint()
-  tree:add(f.version, tvb(4, 1))
-  tree:add(f.type, tvb(5, 1))
-  local flags_item = tree:add_le(f.flags, tvb(6, 2))
-  flags_item:add_le(f.sealed, tvb(6, 2))
-  flags_item:add_le(f.tagged, tvb(6, 2))
-  tree:add_le(f.token, tvb(8, 8))
-  tree:add_le(f.sequence, tvb(16, 4))
+  local h, items = add_fields(tree, tvb, HEADER.fields, 0, 0)
+  local flags_at = field_named(HEADER, "flags")[1]
+  items.flags:add_le(f.sealed, tvb(flags_at, 2))
+  items.flags:add_le(f.tagged, tvb(flags_at, 2))
+  local kind = h.type
   local name = types[kind] or ("type " .. kind)
   pinfo.cols.info = "DHR " .. name
-  if version ~= 3 then
-    tree:add_proto_expert_info(e_version, "version " .. version)
+  if h.version ~= VERSION then
+    tree:add_proto_expert_info(e_version, "version " .. h.version)
     return true
   end
   if types[kind] == nil then
     malformed(tree, tvb, "unknown message type " .. kind)
     return true
   end
-  if len > 1280 then malformed(tree, tvb, "longer than 1280 bytes") return true end
-  local flags = tvb(6, 2):le_uint()
+  if len > MAX_DATAGRAM then malformed(tree, tvb, "longer than " .. MAX_DATAGRAM .. " bytes") return true end
+  local flags = h.flags
   if flags == 1 then
-    if len < HEADER + SEAL_TAG then malformed(tree, tvb, "sealed datagram without room for its tag") return true end
-    if len > HEADER + SEAL_TAG then tree:add(f.ciphertext, tvb(HEADER, len - HEADER - SEAL_TAG)) end
+    if len < HEADER.size + SEAL_TAG then
+      malformed(tree, tvb, "sealed datagram without room for its tag")
+      return true
+    end
+    if len > HEADER.size + SEAL_TAG then tree:add(f.ciphertext, tvb(HEADER.size, len - HEADER.size - SEAL_TAG)) end
     tree:add(f.seal_tag, tvb(len - SEAL_TAG, SEAL_TAG))
     pinfo.cols.info = "DHR " .. name .. " (sealed)"
     return true
   end
   local body_len = len
   if flags == 2 then
-    if len < HEADER + HS_TRAILER then malformed(tree, tvb, "handshake tag missing") return true end
+    if len < HEADER.size + HS_TRAILER then malformed(tree, tvb, "handshake tag missing") return true end
     body_len = len - HS_TRAILER
     pinfo.cols.info = "DHR " .. name .. " (tagged)"
   elseif flags ~= 0 then

@@ -1,10 +1,13 @@
 // The DHR wire protocol: message structs and their explicit little-endian encoding (docs/protocol.md
 // has the byte layout, the handshake and what a receiver does with a datagram that fails validation).
-// One message per UDP datagram; every datagram starts with the same 20-byte header.
+// One message per UDP datagram; every datagram starts with the same 20-byte header. Each message's wire
+// fields are listed once, in protocol/wire_layout.hpp, which also defines the size constants
+// (kHeaderSize, kViewWireSize, kShardFixedSize, kMaxShardPayload, kMaxDatagramSize ...) and MessageType.
 #pragma once
 #include "math/pose.hpp"
 #include "math/projection.hpp"
 #include "protocol/protocol_error.hpp"
+#include "protocol/wire_layout.hpp"
 #include "visibility/visibility.hpp"
 
 #include <array>
@@ -23,29 +26,9 @@ inline constexpr std::array<uint8_t, 4> kProtocolMagic = {'D', 'H', 'R', 'X'};
 // secure/envelope.hpp), shard payloads leave room for the seal's tag, Bye reasons 8 and 9.
 inline constexpr uint8_t kProtocolVersion = 3;
 
-inline constexpr size_t kHeaderSize = 20;
-inline constexpr size_t kViewWireSize = 56;  // f64 x3 position, f32 x4 quaternion (x,y,z,w), f32 x4 FOV
-// Largest datagram either side sends or accepts: fits the IPv6 minimum MTU path with room to spare
-// over Ethernet (1280 + 8 UDP + 20 IPv4 < 1500), so no IP fragmentation.
-inline constexpr size_t kMaxDatagramSize = 1280;
-// A sealed datagram (secure/envelope.hpp) carries a 16-byte tag: every message leaves room for it.
-inline constexpr size_t kSealOverhead = 16;
-inline constexpr size_t kMaxPlainDatagramSize = kMaxDatagramSize - kSealOverhead;  // 1264
-inline constexpr size_t kShardFixedSize = kHeaderSize + 28 + kViewWireSize;  // everything but the payload
-inline constexpr size_t kMaxShardPayload = kMaxPlainDatagramSize - kShardFixedSize;  // 1160
 static_assert(kMaxShardPayload <= 1200);
-inline constexpr size_t kMaxSceneIdLength = 128;
 // |q|^2 of a decoded quaternion must be within this of 1 (float rounding is ~1e-7); then renormalized.
 inline constexpr double kQuaternionNormTolerance = 1e-3;
-
-enum class MessageType : uint8_t {
-  kHello = 1,            // client -> server, token 0
-  kWelcome = 2,          // server -> client, carries the new token
-  kPoseUpdate = 3,       // client -> server, every frame
-  kVisibilityShard = 4,  // server -> client, many per traced eye
-  kHeartbeat = 5,        // both ways, ~1 Hz: liveness, clock-offset samples, counters
-  kBye = 6,              // either way: session ends
-};
 
 enum class Eye : uint8_t { kLeft = 0, kRight = 1 };
 
