@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 
 namespace dhr::server::cli {
 int run_serve_command(const ServerOptions& options) {
@@ -56,6 +57,8 @@ int run_serve_command(const ServerOptions& options) {
                options.impairment.active() ? options.impairment.describe().c_str() : "");
   try {
     return run_serve(serve, *tracer);
+  } catch (const std::invalid_argument& e) {  // e.g. a --bind that is not an address
+    return fail_setup(e.what());
   } catch (const std::exception& e) {
     return fail_run(e.what());
   }

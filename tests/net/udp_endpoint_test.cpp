@@ -347,7 +347,7 @@ TEST(UdpEndpoint, BindErrorsAreClear) {
 
   UdpSocketConfig bad_address;
   bad_address.bind_address = "not-an-address";
-  EXPECT_THROW(second.open(bad_address, [](const ReceivedDatagram&) {}), std::runtime_error);
+  EXPECT_THROW(second.open(bad_address, [](const ReceivedDatagram&) {}), std::invalid_argument);
   UdpSocketConfig bad_size;
   bad_size.max_datagram_size = 0;
   EXPECT_THROW(second.open(bad_size, [](const ReceivedDatagram&) {}), std::logic_error);

@@ -55,8 +55,8 @@ asio::ip::address parse_bind_address(const std::string& text) {
   asio::error_code ec;
   const asio::ip::address address = asio::ip::make_address(text, ec);
   if (ec) {
-    throw std::runtime_error("UDP bind address '" + text +
-                             "' is not a numeric IPv4/IPv6 address (nor \"localhost\")");
+    throw std::invalid_argument("UDP bind address '" + text +
+                                "' is not a numeric IPv4/IPv6 address (nor \"localhost\")");
   }
   return address;
 }

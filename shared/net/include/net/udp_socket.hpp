@@ -75,8 +75,9 @@ class UdpSocket final : public DatagramSender {
   UdpSocket(const UdpSocket&) = delete;
   UdpSocket& operator=(const UdpSocket&) = delete;
 
-  // Binds and starts the I/O thread. Throws std::runtime_error with the address and the OS reason
-  // (bad address, port in use) and std::logic_error when already open or the config is invalid.
+  // Binds and starts the I/O thread. Throws std::invalid_argument when the bind address is not one,
+  // std::runtime_error with the address and the OS reason (port in use, address not on this host), and
+  // std::logic_error when already open or the config is otherwise invalid.
   // Counters restart from zero.
   void open(const UdpSocketConfig& config, DatagramHandler handler);
 
