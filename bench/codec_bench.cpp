@@ -8,6 +8,7 @@
 // frame (sharded scheme vs whole-frame LZ4), shard count, Mbit/s at 90 Hz stereo, and `lz4 -b1` on the
 // same bytes as the reference. docs/performance.md ("Codec") has measured numbers.
 #include "cli/exit_codes.hpp"
+#include "cli/help_flag.hpp"
 #include "codec_measure.hpp"
 #include "protocol/protocol.hpp"
 #include "metrics/visibility_synthetic.hpp"
@@ -67,14 +68,14 @@ std::string cpu_model() {
   return "unknown";
 }
 
-int usage(const char* argv0) {
-  std::fprintf(stderr,
+int usage(const char* argv0, FILE* to = stderr) {
+  std::fprintf(to,
                "usage: %s [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] "
                "[--threads N]\n"
                "       %s --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N] "
                "[--trace-start S] [--seed N] [--threads N]\n",
                argv0, argv0);
-  return 2;
+  return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
 bool parse_args(int argc, char** argv, Options& o) {
@@ -205,6 +206,7 @@ void write_set(JsonWriter& j, const BufferSet& set, int repeat, int lz4_seconds)
 
 int main(int argc, char** argv) {
   Options o;
+  if (cli::asks_for_help(argc, argv)) return usage(argv[0], stdout);
   if (!parse_args(argc, argv, o)) return usage(argv[0]);
   if (o.scene.empty()) o.scene = default_scene();
   if (!o.sequence.trace.empty()) {

@@ -8,7 +8,10 @@
 //   skip_bench [--scene PATH]... [--size WxH] [--repeat N] [--threads N] [--lights SPECS]
 // Without --scene: default_room, and living_room and LightsPunctualLamp from ../shared/data when present.
 // Scenes without a bookmark file get four cameras orbiting their bounds. docs/performance.md, "Skipped work".
+#include "cli/exit_codes.hpp"
+#include "cli/help_flag.hpp"
 #include "scene/camera_bookmarks.hpp"
+#include "scene/session_scene.hpp"
 #include "codec/codec.hpp"
 #include "json_writer.hpp"
 #include "trace/visibility_tracer.hpp"
@@ -131,9 +134,15 @@ void timed_traces(server::VisibilityTracer& fast, server::VisibilityTracer& full
 
 int main(int argc, char** argv) {
   Options o;
+  const char* const usage =
+      "usage: skip_bench [--scene PATH]... [--size WxH] [--repeat N] [--threads N] [--lights SPECS]\n";
+  if (cli::asks_for_help(argc, argv)) {
+    std::fputs(usage, stdout);
+    return exit_code::kOk;
+  }
   if (!parse(argc, argv, o)) {
-    std::fprintf(stderr, "usage: skip_bench [--scene PATH]... [--size WxH] [--repeat N] [--threads N] [--lights SPECS]\n");
-    return 2;
+    std::fputs(usage, stderr);
+    return exit_code::kUsage;
   }
   JsonWriter j;
   j.begin_object();
@@ -150,21 +159,13 @@ int main(int argc, char** argv) {
   j.begin_array("scenes");
   bool device_written = false;
   for (const std::string& path : o.scenes) {
-    SceneLoadResult loaded = load_scene(path);
+    std::string load_error;
+    std::optional<Scene> loaded = load_session_scene(path, o.lights, &load_error);
     if (!loaded) {
-      std::fprintf(stderr, "skip_bench: %s\n", loaded.error.c_str());
-      return 1;
+      std::fprintf(stderr, "skip_bench: %s\n", load_error.c_str());
+      return exit_code::kUsage;
     }
-    Scene& scene = *loaded.scene;
-    if (!o.lights.empty()) {
-      std::string error;
-      auto lights = parse_light_specs(o.lights, &error);
-      if (lights) error = set_scene_lights(scene, *lights).value_or("");
-      if (!error.empty()) {
-        std::fprintf(stderr, "skip_bench: --lights: %s\n", error.c_str());
-        return 2;
-      }
-    }
+    Scene& scene = *loaded;
     server::TracerOptions skipping, exhaustive;
     skipping.threads = exhaustive.threads = o.threads;
     exhaustive.skip = server::SkipOptions::none();

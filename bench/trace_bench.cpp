@@ -15,6 +15,7 @@
 // docs/performance.md ("Server tracing") has the measured numbers and the commands.
 #include "bare_embree.hpp"
 #include "cli/exit_codes.hpp"
+#include "cli/help_flag.hpp"
 #include "bench_views.hpp"
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/stats_json.hpp"
@@ -94,11 +95,11 @@ std::optional<Extent> parse_size(const std::string& text) {
   return Extent{w, h};
 }
 
-int usage() {
-  std::fprintf(stderr,
+int usage(FILE* to = stderr) {
+  std::fprintf(to,
                "usage: trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] "
                "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick]\n");
-  return 2;
+  return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
 bool parse_args(int argc, char** argv, Options& o) {
@@ -429,6 +430,7 @@ void bench_scene(const std::string& path, const Options& o, unsigned threads) {
 
 int main(int argc, char** argv) {
   Options o;
+  if (cli::asks_for_help(argc, argv)) return usage(stdout);
   if (!parse_args(argc, argv, o)) return usage();
   const unsigned threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
   Json sizes = Json::array();

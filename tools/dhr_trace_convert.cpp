@@ -8,12 +8,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/exit_codes.hpp"
 #include "traces/pose_trace.hpp"
 
 namespace {
 
-constexpr int kExitWriteFailed = 1;
-constexpr int kExitBadInput = 2;
+constexpr int kExitWriteFailed = dhr::exit_code::kFailure;
+constexpr int kExitBadInput = dhr::exit_code::kUsage;
 
 std::string seconds_text(double s) {
   char buffer[32];

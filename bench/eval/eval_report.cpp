@@ -1,6 +1,8 @@
 // Plots with gnuplot (SVG terminal; Debian's gnuplot-nox) and a Markdown page with the results table.
 #include "eval_report.hpp"
 
+#include "cli/exit_codes.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -151,12 +153,12 @@ int write_report(const std::string& dir_text) {
     if (!results.is_array()) throw std::runtime_error("results.json: expected a list");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dhr-eval: %s\n", e.what());
-    return 1;
+    return exit_code::kUsage;  // the results the command line names are missing or malformed
   }
   const std::vector<Row> rows = read_rows(results);
   if (rows.empty()) {
     std::fprintf(stderr, "dhr-eval: %s: no results\n", (dir / "results.json").string().c_str());
-    return 1;
+    return exit_code::kUsage;
   }
   const std::string first_guard = rows.front().guard;
   bool several_x = false, several_guards = false;

@@ -98,11 +98,11 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
         std::ceil(std::max(kMinWarmupMs, max_rtt + options.server_ms + 4.0 * options.jitter_ms + 30.0) / period_ms));
     const uint64_t available = source.frame_count();
     if (available <= warmup) {
-      throw std::runtime_error(options.trace + ": too short for the warm-up of " + std::to_string(warmup) + " frames");
+      throw cli::InputError(options.trace + ": too short for the warm-up of " + std::to_string(warmup) + " frames");
     }
     const uint64_t frames = options.frames > 0 ? std::min(options.frames, available - warmup) : available - warmup;
     if (options.snapshot_frame && *options.snapshot_frame >= frames) {
-      throw std::runtime_error("--snapshot-frame " + std::to_string(*options.snapshot_frame) + ": the run measures " +
+      throw cli::InputError("--snapshot-frame " + std::to_string(*options.snapshot_frame) + ": the run measures " +
                                std::to_string(frames) + " frames (0.." + std::to_string(frames - 1) + ")");
     }
 

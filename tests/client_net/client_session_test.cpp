@@ -147,6 +147,45 @@ TEST(ClientSession, WelcomeThatDoesNotFitTheHelloFails) {
   EXPECT_NE(h.client.failure().find("guard band"), std::string::npos) << h.client.failure();
 }
 
+TEST(ClientSession, AWelcomeForAnotherSceneFailsForGoodAndSaysBye) {
+  VisibilityClientConfig config = test_config();
+  config.scene_hash = 0x1111'2222'3333'4444ull;
+  Harness h(config);
+  h.client.tick();
+  h.run_for(kMs);
+  Welcome w = h.welcome_for(h.received<Hello>()[0].client_nonce);
+  w.scene_hash = 0x5555'6666'7777'8888ull;
+  h.server_send(w);
+  h.run_for(5 * kMs);
+  EXPECT_TRUE(h.client.failed());
+  EXPECT_FALSE(h.client.connected());
+  EXPECT_EQ(h.client.failure_kind(), ClientFailure::kSceneMismatch);
+  EXPECT_FALSE(h.client.failed_authentication());
+  EXPECT_NE(h.client.failure().find("5555666677778888"), std::string::npos) << h.client.failure();
+  EXPECT_NE(h.client.failure().find("1111222233334444"), std::string::npos) << h.client.failure();
+  // The server hears at once that the session it opened is over, and no pose follows.
+  ASSERT_EQ(h.received<Bye>().size(), 1u);
+  EXPECT_FALSE(h.client.send_pose(FramePose{1, 1, views_for(1)}));
+  // Failed for good: no Hello again, even much later.
+  const size_t hellos = h.received<Hello>().size();
+  h.run_for(3000 * kMs);
+  EXPECT_EQ(h.received<Hello>().size(), hellos);
+}
+
+TEST(ClientSession, AWelcomeForTheSameSceneConnects) {
+  VisibilityClientConfig config = test_config();
+  config.scene_hash = 0x1111'2222'3333'4444ull;
+  Harness h(config);
+  h.client.tick();
+  h.run_for(kMs);
+  Welcome w = h.welcome_for(h.received<Hello>()[0].client_nonce);
+  w.scene_hash = *config.scene_hash;
+  h.server_send(w);
+  h.run_for(5 * kMs);
+  EXPECT_TRUE(h.client.connected());
+  EXPECT_EQ(h.client.failure_kind(), ClientFailure::kNone);
+}
+
 TEST(ClientSession, TimeoutRestartsWithANewNonce) {
   Harness h;
   h.connect();

@@ -274,14 +274,14 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   }
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
               " --frames 4 --eye-size 32x24 --rtt-ms 0 --method full --snapshot-frame 4 --no-progress");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--snapshot-frame 4: the run measures 4 frames"), std::string::npos) << r.output;
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --eye-size 0x0");
   EXPECT_EQ(r.exit_code, 2);
   r = run_cli("run --scene " + kScene + " --trace /nonexistent.csv --out " + out.string() + " --no-progress");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // an unusable input file (docs/exit-codes.md)
   r = run_cli("report /nonexistent-dir");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   // Usage errors of any subcommand exit with 2 (a missing option, a value out of range); --help with 0.
   r = run_cli("compare --shown " + out.string());
   EXPECT_EQ(r.exit_code, 2);

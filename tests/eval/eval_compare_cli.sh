@@ -61,7 +61,8 @@ assert red > 100, f"only {red} red pixels in frame 0's difference"
 print("PASS compare:", [round(f["differing_frac"], 5) for f in frames])
 PY
 
-# Bad input: each fails with one line on stderr and exit code 1.
+# Bad input: each fails with one line on stderr and a non-zero exit code (2 for an unusable input file, 1 for a
+# frame that cannot be compared: docs/exit-codes.md).
 expect_failure() {  # name, text the error must contain, then the arguments
   local name="$1" want="$2"; shift 2
   if "$eval_exe" compare --scene "$scene" "$@" >"$work/$name.out" 2>"$work/$name.err"; then

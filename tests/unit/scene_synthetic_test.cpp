@@ -417,3 +417,26 @@ TEST(SceneSynthetic, UsesTheDefaultRigOnlyWhenAskedAndNoLights) {
 }
 
 }  // namespace
+
+// DESIGN 5b: what a file asks for and the loader does not implement is named in a warning, never dropped silently.
+TEST(SceneSynthetic, UnimplementedLightExtensionsAndLightExtrasAreNamed) {
+  TestGltf g;
+  const int mesh = g.mesh({{"POSITION", g.vec3(kTriangle)}});
+  g.doc["extensionsUsed"] = {"KHR_lights_punctual", "EXT_lights_area", "EXT_meshopt_compression"};
+  g.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "point"}, {"name", "bulb"}, {"intensity", 5.0}, {"extras", {{"radius", 0.06}}}},
+      {{"type", "directional"}, {"name", "sun"}, {"extras", {{"angle", 0.0093}}}}};
+  g.doc["extensions"]["EXT_lights_area"]["lights"] = {{{"type", "rect"}, {"size", 1.0}, {"rect", {{"aspect", 2.5}}}}};
+  g.node({{"mesh", mesh}});
+  g.node({{"translation", {0, 2, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  g.node({{"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  g.node({{"translation", {0, 2.5, 0}}, {"extensions", {{"EXT_lights_area", {{"light", 0}}}}}});
+  auto r = load(g.text({0, 1, 2, 3}));
+  ASSERT_TRUE(r) << r.error;
+  EXPECT_EQ(r.scene->lights.size(), 2u);  // the punctual ones; the area light is not traced
+  EXPECT_TRUE(has_warning(*r.scene, "EXT_lights_area: 1 area light(s)"));
+  EXPECT_TRUE(has_warning(*r.scene, "extension EXT_meshopt_compression is used but not implemented"));
+  EXPECT_TRUE(has_warning(*r.scene, "light 0 ('bulb'): extras.radius"));
+  EXPECT_TRUE(has_warning(*r.scene, "light 1 ('sun'): extras.angle"));
+  EXPECT_FALSE(has_warning(*r.scene, "extension KHR_lights_punctual"));
+}
