@@ -20,7 +20,7 @@ struct CapturedRays {
   uint64_t primary_hits = 0;       // pixels whose primary ray hit (single-ray queries)
 };
 
-// The rays of camera's view as EmbreeTracer traces them (server/embree_trace_tile.hpp's per-pixel
+// The rays of camera's view as EmbreeTracer traces them (server/trace/include/trace/embree/embree_trace_tile.hpp's per-pixel
 // functions), using `threads` threads. Pixels are independent, so the rays do not depend on `threads`.
 CapturedRays capture_rays(const server::EmbreeScene& scene, const std::vector<SceneLight>& lights,
                           const Camera& camera, const server::SkipOptions& skip, unsigned threads);

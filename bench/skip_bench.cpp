@@ -37,7 +37,7 @@ struct Options {
   Extent eye{640, 360};
   int repeat = 3;
   uint32_t threads = 0;
-  std::string lights;  // light specs replacing every scene's lights (core/scene.hpp), e.g. range-limited ones
+  std::string lights;  // light specs replacing every scene's lights (scene/scene.hpp), e.g. range-limited ones
 };
 
 bool parse(int argc, char** argv, Options& o) {

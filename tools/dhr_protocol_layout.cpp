@@ -1,5 +1,6 @@
 // dhr-protocol-layout: the wire layout from the protocol's one field list (protocol/wire_layout.hpp), as
 // docs/protocol.md's tables or as tools/wireshark/dhr.lua's layout section, or rewrites that section.
+#include "cli/exit_codes.hpp"
 #include "protocol/protocol_layout.hpp"
 
 #include <cstdio>
@@ -21,7 +22,7 @@ int update_wireshark(const std::string& path) {
   std::ifstream in(path);
   if (!in) {
     std::cerr << path << ": cannot read\n";
-    return 1;
+    return dhr::exit_code::kUsage;
   }
   std::ostringstream before, after;
   std::string line;
@@ -37,13 +38,13 @@ int update_wireshark(const std::string& path) {
   }
   if (state != 2) {
     std::cerr << path << ": no '" << dhr::kLuaLayoutBegin << "' ... '" << dhr::kLuaLayoutEnd << "' lines\n";
-    return 1;
+    return dhr::exit_code::kUsage;
   }
   const std::string text = before.str() + dhr::layout_lua(dhr::protocol_layout()) + after.str();
   std::ofstream out(path, std::ios::trunc);
   if (!(out << text)) {
     std::cerr << path << ": cannot write\n";
-    return 1;
+    return dhr::exit_code::kFailure;
   }
   std::cout << path << ": layout section written\n";
   return 0;
@@ -56,15 +57,17 @@ int main(int argc, char** argv) {
   if (argc == 3 && mode == "--update-wireshark") return update_wireshark(argv[2]);
   if (argc > 2) {
     std::cerr << kUsage;
-    return 2;
+    return dhr::exit_code::kUsage;
   }
   if (mode == "--markdown") {
     std::cout << dhr::layout_markdown(dhr::protocol_layout());
   } else if (mode == "--lua") {
     std::cout << dhr::layout_lua(dhr::protocol_layout());
+  } else if (mode == "--help" || mode == "-h") {
+    std::cout << kUsage;
   } else {
     std::cerr << kUsage;
-    return mode == "--help" || mode == "-h" ? 0 : 2;
+    return dhr::exit_code::kUsage;
   }
   return 0;
 }

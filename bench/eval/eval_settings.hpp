@@ -30,7 +30,7 @@ enum Ingredient : uint32_t {
   kIngredientShadowEdges = 16u, // "shadow-edges": undecided bits from the shadow maps
   kIngredientPrediction = 32u,  // "pred": the server's pose prediction
   kIngredientShadowFirst = 64u, // "shadow-first": confident shadow-map bits first
-  kIngredientAdaptiveFov = 128u, // "adaptive-fov": the server widens the traced FOV (server/fov_margin.hpp)
+  kIngredientAdaptiveFov = 128u, // "adaptive-fov": the server widens the traced FOV (server/session/include/session/fov_margin.hpp)
   kIngredientOlderBuffer = 256u, // "older": fill from this eye's previous buffer
   kIngredientNeighbour = 512u,   // "neighbour": fill from the nearest old pixel on the pixel's tangent plane
 };

@@ -1,4 +1,4 @@
-// Adaptive traced field of view (server/fov_margin.hpp): the shortfall geometry against closed forms, the
+// Adaptive traced field of view (server/session/include/session/fov_margin.hpp): the shortfall geometry against closed forms, the
 // windowed margin, widening beyond the guard band within the span budget, and the service tracing and sending
 // the widened views.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Server-side pose prediction (server/pose_predictor.hpp): exact on constant linear and angular velocity,
+// Server-side pose prediction (server/session/include/session/pose_predictor.hpp): exact on constant linear and angular velocity,
 // horizon cap, fallbacks on short history, implausible motion and bad input.
 #include <gtest/gtest.h>
 

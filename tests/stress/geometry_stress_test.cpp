@@ -153,7 +153,7 @@ TEST(StressGeometry, DenseLivingRoomIsBoundedAndDeterministic) {
   EXPECT_GT(lit, 0u);
 }
 
-// Scenes near the float limits get a finite default light rig (shared/core/scene_lights.cpp computed the
+// Scenes near the float limits get a finite default light rig (shared/scene/src/scene_lights.cpp computed the
 // rig in float: its size and intensity overflowed to inf for coordinates beyond ~1e19).
 TEST(StressGeometry, HugeCoordinatesGetAFiniteDefaultLightRig) {
   uint64_t invalid = 0;

@@ -115,7 +115,7 @@ TEST(StressPrecision, VulkanFarFromTheOriginMatchesTheOrigin) {
 
 // Scales: shadow edges and silhouettes may move by float rounding of the scaled vertices (relative 6e-8),
 // far below a pixel; nothing else may change. The shadow-ray offset's near-origin terms scale with the scene
-// (server/ray_offset.hpp, ray_offset_scale), so a 5 mm room gets a 5 mm room's offset: measured 0 differing
+// (server/trace/include/trace/ray_offset.hpp, ray_offset_scale), so a 5 mm room gets a 5 mm room's offset: measured 0 differing
 // bits at every scale, default and long mode. (With the fixed 1/65536 m term, 1e-3 differed in 0.2 % of
 // its bits, some off shadow edges, and needed a 5e-3 bound.) Bound: a few rounding-moved edge bits.
 constexpr double kScaleRateBound = 1e-4;

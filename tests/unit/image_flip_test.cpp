@@ -1,4 +1,4 @@
-// LDR-FLIP (shared/core/image_flip.hpp) against values computed independently from the published formulas
+// LDR-FLIP (bench/metrics/include/metrics/image_flip.hpp) against values computed independently from the published formulas
 // (image_flip_reference.hpp: a closed form for uniform images, a direct non-separable implementation).
 // Plus argument checks, the symmetries the metric has (argument order, mirroring, transposition) and one it
 // lacks (colour channels are not interchangeable), monotonicity, locality, range and determinism.

@@ -1,4 +1,4 @@
-// Image metrics (shared/core/image_metrics.hpp): PSNR and SSIM against hand-computed and analytic values
+// Image metrics (bench/metrics/include/metrics/image_metrics.hpp): PSNR and SSIM against hand-computed and analytic values
 // and against a direct (non-separable, two-pass) double-precision SSIM written here; the bitwise
 // visibility error on hand-made buffers.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The shared light math (shaders/light_eval.h via core/lighting.hpp): direction/distance, the
+// The shared light math (shaders/light_eval.h via scene/lighting.hpp): direction/distance, the
 // "can contribute" test, glTF falloff, packing, per-view culling.
 #include "scene/lighting.hpp"
 

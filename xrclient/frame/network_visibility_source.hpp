@@ -1,4 +1,4 @@
-// VisibilitySource over the DHR protocol client (xrclient/net/visibility_client.hpp). The transport (a UDP
+// VisibilitySource over the DHR protocol client (xrclient/link/visibility_client.hpp). The transport (a UDP
 // endpoint, an impaired sender, a simulated link) is owned elsewhere; `bytes_received` reports what it
 // received from the server, for the summary's bits per frame.
 #pragma once

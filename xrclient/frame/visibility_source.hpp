@@ -1,4 +1,4 @@
-// Where the frame loop gets its visibility: the network client (VisibilityClient, xrclient/net) in the
+// Where the frame loop gets its visibility: the network client (VisibilityClient, xrclient/link) in the
 // executable, an in-process tracer in tests. The frame coordinator only talks to this interface, so the same
 // loop runs in every mode (DESIGN.md, data flow). Every call is non-blocking: the loop never waits for it.
 #pragma once

@@ -1,4 +1,4 @@
-// Plays a recorded head-motion trace (shared/core/pose_trace.hpp, any supported format) on a 90 Hz virtual
+// Plays a recorded head-motion trace (shared/traces/include/traces/pose_trace.hpp, any supported format) on a 90 Hz virtual
 // clock: frame i shows the trace at start_time + i * period, through the eye model (or the trace's own eye
 // poses and FOVs), placed in the scene (TracePlacement). Ends after the trace's last sample.
 #pragma once

@@ -1,5 +1,5 @@
 // Per-frame statistics as JSON lines (render::JsonLinesWriter): one line per frame with both eyes' GPU
-// pass times, warp counts, visibility age and response time (core/frame_record.hpp).
+// pass times, warp counts, visibility age and response time (xrclient/frame/frame_record.hpp).
 #pragma once
 #include <string>
 

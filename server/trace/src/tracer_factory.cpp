@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 // ---- Vulkan backend hook -------------------------------------------------------------------------------
-// server/CMakeLists.txt defines DHR_HAVE_VULKAN_TRACER when server/vulkan_tracer.cpp exists; that file
-// implements, as declared in server/vulkan_tracer.hpp:
+// server/CMakeLists.txt defines DHR_HAVE_VULKAN_TRACER when server/trace/src/vulkan/vulkan_tracer.cpp exists; that file
+// implements, as declared in server/trace/include/trace/vulkan/vulkan_tracer.hpp:
 //   std::unique_ptr<VisibilityTracer> create_vulkan_tracer(const Scene& scene, const TracerOptions& options);
 #if defined(DHR_HAVE_VULKAN_TRACER)
 #include "trace/vulkan/vulkan_tracer.hpp"

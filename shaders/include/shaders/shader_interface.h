@@ -59,7 +59,7 @@ DHR_CONST uint kVisCounterSkippedOutOfRange = 4;
 DHR_CONST uint kVisCounterStride = 8;  // counters per slot (5 used)
 DHR_CONST uint kVisCounterSlots = 64;
 
-// Shadow rays (same numbers as server/ray_offset.hpp and the Embree backend; vulkan_tracer.cpp checks them):
+// Shadow rays (same numbers as server/trace/include/trace/ray_offset.hpp and the Embree backend; vulkan_tracer.cpp checks them):
 // origins move off the surface by kVisRayOffsetIntScale ULPs per unit normal, or by
 // kVisRayOffsetFloatScale per unit normal where |coordinate| < kVisRayOffsetOriginThreshold (both of these
 // times VisPushConstants::ray_offset_scale, a power of two for the scene's size); point and
@@ -106,7 +106,7 @@ struct VisPushConstants {
   uint light_count;
   uint active_lights;  // bit i: light i not culled for this view
   uint flags;          // kVisSkip*
-  float ray_offset_scale;  // server/ray_offset.hpp: ray_offset_scale(scene bounds), a power of two
+  float ray_offset_scale;  // server/trace/include/trace/ray_offset.hpp: ray_offset_scale(scene bounds), a power of two
   float primary_near;      // primary rays start at this depth along the view axis (the client's near plane)
 };
 

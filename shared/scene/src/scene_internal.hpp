@@ -1,5 +1,5 @@
 // Internals of the scene loader, shared by the scene_*.cpp files only (never include from outside
-// shared/core/scene_*.cpp). tinygltf and nlohmann appear here as forward declarations.
+// shared/scene/src/scene_*.cpp). tinygltf and nlohmann appear here as forward declarations.
 #pragma once
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>

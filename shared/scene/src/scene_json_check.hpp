@@ -1,4 +1,4 @@
-// Typed access to glTF JSON for the scene validator (shared/core/scene_validate*.cpp only): every getter
+// Typed access to glTF JSON for the scene validator (shared/scene/src/scene_validate*.cpp only): every getter
 // records the first problem with its JSON path ("meshes[0].primitives: expected an array, got ...").
 #pragma once
 #include <cstdint>

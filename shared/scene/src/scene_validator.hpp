@@ -1,4 +1,4 @@
-// Internal to the glTF JSON validator (shared/core/scene_validate*.cpp only): the validator class, whose
+// Internal to the glTF JSON validator (shared/scene/src/scene_validate*.cpp only): the validator class, whose
 // checks are split by what they look at: container, buffers and accessors (scene_validate.cpp); images,
 // materials, meshes and lights (scene_validate_materials.cpp); nodes, the hierarchy and scenes
 // (scene_validate_nodes.cpp). The public entry point is scene_internal.hpp's validate_gltf_json.

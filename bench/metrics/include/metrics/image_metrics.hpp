@@ -9,7 +9,7 @@
 // local statistics over the "valid" window positions only (no padding, no downsampling), mean of the map.
 // Computed with a separable filter in double precision.
 //
-// FLIP (Andersson et al. 2020, LDR-FLIP on RGBA8 colour images) is in core/image_flip.hpp.
+// FLIP (Andersson et al. 2020, LDR-FLIP on RGBA8 colour images) is in metrics/image_flip.hpp.
 #pragma once
 #include "visibility/visibility.hpp"
 

@@ -57,7 +57,7 @@ struct ServiceConfig {
   // identical_refresh_ns (so a lost shard of a still scene is repaired); 0 = never refresh.
   bool skip_identical_pose = true;
   int64_t identical_refresh_ns = net::kNsPerSecond;
-  // Server-side pose prediction (server/pose_predictor.hpp), off by default: each eye is traced for the
+  // Server-side pose prediction (server/session/include/session/pose_predictor.hpp), off by default: each eye is traced for the
   // views predicted at the pose's display time + the horizon. predict_horizon_ns < 0: automatic, the
   // session's round trip (from Heartbeat echoes) + how long the pose waited here + the session's last
   // trace-and-send time (service clock); >= 0: that fixed horizon. Shards carry the predicted views.
@@ -67,7 +67,7 @@ struct ServiceConfig {
   int64_t predict_horizon_ns = -1;
   bool horizon_on_frame_grid = true;
   PosePredictorConfig predictor;
-  // Adaptive traced field of view (server/fov_margin.hpp), off by default: each eye's traced FOV is widened
+  // Adaptive traced field of view (server/session/include/session/fov_margin.hpp), off by default: each eye's traced FOV is widened
   // beyond the guard band by the recent shortfall of the traced views against the views the client displayed
   // (the horizon is the automatic one above, or predict_horizon_ns), within the session's buffer.
   FovMarginConfig adaptive_fov;

@@ -16,7 +16,7 @@
 namespace dhr::net {
 
 // Default size limit for datagrams either way: below a 1500-byte Ethernet MTU minus IP/UDP headers, so
-// nothing is fragmented. The protocol's own limit (core/protocol.hpp kMaxDatagramSize) is smaller; its
+// nothing is fragmented. The protocol's own limit (protocol/wire_layout.hpp kMaxDatagramSize) is smaller; its
 // users pass it in the configs below.
 inline constexpr size_t kDefaultMaxDatagramSize = 1400;
 inline constexpr size_t kMaxUdpPayload = 65507;  // IPv4 limit; receive buffers are this large

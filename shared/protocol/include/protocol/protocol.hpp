@@ -108,7 +108,7 @@ struct VisibilityShard {
   uint32_t pixel_count = 0;
   View view;                 // the view this eye was traced for (every shard carries it)
   uint16_t payload_size = 0;  // 1..kMaxShardPayload
-  std::array<uint8_t, kMaxShardPayload> payload{};  // codec chunks (core/codec.hpp)
+  std::array<uint8_t, kMaxShardPayload> payload{};  // codec chunks (codec/codec.hpp)
 
   std::span<const uint8_t> payload_bytes() const { return std::span(payload).first(payload_size); }
 };

@@ -6,7 +6,7 @@
 // centre, the surface point rebuilt from the scene-relative vertices, one terminate-on-first-hit shadow ray
 // per light that can contribute (shaders/light_eval.h), a 32-bit mask per pixel packed to the buffer's width
 // on readback. Same semantics as the Embree backend, which is the reference (see docs/server.md).
-// Vulkan headers stay out of this file (server/vulkan_tracer_internal.hpp has the GPU side).
+// Vulkan headers stay out of this file (server/trace/include/trace/vulkan/vulkan_tracer_internal.hpp has the GPU side).
 #pragma once
 #include "trace/visibility_tracer.hpp"
 
