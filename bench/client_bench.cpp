@@ -1,23 +1,31 @@
 // client_bench: the per-eye GPU time of the client's ways of shading a frame, on one scene and eye size
-// (docs/performance.md, "Client"). Every configuration renders the same view, frame by frame in turn (each
-// frame submitted and waited for, timed with GPU timestamps), --warmup frames and then --frames measured; the
-// median of each is reported:
+// (docs/performance.md, "Client"). Every configuration renders frame by frame in turn (each frame submitted and
+// waited for, timed with GPU timestamps), --warmup frames and then --frames measured; the median of each is
+// reported:
 //   dhr_ms           the DHR client as it ships (render::EyePipeline's defaults: the forward path with the paper's
 //                    warp of a server buffer, and its count pass)
 //   dhr_deferred_ms  the same rule in the deferred passes (G-buffer -> warp -> shading; the client before issue 15)
-//   dhr_full_ms      `--warp full`: the traced camera's depth (a new visibility frame every frame, as at 90 Hz),
-//                    the G-buffer, every warp ingredient with the shadow maps, and shading
+//   dhr_full_ms      `--warp full` through the client's own frame loop (client::FrameCoordinator, one GPU slot,
+//                    both eyes): the head moves every frame and a new visibility frame per eye arrives every frame
+//                    (traced for the previous frame's pose, p = 1), so the traced camera's depth is rendered every
+//                    frame; the warp reads the other eye's buffer and the eye's previous one, the shadow maps; then
+//                    shading. Beside it, host times per eye frame: dhr_full_decode_ms (codec v2 decode of that
+//                    frame with the client's decoder), dhr_full_upload_ms (writing the three visibility buffers
+//                    the warp reads to host-visible GPU memory), dhr_full_record_ms (the frame step: planning,
+//                    uploads, command recording, submission)
 //   forward_ms       a plain forward Lambert render without shadows (the cost of not having shadows)
 //   shadowmap_ms     a forward render with the client's cube shadow maps (what a headset would do without DHR;
 //                    the maps are rendered once, as for a static scene: shadow_map_render_ms is that host time)
-// The visibility buffer is the server's Embree trace for the pose one 90 Hz frame earlier (turning 60 deg/s).
-// --lights N above the scene's count adds point lights (copies of the scene's point lights, moved by a fixed
-// pattern) so the light count can be swept. Progress on stderr; the last stdout line is one JSON object.
+// Except for dhr_full_ms, the view is fixed and the visibility buffer is the server's Embree trace for the pose
+// one 90 Hz frame earlier (turning 60 deg/s). --lights N above the scene's count adds point lights (copies of
+// the scene's point lights, moved by a fixed pattern) so the light count can be swept. Progress on stderr; the
+// last stdout line is one JSON object.
 #include <CLI/CLI.hpp>
 #include "cli/finite_range.hpp"
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +38,8 @@
 #include <vector>
 
 #include "bench_views.hpp"
+#include "coded_visibility_source.hpp"
+#include "frame/frame_coordinator.hpp"
 #include "scene/camera_bookmarks.hpp"
 #include "trace/embree/embree_tracer.hpp"
 #include "render/client_scene.hpp"
@@ -38,6 +48,7 @@
 #include "render/render_camera.hpp"
 #include "render/shadow_maps.hpp"
 #include "scene/scene.hpp"
+#include "vk/buffer.hpp"
 #include "vk/context.hpp"
 #include "vk/timestamps.hpp"
 
@@ -92,26 +103,155 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// One configuration: records a frame into a command buffer and, after the submission completed, gives its GPU ms.
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// One configuration: renders frame i (submitted and waited for) and gives its GPU ms per eye (none without
+// timestamps).
 struct Config {
   std::string name;
-  std::function<void(VkCommandBuffer, uint32_t)> record;
-  std::function<std::optional<double>()> time_ms;
+  std::function<std::vector<double>(uint32_t)> run;
   std::vector<double> samples;
 };
 
-// Frame by frame, every configuration in turn (each submitted and waited for), so that drifts of a shared
-// machine touch them alike; the first `warmup` frames are not kept.
-void measure(const vk::Context& context, const Options& o, std::vector<Config>& configs) {
+// A configuration of one eye pipeline pass sequence: records a frame into a command buffer and, after the
+// submission completed, gives its GPU ms.
+Config single_eye_config(const vk::Context& context, std::string name,
+                         std::function<void(VkCommandBuffer, uint32_t)> record,
+                         std::function<std::optional<double>()> time_ms) {
+  return Config{std::move(name),
+                [&context, record = std::move(record), time_ms = std::move(time_ms)](uint32_t i) {
+                  context.submit_and_wait([&](VkCommandBuffer cmd) { record(cmd, i); });
+                  const std::optional<double> ms = time_ms();
+                  return ms ? std::vector<double>{*ms} : std::vector<double>{};
+                },
+                {}};
+}
+
+// Frame by frame, every configuration in turn, so that drifts of a shared machine touch them alike; the first
+// `warmup` frames are not kept.
+void measure(const Options& o, std::vector<Config>& configs) {
   for (uint32_t i = 0; i < o.warmup + o.frames; ++i) {
     for (Config& c : configs) {
-      context.submit_and_wait([&](VkCommandBuffer cmd) { c.record(cmd, i); });
-      const std::optional<double> ms = c.time_ms();
-      if (i >= o.warmup && ms) c.samples.push_back(*ms);
+      const std::vector<double> ms = c.run(i);
+      if (i >= o.warmup) c.samples.insert(c.samples.end(), ms.begin(), ms.end());
     }
     if ((i + 1) % 10 == 0) std::fprintf(stderr, "client_bench: frame %u of %u\n", i + 1, o.warmup + o.frames);
   }
 }
+
+// Frame i of `total` for --warp full: the head turns at 60 degrees/s about the vertical (centred on the
+// bookmark's view over the run) and drifts 0.5 mm per frame sideways, so no view (and no traced camera) repeats.
+FramePose moving_pose(const Pose& head, const Fov& fov, uint32_t i, uint32_t total) {
+  const double yaw = glm::radians(60.0 / 90.0) * (static_cast<double>(i) - 0.5 * static_cast<double>(total));
+  Pose moved = head;
+  moved.orientation = glm::normalize(glm::angleAxis(yaw, glm::dvec3(0.0, 1.0, 0.0)) * head.orientation);
+  moved.position += moved.orientation * glm::dvec3(0.0005 * static_cast<double>(i), 0.0, 0.0);
+  FramePose pose;
+  pose.frame = i;
+  pose.display_time_ns = static_cast<int64_t>(i) * 11'111'111;  // 90 Hz
+  for (uint32_t e = 0; e < 2; ++e) {
+    // left_eye_pose moves by -ipd/2 along the head's x axis: a negative IPD gives the right eye.
+    const double ipd = e == 0 ? kDefaultIpdMetres : -kDefaultIpdMetres;
+    pose.views[e] = View{left_eye_pose(moved, ipd), fov};
+  }
+  return pose;
+}
+
+// `--warp full` as the client runs it, with its host-side costs (see the file comment).
+class FullClient {
+ public:
+  FullClient(const vk::Context& context, const render::ClientScene& scene, Extent size,
+             server::VisibilityTracer& tracer, const TracedFormat& format, const Pose& head, const Fov& fov,
+             uint32_t total)
+      : context_(context), source_(tracer, format), coordinator_(context, scene, size, source_, options()),
+        head_(head), fov_(fov), total_(total) {
+    coordinator_.set_on_frame([this](const client::FrameRecord& r) { last_ = r; });
+  }
+
+  // Frame i: returns each eye's GPU ms; keeps the host times of frames from `first_kept` on.
+  std::vector<double> run(uint32_t i, uint32_t first_kept) {
+    const size_t decoded_before = source_.decode_ms().size();
+    const double busy_before = source_.busy_ms();
+    const auto start = std::chrono::steady_clock::now();
+    const bool submitted = coordinator_.run_frame(client::FrameInput{moving_pose(head_, fov_, i, total_), false}, sink_);
+    const double step_ms = ms_since(start) - (source_.busy_ms() - busy_before);  // without tracing and decoding
+    if (!submitted || !coordinator_.finish()) throw std::runtime_error("--warp full: " + coordinator_.last_error());
+    if (i < first_kept) return {};
+    record_ms_.push_back(step_ms / 2.0);
+    for (size_t k = decoded_before; k < source_.decode_ms().size(); ++k) {
+      decode_ms_.push_back(source_.decode_ms()[k]);
+      payload_bytes_.push_back(source_.payload_bytes()[k]);
+    }
+    std::vector<double> gpu;
+    for (uint32_t e = 0; e < 2; ++e) {
+      const render::EyeStats& stats = last_.eyes[e].stats;
+      traced_depth_frames_ += stats.traced_depth_rendered ? 1 : 0;
+      older_frames_ += coordinator_.previous_visibility(e) ? 1 : 0;
+      eye_frames_ += 1;
+      if (!stats.gpu.valid) continue;
+      gpu.push_back(stats.gpu.total_ms);
+      traced_depth_ms_.push_back(stats.gpu.traced_depth_ms);
+      measure_upload(e);
+    }
+    return gpu;
+  }
+
+  void report(nlohmann::ordered_json& out) const {
+    out["dhr_full_traced_depth_ms"] = median(traced_depth_ms_);
+    out["dhr_full_eye_frames"] = eye_frames_;  // measured, both eyes
+    out["dhr_full_traced_depth_eye_frames"] = traced_depth_frames_;  // of those, with a traced depth rendered
+    out["dhr_full_older_eye_frames"] = older_frames_;                // ... with a previous buffer (source 2)
+    out["dhr_full_decode_ms"] = median(decode_ms_);
+    out["dhr_full_coded_bytes"] = median(payload_bytes_);
+    out["dhr_full_upload_ms"] = median(upload_ms_);
+    out["dhr_full_record_ms"] = median(record_ms_);
+  }
+
+ private:
+  static client::CoordinatorOptions options() {
+    client::CoordinatorOptions o;
+    o.eye.frames_in_flight = 1;  // every frame submitted and waited for, as the other configurations
+    o.eye.warp = render::WarpSettings::full();
+    return o;
+  }
+
+  // The warp pass writes each source it reads (this eye's newest, the other eye's newest, this eye's previous)
+  // into a host-visible buffer: the same byte copies, timed on their own.
+  void measure_upload(uint32_t e) {
+    const std::array<const std::optional<VisibilityFrame>*, 3> sources = {
+        &coordinator_.visibility(e), &coordinator_.visibility(1 - e), &coordinator_.previous_visibility(e)};
+    double ms = 0.0;
+    for (size_t s = 0; s < sources.size(); ++s) {
+      if (!*sources[s]) continue;
+      const VisibilityBuffer& buffer = (*sources[s])->buffer;
+      const VkDeviceSize bytes = (buffer.size_bytes() + 3) / 4 * 4;
+      if (!upload_[s] || upload_[s].size() < bytes) {
+        upload_[s] = vk::Buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+      }
+      const auto start = std::chrono::steady_clock::now();
+      upload_[s].write(buffer.data.data(), buffer.data.size());
+      ms += ms_since(start);
+    }
+    upload_ms_.push_back(ms);
+  }
+
+  const vk::Context& context_;
+  CodedVisibilitySource source_;
+  client::FrameCoordinator coordinator_;
+  client::FrameSink sink_;  // nothing: the images stay in the eye pipelines
+  client::FrameRecord last_;
+  Pose head_;
+  Fov fov_;
+  uint32_t total_;
+  std::array<vk::Buffer, 3> upload_;
+  std::vector<double> traced_depth_ms_, decode_ms_, payload_bytes_, upload_ms_, record_ms_;
+  uint64_t traced_depth_frames_ = 0;
+  uint64_t older_frames_ = 0;
+  uint64_t eye_frames_ = 0;
+};
 
 int run(const Options& o) {
   const std::optional<Extent> size = parse_size(o.size);
@@ -169,42 +309,38 @@ int run(const Options& o) {
   out["device"] = context->info().name;
   out["frames"] = o.frames;
 
-  // The shipped client, its deferred twin and --warp full.
+  // The shipped client and its deferred twin, one eye each.
   std::vector<Config> configs;
   std::vector<std::unique_ptr<render::EyePipeline>> eyes;
   std::vector<render::EyeStats> eye_stats;
-  View other_view = traced_view;  // --warp full: a new traced camera every frame (two alternating), so its
-  other_view.pose.position.x += 0.001;  // depth is rendered every frame
-  std::array<VisibilityInput, 2> inputs = {input, input};
-  inputs[1].traced = Camera::with_guard_band(other_view, *size, guard);
-  const auto add_eye = [&](const char* name, const render::EyePipelineOptions& options, bool full) {
+  const auto add_eye = [&](const char* name, const render::EyePipelineOptions& options) {
     const size_t k = eyes.size();
     eyes.push_back(std::make_unique<render::EyePipeline>(*context, gpu_scene, *size, options));
     eye_stats.emplace_back();
-    configs.push_back(Config{
-        name,
-        [&, k, full](VkCommandBuffer cmd, uint32_t i) {
-          const VisibilityInput& in = full ? inputs[i % 2] : inputs[0];
-          eyes[k]->prepare(cmd, 0, in);
-          eyes[k]->record(cmd, 0, view, in, {}, full ? &maps : nullptr);
+    configs.push_back(single_eye_config(
+        *context, name,
+        [&, k](VkCommandBuffer cmd, uint32_t) {
+          eyes[k]->prepare(cmd, 0, input);
+          eyes[k]->record(cmd, 0, view, input);
         },
         [&, k]() -> std::optional<double> {
           eye_stats[k] = eyes[k]->read_stats(0);
           if (!eye_stats[k].gpu.valid) return std::nullopt;
           return eye_stats[k].gpu.total_ms;
-        },
-        {}});
+        }));
   };
   render::EyePipelineOptions shipped;
   shipped.frames_in_flight = 1;
-  add_eye("dhr_ms", shipped, false);
+  add_eye("dhr_ms", shipped);
   render::EyePipelineOptions deferred = shipped;
   deferred.forward = false;
-  add_eye("dhr_deferred_ms", deferred, false);
+  add_eye("dhr_deferred_ms", deferred);
+  // --warp full, both eyes through the client's frame loop.
+  std::unique_ptr<FullClient> full;
   if (!o.skip_full) {
-    render::EyePipelineOptions full = shipped;
-    full.warp = render::WarpSettings::full();
-    add_eye("dhr_full_ms", full, true);
+    full = std::make_unique<FullClient>(*context, gpu_scene, *size, tracer, TracedFormat{*size, guard}, *head,
+                                        view.fov, o.warmup + o.frames);
+    configs.push_back(Config{"dhr_full_ms", [&full, &o](uint32_t i) { return full->run(i, o.warmup); }, {}});
   }
 
   // The forward baselines.
@@ -222,8 +358,8 @@ int run(const Options& o) {
     passes.push_back(std::make_unique<render::ForwardPass>(*context, gpu_scene, fo));
     targets.push_back(render::ForwardTargets::create(*context, *size, fo));
     stamps.push_back(std::make_unique<vk::TimestampQueries>(*context, 2));
-    configs.push_back(Config{
-        mode == render::ForwardMode::kLambert ? "forward_ms" : "shadowmap_ms",
+    configs.push_back(single_eye_config(
+        *context, mode == render::ForwardMode::kLambert ? "forward_ms" : "shadowmap_ms",
         [&, k](VkCommandBuffer cmd, uint32_t) {
           stamps[k]->reset(cmd);
           stamps[k]->write(cmd, 0);
@@ -234,15 +370,15 @@ int run(const Options& o) {
           const std::vector<double> ns = stamps[k]->read_ns();
           if (ns.size() != 2) return std::nullopt;
           return (ns[1] - ns[0]) * 1e-6;
-        },
-        {}});
+        }));
   }
   std::fprintf(stderr, "client_bench: %zu configurations, %u + %u frames each\n", configs.size(), o.warmup, o.frames);
-  measure(*context, o, configs);
+  measure(o, configs);
   for (const Config& c : configs) {
     if (c.samples.empty()) throw std::runtime_error("no GPU timestamps on " + context->info().name + ": nothing to measure");
     out[c.name] = median(c.samples);
   }
+  if (full) full->report(out);
   const render::EyeStats& shipped_stats = eye_stats[0];
   out["dhr_path"] = shipped_stats.forward ? "forward" : "deferred";
   out["shadow_map_render_ms"] = maps_ms;

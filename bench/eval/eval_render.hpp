@@ -1,9 +1,12 @@
-// The client's real per-eye pipeline (xrclient/render/EyePipeline: G-buffer, prediction, shading) run
-// synchronously for one eye and read back: the shaded RGBA8 image and the predicted light masks.
+// The client's real eye pipelines (xrclient/frame/StereoPipeline: both eyes' G-buffer, prediction, shading),
+// shared by every setting of a run, and their read-back: the shaded RGBA8 image and the predicted light masks.
+// Settings render their frames through the client's own frame step (SettingSession: a FrameCoordinator over
+// pipeline()); render() records exact frames (the ground truth) with the same pipelines.
 #pragma once
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
 #include "visibility/visibility.hpp"
+#include "frame/stereo_pipeline.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
 #include "render/shadow_maps.hpp"
@@ -31,21 +34,22 @@ class EyeRenderer {
  public:
   // Throws (setup) when the scene cannot be uploaded. forward: take the client's forward path where it applies
   // (render::EyePipelineOptions::forward), to match pictures the client rendered that way; otherwise deferred.
+  // The pipelines have one GPU slot: every frame is submitted and waited for.
   EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye,
               const render::ShadowMapSettings& shadow_maps = {}, bool forward = false);
-  // Renders both eyes with the given warp settings (each eye's input is the other's source 1, `older` each
-  // eye's previous buffer, source 2); shadow maps are rendered the first time settings need them.
-  std::array<EyeRender, 2> render(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs,
-                                   const render::WarpSettings& settings = {},
-                                   const std::array<VisibilityInput, 2>& older = {});
+  // Renders both eyes with the paper's warp of the given buffers (the exact ones: at identity) and reads them back.
+  std::array<EyeRender, 2> render(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs);
+  // What the last frame rendered with pipeline() wrote for `eye`: image and masks (stats and host_ms are left
+  // for the caller, who submitted that frame).
+  EyeRender read_back(uint32_t eye);
+  client::StereoPipeline& pipeline() { return stereo_; }
+  const vk::Context& context() const { return *context_; }
   uint32_t light_count() const { return light_count_; }
 
  private:
   const vk::Context* context_;
   render::ClientScene scene_;
-  std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
-  render::ShadowMapSettings shadow_settings_;
-  std::unique_ptr<render::ShadowMaps> shadow_maps_;
+  client::StereoPipeline stereo_;
   uint32_t light_count_ = 0;
 };
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <variant>
 
@@ -132,8 +133,7 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
     : setting_(setting), shared_(shared), format_{shared.eye, setting.guard_band}, clock_(0), server_clock_(clock_),
       uplink_(link_params(setting, options, options.seed * 2 + 0), clock_),
       downlink_(link_params(setting, options, options.seed * 2 + 1), server_clock_), server_out_(downlink_),
-      tracer_(*shared.tracer, server_clock_, server_ns_per_eye(options)),
-      planner_(planner_settings(setting, shared)) {
+      tracer_(*shared.tracer, server_clock_, server_ns_per_eye(options)) {
   totals_.bit_error_per_light.assign(shared.light_count, 0.0);
   cap_ms_ = options.predict_max_horizon_ms;
   warp_ = warp_settings(setting.method, options);
@@ -141,6 +141,14 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
   service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options), server_out_,
                                                          server_clock_);
   client_ = std::make_unique<client::VisibilityClient>(client_config(setting, options, shared), uplink_, clock_);
+  source_ = std::make_unique<SessionVisibilitySource>(*client_, uses_server_visibility(setting.method));
+  client::CoordinatorOptions frame_options;
+  frame_options.plan = planner_settings(setting, shared);
+  frame_options.upload_keys = false;  // the eye pipelines are shared with the other settings
+  frame_options.gpu_wait_timeout_ns = std::numeric_limits<uint64_t>::max();  // however long a slow device takes
+  frames_ = std::make_unique<client::FrameCoordinator>(shared.renderer->context(), shared.renderer->pipeline(),
+                                                       *source_, frame_options);
+  frames_->set_on_frame([this](const client::FrameRecord& record) { last_record_ = record; });
   connect();
 }
 
@@ -238,7 +246,7 @@ void SettingSession::deliver_to_client(const net::SimulatedDelivery& delivery) {
 
 void SettingSession::advance(const FramePose& sample) {
   frame_ = sample.frame;
-  planner_.record(sample);
+  frames_->record_pose(sample);
   const int64_t t = display_ns(sample);
   run_until(t, false);
   client_->tick();
@@ -250,33 +258,26 @@ void SettingSession::advance(const FramePose& sample) {
 
 void SettingSession::measure(const Truth& truth) {
   const FramePose& now = shared_.history->at(frame_);
-  for (uint32_t eye = 0; eye < 2; ++eye) {
-    VisibilityFrame incoming;
-    if (client_->take_newest(static_cast<Eye>(eye), incoming)) planner_.offer(eye, std::move(incoming));
+  shared_.renderer->pipeline().set_warp_settings(warp_);
+  const auto start = std::chrono::steady_clock::now();
+  if (!frames_->run_frame(client::FrameInput{now, false}, sink_) || !frames_->finish()) {
+    throw std::runtime_error("setting " + setting_label(setting_) + ": " + frames_->last_error());
   }
-  const client::FramePlan plan = planner_.plan(now, format_);
+  const double host_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / 2.0;
   const bool server = uses_server_visibility(setting_.method);
-  std::array<View, 2> views;
-  std::array<VisibilityInput, 2> inputs;
-  std::array<VisibilityInput, 2> older;
-  for (int eye = 0; eye < 2; ++eye) {
-    views[eye] = plan.eyes[eye].view;
-    if (server) {  // local: the client's shadow maps only
-      inputs[eye] = plan.eyes[eye].visibility;
-      older[eye] = plan.eyes[eye].older;
-    }
-  }
-  const std::array<EyeRender, 2> renders = shared_.renderer->render(views, inputs, warp_, older);
-  for (int eye = 0; eye < 2; ++eye) {
-    const client::EyePlan& p = plan.eyes[eye];
+  for (uint32_t eye = 0; eye < 2; ++eye) {
+    const client::EyeFrameRecord& p = last_record_.eyes[eye];
     if (!p.has_visibility || !server) totals_.eye_frames_without_data += 1;
     if (p.first_use && server) {
       totals_.responses += 1;
       totals_.response_ms += static_cast<double>(p.visibility_age_ns.value_or(0)) * 1e-6;
     }
-    const EyeRender& rendered = renders[eye];
-    if (snapshot_frame_ && frame_ == *snapshot_frame_) write_snapshot(rendered, truth, eye);
-    add_image_errors(rendered, truth, eye);
+    EyeRender rendered = shared_.renderer->read_back(eye);
+    rendered.stats = p.stats;
+    rendered.host_ms = host_ms;
+    if (snapshot_frame_ && frame_ == *snapshot_frame_) write_snapshot(rendered, truth, static_cast<int>(eye));
+    add_image_errors(rendered, truth, static_cast<int>(eye));
     totals_.filled_other_eye += static_cast<double>(rendered.stats.warp.filled_other_eye) / pixels_per_eye();
     totals_.filled_shadow_map += static_cast<double>(rendered.stats.warp.filled_shadow_map) / pixels_per_eye();
     totals_.filled_older += static_cast<double>(rendered.stats.warp.filled_older) / pixels_per_eye();

@@ -2,7 +2,8 @@
 // (handshake, heartbeats, poses, reassembly, publication) and a server::VisibilityService (sessions,
 // prediction for paper+pred, tracing, encoding) talk over two net::SimulatedLinks on the setting's own
 // net::VirtualClock, so settings do not interact and every run is deterministic. The client renders every
-// measured frame with the newest visibility it took, through the real EyePipeline, against the ground truth.
+// measured frame with the client's own frame loop (a client::FrameCoordinator with one GPU slot over the run's
+// shared StereoPipeline: the newest visibility, the FramePlanner, both eyes' passes), against the ground truth.
 //
 // Server compute time is modelled, not measured: each traced eye takes RunOptions::server_ms / 2 of virtual
 // time (the service's clock runs on while it traces), so results never depend on the host's speed. The
@@ -14,6 +15,8 @@
 #include "eval_truth.hpp"
 #include "net/clock.hpp"
 #include "net/simulated_link.hpp"
+#include "frame/frame_coordinator.hpp"
+#include "frame/network_visibility_source.hpp"
 #include "link/visibility_client.hpp"
 #include "plan/frame_planner.hpp"
 #include "pose/pose_source.hpp"
@@ -130,6 +133,29 @@ class CountingSender final : public net::DatagramSender {
   uint64_t shard_bytes_ = 0;
 };
 
+// The setting's VisibilityClient as the client's frame loop sees it. SettingSession::advance drives the client
+// itself (ticks, poses) on the setting's virtual clock, in event order, before the frame is rendered, so the frame
+// loop's tick and send_pose are no-ops here. `local` takes no server visibility (the client's shadow maps only).
+class SessionVisibilitySource final : public client::VisibilitySource {
+ public:
+  SessionVisibilitySource(client::VisibilityClient& client, bool server_visibility)
+      : network_(client), server_visibility_(server_visibility) {}
+  void tick() override {}
+  std::optional<client::VisibilityFormat> format() const override { return network_.format(); }
+  bool failed() const override { return network_.failed(); }
+  std::string failure() const override { return network_.failure(); }
+  void send_pose(const FramePose& /*pose*/) override {}
+  bool take_newest(uint32_t eye, VisibilityFrame& out) override {
+    return server_visibility_ && network_.take_newest(eye, out);
+  }
+  std::optional<int64_t> response_ns(uint64_t frame) const override { return network_.response_ns(frame); }
+  client::VisibilitySourceStats stats() const override { return network_.stats(); }
+
+ private:
+  client::NetworkVisibilitySource network_;
+  bool server_visibility_;
+};
+
 class SettingSession {
  public:
   // Runs the connection phase (handshake and a heartbeat round trip, see connect()); throws
@@ -172,9 +198,12 @@ class SettingSession {
   net::SimulatedLink downlink_;  // server -> client, stamped with the service's clock
   CountingSender server_out_;
   ModelledTimeTracer tracer_;
-  client::FramePlanner planner_;  // the client's own frame policy
   std::unique_ptr<server::VisibilityService> service_;
   std::unique_ptr<client::VisibilityClient> client_;
+  std::unique_ptr<SessionVisibilitySource> source_;
+  std::unique_ptr<client::FrameCoordinator> frames_;  // the client's frame loop (its planner: the frame policy)
+  client::FrameSink sink_;                            // nothing: measure() reads the eyes back itself
+  client::FrameRecord last_record_;                   // of the frame measure() rendered last
   bool server_work_ = false;     // a datagram reached the service since it last processed
   int64_t server_free_ns_ = 0;   // the service's worker is busy tracing until then
   int64_t time_offset_ns_ = 0;   // virtual time of trace frame 0 (after the connection phase)

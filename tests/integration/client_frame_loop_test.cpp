@@ -1,5 +1,5 @@
 // Issue 5 "Done when" (a) and (b): the client's frame loop (FrameCoordinator) with the real passes on
-// lavapipe and the real tracer.
+// lavapipe and the real tracer; and the loop over a StereoPipeline shared between loops (dhr-eval's settings).
 //  (a) zero delay, over loopback UDP with the real VisibilityService: the presented image equals shading with
 //      freshly traced visibility for the same pose, and the visibility is bit-exact.
 //  (b) 100 ms delay (9 frames at 90 Hz), a recorded 6-DoF trace: the predicted visibility has fewer wrong
@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
+#include <memory>
 #include <thread>
 
 #include "traces/eye_model.hpp"
@@ -224,6 +225,80 @@ TEST(ClientFrameLoopTest, PaperScheduleSubmitsTheViewsItRenderedWith) {
     }
     EXPECT_GE(checked, 10u);
     ASSERT_TRUE(coordinator.finish());
+  }
+  EXPECT_EQ(context->validation_error_count(), 0u);
+}
+
+// Reads both presented eye images back after each frame.
+class ImageSink final : public FrameSink {
+ public:
+  explicit ImageSink(const vk::Context& context) : context_(context) {}
+  void after_submit(uint64_t /*frame*/, const EyeImages& eyes) override {
+    for (uint32_t e = 0; e < 2; ++e) images[e] = render::read_rgba8(context_, *eyes[e]);
+  }
+  std::array<std::vector<uint8_t>, 2> images;
+
+ private:
+  const vk::Context& context_;
+};
+
+// dhr-eval runs every setting's frame loop over one shared StereoPipeline (one GPU slot, upload keys off). Frame
+// for frame that must render exactly what a frame loop with its own pipelines renders (two slots, upload keys
+// on), here with the full warp: the other eye's and the previous buffer, traced depths the shared pipelines hold
+// for whichever loop rendered them last, shadow maps.
+TEST(ClientFrameLoopTest, SharedStereoPipelineRendersAsOwnPipelines) {
+  integration::TracedScene& traced = integration::TracedScene::get();
+  const VisibilityFormat format{TracedFormat{kEye, kGuard}, traced.tracer->light_count()};
+  auto context = make_context();
+  {
+    const render::ClientScene scene(*context, traced.scene);
+    CoordinatorOptions own;
+    own.eye.warp = render::WarpSettings::full();
+    render::EyePipelineOptions shared_eye = own.eye;
+    shared_eye.frames_in_flight = 1;
+    StereoPipeline shared(*context, scene, kEye, shared_eye);
+    CoordinatorOptions borrowed = own;
+    borrowed.upload_keys = false;
+    constexpr std::array<uint64_t, 2> kDelays = {2, 5};
+    std::vector<std::unique_ptr<DelayedTracerSource>> sources;
+    std::vector<std::unique_ptr<FrameCoordinator>> loops;  // own pipelines for both delays, then shared ones
+    for (size_t k = 0; k < 4; ++k) {
+      sources.push_back(std::make_unique<DelayedTracerSource>(*traced.tracer, format, kDelays[k % 2]));
+      loops.push_back(k < 2 ? std::make_unique<FrameCoordinator>(*context, scene, kEye, *sources[k], own)
+                            : std::make_unique<FrameCoordinator>(*context, shared, *sources[k], borrowed));
+    }
+    ImageSink sink(*context);
+    for (uint64_t f = 0; f < 12; ++f) {
+      FramePose pose{f, static_cast<int64_t>(f) * kVirtualFramePeriodNs, {}};
+      for (uint32_t e = 0; e < 2; ++e) {  // the head slides sideways: every frame's views differ
+        pose.views[e].pose.position = glm::dvec3(0.02 * static_cast<double>(f) + (e == 0 ? -0.032 : 0.032), 1.6, 1.0);
+      }
+      std::array<std::array<std::vector<uint8_t>, 2>, 4> images;
+      for (size_t k = 0; k < 4; ++k) {
+        ASSERT_TRUE(loops[k]->run_frame(FrameInput{pose, false}, sink)) << loops[k]->last_error();
+        // A shared pipeline's statistics are per slot: read before another loop records on it.
+        if (k >= 2) {
+          ASSERT_TRUE(loops[k]->finish()) << loops[k]->last_error();
+        }
+        images[k] = sink.images;
+      }
+      for (size_t k = 0; k < 2; ++k) {
+        for (uint32_t e = 0; e < 2; ++e) {
+          EXPECT_EQ(images[k][e], images[k + 2][e]) << "frame " << f << ", delay " << kDelays[k] << ", eye " << e;
+        }
+      }
+    }
+    for (auto& loop : loops) ASSERT_TRUE(loop->finish()) << loop->last_error();
+    for (size_t k = 0; k < 2; ++k) {
+      const FrameSummary& a = loops[k]->summary();
+      const FrameSummary& b = loops[k + 2]->summary();
+      EXPECT_GE(a.frames_with_visibility(), 6u);
+      EXPECT_EQ(a.frames_with_visibility(), b.frames_with_visibility());
+      EXPECT_EQ(a.predicted_frac(), b.predicted_frac());
+      EXPECT_EQ(a.pixels_other_eye(), b.pixels_other_eye());
+      EXPECT_EQ(a.pixels_older(), b.pixels_older());
+      EXPECT_EQ(a.pixels_shadow_map(), b.pixels_shadow_map());
+    }
   }
   EXPECT_EQ(context->validation_error_count(), 0u);
 }

@@ -1,7 +1,6 @@
-// The client's per-frame coordinator (DESIGN.md, data flow), a thin layer over the passes:
-//   pose -> VisibilitySource::send_pose -> newest visibility per eye -> FramePlanner (which visibility, which
-//   view to render and submit) -> EyePipeline::record per eye (G-buffer, warp, shading) -> FrameSink::record
-//   -> submit -> FrameSink::after_submit.
+// The client's per-frame coordinator (DESIGN.md, data flow), a thin layer over the frame step and the passes:
+//   pose -> VisibilitySource::send_pose -> FrameStep (newest visibility per eye -> FramePlanner -> both eyes'
+//   passes, StereoPipeline) -> FrameSink::record -> submit -> FrameSink::after_submit.
 // It never waits for the network; it waits only for the GPU slot it is about to reuse (frames in flight).
 // Each frame's statistics become available when that slot is reused (or at finish()), through on_frame.
 #pragma once
@@ -16,6 +15,8 @@
 
 #include "frame/frame_record.hpp"
 #include "frame/frame_sink.hpp"
+#include "frame/frame_step.hpp"
+#include "frame/stereo_pipeline.hpp"
 #include "frame/visibility_source.hpp"
 #include "plan/frame_planner.hpp"
 #include "render/eye_pipeline.hpp"
@@ -36,11 +37,7 @@ struct CoordinatorOptions {
   render::EyePipelineOptions eye;  // frames_in_flight: GPU slots; eye.warp: the warp's ingredients
   render::ShadowMapSettings shadow_maps;  // used when eye.warp needs shadow maps
   uint64_t gpu_wait_timeout_ns = 5'000'000'000;  // a slot's fence; beyond it the frame fails
-};
-
-struct FrameInput {
-  FramePose pose;  // validated by the pose layer (PoseGuard: finite, unit quaternions)
-  bool pose_reused = false;
+  bool upload_keys = true;  // FrameStepOptions::upload_keys
 };
 
 class FrameCoordinator {
@@ -50,6 +47,12 @@ class FrameCoordinator {
   // Keeps references to everything: they must outlive the coordinator.
   FrameCoordinator(const vk::Context& context, const render::ClientScene& scene, Extent eye_extent,
                    VisibilitySource& visibility, const CoordinatorOptions& options = {});
+  // Renders with a StereoPipeline owned elsewhere (dhr-eval: one per run, shared by its settings' coordinators),
+  // with as many GPU slots as it has; options.eye and options.shadow_maps are not used. Where several
+  // coordinators share it, each must finish() its frame before another records (the GPU statistics are per slot)
+  // and leave options.upload_keys off.
+  FrameCoordinator(const vk::Context& context, StereoPipeline& stereo, VisibilitySource& visibility,
+                   const CoordinatorOptions& options = {});
   ~FrameCoordinator();
   FrameCoordinator(const FrameCoordinator&) = delete;
   FrameCoordinator& operator=(const FrameCoordinator&) = delete;
@@ -65,15 +68,21 @@ class FrameCoordinator {
 
   const FrameSummary& summary() const { return summary_; }
   const std::string& last_error() const { return error_; }
-  Extent eye_extent() const { return extent_; }
-  render::EyePipeline& eye(uint32_t index) { return *eyes_[index]; }
-  const render::EyePipeline& eye(uint32_t index) const { return *eyes_[index]; }
-  const ViewHistory& history() const { return planner_.history(); }
+  Extent eye_extent() const { return stereo_->extent(); }
+  render::EyePipeline& eye(uint32_t index) { return stereo_->eye(index); }
+  const render::EyePipeline& eye(uint32_t index) const { return stereo_->eye(index); }
+  const ViewHistory& history() const { return step_.planner().history(); }
   // The newest visibility held for an eye (what the next frame will use), if any.
-  const std::optional<VisibilityFrame>& visibility(uint32_t eye) const { return planner_.held(eye); }
+  const std::optional<VisibilityFrame>& visibility(uint32_t eye) const { return step_.planner().held(eye); }
+  // The one held before it (the warp's older buffer), if any.
+  const std::optional<VisibilityFrame>& previous_visibility(uint32_t eye) const {
+    return step_.planner().previous(eye);
+  }
   // The views the last frame's eye images were rendered with (the planner's choice): what the compositor
   // must be given with those images.
-  const std::array<View, 2>& rendered_views() const { return rendered_views_; }
+  const std::array<View, 2>& rendered_views() const { return step_.rendered_views(); }
+  // Records a frame's pose without rendering it (dhr-eval's warm-up frames).
+  void record_pose(const FramePose& pose) { step_.record_pose(pose); }
   // What the planner chose for the last submitted frame, for sinks that describe the images they are given (in
   // after_submit). Its GPU statistics are not known yet: `eyes[].stats` are filled when its slot completes.
   const FrameRecord& last_submitted() const { return slots_[last_slot_].record; }
@@ -89,16 +98,14 @@ class FrameCoordinator {
   };
   bool record_and_submit(const FrameInput& input, FrameSink& sink);
   bool complete_slot(uint32_t slot_index);
-  void take_visibility();
+  void create_slots(uint32_t count);
 
   const vk::Context* context_;
   VisibilitySource* visibility_;
   CoordinatorOptions options_;
-  Extent extent_;
-  std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
-  std::unique_ptr<render::ShadowMaps> shadow_maps_;  // when the warp settings need them
-  FramePlanner planner_;
-  std::array<View, 2> rendered_views_{};
+  std::unique_ptr<StereoPipeline> own_stereo_;  // null when the StereoPipeline is borrowed
+  StereoPipeline* stereo_;
+  FrameStep step_;
   uint32_t last_slot_ = 0;  // the slot of the last submitted frame
   vk::CommandPool pool_;
   std::vector<Slot> slots_;

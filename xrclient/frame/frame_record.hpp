@@ -17,6 +17,8 @@ struct EyeFrameRecord {
   uint64_t age = 0;               // p
   uint64_t predicted = 0;         // frames the warp spans
   bool complete = true;           // the buffer had every row
+  bool first_use = false;         // this eye shows visibility_frame for the first time
+  std::optional<int64_t> visibility_age_ns;  // display time of this frame minus that of visibility_frame
   render::EyeStats stats;         // GPU pass times, warp counts
 };
 

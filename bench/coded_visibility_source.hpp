@@ -1,0 +1,64 @@
+// client_bench's visibility for `--warp full`: what a server sends at 90 Hz, without a network. Each pose the
+// client's frame loop sends is traced for both eyes (Embree) and coded with codec v2 against that eye's previous
+// frame, as the server codes against an acknowledged one; the frame loop takes it one frame later (p = 1), when
+// it is decoded with the client's decoder (decode_shard_payload_v2, shard by shard, against the eye's previous
+// decoded frame, as the reassembler does). Tracing and encoding are not the client's work and are not timed;
+// decoding is (decode_ms()).
+#pragma once
+#include "codec/codec.hpp"
+#include "frame/visibility_source.hpp"
+#include "trace/visibility_tracer.hpp"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace dhr::bench {
+
+class CodedVisibilitySource final : public client::VisibilitySource {
+ public:
+  // Keeps a reference to the tracer.
+  CodedVisibilitySource(server::VisibilityTracer& tracer, const TracedFormat& format);
+
+  void tick() override {}
+  std::optional<client::VisibilityFormat> format() const override;
+  bool failed() const override { return false; }
+  std::string failure() const override { return {}; }
+  void send_pose(const FramePose& pose) override;
+  bool take_newest(uint32_t eye, VisibilityFrame& out) override;
+  std::optional<int64_t> response_ns(uint64_t /*frame*/) const override { return std::nullopt; }
+  client::VisibilitySourceStats stats() const override { return stats_; }
+
+  // Host ms of decoding each eye frame taken so far, and its coded payload bytes.
+  const std::vector<double>& decode_ms() const { return decode_ms_; }
+  const std::vector<double>& payload_bytes() const { return payload_bytes_; }
+  // Host ms spent in send_pose and take_newest so far (tracing, coding, decoding): not the frame loop's own time.
+  double busy_ms() const { return busy_ms_; }
+
+ private:
+  struct Coded {
+    uint64_t frame_number = 0;
+    View view;
+    std::vector<EncodedShard> shards;
+  };
+  struct EyeState {
+    std::optional<Coded> sent;        // coded for the last pose: taken after the next one (p = 1)
+    std::optional<Coded> deliverable;
+    VisibilityBuffer traced;          // the server's reference: the last buffer traced
+    std::optional<uint64_t> traced_frame;
+    Camera traced_camera;
+    VisibilityBuffer decoded;         // the client's reference: the last frame decoded
+  };
+
+  server::VisibilityTracer* tracer_;
+  TracedFormat format_;
+  uint32_t light_count_;
+  std::array<EyeState, 2> eyes_;
+  client::VisibilitySourceStats stats_;
+  std::vector<double> decode_ms_;
+  std::vector<double> payload_bytes_;
+  double busy_ms_ = 0.0;
+};
+
+}  // namespace dhr::bench

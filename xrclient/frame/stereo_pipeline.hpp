@@ -1,0 +1,70 @@
+// Both eyes' passes of one frame (a render::EyePipeline per eye) and the client's shadow maps. The eyes are
+// recorded together because each eye's warp reads the other eye's newest visibility (source 1, with the traced
+// depth the other eye's pipeline rendered) besides its own newest (source 0) and previous (source 2) one.
+// The client's frame step (frame_step.hpp) records its frames with it; dhr-eval records its exact frames with
+// it too, and shares one between its settings (their frame steps then leave the upload keys 0: a key names a
+// frame of one client's stream; the traced depths held are found by their camera, so any owner may reuse them).
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "math/projection.hpp"
+#include "plan/visibility_input.hpp"
+#include "render/eye_pipeline.hpp"
+#include "render/shadow_maps.hpp"
+
+namespace dhr::vk {
+class Context;
+}
+namespace dhr::render {
+class ClientScene;
+}
+
+namespace dhr::client {
+
+// What both eyes render in one frame.
+struct StereoInputs {
+  std::array<View, 2> views{};                // the display views
+  std::array<VisibilityInput, 2> visibility;  // per eye, its newest (buffer null: none)
+  std::array<VisibilityInput, 2> older;       // per eye, its previous one (buffer null: none)
+};
+
+class StereoPipeline {
+ public:
+  // Keeps references to the context and the scene: they must outlive it. Renders the shadow maps now when
+  // options.warp needs them (else on the first frame whose warp settings do).
+  StereoPipeline(const vk::Context& context, const render::ClientScene& scene, Extent eye_extent,
+                 const render::EyePipelineOptions& options, const render::ShadowMapSettings& shadow_maps = {});
+  ~StereoPipeline();
+  StereoPipeline(const StereoPipeline&) = delete;
+  StereoPipeline& operator=(const StereoPipeline&) = delete;
+
+  // Uploads and prepares both eyes (EyePipeline::prepare), then records each eye's passes (EyePipeline::record).
+  // The shadow maps, when the warp settings need them and none were rendered yet, are rendered first (their
+  // own submission, waited for; `cmd` may be recording meanwhile).
+  void record(VkCommandBuffer cmd, uint32_t slot, const StereoInputs& inputs);
+  // Stats of both eyes' frame last recorded with `slot`; call after its submission completed.
+  std::array<render::EyeStats, 2> read_stats(uint32_t slot) const;
+
+  // The eyes share one set of warp settings; a change applies from the next record().
+  void set_warp_settings(const render::WarpSettings& settings);
+  render::EyePipeline& eye(uint32_t index) { return *eyes_[index]; }
+  const render::EyePipeline& eye(uint32_t index) const { return *eyes_[index]; }
+  Extent extent() const { return eyes_[0]->extent(); }
+  uint32_t frames_in_flight() const { return eyes_[0]->frames_in_flight(); }
+  const render::ShadowMaps* shadow_maps() const { return shadow_maps_.get(); }
+
+ private:
+  void ensure_shadow_maps();
+
+  const vk::Context* context_;
+  const render::ClientScene* scene_;
+  std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
+  render::ShadowMapSettings shadow_settings_;
+  std::unique_ptr<render::ShadowMaps> shadow_maps_;
+};
+
+}  // namespace dhr::client
