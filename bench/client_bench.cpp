@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "bench_views.hpp"
+#include "cli/exit_codes.hpp"
 #include "coded_visibility_source.hpp"
 #include "frame/frame_coordinator.hpp"
 #include "scene/camera_bookmarks.hpp"
@@ -82,7 +83,7 @@ void add_lights(Scene& scene, uint32_t count) {
   std::vector<SceneLight> sources;
   for (const SceneLight& l : scene.lights)
     if (l.type != SceneLight::Type::kDirectional) sources.push_back(l);
-  if (sources.empty()) throw std::runtime_error("--lights: the scene has no point or spot light to copy");
+  if (sources.empty()) throw cli::InputError("--lights: the scene has no point or spot light to copy");
   const size_t original = scene.lights.size();
   for (size_t i = original; i < count; ++i) {
     SceneLight l = sources[(i - original) % sources.size()];
@@ -255,11 +256,11 @@ class FullClient {
 
 int run(const Options& o) {
   const std::optional<Extent> size = parse_size(o.size);
-  if (!size) throw std::invalid_argument("--size: expected WxH with 1..8192 per axis, got '" + o.size + "'");
+  if (!size) throw cli::InputError("--size: expected WxH with 1..8192 per axis, got '" + o.size + "'");
   const SceneLoadResult loaded = load_scene(o.scene);
-  if (!loaded) throw std::runtime_error(loaded.error);  // names the file
+  if (!loaded) throw cli::InputError(loaded.error);  // names the file
   Scene scene = *loaded.scene;
-  if (o.lights > kMaxLights) throw std::invalid_argument("--lights: at most 32");
+  if (o.lights > kMaxLights) throw cli::InputError("--lights: at most 32");
   if (o.lights > scene.lights.size()) add_lights(scene, o.lights);
   if (o.lights > 0 && o.lights < scene.lights.size()) scene.lights.resize(o.lights);
   const uint32_t light_count = static_cast<uint32_t>(scene.lights.size());
@@ -431,8 +432,11 @@ int main(int argc, char** argv) {
   }
   try {
     return dhr::bench::run(o);
-  } catch (const std::exception& e) {
+  } catch (const dhr::cli::InputError& e) {
     std::fprintf(stderr, "client_bench: %s\n", e.what());
-    return 2;
+    return dhr::exit_code::kUsage;
+  } catch (const std::exception& e) {  // Vulkan, a failed frame: the measurement failed
+    std::fprintf(stderr, "client_bench: %s\n", e.what());
+    return dhr::exit_code::kFailure;
   }
 }
