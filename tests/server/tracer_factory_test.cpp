@@ -5,6 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -62,6 +67,49 @@ TEST(TracerFactory, BadGeometryIsAnErrorNotACrash) {
   scene = small_scene();
   scene.meshes[0].positions[1].y = std::numeric_limits<float>::infinity();
   EXPECT_THROW(create_tracer(TracerBackend::kEmbree, scene), std::runtime_error);
+}
+
+TEST(TracerFactory, ThreadCountsAboveTheBoundAreAnError) {
+  TracerOptions options;
+  options.threads = kMaxTracerThreads + 1;
+  EXPECT_THROW(create_tracer(TracerBackend::kEmbree, small_scene(), options), std::invalid_argument);
+  options.threads = kMaxTracerThreads;
+  EXPECT_NO_THROW(create_tracer(TracerBackend::kEmbree, small_scene(), options));
+}
+
+// The system refuses new threads (a real limit: the process drops to an unprivileged user whose process count is
+// above RLIMIT_NPROC). trace() must end with an error naming the thread, after joining those it started; a
+// std::thread left joinable would terminate the process instead.
+TEST(TracerFactory, ATracerThreadThatCannotStartIsAnErrorNotACrash) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to drop to another user whose process limit can be lowered";
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    int code = 10;
+    try {
+      TracerOptions options;
+      options.threads = 8;
+      auto tracer = create_tracer(TracerBackend::kEmbree, small_scene(), options);
+      const Camera camera = test::look_camera({0.0, 2.0, 3.0}, {0.0, 0.0, 0.0}, 128, 96, 60.0);
+      const rlimit one{1, 1};
+      if (setrlimit(RLIMIT_NPROC, &one) != 0 || setgid(65534) != 0 || setuid(65534) != 0) _exit(20);
+      VisibilityBuffer out;
+      TraceStats stats;
+      tracer->trace(camera, out, stats);
+      code = 11;  // every thread started: the limit did not bite
+    } catch (const std::runtime_error& e) {
+      code = std::strstr(e.what(), "cannot start tracer thread") != nullptr ? 0 : 12;
+    } catch (...) {
+      code = 13;
+    }
+    _exit(code);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child died of signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  if (WEXITSTATUS(status) == 20) GTEST_SKIP() << "cannot lower RLIMIT_NPROC and drop to uid 65534 here";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "10: setup threw, 11: no thread was refused, 12: another error, 13: not "
+                                       "a runtime_error";
 }
 
 TEST(TracerFactory, EmptySceneTracesToBackground) {
