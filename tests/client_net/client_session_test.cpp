@@ -147,16 +147,26 @@ TEST(ClientSession, WelcomeThatDoesNotFitTheHelloFails) {
   EXPECT_NE(h.client.failure().find("guard band"), std::string::npos) << h.client.failure();
 }
 
-TEST(ClientSession, AWelcomeForAnotherSceneFailsForGoodAndSaysBye) {
-  VisibilityClientConfig config = test_config();
-  config.scene_hash = 0x1111'2222'3333'4444ull;
-  Harness h(config);
+// A client that renders the scene with hash 0x1111222233334444, answered by a Welcome naming `server_hash`.
+constexpr uint64_t kClientSceneHash = 0x1111'2222'3333'4444ull;
+void answer_with_scene(Harness& h, uint64_t server_hash) {
   h.client.tick();
   h.run_for(kMs);
   Welcome w = h.welcome_for(h.received<Hello>()[0].client_nonce);
-  w.scene_hash = 0x5555'6666'7777'8888ull;
+  w.scene_hash = server_hash;
   h.server_send(w);
   h.run_for(5 * kMs);
+}
+
+VisibilityClientConfig config_with_scene() {
+  VisibilityClientConfig config = test_config();
+  config.scene_hash = kClientSceneHash;
+  return config;
+}
+
+TEST(ClientSession, AWelcomeForAnotherSceneFailsForGoodAndSaysBye) {
+  Harness h(config_with_scene());
+  answer_with_scene(h, 0x5555'6666'7777'8888ull);
   EXPECT_TRUE(h.client.failed());
   EXPECT_FALSE(h.client.connected());
   EXPECT_EQ(h.client.failure_kind(), ClientFailure::kSceneMismatch);
@@ -173,15 +183,8 @@ TEST(ClientSession, AWelcomeForAnotherSceneFailsForGoodAndSaysBye) {
 }
 
 TEST(ClientSession, AWelcomeForTheSameSceneConnects) {
-  VisibilityClientConfig config = test_config();
-  config.scene_hash = 0x1111'2222'3333'4444ull;
-  Harness h(config);
-  h.client.tick();
-  h.run_for(kMs);
-  Welcome w = h.welcome_for(h.received<Hello>()[0].client_nonce);
-  w.scene_hash = *config.scene_hash;
-  h.server_send(w);
-  h.run_for(5 * kMs);
+  Harness h(config_with_scene());
+  answer_with_scene(h, kClientSceneHash);
   EXPECT_TRUE(h.client.connected());
   EXPECT_EQ(h.client.failure_kind(), ClientFailure::kNone);
 }
