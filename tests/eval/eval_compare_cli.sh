@@ -19,8 +19,11 @@ work="$(mktemp -d)"
 trap 'stop_server; rm -rf "$work"' EXIT
 
 printf '# dhr-trace v1\nt,x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,1\n2,0,0,0,0,0,0,1\n' >"$work/still.csv"
+# --net-delay 20: frame 0's pose reaches the server 20 ms later, so frame 0 is shown before any visibility of it
+# can arrive (without it, a server tracing 96x72 on loopback sometimes answered within frame 0's own step).
 "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --trace "$work/still.csv" \
-  --offscreen "$work/shown" --eye-size 96x72 --frames 31 --png-every 30 >"$work/client.out" 2>"$work/client.err" || {
+  --offscreen "$work/shown" --eye-size 96x72 --frames 31 --png-every 30 --net-delay 20 \
+  >"$work/client.out" 2>"$work/client.err" || {
   tail -n 20 "$work/client.err"; echo "FAIL: dhr-xrclient"; exit 1; }
 "$eval_exe" compare --scene "$scene" --shown "$work/shown" --out "$work/pictures" --threads 1 \
   >"$work/compare.out" 2>"$work/compare.err" || { cat "$work/compare.err"; echo "FAIL: dhr-eval compare"; exit 1; }
