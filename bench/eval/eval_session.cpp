@@ -1,4 +1,6 @@
 #include "eval_session.hpp"
+
+#include "plan/shipped_defaults.hpp"
 #include "image/png_writer.hpp"
 
 #include <filesystem>
@@ -84,7 +86,10 @@ bool same_views(const std::array<View, 2>& a, const std::array<View, 2>& b) {
 // (all: the newest pose, the client's default schedule); paper+pred differs on the server only.
 client::PlannerSettings planner_settings(const Setting& setting, const SessionShared& shared) {
   client::PlannerSettings s;
-  if (setting.method.method == Method::kStale) {
+  if (setting.method.shipped) {  // dhr-xrclient's own schedule
+    s.schedule = client::shipped::kSchedule;
+    s.x_max = client::shipped::kXMax;
+  } else if (setting.method.method == Method::kStale) {
     s.schedule = client::Schedule::kStale;
   } else if (setting.x_max < 0) {
     s.schedule = client::Schedule::kNewest;

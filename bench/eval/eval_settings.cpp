@@ -1,5 +1,8 @@
 #include "eval_settings.hpp"
 
+#include "plan/shipped_defaults.hpp"
+#include "session/shipped_defaults.hpp"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -37,7 +40,21 @@ const char* method_name(Method method) {
   return "unknown";
 }
 
+MethodSpec shipped_method() {
+  MethodSpec spec;
+  spec.shipped = true;
+  if (client::shipped::kWarpFull) {
+    spec.method = Method::kFull;
+    if (!server::shipped::kPredict) spec.without |= kIngredientPrediction;
+    if (!server::shipped::kAdaptiveFov) spec.without |= kIngredientAdaptiveFov;
+  } else {
+    spec.method = server::shipped::kPredict ? Method::kPaperPred : Method::kPaper;
+  }
+  return spec;
+}
+
 std::string method_name(const MethodSpec& spec) {
+  if (spec.shipped) return "default";
   std::string name = method_name(spec.method);
   if (spec.method != Method::kFull) return name;
   for (const auto& [bit, text] : kIngredients) {
@@ -47,6 +64,7 @@ std::string method_name(const MethodSpec& spec) {
 }
 
 std::optional<MethodSpec> parse_method(const std::string& text) {
+  if (text == "default") return shipped_method();
   for (const Method m : {Method::kStale, Method::kPaper, Method::kPaperPred, Method::kLocal, Method::kFull}) {
     if (text == method_name(m)) return MethodSpec{m, 0};
   }
@@ -72,11 +90,13 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
 }
 
 bool server_predicts(const MethodSpec& spec) {
+  if (spec.shipped) return server::shipped::kPredict;
   return spec.method == Method::kPaperPred ||
          (spec.method == Method::kFull && (spec.without & kIngredientPrediction) == 0);
 }
 
 bool server_adapts_fov(const MethodSpec& spec) {
+  if (spec.shipped) return server::shipped::kAdaptiveFov;
   return spec.method == Method::kFull && (spec.without & kIngredientAdaptiveFov) == 0;
 }
 
@@ -90,6 +110,7 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
     s.shadow_fill = true;
     return s;
   }
+  if (spec.shipped && !client::shipped::kWarpFull) return s;  // the paper's warp
   if (spec.method != Method::kFull) return s;
   s.bilinear = (spec.without & kIngredientBilinear) == 0;
   s.depth_test = (spec.without & kIngredientDepthTest) == 0;
@@ -198,7 +219,7 @@ std::optional<std::vector<MethodSpec>> parse_method_list(const std::string& text
   for (const std::string& item : split_list(text)) {
     const std::optional<MethodSpec> m = parse_method(item);
     if (!m) {
-      fail(out_error, "--method: expected stale, paper, paper+pred, local, full or full-no-<ingredient>... "
+      fail(out_error, "--method: expected default, stale, paper, paper+pred, local, full or full-no-<ingredient>... "
                       "(bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first, pred), got '" + item + "'");
       return std::nullopt;
     }
@@ -226,6 +247,13 @@ std::vector<Setting> expand_settings(const RunOptions& options) {
   for (const std::string& guard : options.guard) {
     for (const double rtt : options.rtt_ms) {
       for (const MethodSpec& method : options.methods) {
+        if (method.shipped) {  // the client's own schedule and guard band, whatever the lists say
+          if (guard != options.guard.front()) continue;
+          const int x_max =
+              client::shipped::kSchedule == client::Schedule::kNewest ? -1 : static_cast<int>(client::shipped::kXMax);
+          out.push_back(Setting{method, rtt, x_max, kShippedGuardLabel, client::shipped::guard_band(options.eye)});
+          continue;
+        }
         if (method.method == Method::kStale || method.method == Method::kLocal) {
           out.push_back(Setting{method, rtt, -1, guard, guard_for_eye(guard, options.eye)});
           continue;

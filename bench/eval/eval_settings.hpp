@@ -35,15 +35,22 @@ enum Ingredient : uint32_t {
   kIngredientNeighbour = 512u,   // "neighbour": fill from the nearest old pixel on the pixel's tangent plane
 };
 
-// A method and, for kFull, the ingredients switched off.
+// A method and, for kFull, the ingredients switched off. `shipped`: the method "default", exactly what dhr-server
+// and dhr-xrclient do without options (session/shipped_defaults.hpp, plan/shipped_defaults.hpp): `method` and
+// `without` are what those defaults amount to (kPaperPred while the server predicts and the client warps the
+// paper's way), and every decision below reads the shipped values themselves.
 struct MethodSpec {
   Method method = Method::kPaper;
   uint32_t without = 0;  // Ingredient bits (kFull only)
+  bool shipped = false;
   bool operator==(const MethodSpec&) const = default;
 };
-std::string method_name(const MethodSpec& spec);  // "full", "full-no-depth-no-pred"
-// "stale", "paper", "paper+pred", "local", "full", "full-no-<ingredient>[-no-<ingredient>...]".
+std::string method_name(const MethodSpec& spec);  // "full", "full-no-depth-no-pred", "default"
+// "default", "stale", "paper", "paper+pred", "local", "full", "full-no-<ingredient>[-no-<ingredient>...]".
 std::optional<MethodSpec> parse_method(const std::string& text);
+MethodSpec shipped_method();  // what "default" parses to
+// The guard label of the default method's settings: the client's own guard band (shipped::guard_band).
+inline constexpr const char* kShippedGuardLabel = "64x36";
 
 struct Setting {
   MethodSpec method;

@@ -143,9 +143,9 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
                  "visibility codec for clients that offer v2: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
       ->capture_default_str()
       ->check(CLI::IsMember({"v1", "v2"}));
-  app.add_flag("--predict", out.predict,
+  app.add_flag("--predict,!--no-predict", out.predict,
                "trace the views predicted for when the result is displayed (constant velocity from the "
-               "client's last poses) instead of the poses as sent")
+               "client's last poses); on by default, --no-predict traces the poses as sent (the paper's server)")
       ->group(kServeGroup);
   app.add_option("--predict-horizon-ms", out.predict_horizon_ms,
                  "with --predict: fixed prediction horizon past the pose's display time (default: round trip "

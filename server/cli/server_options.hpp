@@ -2,6 +2,7 @@
 // settings. Parsing is separate from running so new modes only add a field and a branch.
 #pragma once
 #include "math/projection.hpp"
+#include "session/shipped_defaults.hpp"
 #include "net/impairment.hpp"
 #include "trace/visibility_tracer.hpp"
 
@@ -35,9 +36,9 @@ struct ServerOptions {
   uint32_t heartbeat_ms = 1000;
   bool skip_identical_pose = true;
   bool codec_v2 = true;                 // --codec v2 (default) or v1, for clients that offer v2
-  bool predict = false;                 // server-side pose prediction
+  bool predict = shipped::kPredict;     // server-side pose prediction (--no-predict: off, the paper's server)
   double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
-  bool adaptive_fov = false;            // widen the traced FOV from the measured shortfall (server/session/include/session/fov_margin.hpp)
+  bool adaptive_fov = shipped::kAdaptiveFov;            // widen the traced FOV from the measured shortfall (server/session/include/session/fov_margin.hpp)
   uint32_t workers = 2;
   uint16_t metrics_port = 0;            // > 0: Prometheus text on http://BIND:PORT/metrics                 // sessions traced in parallel (Embree; Vulkan: 1)
   bool rate_adapt = true;               // cap a session's trace rate when its client reports loss (--no-rate-adapt)

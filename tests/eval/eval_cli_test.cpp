@@ -12,6 +12,9 @@
 #include <string>
 #include <unistd.h>
 
+#include "plan/shipped_defaults.hpp"
+#include "session/shipped_defaults.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -254,6 +257,49 @@ TEST(EvalCliMethodsTest, LocalAndFullWriteTheirFillCounts) {
   EXPECT_TRUE(fs::exists(out / "snapshots" / "full_rtt100_guard64x36_eye0.png"));
   EXPECT_TRUE(fs::exists(out / "snapshots" / "exact_guard64x36_eye1.png"));
   EXPECT_TRUE(fs::exists(out / "snapshots" / "local_rtt100_guard64x36_wrong_bits_eye0.png"));
+  fs::remove_all(out);
+}
+
+// dhr-eval's `default` is exactly what dhr-server and dhr-xrclient do without options: one setting per round trip
+// on the client's own guard band, with every deterministic field equal to the named method those defaults amount
+// to (whatever the --guard and --x-max lists say for the other methods).
+TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
+  std::string equivalent;
+  if (dhr::client::shipped::kWarpFull) {
+    equivalent = "full";
+    if (!dhr::server::shipped::kPredict) equivalent += "-no-pred";
+    if (!dhr::server::shipped::kAdaptiveFov) equivalent += "-no-adaptive-fov";
+  } else {
+    equivalent = dhr::server::shipped::kPredict ? "paper+pred" : "paper";
+  }
+  ASSERT_EQ(dhr::client::shipped::kSchedule, dhr::client::Schedule::kNewest) << "the test compares x_max 'all' rows";
+  const fs::path out = temp_dir("default");
+  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+                           " --frames 6 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,100 --guard 0,64x36"
+                           " --x-max 2,all --method default,paper,paper+pred");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, json> rows;  // method@rtt for guard 64x36 and x_max all (-1)
+  size_t defaults = 0;
+  for (const json& row : read_results(out)) {
+    if (row["method"] == "default") {
+      ++defaults;
+      EXPECT_EQ(row["guard"], "64x36") << row.dump();
+    }
+    if (row["guard"] == "64x36" && row["x_max"] == -1)
+      rows[row["method"].get<std::string>() + "@" + std::to_string(row["rtt_ms"].get<int>())] = row;
+  }
+  EXPECT_EQ(defaults, 2u);  // one per round trip
+  for (const char* rtt : {"@0", "@100"}) {
+    ASSERT_TRUE(rows.count(std::string("default") + rtt)) << rtt;
+    ASSERT_TRUE(rows.count(equivalent + rtt)) << equivalent << rtt;
+    json a = rows.at(std::string("default") + rtt), b = rows.at(equivalent + rtt);
+    for (const char* host : {"method", "client_ms", "server_ms", "encode_ms", "decode_ms", "client_gpu_timed", "warp_ms",
+                             "traced_depth_ms"}) {
+      a.erase(host);
+      b.erase(host);
+    }
+    EXPECT_EQ(a, b) << "default vs " << equivalent << rtt;
+  }
   fs::remove_all(out);
 }
 

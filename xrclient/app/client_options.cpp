@@ -21,7 +21,7 @@ std::optional<Extent> parse_extent(const std::string& text, std::string* out_err
   return Extent{w, h};
 }
 
-GuardBand default_guard_band(Extent eye) { return paper_guard_band(eye); }
+GuardBand default_guard_band(Extent eye) { return shipped::guard_band(eye); }
 
 namespace {
 
@@ -70,7 +70,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   CLI::App app{"DHR-XR headset client: renders a scene with ray-traced shadows streamed from dhr-server"};
   std::string eye_size;
   std::string guard;
-  std::string schedule = "newest";
+  std::string schedule = schedule_name(out.schedule);
   std::string view = "shaded";
   uint32_t frames = 0;
   app.add_flag("--smoke", out.smoke, "Smoke session: clear both eyes for --frames frames, print one JSON line");
@@ -104,7 +104,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "paper: show frame n-p+x; newest: always the newest pose; stale: no warp (reference)")
       ->capture_default_str()
       ->check(CLI::IsMember({"paper", "newest", "stale"}));
-  std::string warp = "paper";
+  std::string warp = out.warp_full ? "full" : "paper";
   app.add_option("--warp", warp,
                  "paper: the paper's warp (unknown pixels lit); full: 2x2 depth-tested lookups, the other eye's "
                  "buffer and the client's shadow maps (docs/client.md, Warp rule)")
@@ -115,7 +115,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "axis; the compositor scales the image up (the projection layer's imageRect)")
       ->capture_default_str()
       ->check(dhr::cli::FiniteRange(0.1, 1.0));
-  std::string render_path = "auto";
+  std::string render_path = out.deferred ? "deferred" : "auto";
   app.add_option("--render-path", render_path,
                  "auto: one forward pass that warps and shades where it applies (the paper's warp, the shaded "
                  "view, at most 8 lights), else the deferred passes; deferred: always G-buffer, warp, shading")

@@ -7,6 +7,7 @@
 
 #include "math/projection.hpp"
 #include "plan/schedule.hpp"
+#include "plan/shipped_defaults.hpp"
 #include "net/impairment.hpp"
 #include "smoke.hpp"
 
@@ -28,11 +29,11 @@ struct ClientOptions {
   uint32_t png_every = 30;         // --png-every N (offscreen, --snapshot-dir; 0 = none)
   std::string snapshot_dir;        // --snapshot-dir DIR (OpenXR: PNGs of the presented images)
   std::string stats_jsonl;         // --stats-jsonl FILE
-  Schedule schedule = Schedule::kNewest;
-  uint32_t x_max = 3;
+  Schedule schedule = shipped::kSchedule;
+  uint32_t x_max = shipped::kXMax;
   bool codec_v2 = true;  // --codec v2 (offer v2; the server decides) or v1 (LZ4 only)
-  bool deferred = false;   // --render-path deferred: never the forward path (render::EyePipelineOptions::forward)
-  bool warp_full = false;  // --warp full: render::WarpSettings::full() (with shadow maps); paper otherwise
+  bool deferred = !shipped::kForwardPath;  // --render-path deferred: never the forward path (render::EyePipelineOptions::forward)
+  bool warp_full = shipped::kWarpFull;  // --warp full: render::WarpSettings::full() (with shadow maps); paper otherwise
   std::string record_trace;  // --record-trace FILE (OpenXR path)
   double connect_timeout_s = 5.0;
   std::string vk_device = "auto";

@@ -1,0 +1,19 @@
+// What dhr-xrclient does when no option says otherwise. Its command line starts from these values and dhr-eval's
+// `default` method runs them (DESIGN 8b: what ships by default is what is measured), so a default changes here,
+// once, for both.
+#pragma once
+#include "math/projection.hpp"
+#include "plan/schedule.hpp"
+
+#include <cstdint>
+
+namespace dhr::client::shipped {
+
+inline constexpr Schedule kSchedule = Schedule::kNewest;  // --schedule
+inline constexpr uint32_t kXMax = 3;                      // --x-max (the paper schedule only)
+inline constexpr bool kWarpFull = false;                  // --warp paper (full: render::WarpSettings::full())
+inline constexpr bool kForwardPath = true;                // --render-path auto (the forward pass where it applies)
+// --guard: the paper's +64x36 at 1920x1080, scaled to the eye size.
+inline GuardBand guard_band(Extent eye) { return paper_guard_band(eye); }
+
+}  // namespace dhr::client::shipped
