@@ -50,10 +50,11 @@ int run_serve_command(const ServerOptions& options) {
 
   std::fprintf(stderr, "%s\n", key ? "authentication on (key from --key-file)"
                                   : "authentication OFF (--insecure): anyone who reaches the port may connect");
-  std::fprintf(stderr, "serving scene '%s' (%s, hash %016llx, %u lights) with %s (%s)%s%s\n",
+  std::fprintf(stderr, "serving scene '%s' (%s, hash %016llx, %u lights) with %s (%s), %s%s%s%s\n",
                config.scene_id.c_str(), options.scene_path.c_str(), static_cast<unsigned long long>(config.scene_hash),
                tracer->light_count(), tracer_backend_name(tracer->backend()), tracer->device_description().c_str(),
-               options.impairment.active() ? ", impairment on send: " : "",
+               config.predict ? "tracing the views predicted for display" : "tracing the poses as sent (--no-predict)",
+               config.adaptive_fov.enabled ? ", adaptive FOV" : "", options.impairment.active() ? ", impairment on send: " : "",
                options.impairment.active() ? options.impairment.describe().c_str() : "");
   try {
     return run_serve(serve, *tracer);
