@@ -3,6 +3,7 @@
 #include "codec/codec_v2.hpp"
 
 #include <chrono>
+#include <ctime>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -17,6 +18,12 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
 CodedVisibilitySource::CodedVisibilitySource(server::VisibilityTracer& tracer, const TracedFormat& format)
     : tracer_(&tracer), format_(format), light_count_(tracer.light_count()) {}
 
@@ -26,6 +33,7 @@ std::optional<client::VisibilityFormat> CodedVisibilitySource::format() const {
 
 void CodedVisibilitySource::send_pose(const FramePose& pose) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = thread_cpu_ms();
   for (uint32_t e = 0; e < 2; ++e) {
     EyeState& eye = eyes_[e];
     eye.deliverable = std::move(eye.sent);
@@ -52,12 +60,14 @@ void CodedVisibilitySource::send_pose(const FramePose& pose) {
     eye.traced_camera = camera;
   }
   busy_ms_ += ms_since(start);
+  busy_cpu_ms_ += thread_cpu_ms() - cpu_start;
 }
 
 bool CodedVisibilitySource::take_newest(uint32_t e, VisibilityFrame& out) {
   EyeState& eye = eyes_[e];
   if (!eye.deliverable) return false;
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = thread_cpu_ms();
   const Coded coded = std::move(*eye.deliverable);
   eye.deliverable.reset();
   const Extent size = format_.buffer();
@@ -90,6 +100,7 @@ bool CodedVisibilitySource::take_newest(uint32_t e, VisibilityFrame& out) {
   stats_.frames_received += 1;
   stats_.bytes_received += bytes;
   busy_ms_ += ms_since(start);
+  busy_cpu_ms_ += thread_cpu_ms() - cpu_start;
   return true;
 }
 

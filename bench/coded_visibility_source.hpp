@@ -35,6 +35,8 @@ class CodedVisibilitySource final : public client::VisibilitySource {
   const std::vector<double>& payload_bytes() const { return payload_bytes_; }
   // Host ms spent in send_pose and take_newest so far (tracing, coding, decoding): not the frame loop's own time.
   double busy_ms() const { return busy_ms_; }
+  // The calling thread's CPU ms in them (thread_cpu_ms()), for the same subtraction from CPU times.
+  double busy_cpu_ms() const { return busy_cpu_ms_; }
 
  private:
   struct Coded {
@@ -59,6 +61,11 @@ class CodedVisibilitySource final : public client::VisibilitySource {
   std::vector<double> decode_ms_;
   std::vector<double> payload_bytes_;
   double busy_ms_ = 0.0;
+  double busy_cpu_ms_ = 0.0;
 };
+
+// CPU ms the calling thread has used: unlike wall time, not lengthened while other processes of a shared machine
+// (or lavapipe's rasterizer threads) hold the cores.
+double thread_cpu_ms();
 
 }  // namespace dhr::bench
