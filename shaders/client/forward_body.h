@@ -12,6 +12,9 @@
 //   kClientForwardLambert     all lights (no shadows: the cost of not having shadows)
 //   kClientForwardShadowMaps  the client's shadow maps (what a headset would do without DHR)
 //   kClientForwardPaperWarp   the paper's warp of this eye's newest visibility (the DHR client)
+//   kClientForwardServerEdges this eye's newest visibility, 2x2 bilinear samples: bits they agree on from the
+//                             server, the others and pixels without a sample from the shadow maps, which are
+//                             looked up only there (WarpSettings::server_edges)
 // The surface point comes from gl_FragCoord (pixel centre, reversed-Z depth) with the same formula the compute
 // passes apply to the depth image: the warp decisions equal the compute warp's and its CPU reference.
 layout(set = 0, binding = kClientGBufferBindingBaseColor) uniform sampler2D base_color_texture;
@@ -42,6 +45,7 @@ layout(location = 2) out uint out_mask;
 #define DHR_SHADOW_LIGHT_BUFFER_BINDING kClientForwardBindingShadowLights
 #include "client/shadow_lookup.h"
 #include "client/paper_warp.h"
+#include "client/bilinear_warp.h"
 #include "client/shade.h"
 
 void main() {
@@ -63,6 +67,47 @@ void main() {
     const uint row_word = paper_warp_reads_rows(pc) ? rows0[at.row >> 5] : 0u;
     vec2 motion;
     status = paper_warp(pc, centre, d, at, row_word, vis0[at.mask_bit >> 5], mask, motion);
+  } else if (shading.mode == kClientForwardServerEdges) {
+    // warp.comp's decisions with bilinear, shadow_edges and shadow_fill alone, in its order.
+    const ClientWarpSource src = pc.source[0];
+    const PaperWarpLookup at = paper_warp_lookup(pc, centre, d);
+    const vec2 q = at.pixel;
+    const bool inside = q.x >= 0.0 && q.y >= 0.0 && q.x < float(src.old_width) && q.y < float(src.old_height);
+    status = (src.flags & kClientSourceHasVisibility) == 0u ? kClientStatusNoData
+           : !(at.depth_old > pc.min_depth) ? kClientStatusBehind
+           : !inside ? kClientStatusOutside
+           : kClientStatusKnown;
+    uint value = 0u;
+    uint undecided = 0u;  // known: the bits the samples disagree on
+    if (status == kClientStatusKnown) {
+      const WarpSamples samples = warp_samples(q, true);
+      uint masks[4];
+      uint used = 0u;
+      for (int k = 0; k < 4; ++k) {
+        masks[k] = 0u;
+        const ivec2 c = warp_sample_pixel(samples, k);
+        if (!warp_sample_in_buffer(src, c)) continue;
+        const uint row_word = paper_warp_reads_rows(pc) ? rows0[uint(c.y) >> 5] : 0u;
+        if (!warp_row_arrived(src, row_word, uint(c.y))) continue;
+        const uint bit = warp_sample_mask_bit(src, c);
+        masks[k] = warp_sample_mask(src, vis0[bit >> 5], bit);
+        used |= 1u << k;
+      }
+      if (used == 0u) {
+        status = kClientStatusMissingRow;
+      } else {
+        const WarpVote vote = warp_vote(samples, masks, used);
+        value = vote.value;
+        undecided = ~vote.agree & pc.unknown_mask;
+      }
+    }
+    const bool known = status == kClientStatusKnown;
+    mask = value;
+    if (!known || undecided != 0u) {  // the cost this mode saves: most pixels skip the shadow maps
+      const uint shadow = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent).mask;
+      mask = known ? (value & ~undecided) | (shadow & undecided) : shadow;
+      status |= known ? kClientForwardStatusShadowEdge : kClientForwardStatusShadowFill;
+    }
   } else if (shading.mode == kClientForwardShadowMaps) {
     mask = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent).mask;
   }

@@ -44,6 +44,7 @@ layout(set = 0, binding = kClientWarpBindingShadowMap) uniform sampler2D shadow_
 #define DHR_SHADOW_LIGHT_BUFFER_BINDING kClientWarpBindingShadowLights
 #include "client/shadow_lookup.h"
 #include "client/paper_warp.h"
+#include "client/bilinear_warp.h"
 
 // Source s is dynamically uniform: these selections do not diverge.
 uint vis_word(uint s, uint index) { return s == 0u ? vis0[index] : s == 1u ? vis1[index] : vis2[index]; }
@@ -57,9 +58,8 @@ float old_depth_at(uint s, ivec2 c) {
                  : s == 1u ? texelFetch(old_depth1, c, 0).r : texelFetch(old_depth2, c, 0).r;
 }
 uint old_mask(uint s, int a, int b) {
-  const uint width_mask = pc.source[s].mask_bits >= 32u ? 0xFFFFFFFFu : (1u << pc.source[s].mask_bits) - 1u;
-  const uint bit = (uint(b) * pc.source[s].old_width + uint(a)) * pc.source[s].mask_bits;
-  return (vis_word(s, bit >> 5) >> (bit & 31u)) & width_mask;
+  const uint bit = warp_sample_mask_bit(pc.source[s], ivec2(a, b));
+  return warp_sample_mask(pc.source[s], vis_word(s, bit >> 5), bit);
 }
 
 // What one source says about a pixel.
@@ -104,45 +104,31 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
                  pc.source[s].rot[6] * n_world.x + pc.source[s].rot[7] * n_world.y + pc.source[s].rot[8] * n_world.z);
   }
   const float tolerance = pc.plane_tolerance_rel * depth_old + pc.plane_tolerance_abs;
-  // Nearest: the sample at the floor; bilinear: the four around px - 0.5 (one of them is that floor sample).
-  const float bx = bilinear ? px - 0.5 : px;
-  const float by = bilinear ? py - 0.5 : py;
-  const int i0 = int(floor(bx));
-  const int j0 = int(floor(by));
-  const float fx = bx - float(i0);
-  const float fy = by - float(j0);
-  uint and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0u, used = 0u;
+  const WarpSamples samples = warp_samples(r.pixel, bilinear);
+  uint rows = 0u, used = 0u;
   uint masks[4];
-  float weights[4];
-  const int n = bilinear ? 4 : 1;
-  // Bilinear: a lookup within kClientWarpExactLookup of an old pixel centre (sample k_exact) takes that pixel's
+  // Bilinear: a lookup within kClientWarpExactLookup of an old pixel centre (samples.exact) takes that pixel's
   // bit as exact when it is used. Traced from this very eye position, that pixel's ray is this pixel's ray:
   // its sample skips the depth test (two rasterizations of one ray may disagree at a silhouette; the traced bit
   // is right). From elsewhere the old ray may have hit an occluder, and the depth test decides.
-  const int k_exact = (fx < 0.5 ? 0 : 1) + 2 * (fy < 0.5 ? 0 : 1);
-  const bool centred = bilinear && min(fx, 1.0 - fx) <= kClientWarpExactLookup && min(fy, 1.0 - fy) <= kClientWarpExactLookup;
-  const bool same_ray = centred && (pc.source[s].flags & kClientSourceSameEye) != 0u;
-  for (int k = 0; k < n; ++k) {
-    const int a = i0 + (k & 1);
-    const int b = j0 + (k >> 1);
-    weights[k] = bilinear ? ((k & 1) != 0 ? fx : 1.0 - fx) * ((k >> 1) != 0 ? fy : 1.0 - fy) : 1.0;
+  const bool same_ray = samples.centred && (pc.source[s].flags & kClientSourceSameEye) != 0u;
+  for (int k = 0; k < 4; ++k) {
     masks[k] = 0u;
-    if (a < 0 || b < 0 || a >= int(pc.source[s].old_width) || b >= int(pc.source[s].old_height)) continue;
-    if (!row_ok(s, uint(b))) continue;
+    if (k >= samples.count) continue;
+    const ivec2 c = warp_sample_pixel(samples, k);
+    if (!warp_sample_in_buffer(pc.source[s], c)) continue;
+    if (!row_ok(s, uint(c.y))) continue;
     ++rows;
-    if (depth_test && !(same_ray && k == k_exact)) {
-      const float ds = old_depth_at(s, ivec2(a, b));
+    if (depth_test && !(same_ray && k == samples.exact)) {
+      const float ds = old_depth_at(s, c);
       if (!(ds > 0.0)) continue;
       const vec3 q = (pc.near_plane / ds) *
-                     vec3(pc.source[s].old_tan_left + (float(a) + 0.5) * pc.source[s].old_tan_step_x,
-                          pc.source[s].old_tan_up - (float(b) + 0.5) * pc.source[s].old_tan_step_y, -1.0);
+                     vec3(pc.source[s].old_tan_left + (float(c.x) + 0.5) * pc.source[s].old_tan_step_x,
+                          pc.source[s].old_tan_up - (float(c.y) + 0.5) * pc.source[s].old_tan_step_y, -1.0);
       if (!(abs(dot(n_old, q - p_old)) <= tolerance)) continue;
     }
-    const uint m = old_mask(s, a, b);
-    masks[k] = m;
+    masks[k] = old_mask(s, c.x, c.y);
     used |= 1u << k;
-    and_m &= m;
-    or_m |= m;
   }
   if (rows == 0u) {
     r.status = kClientStatusMissingRow;
@@ -153,26 +139,10 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     return r;
   }
   r.status = kClientStatusKnown;
-  if (centred && ((used >> k_exact) & 1u) != 0u) {
-    r.exact = true;
-    r.agree = 0xFFFFFFFFu;
-    r.value = masks[k_exact];
-    return r;
-  }
-  r.agree = ~(and_m ^ or_m);
-  r.value = and_m;
-  uint open = or_m & ~and_m;  // bits the samples disagree on: bilinear vote over the used samples
-  if (open != 0u) {
-    float total = 0.0;
-    for (int k = 0; k < n; ++k) total += ((used >> k) & 1u) != 0u ? weights[k] : 0.0;
-    while (open != 0u) {
-      const int bit = findLSB(open);
-      open &= open - 1u;
-      float set = 0.0;
-      for (int k = 0; k < n; ++k) set += (((used >> k) & 1u) != 0u && ((masks[k] >> bit) & 1u) != 0u) ? weights[k] : 0.0;
-      if (2.0 * set >= total) r.value |= 1u << bit;
-    }
-  }
+  const WarpVote vote = warp_vote(samples, masks, used);
+  r.agree = vote.agree;
+  r.value = vote.value;
+  r.exact = vote.exact;
   return r;
 }
 

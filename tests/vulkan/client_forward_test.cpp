@@ -3,11 +3,13 @@
 // forward pass's own depth, which equals the G-buffer pass's bit for bit), its counts equal its status image,
 // and its colours equal the deferred pipeline's (G-buffer -> warp -> shading) within 2/255 wherever their
 // masks agree; the Lambert mode lights every surface pixel; the shadow-map mode agrees with the compute warp's
-// shadow lookups (`local`); bad input is rejected.
+// shadow lookups (`local`); the server-edges mode (WarpSettings::server_edges) equals the CPU reference and the
+// deferred pipeline wherever it takes no shadow-map bit, and nearly everywhere else; bad input is rejected.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <vector>
@@ -22,6 +24,7 @@
 #include "render/warp_pass.hpp"
 #include "render/warp_reference.hpp"
 #include "scene/scene.hpp"
+#include "vk/image.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace dhr::render {
@@ -65,6 +68,21 @@ VisibilityBuffer patterned(const Camera& traced, uint32_t lights) {
       if (((x / 3) + (y / 5)) % 2 == 0) m |= 1u;
       if (x > b.width / 2) m |= 2u;
       if ((x * 7 + y * 3) % 11 < 6) m |= 4u;
+      b.set(x, y, m & b.light_bits());
+    }
+  }
+  return b;
+}
+
+// Bits in blocks and stripes several pixels wide: the 2x2 samples agree inside them and disagree on their edges.
+VisibilityBuffer blocky(const Camera& traced, uint32_t lights) {
+  VisibilityBuffer b = VisibilityBuffer::create(traced.extent.width, traced.extent.height, lights);
+  for (uint32_t y = 0; y < b.height; ++y) {
+    for (uint32_t x = 0; x < b.width; ++x) {
+      uint32_t m = 0;
+      if (((x / 8) + (y / 6)) % 2 == 0) m |= 1u;
+      if (x > b.width / 2) m |= 2u;
+      if (((x + y) / 12) % 2 == 0) m |= 4u;
       b.set(x, y, m & b.light_bits());
     }
   }
@@ -224,6 +242,150 @@ TEST_F(ClientForwardTest, LambertLightsEverythingAndShadowMapsAgreeWithTheComput
   for (size_t i = 0; i < lambert.colour.size(); ++i) ASSERT_LE(shadowed.colour[i], lambert.colour[i]) << i;
 }
 
+TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline) {
+  const Scene scene = default_room();
+  const ClientScene gpu_scene(ctx(), scene);
+  const ShadowMaps maps(ctx(), gpu_scene);
+  const Camera traced = Camera::with_guard_band(traced_view(), kExtent, kGuard);
+  const VisibilityBuffer buffer = blocky(traced, static_cast<uint32_t>(scene.lights.size()));
+  VisibilityInput input;
+  input.buffer = &buffer;
+  input.traced = traced;
+  std::vector<uint8_t> rows(traced.extent.height, 1);
+  for (uint32_t r = 40; r < 48; ++r) rows[r] = 0;  // lost rows: from the shadow maps
+  input.row_valid = rows;
+  const View view = display_view();
+  ForwardFrame frame;
+  frame.display = display_camera(view, kExtent);
+  frame.near_plane = kNear;
+  frame.visibility = &input;
+  frame.shadow_maps = &maps;
+  frame.lights = scene.lights;
+  const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, frame);
+
+  // The deferred pipeline with the same settings: its G-buffer normals feed the CPU reference.
+  EyePipelineOptions deferred_options;
+  deferred_options.forward = false;
+  deferred_options.warp_status = true;
+  deferred_options.warp = WarpSettings::server_edges();
+  EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { deferred.record(cmd, 0, view, input, {}, &maps); });
+  ASSERT_FALSE(deferred.read_stats(0).forward);
+  const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
+  const std::vector<float> raw_normals = test::read_normals(ctx(), deferred.gbuffer().normal);
+  std::vector<glm::vec3> normals(raw_normals.size() / 4);
+  for (size_t i = 0; i < normals.size(); ++i) {
+    normals[i] = glm::vec3(raw_normals[i * 4], raw_normals[i * 4 + 1], raw_normals[i * 4 + 2]);
+  }
+  vk::Image& atlas = const_cast<ShadowMaps&>(maps).atlas();
+  std::vector<float> atlas_storage(size_t{atlas.width()} * atlas.height());
+  vk::read_image(ctx(), atlas, atlas_storage.data(), atlas_storage.size() * sizeof(float));
+  ShadowReference shadow;
+  shadow.atlas = atlas_storage;
+  shadow.face_size = maps.face_size();
+  shadow.tiles = maps.tiles();
+  shadow.settings = maps.settings();
+
+  WarpInput in;
+  in.depth = fwd.depth;
+  in.normals = normals;
+  in.display = frame.display;
+  in.near_plane = kNear;
+  in.sources[0].traced = traced;
+  in.sources[0].visibility = &buffer;
+  in.sources[0].row_valid = input.row_valid;
+  in.settings = WarpSettings::server_edges();
+  in.shadow = &shadow;
+  in.lights = scene.lights;
+  const WarpResult cpu = warp_reference(in);
+
+  // Where the forward pass took no shadow-map bit, its mask is the server's: equal to the CPU reference and
+  // the deferred pipeline on every pixel. Where it took some, the normals differ (interpolated floats here,
+  // the G-buffer's half floats there): a bit within a hair of its bias may differ.
+  size_t compared = 0, ambiguous = 0, mismatches = 0, from_shadow = 0, shadow_differs = 0, deferred_differs = 0;
+  std::array<uint64_t, kWarpStatusCount> from_image{};
+  uint64_t fills = 0, edges = 0;
+  for (size_t i = 0; i < fwd.depth.size(); ++i) {
+    const uint32_t status = fwd.status[i] & shader::kClientForwardStatusMask;
+    if (status < kWarpStatusCount) ++from_image[status];
+    const bool filled = (fwd.status[i] & shader::kClientForwardStatusShadowFill) != 0;
+    const bool edge = (fwd.status[i] & shader::kClientForwardStatusShadowEdge) != 0;
+    fills += filled ? 1 : 0;
+    edges += edge ? 1 : 0;
+    if (cpu.margin[i] < kMargin) {
+      ++ambiguous;
+      continue;
+    }
+    ++compared;
+    const bool background = cpu.status[i] == WarpStatus::kBackground;
+    if (status != static_cast<uint32_t>(cpu.status[i]) || filled != (cpu.fill[i] == WarpFill::kShadowMap)) {
+      if (++mismatches <= 5) {
+        ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": forward status "
+                      << fwd.status[i] << ", cpu status " << to_string(cpu.status[i]) << " fill "
+                      << static_cast<int>(cpu.fill[i]);
+      }
+      continue;
+    }
+    if (background) continue;
+    if (filled || edge) {
+      ++from_shadow;
+      shadow_differs += fwd.mask[i] != cpu.masks[i] ? 1 : 0;
+      deferred_differs += fwd.mask[i] != deferred_mask[i] ? 1 : 0;
+    } else if (fwd.mask[i] != cpu.masks[i] || fwd.mask[i] != deferred_mask[i]) {
+      if (++mismatches <= 5) {
+        ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": forward mask " << fwd.mask[i]
+                      << ", cpu mask " << cpu.masks[i] << ", deferred mask " << deferred_mask[i];
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0u);
+  // More than the paper's warp: the margin also covers the vote's ties and the shadow maps' bias and texels.
+  EXPECT_LT(ambiguous, fwd.depth.size() / 10) << "too many ambiguous pixels for a meaningful test";
+  EXPECT_LE(shadow_differs, from_shadow / 200) << "of " << from_shadow;
+  EXPECT_LE(deferred_differs, from_shadow / 200) << "of " << from_shadow;
+
+  std::printf("server edges: %zu pixels compared, %zu ambiguous; %zu took shadow-map bits (%llu edges, %llu fills), "
+              "%zu differ from the CPU reference, %zu from the deferred pipeline\n",
+              compared, ambiguous, from_shadow, static_cast<unsigned long long>(edges),
+              static_cast<unsigned long long>(fills), shadow_differs, deferred_differs);
+
+  // Counts: as the status image says, and as the CPU reference's (ambiguous pixels aside).
+  for (size_t s = 0; s < kWarpStatusCount; ++s) EXPECT_EQ(fwd.counts.by_status[s], from_image[s]) << s;
+  EXPECT_EQ(fwd.counts.filled_shadow_map, fills);
+  EXPECT_EQ(fwd.counts.edges_shadow_map, edges);
+  const auto near = [&](uint64_t a, uint64_t b) { return (a > b ? a - b : b - a) <= ambiguous; };
+  EXPECT_TRUE(near(fwd.counts.filled_shadow_map, cpu.counts.filled_shadow_map))
+      << fwd.counts.filled_shadow_map << " vs " << cpu.counts.filled_shadow_map;
+  EXPECT_TRUE(near(fwd.counts.edges_shadow_map, cpu.counts.edges_shadow_map))
+      << fwd.counts.edges_shadow_map << " vs " << cpu.counts.edges_shadow_map;
+  // The test means something: known, outside and missing-row pixels, shadow edges and fills all occur, and
+  // the shadow maps are looked up at a minority of the pixels.
+  EXPECT_GT(fwd.counts[WarpStatus::kKnown], kExtent.width * kExtent.height / 2);
+  EXPECT_GT(fwd.counts[WarpStatus::kOutside], 0u);
+  EXPECT_GT(fwd.counts[WarpStatus::kMissingRow], 0u);
+  EXPECT_GT(edges, 0u);
+  EXPECT_EQ(fills, fwd.counts.unknown_surface());
+  EXPECT_LT(edges + fills, fwd.counts.surface() / 2);
+  EXPECT_EQ(fwd.counts.surface() + fwd.counts[WarpStatus::kBackground], uint64_t{kExtent.width} * kExtent.height);
+
+  // The eye pipeline takes the forward path for these settings, with the shadow maps bound: the same masks.
+  EyePipelineOptions forward_options;
+  forward_options.forward_mask = true;
+  forward_options.warp = WarpSettings::server_edges();
+  EyePipeline eye(ctx(), gpu_scene, kExtent, forward_options);
+  ASSERT_TRUE(eye.uses_forward());
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input, {}, &maps); });
+  const EyeStats stats = eye.read_stats(0);
+  EXPECT_TRUE(stats.forward);
+  EXPECT_EQ(stats.warp, fwd.counts);
+  EXPECT_EQ(test::read_pixels<uint32_t>(ctx(), eye.mask()), fwd.mask);
+  // And switches back to the paper's warp with the same pipeline.
+  eye.warp_settings() = WarpSettings{};
+  ASSERT_TRUE(eye.uses_forward());
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input, {}, &maps); });
+  EXPECT_EQ(eye.read_stats(0).warp.edges_shadow_map + eye.read_stats(0).warp.filled_shadow_map, 0u);
+}
+
 TEST_F(ClientForwardTest, BadInputIsRejected) {
   const Scene scene = default_room();
   const ClientScene gpu_scene(ctx(), scene);
@@ -247,6 +409,15 @@ TEST_F(ClientForwardTest, BadInputIsRejected) {
   ctx().submit_and_wait([&](VkCommandBuffer cmd) {
     EXPECT_THROW(shadow.record(cmd, 0, frame, shadow_targets), std::invalid_argument);  // no maps
   });
+  ForwardOptions edges_options;
+  edges_options.mode = ForwardMode::kServerEdges;
+  ForwardPass edges(ctx(), gpu_scene, edges_options);
+  ForwardTargets edges_targets = ForwardTargets::create(ctx(), kExtent, edges_options);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    EXPECT_THROW(edges.record(cmd, 0, frame, edges_targets), std::invalid_argument);  // no maps
+  });
+  EXPECT_THROW(edges.set_mode(ForwardMode::kShadowMaps), std::invalid_argument);  // other attachments
+  EXPECT_NO_THROW(edges.set_mode(ForwardMode::kPaperWarp));
   // A paper-warp pass with an unusable visibility input treats it as none: every surface pixel is unknown.
   VisibilityBuffer wrong = VisibilityBuffer::create(3, 3, static_cast<uint32_t>(scene.lights.size()));
   VisibilityInput input;

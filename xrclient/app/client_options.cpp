@@ -66,6 +66,15 @@ bool parse_view(const std::string& text, ClientOptions& out) {
 
 }  // namespace
 
+const char* to_string(WarpChoice choice) {
+  switch (choice) {
+    case WarpChoice::kPaper: return "paper";
+    case WarpChoice::kFull: return "full";
+    case WarpChoice::kEdges: return "edges";
+  }
+  return "?";
+}
+
 ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int* exit_code) {
   CLI::App app{"DHR-XR headset client: renders a scene with ray-traced shadows streamed from dhr-server"};
   std::string eye_size;
@@ -104,12 +113,13 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "paper: show frame n-p+x; newest: always the newest pose; stale: no warp (reference)")
       ->capture_default_str()
       ->check(CLI::IsMember({"paper", "newest", "stale"}));
-  std::string warp = out.warp_full ? "full" : "paper";
+  std::string warp = to_string(out.warp);
   app.add_option("--warp", warp,
                  "paper: the paper's warp (unknown pixels lit); full: 2x2 depth-tested lookups, the other eye's "
-                 "buffer and the client's shadow maps (docs/client.md, Warp rule)")
+                 "buffer and the client's shadow maps (docs/client.md, Warp rule); edges: 2x2 lookups, bits they "
+                 "agree on from the server, the others and unknown pixels from the client's shadow maps (forward)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"paper", "full"}));
+      ->check(CLI::IsMember({"paper", "full", "edges"}));
   app.add_option("--render-scale", out.render_scale,
                  "OpenXR: render (and have the server trace) each eye at this fraction of the runtime's eye size per "
                  "axis; the compositor scales the image up (the projection layer's imageRect)")
@@ -117,7 +127,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
       ->check(dhr::cli::FiniteRange(0.1, 1.0));
   std::string render_path = out.deferred ? "deferred" : "auto";
   app.add_option("--render-path", render_path,
-                 "auto: one forward pass that warps and shades where it applies (the paper's warp, the shaded "
+                 "auto: one forward pass that warps and shades where it applies (the paper's warp or edges, the shaded "
                  "view, at most 8 lights), else the deferred passes; deferred: always G-buffer, warp, shading")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "deferred"}));
@@ -162,7 +172,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   }
   out.schedule = *parse_schedule(schedule);
   out.codec_v2 = codec == "v2";
-  out.warp_full = warp == "full";
+  out.warp = warp == "full" ? WarpChoice::kFull : warp == "edges" ? WarpChoice::kEdges : WarpChoice::kPaper;
   out.deferred = render_path == "deferred";
   if (!parse_view(view, out)) {
     return usage("--view '" + view + "': expected shaded, light:N (N 0..31), unknown, motion, albedo or normal");

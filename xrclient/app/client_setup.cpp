@@ -39,8 +39,9 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
   config.format = TracedFormat{eye, guard};
   config.codec_v2 = options.codec_v2;
   config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);
-  // --warp full has the client's own shadow maps to show: it never gives up on the server (offline mode).
-  config.keep_retrying = options.warp_full;
+  // --warp full and edges have the client's own shadow maps to show: they never give up on the server (offline
+  // mode).
+  config.keep_retrying = options.warp != WarpChoice::kPaper;
   auto link = std::make_unique<UdpVisibilityClient>();
   link->connect(config, host, port, options.impairment);
   // Setup, not the frame loop: waiting for the handshake here keeps the first frames meaningful.
@@ -156,7 +157,8 @@ CoordinatorOptions coordinator_options(const ClientOptions& options) {
   out.eye.shading.debug_light = options.view_light;
   const render::WarpOutputs needed = render::warp_outputs_for(out.eye.shading.view);
   out.eye.warp_status = needed.status;
-  if (options.warp_full) out.eye.warp = render::WarpSettings::full();
+  if (options.warp == WarpChoice::kFull) out.eye.warp = render::WarpSettings::full();
+  if (options.warp == WarpChoice::kEdges) out.eye.warp = render::WarpSettings::server_edges();
   out.eye.forward = !options.deferred;
   out.eye.motion_vectors = needed.motion;
   return out;
@@ -167,7 +169,7 @@ std::string view_name(const ClientOptions& options) {
 }
 
 void describe_pictures(PngSink& png, const FrameCoordinator& coordinator, const ClientOptions& options) {
-  png.describe(coordinator, options.warp_full ? "full" : "paper", view_name(options));
+  png.describe(coordinator, to_string(options.warp), view_name(options));
 }
 
 void note_source_failure(const VisibilitySource& source, bool& warned) {

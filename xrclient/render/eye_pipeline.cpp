@@ -77,7 +77,7 @@ bool EyePipeline::uses_forward() const {
   const WarpSettings& w = options_.warp;
   const bool paper = !w.bilinear && !w.depth_test && !w.other_eye && !w.older_buffer && !w.neighbour_fill &&
                      !w.uses_shadow_maps();
-  return options_.forward && paper && options_.shading.view == ShadingView::kShaded && !options_.motion_vectors &&
+  return options_.forward && (paper || w == WarpSettings::server_edges()) && options_.shading.view == ShadingView::kShaded && !options_.motion_vectors &&
          !options_.warp_status && scene_->lights().size() <= options_.forward_max_lights;
 }
 
@@ -164,8 +164,12 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
     frame.display = camera;
     frame.near_plane = near_plane;
     frame.visibility = &visibility;
+    frame.shadow_maps = shadow_maps;
     frame.lights = scene_->lights();
     frame.shading = options_.shading;
+    // The settings may change between frames (warp_settings()); both warp modes share the pipelines.
+    forward_pass_->set_mode(options_.warp == WarpSettings::server_edges() ? ForwardMode::kServerEdges
+                                                                          : ForwardMode::kPaperWarp);
     const ForwardPass::Recorded r = forward_pass_->record(cmd, slot_index, frame, forward_);
     slot.draws = r.draws;
     slot.visibility_used = r.visibility_used;

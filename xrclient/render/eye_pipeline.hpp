@@ -1,7 +1,8 @@
 // The per-eye visibility pipeline, into this eye's own images, recorded into a command buffer the caller owns
 // and submits, with GPU timestamps around each pass. Two paths apply the same rule:
-//   forward  (the default whenever it can: the paper's warp, the shaded view, no motion vectors): one raster
-//            pass that warps and shades each fragment (forward_pass.hpp) plus a small count pass;
+//   forward  (the default whenever it can: the paper's warp or WarpSettings::server_edges(), the shaded view,
+//            no motion vectors): one raster pass that warps and shades each fragment (forward_pass.hpp) plus a
+//            small count pass;
 //   deferred (any other warp setting or debug view): G-buffer -> warp -> shading.
 // With the warp's depth test on, prepare() first renders the depth of the camera this eye's newest
 // visibility was traced for (once per traced camera; the previous one is kept for the previous buffer, the

@@ -30,10 +30,11 @@ constexpr VkFormat kStatusFormat = VK_FORMAT_R8_UINT;  // statuses 0-5: a byte p
 static_assert(static_cast<uint32_t>(ForwardMode::kLambert) == kClientForwardLambert);
 static_assert(static_cast<uint32_t>(ForwardMode::kShadowMaps) == kClientForwardShadowMaps);
 static_assert(static_cast<uint32_t>(ForwardMode::kPaperWarp) == kClientForwardPaperWarp);
+static_assert(static_cast<uint32_t>(ForwardMode::kServerEdges) == kClientForwardServerEdges);
 
-// Attachments: colour, then the status (the paper's warp, and with the mask), then the mask (tests).
+// Attachments: colour, then the status (the warp modes, and with the mask), then the mask (tests).
 uint32_t attachment_count(const ForwardOptions& options) {
-  return options.write_mask ? 3u : options.mode == ForwardMode::kPaperWarp ? 2u : 1u;
+  return options.write_mask ? 3u : counts_status(options.mode) ? 2u : 1u;
 }
 
 }  // namespace
@@ -43,8 +44,21 @@ const char* to_string(ForwardMode mode) {
     case ForwardMode::kLambert: return "lambert";
     case ForwardMode::kShadowMaps: return "shadow-maps";
     case ForwardMode::kPaperWarp: return "paper-warp";
+    case ForwardMode::kServerEdges: return "server-edges";
   }
   return "?";
+}
+
+bool counts_status(ForwardMode mode) { return mode == ForwardMode::kPaperWarp || mode == ForwardMode::kServerEdges; }
+
+void ForwardPass::set_mode(ForwardMode mode) {
+  ForwardOptions next = options_;
+  next.mode = mode;
+  if (attachment_count(next) != attachment_count(options_)) {
+    throw std::invalid_argument(std::string("forward pass: cannot switch from ") + to_string(options_.mode) + " to " +
+                                to_string(mode) + " (other attachments)");
+  }
+  options_ = next;
 }
 
 ForwardTargets ForwardTargets::create(const vk::Context& context, Extent extent, const ForwardOptions& options) {
@@ -119,7 +133,7 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
   sampler_ = create_nearest_sampler(device);
 
   const std::array<ComputeBinding, 2> count_bindings = {{{0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, {1, kStorage}}};
-  count_ = ComputePassCore::create(device, count_bindings, 8, "status_count.comp", options.slots);
+  count_ = ComputePassCore::create(device, count_bindings, 12, "status_count.comp", options.slots);
   for (uint32_t i = 0; i < options.slots; ++i) {
     Slot& s = slots_.emplace_back(context);
     s.set = vk::allocate_descriptor_set(device, frame_pool_.get(), frame_layout_.get());
@@ -146,13 +160,14 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   if (frame.shading.view != ShadingView::kShaded) {
     throw std::invalid_argument("forward pass: debug views need the G-buffer pipeline");
   }
-  if (mode == ForwardMode::kShadowMaps && frame.shadow_maps == nullptr) {
-    throw std::invalid_argument("forward pass: shadow-map mode without shadow maps");
+  const bool shadowed = mode == ForwardMode::kShadowMaps || mode == ForwardMode::kServerEdges;
+  if (shadowed && frame.shadow_maps == nullptr) {
+    throw std::invalid_argument(std::string("forward pass: ") + to_string(mode) + " mode without shadow maps");
   }
   Slot& slot = slots_[slot_index];
 
   Recorded out;
-  const VisibilityInput* in = mode == ForwardMode::kPaperWarp ? frame.visibility : nullptr;
+  const VisibilityInput* in = counts_status(mode) ? frame.visibility : nullptr;
   if (in != nullptr && in->buffer != nullptr) {
     if (auto err = validate_visibility_input(in->traced, *in->buffer, in->row_valid)) {
       log::warn("forward pass: ignoring the visibility input (%s)", err->c_str());
@@ -167,7 +182,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
     params.unknown_mask = unknown_mask(in->buffer);
   }
   const vk::Image* atlas = &placeholder_atlas_;
-  if (mode == ForwardMode::kShadowMaps) {
+  if (shadowed) {
     std::array<ClientShadowLight, kMaxLights> shadow_lights{};
     try {
       describe_shadow_maps(*frame.shadow_maps, frame.lights, display, params, shadow_lights);
@@ -201,7 +216,8 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingLights, kStorage, slot.lights.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingShading, kStorage, slot.shading.handle());
 
-  const bool counting = mode == ForwardMode::kPaperWarp;
+  const bool counting = counts_status(mode);
+  slot.counted = counting;
   if (counting) {
     slot.count_words = warp_count_words(extent);
     if (VkDeviceSize{slot.count_words} * 4 > slot.counters.size()) {
@@ -262,7 +278,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
     vk::write_image_descriptor(device, slot.count_set, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, targets.status.view(),
                                VK_IMAGE_LAYOUT_GENERAL);
     vk::write_buffer_descriptor(device, slot.count_set, 1, kStorage, slot.counters.handle());
-    const std::array<uint32_t, 2> push = {extent.width, extent.height};
+    const std::array<uint32_t, 3> push = {extent.width, extent.height, mode == ForwardMode::kServerEdges ? 1u : 0u};
     count_.dispatch(cmd, slot.count_set, push.data(), sizeof(push), extent.width, extent.height, kClientWarpGroupSize);
   }
   // Results feed the sink's copies, later shaders and the host (counters).
@@ -276,8 +292,8 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
 
 WarpCounts ForwardPass::read_counts(uint32_t slot_index) const {
   if (slot_index >= slots_.size()) throw std::invalid_argument("forward pass: slot out of range");
-  if (options_.mode != ForwardMode::kPaperWarp) return WarpCounts{};
   const Slot& slot = slots_[slot_index];
+  if (!slot.counted) return WarpCounts{};
   return unpack_warp_counts(slot.counters, slot.count_words);
 }
 

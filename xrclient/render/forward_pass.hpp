@@ -8,10 +8,14 @@
 //                gl_FragCoord exactly as the compute passes get it from the depth image. It also writes each
 //                pixel's status into an R32_UINT attachment, which a small compute pass (status_count.comp)
 //                sums into WarpCounts.
+//   kServerEdges the warp with WarpSettings::server_edges(): source 0's 2x2 bilinear samples, bits they
+//                disagree on and pixels without a sample from the client's shadow maps (looked up only there),
+//                the compute warp's decisions (shaders/client/bilinear_warp.h); writes and counts the status as
+//                kPaperWarp does, plus the shadow-map fills and edges.
 // Targets, display-sized:
 //   depth  D32_SFLOAT (reversed-Z, as the G-buffer's)
 //   colour R8G8B8A8_UNORM, sRGB-encoded bytes (as the shading pass's output), ends in GENERAL
-//   status R8_UINT  kClientStatus* (kPaperWarp or write_mask; background where nothing was drawn; known
+//   status R8_UINT  kClientStatus* | kClientForwardStatusShadow* (kPaperWarp, kServerEdges or write_mask; background where nothing was drawn; known
 //                   everywhere drawn for the other modes), else a 1x1 placeholder
 //   mask   R32_UINT light mask (ForwardOptions::write_mask: tests; background: the unknown mask), else 1x1
 // Each pipeline has exactly the attachments it writes (shaders/client/forward*.frag share forward_body.h).
@@ -45,7 +49,9 @@ class ClientScene;
 class ShadowMaps;
 
 // Values equal shader_interface.h's kClientForward* constants.
-enum class ForwardMode : uint32_t { kLambert = 0, kShadowMaps = 1, kPaperWarp = 2 };
+enum class ForwardMode : uint32_t { kLambert = 0, kShadowMaps = 1, kPaperWarp = 2, kServerEdges = 3 };
+// Whether the mode writes and counts the status (the warp modes).
+bool counts_status(ForwardMode mode);
 const char* to_string(ForwardMode mode);
 
 struct ForwardOptions {
@@ -69,8 +75,8 @@ struct ForwardTargets {
 struct ForwardFrame {
   Camera display;
   double near_plane = kDefaultNearPlane;
-  const VisibilityInput* visibility = nullptr;  // kPaperWarp: this eye's newest (null: none, all pixels unknown)
-  const ShadowMaps* shadow_maps = nullptr;      // kShadowMaps (required)
+  const VisibilityInput* visibility = nullptr;  // the warp modes: this eye's newest (null: none, all unknown)
+  const ShadowMaps* shadow_maps = nullptr;      // kShadowMaps, kServerEdges (required)
   std::span<const SceneLight> lights;           // the scene's lights (at most kMaxLights)
   ShadingSettings shading;                      // exposure, background, swap_red_blue; view must be kShaded
 };
@@ -90,9 +96,13 @@ class ForwardPass {
   };
   Recorded record(VkCommandBuffer cmd, uint32_t slot, const ForwardFrame& frame, ForwardTargets& targets);
 
-  // kPaperWarp: the per-status pixel counts of the slot's last recorded pass; call after its submission completed.
+  // The warp modes: the per-status pixel counts of the slot's last recorded pass; call after its submission
+  // completed.
   WarpCounts read_counts(uint32_t slot) const;
   const ForwardOptions& options() const { return options_; }
+  // Switches the mode for the passes recorded after: only between modes with the same attachments (the
+  // pipelines are made for them), else throws std::invalid_argument.
+  void set_mode(ForwardMode mode);
 
  private:
   struct Slot {
@@ -101,8 +111,9 @@ class ForwardPass {
     vk::Buffer shadow_lights;  // ClientShadowLight[kMaxLights]
     vk::Buffer lights;         // PackedLight[kMaxLights]
     vk::Buffer shading;        // ClientForwardShading
-    vk::Buffer counters;       // kPaperWarp: packed per-bucket counts, grown on demand
+    vk::Buffer counters;       // the warp modes: packed per-bucket counts, grown on demand
     uint32_t count_words = 0;
+    bool counted = false;      // the last recorded pass counted
     VkDescriptorSet set = VK_NULL_HANDLE;
     VkDescriptorSet count_set = VK_NULL_HANDLE;
     explicit Slot(const vk::Context& context);

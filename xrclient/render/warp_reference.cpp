@@ -50,6 +50,12 @@ WarpSettings WarpSettings::full() {
   return s;
 }
 
+WarpSettings WarpSettings::server_edges() {
+  WarpSettings s;
+  s.bilinear = s.shadow_edges = s.shadow_fill = true;
+  return s;
+}
+
 uint64_t WarpCounts::surface() const { return unknown_surface() + (*this)[WarpStatus::kKnown]; }
 
 bool same_eye(const Camera& display, const Camera& traced) {

@@ -98,6 +98,9 @@ struct WarpSettings {
   double plane_tolerance_rel = 0.02;  // metres per metre of depth
   double plane_tolerance_abs = 0.01;  // metres
   static WarpSettings full();  // every ingredient on
+  // Server bits first: 2x2 bilinear samples, bits they all agree on from the server, the others and pixels
+  // without a usable sample from the shadow maps; no depth test, so no traced depth: the forward pass runs it.
+  static WarpSettings server_edges();
   bool uses_shadow_maps() const { return shadow_fill || shadow_edges || shadow_first; }
   bool operator==(const WarpSettings&) const = default;
 };

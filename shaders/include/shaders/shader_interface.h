@@ -324,8 +324,14 @@ DHR_CONST uint kClientForwardBindingShading = 6;       // storage buffer ClientF
 DHR_CONST uint kClientForwardLambert = 0u;     // every light bit set: Lambert without shadows
 DHR_CONST uint kClientForwardShadowMaps = 1u;  // the mask of the client's shadow maps (shadow_lookup.h)
 DHR_CONST uint kClientForwardPaperWarp = 2u;   // the paper's warp of source 0 (paper_warp.h); writes the status
-// Colour attachment 0: display-encoded bytes (RGBA8 UNORM); 1: R8_UINT status (kClientStatus*; the
-// count pass sums it); 2 (optional, tests): R32_UINT mask.
+// Server bits first (WarpSettings::server_edges): source 0's 2x2 bilinear samples (bilinear_warp.h); bits they
+// disagree on and pixels without a sample from the shadow maps. Writes the status.
+DHR_CONST uint kClientForwardServerEdges = 3u;
+// Colour attachment 0: display-encoded bytes (RGBA8 UNORM); 1: R8_UINT status (kClientStatus*, with these
+// flags; the count pass sums it); 2 (optional, tests): R32_UINT mask.
+DHR_CONST uint kClientForwardStatusShadowFill = 16u;  // an unknown pixel took the shadow maps (kClientFillShadowMap)
+DHR_CONST uint kClientForwardStatusShadowEdge = 32u;  // a known pixel's undecided bits took the shadow maps
+DHR_CONST uint kClientForwardStatusMask = 15u;        // the kClientStatus* part
 struct ClientForwardShading {
   float exposure;
   uint mode;             // kClientForward*

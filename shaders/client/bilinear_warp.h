@@ -1,0 +1,107 @@
+// The warp's sampling of one old buffer and its agreement rule (GLSL; included by warp.comp and
+// client/forward_body.h): one definition for the compute warp and the forward pass. The CPU reference is
+// render/warp_reference.cpp. Everything comes as arguments: the source (ClientWarpSource) and the lookup's
+// continuous coordinate in its buffer; the includer loads the samples' row validity and masks from its own
+// buffers (GLSL cannot pass them) and decides which samples are used (row arrived, depth test):
+//   const WarpSamples s = warp_samples(pixel, bilinear);
+//   for (int k = 0; k < s.count; ++k) { const ivec2 c = warp_sample_pixel(s, k); if (!warp_sample_in_buffer(src, c))
+//     continue; ... masks[k] = warp_sample_mask(src, word, warp_sample_mask_bit(src, c)); used |= 1u << k; }
+//   const WarpVote v = warp_vote(s, masks, used);  // used != 0
+#ifndef DHR_BILINEAR_WARP_H
+#define DHR_BILINEAR_WARP_H
+
+#include "shaders/shader_interface.h"
+
+// The old pixels a lookup reads. Nearest (the paper): the one under the lookup; bilinear: the 2x2 around
+// pixel - 0.5 (one of them is the nearest's), sample k at first + (k & 1, k >> 1).
+struct WarpSamples {
+  ivec2 first;
+  vec2 frac;     // bilinear: the lookup between the samples' centres (the weights)
+  int count;     // 1 or 4
+  int exact;     // the sample whose centre is nearest the lookup
+  bool centred;  // bilinear: the lookup lies within kClientWarpExactLookup of that centre
+};
+
+WarpSamples warp_samples(vec2 pixel, bool bilinear) {
+  WarpSamples s;
+  const float bx = bilinear ? pixel.x - 0.5 : pixel.x;
+  const float by = bilinear ? pixel.y - 0.5 : pixel.y;
+  s.first = ivec2(int(floor(bx)), int(floor(by)));
+  s.frac = vec2(bx - float(s.first.x), by - float(s.first.y));
+  s.count = bilinear ? 4 : 1;
+  s.exact = (s.frac.x < 0.5 ? 0 : 1) + 2 * (s.frac.y < 0.5 ? 0 : 1);
+  s.centred = bilinear && min(s.frac.x, 1.0 - s.frac.x) <= kClientWarpExactLookup &&
+              min(s.frac.y, 1.0 - s.frac.y) <= kClientWarpExactLookup;
+  return s;
+}
+
+ivec2 warp_sample_pixel(WarpSamples s, int k) { return s.first + ivec2(k & 1, k >> 1); }
+
+float warp_sample_weight(WarpSamples s, int k) {
+  if (s.count == 1) return 1.0;
+  return ((k & 1) != 0 ? s.frac.x : 1.0 - s.frac.x) * ((k >> 1) != 0 ? s.frac.y : 1.0 - s.frac.y);
+}
+
+bool warp_sample_in_buffer(ClientWarpSource src, ivec2 c) {
+  return c.x >= 0 && c.y >= 0 && c.x < int(src.old_width) && c.y < int(src.old_height);
+}
+
+// Whether row `row` arrived, given word row >> 5 of the source's row validity (any value without validity).
+bool warp_row_arrived(ClientWarpSource src, uint row_word, uint row) {
+  return (src.flags & kClientSourceHasRowValidity) == 0u || ((row_word >> (row & 31u)) & 1u) != 0u;
+}
+
+// The first bit of old pixel c's mask in the source's packed masks; the mask is in word bit >> 5.
+uint warp_sample_mask_bit(ClientWarpSource src, ivec2 c) {
+  return (uint(c.y) * src.old_width + uint(c.x)) * src.mask_bits;
+}
+
+uint warp_sample_mask(ClientWarpSource src, uint word, uint bit) {
+  const uint width_mask = src.mask_bits >= 32u ? 0xFFFFFFFFu : (1u << src.mask_bits) - 1u;
+  return (word >> (bit & 31u)) & width_mask;
+}
+
+// What the used samples say.
+struct WarpVote {
+  uint agree;  // bits all used samples agree on (their value is in `value`)
+  uint value;  // agreed bits: their value; other bits: the bilinear vote (set when 2 * the weight of the used
+               // samples with the bit >= the weight of the used samples)
+  bool exact;  // centred on a used sample: `value` is its mask, every bit agreed
+};
+
+// masks[k]: sample k's mask where bit k of `used` is set (used != 0).
+WarpVote warp_vote(WarpSamples s, uint masks[4], uint used) {
+  WarpVote v;
+  v.exact = false;
+  if (s.centred && ((used >> s.exact) & 1u) != 0u) {
+    v.exact = true;
+    v.agree = 0xFFFFFFFFu;
+    v.value = masks[s.exact];
+    return v;
+  }
+  uint and_m = 0xFFFFFFFFu, or_m = 0u;
+  for (int k = 0; k < s.count; ++k) {
+    if (((used >> k) & 1u) == 0u) continue;
+    and_m &= masks[k];
+    or_m |= masks[k];
+  }
+  v.agree = ~(and_m ^ or_m);
+  v.value = and_m;
+  uint open = or_m & ~and_m;
+  if (open != 0u) {
+    float total = 0.0;
+    for (int k = 0; k < s.count; ++k) total += ((used >> k) & 1u) != 0u ? warp_sample_weight(s, k) : 0.0;
+    while (open != 0u) {
+      const int bit = findLSB(open);
+      open &= open - 1u;
+      float set = 0.0;
+      for (int k = 0; k < s.count; ++k) {
+        set += (((used >> k) & 1u) != 0u && ((masks[k] >> bit) & 1u) != 0u) ? warp_sample_weight(s, k) : 0.0;
+      }
+      if (2.0 * set >= total) v.value |= 1u << bit;
+    }
+  }
+  return v;
+}
+
+#endif  // DHR_BILINEAR_WARP_H
