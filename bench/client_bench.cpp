@@ -20,6 +20,10 @@
 //                    reads the other eye's buffer, the eye's previous one and the shadow maps; dhr_full_decode_ms,
 //                    dhr_full_upload_ms, dhr_full_record_ms as above. While shipped::kWarpFull is true, dhr_ms and
 //                    dhr_full_ms measure the same thing (twice).
+//   dhr_edges_ms     the same with `--warp edges` (WarpSettings::server_edges(): 2x2 lookups, bits they disagree on
+//                    and pixels without a sample from the shadow maps, on the forward path); dhr_edges_*_ms as
+//                    above, dhr_edges_shadow_frac: the median fraction of surface pixels that looked up the maps.
+//                    Against the goals: dhr_edges_vs_forward and dhr_edges_added_vs_shadowmap_added.
 //   dhr_paper_static_ms  the paper's warp on the forward path, one eye at a fixed view with a fixed visibility
 //                    buffer (render::EyePipeline directly): the warp and shading alone, no frame loop
 //   dhr_deferred_ms  the same rule in the deferred passes (G-buffer -> warp -> shading; the client before issue 15),
@@ -229,6 +233,8 @@ class ClientLoop {
       if (stats.warp.surface() > 0) {
         known_frac_.push_back(static_cast<double>(stats.warp[render::WarpStatus::kKnown]) /
                               static_cast<double>(stats.warp.surface()));
+        shadow_frac_.push_back(static_cast<double>(stats.warp.edges_shadow_map + stats.warp.filled_shadow_map) /
+                               static_cast<double>(stats.warp.surface()));
       }
       if (!stats.gpu.valid) continue;
       gpu.push_back(stats.gpu.total_ms);
@@ -250,6 +256,8 @@ class ClientLoop {
     out[name_ + "_record_ms"] = median(record_ms_);
     out[name_ + "_record_wall_ms"] = median(record_wall_ms_);
     out[name_ + "_known_frac"] = median(known_frac_);
+    // Where the maps are looked up only for those pixels (with shadow_first they are looked up nearly everywhere).
+    if (warp_ == render::WarpSettings::server_edges()) out[name_ + "_shadow_frac"] = median(shadow_frac_);
   }
 
  private:
@@ -286,7 +294,7 @@ class ClientLoop {
   Fov fov_;
   uint32_t total_;
   std::array<vk::Buffer, 3> upload_;
-  std::vector<double> traced_depth_ms_, decode_ms_, payload_bytes_, upload_ms_, known_frac_;
+  std::vector<double> traced_depth_ms_, decode_ms_, payload_bytes_, upload_ms_, known_frac_, shadow_frac_;
   std::vector<double> record_ms_, record_wall_ms_;
   uint64_t traced_depth_frames_ = 0;
   uint64_t older_frames_ = 0;
@@ -350,7 +358,7 @@ int run(const Options& o) {
   out["device"] = context->info().name;
   out["frames"] = o.frames;
 
-  // The frame loops first: the shipped client, then `--warp full`.
+  // The frame loops first: the shipped client, then `--warp full` and `--warp edges`.
   std::vector<Config> configs;
   std::vector<std::unique_ptr<ClientLoop>> loops;
   const auto add_loop = [&](const char* name, const client::CoordinatorOptions& options) {
@@ -365,6 +373,11 @@ int run(const Options& o) {
     client::CoordinatorOptions full = shipped_options();
     full.eye.warp = render::WarpSettings::full();
     add_loop("dhr_full", full);
+  }
+  {
+    client::CoordinatorOptions edges = shipped_options();
+    edges.eye.warp = render::WarpSettings::server_edges();
+    add_loop("dhr_edges", edges);
   }
 
   // The paper's warp and its deferred twin, one eye each at the fixed view.
@@ -440,6 +453,9 @@ int run(const Options& o) {
   out["dhr_vs_forward"] = dhr / forward;
   out["dhr_added_vs_shadowmap_added"] = (dhr - forward) / (shadowmap - forward);
   if (!o.skip_full) out["dhr_full_vs_forward"] = out["dhr_full_ms"].get<double>() / forward;
+  const double edges = out["dhr_edges_ms"].get<double>();
+  out["dhr_edges_vs_forward"] = edges / forward;
+  out["dhr_edges_added_vs_shadowmap_added"] = (edges - forward) / (shadowmap - forward);
   out["dhr_paper_static_vs_forward"] = out["dhr_paper_static_ms"].get<double>() / forward;
   out["dhr_deferred_vs_forward"] = out["dhr_deferred_ms"].get<double>() / forward;
   out["shadowmap_vs_forward"] = shadowmap / forward;
