@@ -24,6 +24,7 @@ run_client() {  # name, then extra arguments
 
 run_client shaded --net-delay 20 || { tail -n 20 "$tmp/shaded.err"; echo "FAIL: shaded run"; exit 1; }
 run_client light --view light:0 --guard 8x6 || { tail -n 20 "$tmp/light.err"; echo "FAIL: --view light:0 run"; exit 1; }
+run_client edges --warp edges || { tail -n 20 "$tmp/edges.err"; echo "FAIL: --warp edges run"; exit 1; }
 
 python3 - "$tmp" <<'PY'
 import json, os, sys
@@ -44,6 +45,14 @@ for name in ("shaded", "light"):
     # --guard counts both sides together; the default is the paper's 64x36 at 1920x1080, scaled (4x2 at 96x72).
     assert summary["guard"] == ([8, 6] if name == "light" else [4, 2]), summary["guard"]
     print(name, summary["view"], "frames", summary["frames"], "predicted", round(summary["predicted_frac"], 3))
+
+# --warp edges: the server's bits on the forward path, the shadow maps where the samples disagree or none is usable.
+summary = json.loads(open(f"{tmp}/edges.out").read().strip().splitlines()[-1])
+assert summary["exit"] == "clean" and summary["frames"] == 45 and summary["frames_with_visibility"] > 0, summary
+eyes = [e for line in open(f"{tmp}/edges/stats.jsonl").read().splitlines() for e in json.loads(line)["eyes"]]
+assert all(e["forward"] for e in eyes), "--warp edges left the forward path"
+assert sum(e["known"] for e in eyes) > 0 and sum(e["filled_shadow_map"] for e in eyes) > 0, eyes[-1]
+print("edges: known", sum(e["known"] for e in eyes), "filled from the shadow maps", sum(e["filled_shadow_map"] for e in eyes))
 
 # The light view of the last frame: lit (230), shadowed (26), unknown (red) or background; both lit and
 # shadowed present (light 0 of the default room casts shadows into the camera's view).
