@@ -18,7 +18,7 @@
 //                    two, so that each frame can be waited for and interleaved with the others.
 //   dhr_full_ms      the same with `--warp full`: the traced camera's depth is rendered every frame, the warp also
 //                    reads the other eye's buffer, the eye's previous one and the shadow maps; dhr_full_decode_ms,
-//                    dhr_full_upload_ms, dhr_full_record_ms as above. While shipped::kWarpFull is true, dhr_ms and
+//                    dhr_full_upload_ms, dhr_full_record_ms as above. While shipped::kWarp is kFull, dhr_ms and
 //                    dhr_full_ms measure the same thing (twice).
 //   dhr_edges_ms     the same with `--warp edges` (WarpSettings::server_edges(): 2x2 lookups, bits they disagree on
 //                    and pixels without a sample from the shadow maps, on the forward path); dhr_edges_*_ms as
@@ -184,7 +184,8 @@ client::CoordinatorOptions shipped_options() {
   client::CoordinatorOptions o;
   o.plan.schedule = client::shipped::kSchedule;
   o.plan.x_max = client::shipped::kXMax;
-  if (client::shipped::kWarpFull) o.eye.warp = render::WarpSettings::full();
+  if (client::shipped::kWarp == client::WarpChoice::kFull) o.eye.warp = render::WarpSettings::full();
+  if (client::shipped::kWarp == client::WarpChoice::kEdges) o.eye.warp = render::WarpSettings::server_edges();
   o.eye.forward = client::shipped::kForwardPath;
   o.eye.frames_in_flight = 1;
   return o;

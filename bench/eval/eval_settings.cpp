@@ -43,10 +43,14 @@ const char* method_name(Method method) {
 MethodSpec shipped_method() {
   MethodSpec spec;
   spec.shipped = true;
-  if (client::shipped::kWarpFull) {
+  if (client::shipped::kWarp != client::WarpChoice::kPaper) {
     spec.method = Method::kFull;
     if (!server::shipped::kPredict) spec.without |= kIngredientPrediction;
     if (!server::shipped::kAdaptiveFov) spec.without |= kIngredientAdaptiveFov;
+    // server_edges(): full without the ingredients that need the traced depth or decide before the server's bits.
+    if (client::shipped::kWarp == client::WarpChoice::kEdges)
+      spec.without |= kIngredientDepthTest | kIngredientShadowFirst | kIngredientOtherEye | kIngredientOlderBuffer |
+                      kIngredientNeighbour;
   } else {
     spec.method = server::shipped::kPredict ? Method::kPaperPred : Method::kPaper;
   }
@@ -110,7 +114,7 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
     s.shadow_fill = true;
     return s;
   }
-  if (spec.shipped && !client::shipped::kWarpFull) return s;  // the paper's warp
+  if (spec.shipped && client::shipped::kWarp == client::WarpChoice::kPaper) return s;  // the paper's warp
   if (spec.method != Method::kFull) return s;
   s.bilinear = (spec.without & kIngredientBilinear) == 0;
   s.depth_test = (spec.without & kIngredientDepthTest) == 0;

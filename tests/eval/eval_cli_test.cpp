@@ -265,10 +265,15 @@ TEST(EvalCliMethodsTest, LocalAndFullWriteTheirFillCounts) {
 // to (whatever the --guard and --x-max lists say for the other methods).
 TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
   std::string equivalent;
-  if (dhr::client::shipped::kWarpFull) {
+  if (dhr::client::shipped::kWarp != dhr::client::WarpChoice::kPaper) {
+    // Ingredients in dhr-eval's naming order (bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first,
+    // pred, adaptive-fov, older, neighbour).
+    const bool edges = dhr::client::shipped::kWarp == dhr::client::WarpChoice::kEdges;
     equivalent = "full";
+    if (edges) equivalent += "-no-depth-no-other-eye-no-shadow-first";
     if (!dhr::server::shipped::kPredict) equivalent += "-no-pred";
     if (!dhr::server::shipped::kAdaptiveFov) equivalent += "-no-adaptive-fov";
+    if (edges) equivalent += "-no-older-no-neighbour";
   } else {
     equivalent = dhr::server::shipped::kPredict ? "paper+pred" : "paper";
   }

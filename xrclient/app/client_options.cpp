@@ -66,15 +66,6 @@ bool parse_view(const std::string& text, ClientOptions& out) {
 
 }  // namespace
 
-const char* to_string(WarpChoice choice) {
-  switch (choice) {
-    case WarpChoice::kPaper: return "paper";
-    case WarpChoice::kFull: return "full";
-    case WarpChoice::kEdges: return "edges";
-  }
-  return "?";
-}
-
 ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int* exit_code) {
   CLI::App app{"DHR-XR headset client: renders a scene with ray-traced shadows streamed from dhr-server"};
   std::string eye_size;

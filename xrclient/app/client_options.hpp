@@ -13,14 +13,6 @@
 
 namespace dhr::client {
 
-// --warp: which render::WarpSettings the eyes use.
-enum class WarpChoice {
-  kPaper,  // the paper's warp (unknown pixels lit)
-  kFull,   // render::WarpSettings::full() (deferred, with shadow maps)
-  kEdges,  // render::WarpSettings::server_edges() (forward, with shadow maps)
-};
-const char* to_string(WarpChoice choice);
-
 struct ClientOptions {
   bool smoke = false;
   SmokeOptions smoke_options;  // --frames, --timeout, --vk-device, --swapchain-format also apply to --smoke
@@ -41,7 +33,7 @@ struct ClientOptions {
   uint32_t x_max = shipped::kXMax;
   bool codec_v2 = true;  // --codec v2 (offer v2; the server decides) or v1 (LZ4 only)
   bool deferred = !shipped::kForwardPath;  // --render-path deferred: never the forward path (render::EyePipelineOptions::forward)
-  WarpChoice warp = shipped::kWarpFull ? WarpChoice::kFull : WarpChoice::kPaper;  // --warp
+  WarpChoice warp = shipped::kWarp;  // --warp
   std::string record_trace;  // --record-trace FILE (OpenXR path)
   double connect_timeout_s = 5.0;
   std::string vk_device = "auto";
