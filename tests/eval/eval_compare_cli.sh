@@ -19,10 +19,12 @@ work="$(mktemp -d)"
 trap 'stop_server; rm -rf "$work"' EXIT
 
 printf '# dhr-trace v1\nt,x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,1\n2,0,0,0,0,0,0,1\n' >"$work/still.csv"
+# --warp paper: frame 0, before any visibility, is shaded lit (the paper's fallback), which compare must show as too
+# lit; the shipped warp would shade it from the client's shadow maps instead.
 # --net-delay 20: frame 0's pose reaches the server 20 ms later, so frame 0 is shown before any visibility of it
 # can arrive (without it, a server tracing 96x72 on loopback sometimes answered within frame 0's own step).
 "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --trace "$work/still.csv" \
-  --offscreen "$work/shown" --eye-size 96x72 --frames 31 --png-every 30 --net-delay 20 \
+  --offscreen "$work/shown" --eye-size 96x72 --frames 31 --png-every 30 --net-delay 20 --warp paper \
   >"$work/client.out" 2>"$work/client.err" || {
   tail -n 20 "$work/client.err"; echo "FAIL: dhr-xrclient"; exit 1; }
 "$eval_exe" compare --scene "$scene" --shown "$work/shown" --out "$work/pictures" --threads 1 \

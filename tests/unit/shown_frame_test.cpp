@@ -100,6 +100,15 @@ void expect_rejected(const std::string& line, const std::string& phrase) {
   EXPECT_NE(error.find(phrase), std::string::npos) << "error: " << error << "\nline: " << line;
 }
 
+TEST(ShownFrame, EveryWarpTheClientWritesIsRead) {
+  for (const char* warp : {"paper", "full", "edges"}) {
+    std::string error;
+    const auto f = dhr::parse_shown_frame(edited("\"warp\":\"paper\"", std::string("\"warp\":\"") + warp + "\""), &error);
+    ASSERT_TRUE(f.has_value()) << warp << ": " << error;
+    EXPECT_EQ(f->warp, warp);
+  }
+}
+
 TEST(ShownFrame, MalformedLinesAreRejectedWithTheReason) {
   expect_rejected("", "not valid JSON");
   expect_rejected("{\"frame\": 1", "not valid JSON");
