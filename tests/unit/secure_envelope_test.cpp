@@ -25,8 +25,16 @@ Bytes sealed(const Key& key, const Bytes& plain) {
   return out;
 }
 
+// A fixed key: with a random one a 1-byte body (Bye) encrypted to itself once in 256 runs and failed the test
+// (seen once in CI); tests are deterministic.
+Key fixed_key() {
+  std::array<uint8_t, kKeySize> bytes{};
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<uint8_t>(0x5A ^ (i * 37));
+  return Key(bytes);
+}
+
 TEST(SecureEnvelope, SealedDatagramsOpenToThePlainBytesAndHideTheBody) {
-  const Key key = Key::random();
+  const Key key = fixed_key();
   for (const Datagram& d : test::sample_datagrams()) {
     const Bytes plain = encode_datagram(d);
     ASSERT_FALSE(plain.empty());
