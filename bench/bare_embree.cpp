@@ -1,5 +1,7 @@
 #include "bare_embree.hpp"
 
+#include "bench_timing.hpp"
+
 #include "trace/embree/embree_trace_tile.hpp"
 
 #include <algorithm>
@@ -26,10 +28,6 @@ void parallel_chunks(size_t count, size_t chunk, unsigned threads, Fn&& fn) {
   for (unsigned w = 1; w < workers; ++w) pool.emplace_back(work, w);
   work(0);
   for (std::thread& t : pool) t.join();
-}
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void reset_primary(RTCRayHit& rh) {

@@ -5,8 +5,8 @@
 // frame-loop configurations render both eyes per frame, each eye's passes timed on their own, and report the
 // median over all measured eye frames (2 per frame); their host times are per eye frame as well.
 //   dhr_ms           what dhr-xrclient ships (DESIGN 8b): its options without any given
-//                    (plan/shipped_defaults.hpp: today the paper's warp on the forward path, newest schedule, the
-//                    scaled paper guard band), through the client's own frame loop (client::FrameCoordinator, both
+//                    (plan/shipped_defaults.hpp: today `--warp edges` on the forward path, newest schedule, the
+//                    scaled paper guard band), through the client's own frame loop (client_loop.hpp, both
 //                    eyes): the head moves every frame and a new visibility frame per eye arrives every frame,
 //                    traced for the previous frame's pose (p = 1) with Embree and coded with codec v2 against that
 //                    eye's previous frame. Beside it, host times per eye frame: dhr_decode_ms (decoding that frame
@@ -18,8 +18,8 @@
 //                    two, so that each frame can be waited for and interleaved with the others.
 //   dhr_full_ms      the same with `--warp full`: the traced camera's depth is rendered every frame, the warp also
 //                    reads the other eye's buffer, the eye's previous one and the shadow maps; dhr_full_decode_ms,
-//                    dhr_full_upload_ms, dhr_full_record_ms as above. While shipped::kWarp is kFull, dhr_ms and
-//                    dhr_full_ms measure the same thing (twice).
+//                    dhr_full_upload_ms, dhr_full_record_ms as above. dhr_ms measures the same as the configuration of
+//                    the shipped warp (today dhr_edges_ms, twice).
 //   dhr_edges_ms     the same with `--warp edges` (WarpSettings::server_edges(): 2x2 lookups, bits they disagree on
 //                    and pixels without a sample from the shadow maps, on the forward path); dhr_edges_*_ms as
 //                    above, dhr_edges_shadow_frac: the median fraction of surface pixels that looked up the maps.
@@ -53,7 +53,9 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.hpp"
 #include "bench_views.hpp"
+#include "client_loop.hpp"
 #include "cli/exit_codes.hpp"
 #include "coded_visibility_source.hpp"
 #include "frame/frame_coordinator.hpp"
@@ -114,17 +116,6 @@ void add_lights(Scene& scene, uint32_t count) {
   }
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 // One configuration: renders frame i (submitted and waited for) and gives its GPU ms per eye (none without
 // timestamps).
 struct Config {
@@ -158,150 +149,6 @@ void measure(const Options& o, std::vector<Config>& configs) {
     if ((i + 1) % 10 == 0) std::fprintf(stderr, "client_bench: frame %u of %u\n", i + 1, o.warmup + o.frames);
   }
 }
-
-// Frame i of `total` for the frame loops: the head turns at 60 degrees/s about the vertical (centred on the
-// bookmark's view over the run) and drifts 0.5 mm per frame sideways, so no view (and no traced camera) repeats.
-FramePose moving_pose(const Pose& head, const Fov& fov, uint32_t i, uint32_t total) {
-  const double yaw = glm::radians(60.0 / 90.0) * (static_cast<double>(i) - 0.5 * static_cast<double>(total));
-  Pose moved = head;
-  moved.orientation = glm::normalize(glm::angleAxis(yaw, glm::dvec3(0.0, 1.0, 0.0)) * head.orientation);
-  moved.position += moved.orientation * glm::dvec3(0.0005 * static_cast<double>(i), 0.0, 0.0);
-  FramePose pose;
-  pose.frame = i;
-  pose.display_time_ns = static_cast<int64_t>(i) * 11'111'111;  // 90 Hz
-  for (uint32_t e = 0; e < 2; ++e) {
-    // left_eye_pose moves by -ipd/2 along the head's x axis: a negative IPD gives the right eye.
-    const double ipd = e == 0 ? kDefaultIpdMetres : -kDefaultIpdMetres;
-    pose.views[e] = View{left_eye_pose(moved, ipd), fov};
-  }
-  return pose;
-}
-
-// dhr-xrclient's coordinator options when no option is given: the shipped values, turned into options as its
-// command line does (xrclient/app/client_setup.cpp), except for one GPU slot (every frame waited for, as the
-// other configurations).
-client::CoordinatorOptions shipped_options() {
-  client::CoordinatorOptions o;
-  o.plan.schedule = client::shipped::kSchedule;
-  o.plan.x_max = client::shipped::kXMax;
-  if (client::shipped::kWarp == client::WarpChoice::kFull) o.eye.warp = render::WarpSettings::full();
-  if (client::shipped::kWarp == client::WarpChoice::kEdges) o.eye.warp = render::WarpSettings::server_edges();
-  o.eye.forward = client::shipped::kForwardPath;
-  o.eye.frames_in_flight = 1;
-  return o;
-}
-
-// A client frame loop as dhr-xrclient runs it, with its host-side costs (see the file comment); its keys start
-// with `name`.
-class ClientLoop {
- public:
-  ClientLoop(std::string name, const vk::Context& context, const render::ClientScene& scene, Extent size,
-             server::VisibilityTracer& tracer, const TracedFormat& format, const client::CoordinatorOptions& options,
-             const Pose& head, const Fov& fov, uint32_t total)
-      : name_(std::move(name)), context_(context), warp_(options.eye.warp), source_(tracer, format),
-        coordinator_(context, scene, size, source_, options), head_(head), fov_(fov), total_(total) {
-    coordinator_.set_on_frame([this](const client::FrameRecord& r) { last_ = r; });
-  }
-
-  const std::string& name() const { return name_; }
-
-  // Frame i: returns each eye's GPU ms; keeps the host times of frames from `first_kept` on.
-  std::vector<double> run(uint32_t i, uint32_t first_kept) {
-    const size_t decoded_before = source_.decode_ms().size();
-    const double busy_before = source_.busy_ms();
-    const double busy_cpu_before = source_.busy_cpu_ms();
-    const auto start = std::chrono::steady_clock::now();
-    const double cpu_start = thread_cpu_ms();
-    const bool submitted = coordinator_.run_frame(client::FrameInput{moving_pose(head_, fov_, i, total_), false}, sink_);
-    // Both without tracing and decoding (the source's).
-    const double step_cpu_ms = thread_cpu_ms() - cpu_start - (source_.busy_cpu_ms() - busy_cpu_before);
-    const double step_ms = ms_since(start) - (source_.busy_ms() - busy_before);
-    if (!submitted || !coordinator_.finish()) throw std::runtime_error(name_ + ": " + coordinator_.last_error());
-    if (i < first_kept) return {};
-    record_ms_.push_back(step_cpu_ms / 2.0);
-    record_wall_ms_.push_back(step_ms / 2.0);
-    for (size_t k = decoded_before; k < source_.decode_ms().size(); ++k) {
-      decode_ms_.push_back(source_.decode_ms()[k]);
-      payload_bytes_.push_back(source_.payload_bytes()[k]);
-    }
-    std::vector<double> gpu;
-    for (uint32_t e = 0; e < 2; ++e) {
-      const render::EyeStats& stats = last_.eyes[e].stats;
-      traced_depth_frames_ += stats.traced_depth_rendered ? 1 : 0;
-      older_frames_ += coordinator_.previous_visibility(e) ? 1 : 0;
-      forward_frames_ += stats.forward ? 1 : 0;
-      eye_frames_ += 1;
-      if (stats.warp.surface() > 0) {
-        known_frac_.push_back(static_cast<double>(stats.warp[render::WarpStatus::kKnown]) /
-                              static_cast<double>(stats.warp.surface()));
-        shadow_frac_.push_back(static_cast<double>(stats.warp.edges_shadow_map + stats.warp.filled_shadow_map) /
-                               static_cast<double>(stats.warp.surface()));
-      }
-      if (!stats.gpu.valid) continue;
-      gpu.push_back(stats.gpu.total_ms);
-      traced_depth_ms_.push_back(stats.gpu.traced_depth_ms);
-      measure_upload(e);
-    }
-    return gpu;
-  }
-
-  void report(nlohmann::ordered_json& out) const {
-    out[name_ + "_path"] = forward_frames_ == eye_frames_ ? "forward" : forward_frames_ == 0 ? "deferred" : "mixed";
-    out[name_ + "_traced_depth_ms"] = median(traced_depth_ms_);
-    out[name_ + "_eye_frames"] = eye_frames_;  // measured, both eyes
-    out[name_ + "_traced_depth_eye_frames"] = traced_depth_frames_;  // of those, with a traced depth rendered
-    out[name_ + "_older_eye_frames"] = older_frames_;                // ... with a previous buffer held
-    out[name_ + "_decode_ms"] = median(decode_ms_);
-    out[name_ + "_coded_bytes"] = median(payload_bytes_);
-    out[name_ + "_upload_ms"] = median(upload_ms_);
-    out[name_ + "_record_ms"] = median(record_ms_);
-    out[name_ + "_record_wall_ms"] = median(record_wall_ms_);
-    out[name_ + "_known_frac"] = median(known_frac_);
-    // Where the maps are looked up only for those pixels (with shadow_first they are looked up nearly everywhere).
-    if (warp_ == render::WarpSettings::server_edges()) out[name_ + "_shadow_frac"] = median(shadow_frac_);
-  }
-
- private:
-  // The warp pass writes each source it reads (this eye's newest; with the warp's ingredients, the other eye's
-  // newest and this eye's previous) into a host-visible buffer: the same byte copies, timed on their own.
-  void measure_upload(uint32_t e) {
-    const std::array<const std::optional<VisibilityFrame>*, 3> sources = {
-        &coordinator_.visibility(e), warp_.other_eye ? &coordinator_.visibility(1 - e) : nullptr,
-        warp_.older_buffer ? &coordinator_.previous_visibility(e) : nullptr};
-    double ms = 0.0;
-    for (size_t s = 0; s < sources.size(); ++s) {
-      if (sources[s] == nullptr || !*sources[s]) continue;
-      const VisibilityBuffer& buffer = (*sources[s])->buffer;
-      const VkDeviceSize bytes = (buffer.size_bytes() + 3) / 4 * 4;
-      if (!upload_[s] || upload_[s].size() < bytes) {
-        upload_[s] = vk::Buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-      }
-      const auto start = std::chrono::steady_clock::now();
-      upload_[s].write(buffer.data.data(), buffer.data.size());
-      ms += ms_since(start);
-    }
-    upload_ms_.push_back(ms);
-  }
-
-  std::string name_;
-  const vk::Context& context_;
-  render::WarpSettings warp_;
-  CodedVisibilitySource source_;
-  client::FrameCoordinator coordinator_;
-  client::FrameSink sink_;  // nothing: the images stay in the eye pipelines
-  client::FrameRecord last_;
-  Pose head_;
-  Fov fov_;
-  uint32_t total_;
-  std::array<vk::Buffer, 3> upload_;
-  std::vector<double> traced_depth_ms_, decode_ms_, payload_bytes_, upload_ms_, known_frac_, shadow_frac_;
-  std::vector<double> record_ms_, record_wall_ms_;
-  uint64_t traced_depth_frames_ = 0;
-  uint64_t older_frames_ = 0;
-  uint64_t forward_frames_ = 0;
-  uint64_t eye_frames_ = 0;
-};
 
 int run(const Options& o) {
   const std::optional<Extent> size = parse_size(o.size);
@@ -440,7 +287,7 @@ int run(const Options& o) {
   measure(o, configs);
   for (const Config& c : configs) {
     if (c.samples.empty()) throw std::runtime_error("no GPU timestamps on " + context->info().name + ": nothing to measure");
-    out[c.name] = median(c.samples);
+    out[c.name] = median(c.samples, std::nan(""));
   }
   for (const std::unique_ptr<ClientLoop>& loop : loops) loop->report(out);
   const render::EyeStats& paper_stats = eye_stats[0];

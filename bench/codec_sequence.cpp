@@ -1,5 +1,7 @@
 #include "codec_sequence.hpp"
 
+#include "bench_timing.hpp"
+
 #include "codec/codec.hpp"
 #include "codec/codec_v2.hpp"
 #include "json_writer.hpp"
@@ -24,16 +26,6 @@ namespace {
 
 constexpr double kFramePeriodS = 1.0 / 90.0;
 constexpr size_t kClientHeldFrames = 32;  // complete frames the client keeps per eye as references
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 // Point lights spread over the scene's bounds below its top (many-light runs): added after the scene's own.
 void add_lights(Scene& scene, uint32_t total) {
@@ -243,8 +235,8 @@ int run_sequence(const SequenceOptions& o) {
   j.value("v2_pixel_bits_coded_per_eye_frame", static_cast<double>(pixels_coded) / eye_frames, 0);
   j.value("v2_block_lights_copied_frac", blocks > 0 ? static_cast<double>(blocks_copied) / blocks : 0.0, 4);
   j.value("v2_block_lights_coded_frac", blocks > 0 ? static_cast<double>(blocks_coded) / blocks : 0.0, 4);
-  j.value("v2_encode_ms_per_eye", median(encode_ms), 3);
-  j.value("v2_decode_ms_per_eye", median(decode_ms), 3);
+  j.value("v2_encode_ms_per_eye", median(encode_ms, 0.0), 3);
+  j.value("v2_decode_ms_per_eye", median(decode_ms, 0.0), 3);
   j.value("lossless", lossless);
   j.value("unavailable_frac", pixels > 0 ? static_cast<double>(unavailable) / static_cast<double>(pixels) : 0.0, 5);
   j.end_object();

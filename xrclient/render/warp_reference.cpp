@@ -43,6 +43,15 @@ uint64_t WarpCounts::unknown_surface() const {
          (*this)[WarpStatus::kNoData] + (*this)[WarpStatus::kDisoccluded];
 }
 
+WarpSettings warp_settings_for(client::WarpChoice choice) {
+  switch (choice) {
+    case client::WarpChoice::kPaper: return WarpSettings{};
+    case client::WarpChoice::kFull: return WarpSettings::full();
+    case client::WarpChoice::kEdges: return WarpSettings::server_edges();
+  }
+  return WarpSettings{};
+}
+
 WarpSettings WarpSettings::full() {
   WarpSettings s;
   s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = s.shadow_first = true;

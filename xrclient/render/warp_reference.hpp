@@ -32,6 +32,7 @@
 // its decisions are from flipping; the tests make pixels with a margin under 2e-3 background and then require
 // GPU == CPU on every pixel.
 #pragma once
+#include "plan/warp_choice.hpp"
 #include <array>
 #include <cstdint>
 #include <glm/vec2.hpp>
@@ -104,6 +105,10 @@ struct WarpSettings {
   bool uses_shadow_maps() const { return shadow_fill || shadow_edges || shadow_first; }
   bool operator==(const WarpSettings&) const = default;
 };
+
+// The settings of a --warp choice (paper: WarpSettings{}): one mapping for dhr-xrclient's command line and
+// client_bench's shipped configuration.
+WarpSettings warp_settings_for(client::WarpChoice choice);
 
 // Mask for unknown pixels: every light bit of the buffer, all 32 without one.
 uint32_t unknown_mask(const VisibilityBuffer* visibility);
