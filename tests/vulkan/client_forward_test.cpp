@@ -89,6 +89,35 @@ VisibilityBuffer blocky(const Camera& traced, uint32_t lights) {
   return b;
 }
 
+// The warp tests' frame: this eye's buffer traced for traced_view(), rows 40-47 lost (their lookups are unknown),
+// the display view. Holds what the frame points to, so it is neither copied nor moved.
+struct WarpFrame {
+  WarpFrame(const Scene& scene, VisibilityBuffer (*bits)(const Camera&, uint32_t), const ShadowMaps* maps = nullptr)
+      : traced(Camera::with_guard_band(traced_view(), kExtent, kGuard)),
+        buffer(bits(traced, static_cast<uint32_t>(scene.lights.size()))),
+        rows(traced.extent.height, 1) {
+    for (uint32_t r = 40; r < 48; ++r) rows[r] = 0;
+    input.buffer = &buffer;
+    input.traced = traced;
+    input.row_valid = rows;
+    view = display_view();
+    frame.display = display_camera(view, kExtent);
+    frame.near_plane = kNear;
+    frame.visibility = &input;
+    frame.shadow_maps = maps;
+    frame.lights = scene.lights;
+  }
+  WarpFrame(const WarpFrame&) = delete;
+  WarpFrame& operator=(const WarpFrame&) = delete;
+
+  Camera traced;
+  VisibilityBuffer buffer;
+  std::vector<uint8_t> rows;
+  VisibilityInput input;
+  View view;
+  ForwardFrame frame;
+};
+
 struct ForwardResult {
   std::vector<float> depth;
   std::vector<uint8_t> colour;
@@ -119,20 +148,12 @@ ForwardResult run_forward(vk::Context& ctx, const ClientScene& scene, ForwardMod
 TEST_F(ClientForwardTest, PaperWarpEqualsTheCpuReferenceAndTheDeferredPipeline) {
   const Scene scene = default_room();
   const ClientScene gpu_scene(ctx(), scene);
-  const Camera traced = Camera::with_guard_band(traced_view(), kExtent, kGuard);
-  const VisibilityBuffer buffer = patterned(traced, static_cast<uint32_t>(scene.lights.size()));
-  VisibilityInput input;
-  input.buffer = &buffer;
-  input.traced = traced;
-  std::vector<uint8_t> rows(traced.extent.height, 1);
-  for (uint32_t r = 40; r < 48; ++r) rows[r] = 0;  // lost rows: unknown where looked up
-  input.row_valid = rows;
-  const View view = display_view();
-  ForwardFrame frame;
-  frame.display = display_camera(view, kExtent);
-  frame.near_plane = kNear;
-  frame.visibility = &input;
-  frame.lights = scene.lights;
+  const WarpFrame warp(scene, patterned);
+  const Camera& traced = warp.traced;
+  const VisibilityBuffer& buffer = warp.buffer;
+  const VisibilityInput& input = warp.input;
+  const View& view = warp.view;
+  const ForwardFrame& frame = warp.frame;
   const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kPaperWarp, frame);
 
   // The forward depth is the G-buffer pass's, bit for bit.
@@ -246,21 +267,12 @@ TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline
   const Scene scene = default_room();
   const ClientScene gpu_scene(ctx(), scene);
   const ShadowMaps maps(ctx(), gpu_scene);
-  const Camera traced = Camera::with_guard_band(traced_view(), kExtent, kGuard);
-  const VisibilityBuffer buffer = blocky(traced, static_cast<uint32_t>(scene.lights.size()));
-  VisibilityInput input;
-  input.buffer = &buffer;
-  input.traced = traced;
-  std::vector<uint8_t> rows(traced.extent.height, 1);
-  for (uint32_t r = 40; r < 48; ++r) rows[r] = 0;  // lost rows: from the shadow maps
-  input.row_valid = rows;
-  const View view = display_view();
-  ForwardFrame frame;
-  frame.display = display_camera(view, kExtent);
-  frame.near_plane = kNear;
-  frame.visibility = &input;
-  frame.shadow_maps = &maps;
-  frame.lights = scene.lights;
+  const WarpFrame warp(scene, blocky, &maps);  // lost rows: from the shadow maps
+  const Camera& traced = warp.traced;
+  const VisibilityBuffer& buffer = warp.buffer;
+  const VisibilityInput& input = warp.input;
+  const View& view = warp.view;
+  const ForwardFrame& frame = warp.frame;
   const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, frame);
 
   // The deferred pipeline with the same settings: its G-buffer normals feed the CPU reference.
