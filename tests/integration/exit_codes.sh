@@ -47,6 +47,11 @@ if [ -n "$client" ]; then
   play=(--trace "$trace" --offscreen "$tmp/frames" --eye-size 64x48 --frames 10 --png-every 0 --connect-timeout 5)
   expect 2 "dhr-xrclient bad scene" "$client" --scene "$bad_scene" --server 127.0.0.1:9 "${play[@]}"
   expect 2 "dhr-xrclient --server without a port" "$client" --scene "$scene" --server nohostport "${play[@]}"
+  printf '# dhr-trace v1\nt,x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,1\n0.1,nan,0,0,0,0,0,1\n' >"$tmp/nan.csv"
+  expect 2 "dhr-xrclient trace with a NaN position" "$client" --scene "$scene" --server 127.0.0.1:9 --trace "$tmp/nan.csv" \
+    --offscreen "$tmp/frames" --png-every 0
+  expect 2 "dhr-xrclient missing trace" "$client" --scene "$scene" --server 127.0.0.1:9 --trace "$missing" \
+    --offscreen "$tmp/frames" --png-every 0
   expect 2 "dhr-xrclient unreadable key file" "$client" --scene "$scene" --server 127.0.0.1:9 --key-file "$missing" "${play[@]}"
 fi
 if ev="$(exe bench/eval/dhr-eval)"; then

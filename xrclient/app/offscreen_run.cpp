@@ -2,9 +2,11 @@
 #include <cstdio>
 #include <memory>
 #include <thread>
+#include <utility>
 
 #include "app/client_setup.hpp"
 #include "app/run_modes.hpp"
+#include "traces/pose_trace.hpp"
 #include "traces/eye_model.hpp"
 #include "frame/frame_coordinator.hpp"
 #include "log/log.hpp"
@@ -30,7 +32,13 @@ std::unique_ptr<PoseSource> make_pose_source(const ClientOptions& options, const
   const TracePlacement placement = default_trace_placement(options.scene, &note);
   log::info("pose: %s", note.c_str());
   if (options.trace.empty()) return std::make_unique<OrbitPoseSource>(placement, eyes);
-  return std::make_unique<TracePoseSource>(TracePoseSource::load(options.trace), eyes, placement, options.trace);
+  PoseTrace trace;
+  try {
+    trace = TracePoseSource::load(options.trace);
+  } catch (const std::exception& e) {  // unreadable or malformed: bad input (exit code 2), not a failed run
+    throw InputError(e.what());
+  }
+  return std::make_unique<TracePoseSource>(std::move(trace), eyes, placement, options.trace);
 }
 
 }  // namespace
