@@ -99,6 +99,10 @@ const char* light_type_name(SceneLight::Type type) {
       return "spot";
     case SceneLight::Type::kDirectional:
       return "dir";
+    case SceneLight::Type::kRect:
+      return "rect";
+    case SceneLight::Type::kDisk:
+      return "disk";
   }
   return "?";
 }
@@ -262,6 +266,14 @@ std::string format_light_spec(const SceneLight& l) {
       std::snprintf(buf, sizeof buf, "dir:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g", d(l.direction.x), d(l.direction.y),
                     d(l.direction.z), d(l.color.r), d(l.color.g), d(l.color.b), d(l.intensity));
       return buf;  // directional lights have no range
+    case SceneLight::Type::kRect:
+    case SceneLight::Type::kDisk:
+      // position : emission direction : tangent (the node's +X) : colour : intensity : width,height
+      std::snprintf(buf, sizeof buf, "%s:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g:%.9g,%.9g",
+                    light_type_name(l.type), d(l.position.x), d(l.position.y), d(l.position.z), d(l.direction.x),
+                    d(l.direction.y), d(l.direction.z), d(l.tangent.x), d(l.tangent.y), d(l.tangent.z), d(l.color.r),
+                    d(l.color.g), d(l.color.b), d(l.intensity), d(l.width), d(l.height));
+      break;
   }
   std::string out = buf;
   if (l.range > 0.0f) {

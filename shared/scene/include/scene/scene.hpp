@@ -84,7 +84,8 @@ struct SceneMesh {
 };
 
 struct SceneLight {
-  enum class Type : std::uint8_t { kPoint, kSpot, kDirectional };
+  // kRect, kDisk: EXT_lights_area (one-sided, emitting along `direction`, the node's -Z).
+  enum class Type : std::uint8_t { kPoint, kSpot, kDirectional, kRect, kDisk };
   Type type = Type::kPoint;
   std::string name;
   glm::vec3 position{0.0f};                // world space (point, spot)
@@ -95,6 +96,15 @@ struct SceneLight {
   float inner_cone = 0.0f;                 // radians (spot)
   float outer_cone = 0.78539816f;          // radians (spot), > inner_cone, <= pi/2
   bool is_default = false;                 // made by make_default_light_rig, not by the file or the user
+  // The light's extent (soft shadows); all 0 for a punctual light (hard shadows).
+  float radius = 0.0f;                     // sphere light (point, spot: glTF extras.radius), metres
+  float angle = 0.0f;                      // disk sun (directional: glTF extras.angle), angular diameter, radians
+  float width = 0.0f;                      // rect: extent along `tangent`; disk: diameter; metres
+  float height = 0.0f;                     // rect: extent along `bitangent`; disk: diameter; metres
+  glm::vec3 tangent{1.0f, 0.0f, 0.0f};     // rect, disk: world direction of the node's +X (unit)
+  glm::vec3 bitangent{0.0f, 1.0f, 0.0f};   // rect, disk: world direction of the node's +Y (unit)
+
+  bool has_extent() const { return radius > 0.0f || angle > 0.0f || width > 0.0f || height > 0.0f; }
 };
 
 // Counts of what the loader changed or skipped (each also produces a warning when non-zero).
