@@ -33,7 +33,7 @@ client::CoordinatorOptions shipped_options() {
   client::CoordinatorOptions o;
   o.plan.schedule = client::shipped::kSchedule;
   o.plan.x_max = client::shipped::kXMax;
-  o.eye.warp = render::warp_settings_for(client::shipped::kWarp);
+  o.eye.warp = render::warp_settings_for(client::shipped::kWarp, client::shipped::kDepthScale);
   o.eye.forward = client::shipped::kForwardPath;
   o.eye.frames_in_flight = 1;
   return o;
@@ -99,7 +99,7 @@ void ClientLoop::report(nlohmann::ordered_json& out) const {
   out[name_ + "_record_wall_ms"] = median(record_wall_ms_, std::nan(""));
   out[name_ + "_known_frac"] = median(known_frac_, std::nan(""));
   // Where the maps are looked up only for those pixels (with shadow_first they are looked up nearly everywhere).
-  if (warp_ == render::WarpSettings::server_edges()) out[name_ + "_shadow_frac"] = median(shadow_frac_, std::nan(""));
+  if (warp_.is_server_edges()) out[name_ + "_shadow_frac"] = median(shadow_frac_, std::nan(""));
 }
 
 void ClientLoop::measure_upload(uint32_t e) {

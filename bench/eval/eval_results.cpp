@@ -47,6 +47,7 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   r.warp_ms = mean(t.warp_ms, t.eye_frames);
   r.client_ms = mean(t.client_ms, t.eye_frames);
   r.client_gpu_timed = t.eye_frames > 0 && t.client_gpu_timed == t.eye_frames;
+  r.client_path = t.client_forward == t.eye_frames ? "forward" : t.client_forward == 0 ? "deferred" : "mixed";
   r.server_ms = mean(t.server_ms, t.traces);
   r.encode_ms = mean(t.encode_ms, t.traces);
   r.decode_ms = mean(t.decode_ms, t.traces);
@@ -100,6 +101,7 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("warp_ms", r.warp_ms, 4);
     w.value("client_ms", r.client_ms, 4);
     w.value("client_gpu_timed", r.client_gpu_timed);
+    w.value("client_path", r.client_path);
     w.value("server_ms", r.server_ms, 4);
     w.value("encode_ms", r.encode_ms, 4);
     w.value("decode_ms", r.decode_ms, 4);

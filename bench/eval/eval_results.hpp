@@ -35,6 +35,7 @@ struct SettingResult {
   double warp_ms = 0.0;          // per eye-frame: GPU time of the warp pass
   double client_ms = 0.0;     // per eye
   bool client_gpu_timed = false;
+  std::string client_path;    // "forward", "deferred" or "mixed": the passes client_ms timed
   double server_ms = 0.0;     // per traced eye
   double encode_ms = 0.0;     // per traced eye
   double decode_ms = 0.0;     // per traced eye (all its shards)

@@ -110,7 +110,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     vk::ContextOptions vk_options;
     vk_options.app_name = "dhr-eval";
     const std::unique_ptr<vk::Context> context = vk::Context::create(vk_options);
-    EyeRenderer renderer(*context, scene, options.eye, options.shadow_maps);
+    EyeRenderer renderer(*context, scene, options.eye, options.shadow_maps, options.shipped_path);
     server::TracerOptions tracer_options;
     tracer_options.threads = options.threads;
     const std::unique_ptr<server::VisibilityTracer> tracer =
@@ -168,6 +168,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.value("frame_rate_hz", 1e9 / static_cast<double>(client::kVirtualFramePeriodNs), 3);
     meta.value("warmup_frames", static_cast<unsigned long long>(warmup));
     meta.value("frames", static_cast<unsigned long long>(frames));
+    meta.value("render_path", options.shipped_path ? "shipped" : "deferred");
     meta.value("lights", renderer.light_count());
     meta.value("jitter_ms", options.jitter_ms, 3);
     meta.value("loss", options.loss, 4);

@@ -298,6 +298,7 @@ void SettingSession::measure(const Truth& truth) {
     totals_.unknown_frac += static_cast<double>(rendered.stats.unknown_pixels()) / pixels;
     totals_.client_ms += rendered.stats.gpu.valid ? rendered.stats.gpu.total_ms : rendered.host_ms;
     totals_.client_gpu_timed += rendered.stats.gpu.valid ? 1 : 0;
+    totals_.client_forward += rendered.stats.forward ? 1 : 0;
     totals_.frames_behind += static_cast<double>(p.age);
     totals_.frames_predicted += static_cast<double>(p.predicted);
   }

@@ -55,6 +55,7 @@ struct SettingTotals {
   double warp_ms = 0.0;           // GPU time of the warp pass
   double client_ms = 0.0;       // GPU timestamps (all three passes) where valid, else host time
   uint64_t client_gpu_timed = 0;
+  uint64_t client_forward = 0;  // eye frames rendered on the forward pass
   double frames_behind = 0.0;   // p
   double frames_predicted = 0.0;  // x
   uint64_t responses = 0;

@@ -47,10 +47,14 @@ MethodSpec shipped_method() {
     spec.method = Method::kFull;
     if (!server::shipped::kPredict) spec.without |= kIngredientPrediction;
     if (!server::shipped::kAdaptiveFov) spec.without |= kIngredientAdaptiveFov;
-    // server_edges(): full without the ingredients that need the traced depth or decide before the server's bits.
-    if (client::shipped::kWarp == client::WarpChoice::kEdges)
-      spec.without |= kIngredientDepthTest | kIngredientShadowFirst | kIngredientOtherEye | kIngredientOlderBuffer |
-                      kIngredientNeighbour;
+    // server_edges_depth(): full without the ingredients that decide before the server's bits or read other
+    // buffers; edges-no-depth also without the depth test.
+    if (client::shipped::kWarp == client::WarpChoice::kEdges ||
+        client::shipped::kWarp == client::WarpChoice::kEdgesNoDepth) {
+      spec.without |= kIngredientShadowFirst | kIngredientOtherEye | kIngredientOlderBuffer | kIngredientNeighbour;
+    }
+    if (client::shipped::kWarp == client::WarpChoice::kEdgesNoDepth) spec.without |= kIngredientDepthTest;
+    if ((spec.without & kIngredientDepthTest) == 0) spec.depth_scale = client::shipped::kDepthScale;
   } else {
     spec.method = server::shipped::kPredict ? Method::kPaperPred : Method::kPaper;
   }
@@ -64,6 +68,7 @@ std::string method_name(const MethodSpec& spec) {
   for (const auto& [bit, text] : kIngredients) {
     if ((spec.without & bit) != 0) name += std::string("-no-") + text;
   }
+  if (spec.depth_scale > 1) name += "-depth-scale-" + std::to_string(spec.depth_scale);
   return name;
 }
 
@@ -76,6 +81,17 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
   if (text.rfind(prefix, 0) != 0) return std::nullopt;
   MethodSpec spec{Method::kFull, 0};
   std::string rest = text.substr(prefix.size());
+  const std::string scale_item = "-depth-scale-";
+  const size_t scale_at = rest.rfind(scale_item);
+  if (scale_at != std::string::npos) {
+    const std::string digits = rest.substr(scale_at + scale_item.size());
+    if (digits.empty() || digits.size() > 2 || digits.find_first_not_of("0123456789") != std::string::npos) {
+      return std::nullopt;
+    }
+    spec.depth_scale = static_cast<uint32_t>(std::stoul(digits));
+    if (spec.depth_scale < 2 || spec.depth_scale > 16) return std::nullopt;
+    rest = rest.substr(0, scale_at);
+  }
   while (!rest.empty()) {
     bool matched = false;
     for (const auto& [bit, name] : kIngredients) {
@@ -90,6 +106,7 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
     }
     if (!matched) return std::nullopt;
   }
+  if (spec.depth_scale > 1 && (spec.without & kIngredientDepthTest) != 0) return std::nullopt;
   return spec;
 }
 
@@ -124,6 +141,7 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
   s.shadow_first = (spec.without & kIngredientShadowFirst) == 0;
   s.older_buffer = (spec.without & kIngredientOlderBuffer) == 0;
   s.neighbour_fill = (spec.without & kIngredientNeighbour) == 0;
+  s.depth_scale = spec.depth_scale;
   return s;
 }
 

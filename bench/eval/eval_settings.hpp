@@ -42,11 +42,13 @@ enum Ingredient : uint32_t {
 struct MethodSpec {
   Method method = Method::kPaper;
   uint32_t without = 0;  // Ingredient bits (kFull only)
+  uint32_t depth_scale = 1;  // kFull with the depth test: the traced depth at 1/depth_scale resolution ("-depth-scale-N")
   bool shipped = false;
   bool operator==(const MethodSpec&) const = default;
 };
 std::string method_name(const MethodSpec& spec);  // "full", "full-no-depth-no-pred", "default"
-// "default", "stale", "paper", "paper+pred", "local", "full", "full-no-<ingredient>[-no-<ingredient>...]".
+// "default", "stale", "paper", "paper+pred", "local", "full", "full-no-<ingredient>[-no-<ingredient>...]", each
+// full form optionally followed by "-depth-scale-N" (N 2..16, not with -no-depth).
 std::optional<MethodSpec> parse_method(const std::string& text);
 MethodSpec shipped_method();  // what "default" parses to
 // The guard label of the default method's settings: the client's own guard band (shipped::guard_band).
@@ -88,6 +90,11 @@ struct RunOptions {
   double plane_tolerance_abs = render::WarpSettings{}.plane_tolerance_abs;
   std::optional<uint64_t> snapshot_frame;  // measured frame (0: the first) whose images go to <out>/snapshots
   uint32_t threads = 0;          // Embree threads (0: all cores)
+  // --render-path: deferred (every method and the truth on the deferred passes: the images differ only by
+  // visibility) or shipped (each method on the path the client would take for it, the forward pass where it
+  // applies, so client_ms is what ships; the truth on the forward pass, deferred-only methods then differ from it
+  // by up to 2/255 per channel).
+  bool shipped_path = false;
   bool progress = true;
 };
 

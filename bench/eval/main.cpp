@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(dhr::cli::FiniteRange(0.0, 1000.0));
   std::string codec = "v2";
+  std::string render_path = "deferred";
   run->add_option("--codec", codec, "visibility codec: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
       ->capture_default_str()
       ->check(CLI::IsMember({"v1", "v2"}));
@@ -94,6 +95,12 @@ int main(int argc, char** argv) {
   run->add_option("--snapshot-frame", options.snapshot_frame,
                   "write PNGs of this measured frame (0: the first) to <out>/snapshots: every setting's eyes, "
                   "the exact ones and the wrong visibility bits");
+  run->add_option("--render-path", render_path,
+                  "deferred: every method and the truth on the deferred passes (images differ by visibility only); "
+                  "shipped: each method on the path the client takes for it (forward where it applies), so client_ms "
+                  "is what ships (results' client_path names it)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"deferred", "shipped"}));
   run->add_option("--threads", options.threads, "Embree threads (0: all cores)")
       ->check(CLI::Range(0u, dhr::server::kMaxTracerThreads));
   bool no_progress = false;
@@ -147,6 +154,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     options.codec_v2 = codec == "v2";
+    options.shipped_path = render_path == "shipped";
     if (!(options.jitter_ms >= 0.0 && options.jitter_ms <= 1000.0) || !(options.loss >= 0.0 && options.loss < 1.0)) {
       std::fprintf(stderr, "dhr-eval: --jitter-ms must be in [0, 1000] and --loss in [0, 1)\n");
       return 2;

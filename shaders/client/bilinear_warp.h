@@ -61,6 +61,17 @@ uint warp_sample_mask(ClientWarpSource src, uint word, uint bit) {
   return (word >> (bit & 31u)) & width_mask;
 }
 
+// The depth test (kClientWarpDepthTest, kClientSourceHasDepth): the traced-depth texel that holds old pixel c's
+// depth, and the old surface point (old eye space) that texel's depth ds shows: along the ray through the
+// texel's centre, old pixel coordinate (t + 0.5) * depth_scale (the old pixel's own centre at depth_scale 1).
+ivec2 warp_depth_texel(ClientWarpSource src, ivec2 c) { return c / int(max(src.depth_scale, 1u)); }
+
+vec3 warp_depth_point(ClientWarpSource src, ivec2 t, float ds, float near_plane) {
+  const float k = float(max(src.depth_scale, 1u));
+  return (near_plane / ds) * vec3(src.old_tan_left + (float(t.x) + 0.5) * k * src.old_tan_step_x,
+                                  src.old_tan_up - (float(t.y) + 0.5) * k * src.old_tan_step_y, -1.0);
+}
+
 // What the used samples say.
 struct WarpVote {
   uint agree;  // bits all used samples agree on (their value is in `value`)

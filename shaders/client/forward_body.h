@@ -14,7 +14,8 @@
 //   kClientForwardPaperWarp   the paper's warp of this eye's newest visibility (the DHR client)
 //   kClientForwardServerEdges this eye's newest visibility, 2x2 bilinear samples: bits they agree on from the
 //                             server, the others and pixels without a sample from the shadow maps, which are
-//                             looked up only there (WarpSettings::server_edges)
+//                             looked up only there (WarpSettings::server_edges); with kClientWarpDepthTest the
+//                             samples off the pixel's tangent plane in the traced depth are not used
 // The surface point comes from gl_FragCoord (pixel centre, reversed-Z depth) with the same formula the compute
 // passes apply to the depth image: the warp decisions equal the compute warp's and its CPU reference.
 layout(set = 0, binding = kClientGBufferBindingBaseColor) uniform sampler2D base_color_texture;
@@ -22,6 +23,7 @@ layout(set = 1, binding = kClientForwardBindingParams, std430) restrict readonly
 layout(set = 1, binding = kClientForwardBindingVisibility0, std430) readonly buffer Visibility0 { uint vis0[]; };
 layout(set = 1, binding = kClientForwardBindingRowValid0, std430) readonly buffer RowValid0 { uint rows0[]; };
 layout(set = 1, binding = kClientForwardBindingShadowMap) uniform sampler2D shadow_atlas;
+layout(set = 1, binding = kClientForwardBindingTracedDepth0) uniform sampler2D traced_depth0;
 layout(set = 1, binding = kClientForwardBindingShading, std430) restrict readonly buffer Shading {
   ClientForwardShading shading;
 };
@@ -81,20 +83,39 @@ void main() {
     uint undecided = 0u;  // known: the bits the samples disagree on
     if (status == kClientStatusKnown) {
       const WarpSamples samples = warp_samples(q, true);
+      // The depth test (warp.comp's look_up): a sample whose traced surface is off this pixel's tangent plane
+      // saw something else (an occluder since moved out of the way); not used.
+      const bool depth_test = (pc.flags & kClientWarpDepthTest) != 0u && (src.flags & kClientSourceHasDepth) != 0u;
+      const bool same_ray = samples.centred && (src.flags & kClientSourceSameEye) != 0u;
+      const vec3 p_old = (pc.near_plane / d) * (v3(src.ray0) + centre.x * v3(src.ray_dx) + centre.y * v3(src.ray_dy)) +
+                         v3(src.trans);
+      const vec3 n_old = vec3(src.rot[0] * n.x + src.rot[1] * n.y + src.rot[2] * n.z,
+                              src.rot[3] * n.x + src.rot[4] * n.y + src.rot[5] * n.z,
+                              src.rot[6] * n.x + src.rot[7] * n.y + src.rot[8] * n.z);
+      const float tolerance = pc.plane_tolerance_rel * at.depth_old + pc.plane_tolerance_abs;
       uint masks[4];
-      uint used = 0u;
+      uint used = 0u, rows = 0u;
       for (int k = 0; k < 4; ++k) {
         masks[k] = 0u;
         const ivec2 c = warp_sample_pixel(samples, k);
         if (!warp_sample_in_buffer(src, c)) continue;
         const uint row_word = paper_warp_reads_rows(pc) ? rows0[uint(c.y) >> 5] : 0u;
         if (!warp_row_arrived(src, row_word, uint(c.y))) continue;
+        ++rows;
+        if (depth_test && !(same_ray && k == samples.exact)) {
+          const ivec2 t = warp_depth_texel(src, c);
+          const float ds = texelFetch(traced_depth0, t, 0).r;
+          if (!(ds > 0.0)) continue;
+          if (!(abs(dot(n_old, warp_depth_point(src, t, ds, pc.near_plane) - p_old)) <= tolerance)) continue;
+        }
         const uint bit = warp_sample_mask_bit(src, c);
         masks[k] = warp_sample_mask(src, vis0[bit >> 5], bit);
         used |= 1u << k;
       }
-      if (used == 0u) {
+      if (rows == 0u) {
         status = kClientStatusMissingRow;
+      } else if (used == 0u) {
+        status = kClientStatusDisoccluded;
       } else {
         const WarpVote vote = warp_vote(samples, masks, used);
         value = vote.value;

@@ -6,7 +6,7 @@
 // Counts the forward pass's per-pixel statuses (kClientStatus*, background where nothing was drawn) into the
 // warp pass's counter layout (warp.comp: 10-bit fields, three per word, one subgroup sum per word and one
 // atomic per bucket of kClientCountBucketGroups workgroups), so WarpCounts reads both alike. With `fills` it
-// also counts the shadow-map flags (kClientForwardStatusShadow*); without, only the words statuses 0-5 fill
+// also counts the shadow-map flags (kClientForwardStatusShadow*); without, only the words statuses 0-5 fill (the paper's warp has no disoccluded status)
 // (a subgroup sum each costs on lavapipe).
 layout(local_size_x = kClientWarpGroupSize, local_size_y = kClientWarpGroupSize) in;
 layout(set = 0, binding = 0, r8ui) uniform readonly uimage2D status_image;
@@ -20,7 +20,8 @@ void main() {
   if (id.x < pc.width && id.y < pc.height) {
     const uint value = imageLoad(status_image, ivec2(id)).x;
     const uint status = value & kClientForwardStatusMask;
-    if (status < 6u) words[status / 3u] += 1u << (10u * (status % 3u));
+    // kClientStatusDisoccluded (word 2) occurs only with `fills` (kServerEdges with the depth test).
+    if (status < kClientStatusCount) words[status / 3u] += 1u << (10u * (status % 3u));
     if ((value & kClientForwardStatusShadowFill) != 0u) {
       words[kClientCountShadowMap / 3u] += 1u << (10u * (kClientCountShadowMap % 3u));
     }

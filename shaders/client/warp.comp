@@ -53,7 +53,7 @@ bool row_ok(uint s, uint row) {
   const uint word = s == 0u ? rows0[row >> 5] : s == 1u ? rows1[row >> 5] : rows2[row >> 5];
   return ((word >> (row & 31u)) & 1u) != 0u;
 }
-float old_depth_at(uint s, ivec2 c) {
+float old_depth_at(uint s, ivec2 c) {  // c: a traced-depth texel (warp_depth_texel)
   return s == 0u ? texelFetch(old_depth0, c, 0).r
                  : s == 1u ? texelFetch(old_depth1, c, 0).r : texelFetch(old_depth2, c, 0).r;
 }
@@ -120,11 +120,10 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     if (!row_ok(s, uint(c.y))) continue;
     ++rows;
     if (depth_test && !(same_ray && k == samples.exact)) {
-      const float ds = old_depth_at(s, c);
+      const ivec2 t = warp_depth_texel(pc.source[s], c);
+      const float ds = old_depth_at(s, t);
       if (!(ds > 0.0)) continue;
-      const vec3 q = (pc.near_plane / ds) *
-                     vec3(pc.source[s].old_tan_left + (float(c.x) + 0.5) * pc.source[s].old_tan_step_x,
-                          pc.source[s].old_tan_up - (float(c.y) + 0.5) * pc.source[s].old_tan_step_y, -1.0);
+      const vec3 q = warp_depth_point(pc.source[s], t, ds, pc.near_plane);
       if (!(abs(dot(n_old, q - p_old)) <= tolerance)) continue;
     }
     masks[k] = old_mask(s, c.x, c.y);
@@ -177,11 +176,10 @@ Lookup look_up_neighbours(uint s, float d, vec2 centre, vec3 n_world) {
     if (b < 0 || b >= int(pc.source[s].old_height) || !row_ok(s, uint(b))) continue;
     for (int a = ci - kClientWarpNeighbourRadius; a <= ci + kClientWarpNeighbourRadius; ++a) {
       if (a < 0 || a >= int(pc.source[s].old_width)) continue;
-      const float ds = old_depth_at(s, ivec2(a, b));
+      const ivec2 t = warp_depth_texel(pc.source[s], ivec2(a, b));
+      const float ds = old_depth_at(s, t);
       if (!(ds > 0.0)) continue;
-      const vec3 q = (pc.near_plane / ds) *
-                     vec3(pc.source[s].old_tan_left + (float(a) + 0.5) * pc.source[s].old_tan_step_x,
-                          pc.source[s].old_tan_up - (float(b) + 0.5) * pc.source[s].old_tan_step_y, -1.0);
+      const vec3 q = warp_depth_point(pc.source[s], t, ds, pc.near_plane);
       if (!(abs(dot(n_old, q - p_old)) <= tolerance)) continue;
       const float ex = float(a) + 0.5 - px;
       const float ey = float(b) + 0.5 - py;

@@ -268,12 +268,17 @@ TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
   if (dhr::client::shipped::kWarp != dhr::client::WarpChoice::kPaper) {
     // Ingredients in dhr-eval's naming order (bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first,
     // pred, adaptive-fov, older, neighbour).
-    const bool edges = dhr::client::shipped::kWarp == dhr::client::WarpChoice::kEdges;
+    const bool depth = dhr::client::shipped::kWarp != dhr::client::WarpChoice::kEdgesNoDepth;
+    const bool edges = dhr::client::shipped::kWarp != dhr::client::WarpChoice::kFull;
     equivalent = "full";
-    if (edges) equivalent += "-no-depth-no-other-eye-no-shadow-first";
+    if (!depth) equivalent += "-no-depth";
+    if (edges) equivalent += "-no-other-eye-no-shadow-first";
     if (!dhr::server::shipped::kPredict) equivalent += "-no-pred";
     if (!dhr::server::shipped::kAdaptiveFov) equivalent += "-no-adaptive-fov";
     if (edges) equivalent += "-no-older-no-neighbour";
+    if (depth && dhr::client::shipped::kDepthScale > 1) {
+      equivalent += "-depth-scale-" + std::to_string(dhr::client::shipped::kDepthScale);
+    }
   } else {
     equivalent = dhr::server::shipped::kPredict ? "paper+pred" : "paper";
   }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "client_test_helpers.hpp"
+#include "forward_test_frame.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
 #include "render/forward_pass.hpp"
@@ -33,122 +34,12 @@ namespace {
 namespace fs = std::filesystem;
 using ClientForwardTest = vk::test::VulkanTest;
 
-constexpr Extent kExtent{160, 120};
-constexpr GuardBand kGuard{4, 3};
-constexpr double kNear = kDefaultNearPlane;
-constexpr double kMargin = 2e-3;  // pixels: decisions closer to a flip are not compared (warp_reference.hpp)
-
-Scene default_room() {
-  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / kDefaultScenePath).string());
-  if (!loaded) throw std::runtime_error(loaded.error);
-  return *loaded.scene;
-}
-
-View traced_view() {
-  View view;
-  view.pose = test::look_at({0.0, 1.6, 1.35}, {-0.1, 0.5, -0.9});
-  view.fov = Fov{-0.742f, 0.742f, 0.779f, -0.779f};
-  return view;
-}
-
-// The head 3 cm to the right and turned 4 degrees left, 2 up: lookups land between old pixels, some outside.
-View display_view() {
-  View view = traced_view();
-  view.pose.position += glm::dvec3(0.03, 0.0, 0.0);
-  view.pose = test::rotated(view.pose, 4.0, 2.0);
-  return view;
-}
-
-// Bits with structure at several scales, so that where a pixel looks up matters.
-VisibilityBuffer patterned(const Camera& traced, uint32_t lights) {
-  VisibilityBuffer b = VisibilityBuffer::create(traced.extent.width, traced.extent.height, lights);
-  for (uint32_t y = 0; y < b.height; ++y) {
-    for (uint32_t x = 0; x < b.width; ++x) {
-      uint32_t m = 0;
-      if (((x / 3) + (y / 5)) % 2 == 0) m |= 1u;
-      if (x > b.width / 2) m |= 2u;
-      if ((x * 7 + y * 3) % 11 < 6) m |= 4u;
-      b.set(x, y, m & b.light_bits());
-    }
-  }
-  return b;
-}
-
-// Bits in blocks and stripes several pixels wide: the 2x2 samples agree inside them and disagree on their edges.
-VisibilityBuffer blocky(const Camera& traced, uint32_t lights) {
-  VisibilityBuffer b = VisibilityBuffer::create(traced.extent.width, traced.extent.height, lights);
-  for (uint32_t y = 0; y < b.height; ++y) {
-    for (uint32_t x = 0; x < b.width; ++x) {
-      uint32_t m = 0;
-      if (((x / 8) + (y / 6)) % 2 == 0) m |= 1u;
-      if (x > b.width / 2) m |= 2u;
-      if (((x + y) / 12) % 2 == 0) m |= 4u;
-      b.set(x, y, m & b.light_bits());
-    }
-  }
-  return b;
-}
-
-// The warp tests' frame: this eye's buffer traced for traced_view(), rows 40-47 lost (their lookups are unknown),
-// the display view. Holds what the frame points to, so it is neither copied nor moved.
-struct WarpFrame {
-  WarpFrame(const Scene& scene, VisibilityBuffer (*bits)(const Camera&, uint32_t), const ShadowMaps* maps = nullptr)
-      : traced(Camera::with_guard_band(traced_view(), kExtent, kGuard)),
-        buffer(bits(traced, static_cast<uint32_t>(scene.lights.size()))),
-        rows(traced.extent.height, 1) {
-    for (uint32_t r = 40; r < 48; ++r) rows[r] = 0;
-    input.buffer = &buffer;
-    input.traced = traced;
-    input.row_valid = rows;
-    view = display_view();
-    frame.display = display_camera(view, kExtent);
-    frame.near_plane = kNear;
-    frame.visibility = &input;
-    frame.shadow_maps = maps;
-    frame.lights = scene.lights;
-  }
-  WarpFrame(const WarpFrame&) = delete;
-  WarpFrame& operator=(const WarpFrame&) = delete;
-
-  Camera traced;
-  VisibilityBuffer buffer;
-  std::vector<uint8_t> rows;
-  VisibilityInput input;
-  View view;
-  ForwardFrame frame;
-};
-
-struct ForwardResult {
-  std::vector<float> depth;
-  std::vector<uint8_t> colour;
-  std::vector<uint32_t> status;
-  std::vector<uint32_t> mask;
-  WarpCounts counts;
-};
-
-ForwardResult run_forward(vk::Context& ctx, const ClientScene& scene, ForwardMode mode, const ForwardFrame& frame) {
-  ForwardOptions options;
-  options.mode = mode;
-  options.write_mask = true;
-  ForwardPass pass(ctx, scene, options);
-  ForwardTargets targets = ForwardTargets::create(ctx, kExtent, options);
-  ctx.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, 0, frame, targets); });
-  ForwardResult out;
-  out.depth = test::read_pixels<float>(ctx, targets.depth);
-  out.colour = read_rgba8(ctx, targets.colour);
-  if (targets.has_status()) {
-    const std::vector<uint8_t> status = test::read_pixels<uint8_t>(ctx, targets.status);
-    out.status.assign(status.begin(), status.end());
-  }
-  out.mask = test::read_pixels<uint32_t>(ctx, targets.mask);
-  out.counts = pass.read_counts(0);
-  return out;
-}
+using namespace forward_test;
 
 TEST_F(ClientForwardTest, PaperWarpEqualsTheCpuReferenceAndTheDeferredPipeline) {
   const Scene scene = default_room();
   const ClientScene gpu_scene(ctx(), scene);
-  const WarpFrame warp(scene, patterned);
+  const ForwardTestFrame warp(scene, patterned);
   const Camera& traced = warp.traced;
   const VisibilityBuffer& buffer = warp.buffer;
   const VisibilityInput& input = warp.input;
@@ -267,7 +158,7 @@ TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline
   const Scene scene = default_room();
   const ClientScene gpu_scene(ctx(), scene);
   const ShadowMaps maps(ctx(), gpu_scene);
-  const WarpFrame warp(scene, blocky, &maps);  // lost rows: from the shadow maps
+  const ForwardTestFrame warp(scene, blocky, &maps);  // lost rows: from the shadow maps
   const Camera& traced = warp.traced;
   const VisibilityBuffer& buffer = warp.buffer;
   const VisibilityInput& input = warp.input;

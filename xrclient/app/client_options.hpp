@@ -34,6 +34,7 @@ struct ClientOptions {
   bool codec_v2 = true;  // --codec v2 (offer v2; the server decides) or v1 (LZ4 only)
   bool deferred = !shipped::kForwardPath;  // --render-path deferred: never the forward path (render::EyePipelineOptions::forward)
   WarpChoice warp = shipped::kWarp;  // --warp
+  uint32_t depth_scale = shipped::kDepthScale;  // --depth-scale
   std::string record_trace;  // --record-trace FILE (OpenXR path)
   double connect_timeout_s = 5.0;
   std::string vk_device = "auto";

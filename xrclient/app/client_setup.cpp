@@ -157,7 +157,7 @@ CoordinatorOptions coordinator_options(const ClientOptions& options) {
   out.eye.shading.debug_light = options.view_light;
   const render::WarpOutputs needed = render::warp_outputs_for(out.eye.shading.view);
   out.eye.warp_status = needed.status;
-  out.eye.warp = render::warp_settings_for(options.warp);
+  out.eye.warp = render::warp_settings_for(options.warp, options.depth_scale);
   out.eye.forward = !options.deferred;
   out.eye.motion_vectors = needed.motion;
   return out;

@@ -1,6 +1,7 @@
 #include "render/eye_pipeline.hpp"
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "render/client_scene.hpp"
@@ -77,8 +78,8 @@ bool EyePipeline::uses_forward() const {
   const WarpSettings& w = options_.warp;
   const bool paper = !w.bilinear && !w.depth_test && !w.other_eye && !w.older_buffer && !w.neighbour_fill &&
                      !w.uses_shadow_maps();
-  return options_.forward && (paper || w == WarpSettings::server_edges()) && options_.shading.view == ShadingView::kShaded && !options_.motion_vectors &&
-         !options_.warp_status && scene_->lights().size() <= options_.forward_max_lights;
+  return options_.forward && (paper || w.is_server_edges()) && options_.shading.view == ShadingView::kShaded &&
+         !options_.motion_vectors && !options_.warp_status && scene_->lights().size() <= options_.forward_max_lights;
 }
 
 vk::Image& EyePipeline::output() {
@@ -105,12 +106,15 @@ void EyePipeline::prepare(VkCommandBuffer cmd, uint32_t slot_index, const Visibi
   Slot& slot = slots_[slot_index];
   slot.traced_depth_rendered = false;
   if (!options_.warp.depth_test) return;
-  // The cameras needed this frame: the newest, then the previous (with the older-buffer fill).
-  std::array<const Camera*, 2> needed{};
-  if (visibility.buffer != nullptr && !validate_camera(visibility.traced)) needed[0] = &visibility.traced;
-  if (options_.warp.older_buffer && older != nullptr && older->buffer != nullptr && !validate_camera(older->traced)) {
-    needed[1] = &older->traced;
+  // The depth cameras needed this frame: the newest's, then the previous one's (with the older-buffer fill).
+  std::array<std::optional<Camera>, 2> wanted;
+  if (visibility.buffer != nullptr && !validate_camera(visibility.traced)) {
+    wanted[0] = depth_camera(visibility.traced, options_.warp.depth_scale);
   }
+  if (options_.warp.older_buffer && older != nullptr && older->buffer != nullptr && !validate_camera(older->traced)) {
+    wanted[1] = depth_camera(older->traced, options_.warp.depth_scale);
+  }
+  const std::array<const Camera*, 2> needed{wanted[0] ? &*wanted[0] : nullptr, wanted[1] ? &*wanted[1] : nullptr};
   auto holds = [&](size_t k, const Camera* camera) {
     return camera != nullptr && traced_camera_[k] && same_camera(*traced_camera_[k], *camera);
   };
@@ -141,8 +145,9 @@ void EyePipeline::prepare(VkCommandBuffer cmd, uint32_t slot_index, const Visibi
 }
 
 vk::Image* EyePipeline::traced_depth(const Camera& traced) {
+  const Camera depth = depth_camera(traced, options_.warp.depth_scale);
   for (size_t k = 0; k < traced_.size(); ++k) {
-    if (traced_camera_[k] && same_camera(*traced_camera_[k], traced)) return &traced_[k].depth;
+    if (traced_camera_[k] && same_camera(*traced_camera_[k], depth)) return &traced_[k].depth;
   }
   return nullptr;
 }
@@ -167,9 +172,13 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
     frame.shadow_maps = shadow_maps;
     frame.lights = scene_->lights();
     frame.shading = options_.shading;
+    const bool edges = options_.warp.is_server_edges();
+    if (edges && options_.warp.depth_test && visibility.buffer != nullptr) {
+      frame.traced_depth = traced_depth(visibility.traced);
+      frame.depth_test = options_.warp;
+    }
     // The settings may change between frames (warp_settings()); both warp modes share the pipelines.
-    forward_pass_->set_mode(options_.warp == WarpSettings::server_edges() ? ForwardMode::kServerEdges
-                                                                          : ForwardMode::kPaperWarp);
+    forward_pass_->set_mode(edges ? ForwardMode::kServerEdges : ForwardMode::kPaperWarp);
     const ForwardPass::Recorded r = forward_pass_->record(cmd, slot_index, frame, forward_);
     slot.draws = r.draws;
     slot.visibility_used = r.visibility_used;

@@ -1,11 +1,11 @@
 // The per-eye visibility pipeline, into this eye's own images, recorded into a command buffer the caller owns
 // and submits, with GPU timestamps around each pass. Two paths apply the same rule:
-//   forward  (the default whenever it can: the paper's warp or WarpSettings::server_edges(), the shaded view,
-//            no motion vectors): one raster pass that warps and shades each fragment (forward_pass.hpp) plus a
+//   forward  (the default whenever it can: the paper's warp or WarpSettings::server_edges() with or without the
+//            depth test, the shaded view, no motion vectors): one raster pass that warps and shades each fragment (forward_pass.hpp) plus a
 //            small count pass;
 //   deferred (any other warp setting or debug view): G-buffer -> warp -> shading.
 // With the warp's depth test on, prepare() first renders the depth of the camera this eye's newest
-// visibility was traced for (once per traced camera; the previous one is kept for the previous buffer, the
+// visibility was traced for, at 1 / WarpSettings::depth_scale of its resolution (depth_camera; once per traced camera; the previous one is kept for the previous buffer, the
 // warp's source 2); the other eye's pipeline reads the newest as its source 1.
 //
 // Frames in flight: host-written per-frame resources (visibility upload, lights, counters, timestamps) exist
@@ -92,7 +92,8 @@ class EyePipeline {
   // nothing without a buffer). Call for both eyes before recording either (record reads the other's).
   void prepare(VkCommandBuffer cmd, uint32_t slot, const VisibilityInput& visibility,
                const VisibilityInput* older = nullptr);
-  // The depth prepare() rendered, when one of the two held was rendered for `traced`; null otherwise.
+  // The depth prepare() rendered, when one of the two held was rendered for `traced` (with
+  // depth_camera(traced, warp_settings().depth_scale)); null otherwise.
   vk::Image* traced_depth(const Camera& traced);
 
   // Records the three passes for `view` (the display camera is the view's FOV over extent(), no guard band)
@@ -151,7 +152,7 @@ class EyePipeline {
   GBuffer gbuffer_;
   // Traced cameras' G-buffers (only their depth is read), the newest two rendered; empty until prepared.
   std::array<GBuffer, 2> traced_;
-  std::array<std::optional<Camera>, 2> traced_camera_;  // what traced_ holds
+  std::array<std::optional<Camera>, 2> traced_camera_;  // what traced_ holds (depth cameras)
   size_t newest_ = 1;  // which of traced_ holds the newest camera rendered
   WarpTargets warp_;
   vk::Image output_;

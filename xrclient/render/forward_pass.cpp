@@ -92,7 +92,7 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
   materials_ = MaterialSets(device, scene);
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  const std::array<std::pair<uint32_t, VkDescriptorType>, 7> frame_bindings = {{
+  const std::array<std::pair<uint32_t, VkDescriptorType>, 8> frame_bindings = {{
       {kClientForwardBindingParams, kStorage},
       {kClientForwardBindingVisibility0, kStorage},
       {kClientForwardBindingRowValid0, kStorage},
@@ -100,13 +100,14 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
       {kClientForwardBindingShadowLights, kStorage},
       {kClientForwardBindingLights, kStorage},
       {kClientForwardBindingShading, kStorage},
+      {kClientForwardBindingTracedDepth0, kSampled},
   }};
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   for (const auto& [binding, type] : frame_bindings) {
     bindings.push_back({binding, type, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr});
   }
   frame_layout_ = vk::create_descriptor_set_layout(device, bindings);
-  const std::array<VkDescriptorPoolSize, 2> sizes = {{{kStorage, 6 * options.slots}, {kSampled, options.slots}}};
+  const std::array<VkDescriptorPoolSize, 2> sizes = {{{kStorage, 6 * options.slots}, {kSampled, 2 * options.slots}}};
   frame_pool_ = vk::create_descriptor_pool(device, options.slots, sizes);
   const std::array<VkDescriptorSetLayout, 2> set_layouts = {materials_.layout(), frame_layout_.get()};
   const VkPushConstantRange push{kMaterialPushStages, 0, sizeof(ClientGBufferPush)};
@@ -177,9 +178,23 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   }
   ClientWarpParams params = make_warp_params(display, out.visibility_used ? &in->traced : nullptr, frame.near_plane);
   for (size_t s = 0; s < kClientWarpSourceCount; ++s) params.source[s] = make_warp_source(display, s == 0 && out.visibility_used ? &in->traced : nullptr);
+  const vk::Image* traced_depth = &placeholder_atlas_;
   if (out.visibility_used) {
     slot.source.upload(*context_, display, *in, params.source[0]);
     params.unknown_mask = unknown_mask(in->buffer);
+    if (mode == ForwardMode::kServerEdges && frame.traced_depth != nullptr) {
+      const WarpSettings& test = frame.depth_test;
+      const Extent depth_extent = depth_camera(in->traced, test.depth_scale).extent;
+      if (frame.traced_depth->width() != depth_extent.width || frame.traced_depth->height() != depth_extent.height) {
+        throw std::invalid_argument("forward pass: the traced depth differs in size from its traced camera's depth_camera");
+      }
+      traced_depth = frame.traced_depth;
+      params.flags |= kClientWarpDepthTest;
+      params.plane_tolerance_rel = static_cast<float>(test.plane_tolerance_rel);
+      params.plane_tolerance_abs = static_cast<float>(test.plane_tolerance_abs);
+      params.source[0].flags |= kClientSourceHasDepth;
+      params.source[0].depth_scale = test.depth_scale;
+    }
   }
   const vk::Image* atlas = &placeholder_atlas_;
   if (shadowed) {
@@ -215,6 +230,9 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
                               slot.shadow_lights.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingLights, kStorage, slot.lights.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingShading, kStorage, slot.shading.handle());
+  vk::write_image_descriptor(device, slot.set, kClientForwardBindingTracedDepth0,
+                             VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, traced_depth->view(),
+                             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, sampler_.get());
 
   const bool counting = counts_status(mode);
   slot.counted = counting;

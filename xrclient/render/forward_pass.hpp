@@ -11,7 +11,9 @@
 //   kServerEdges the warp with WarpSettings::server_edges(): source 0's 2x2 bilinear samples, bits they
 //                disagree on and pixels without a sample from the client's shadow maps (looked up only there),
 //                the compute warp's decisions (shaders/client/bilinear_warp.h); writes and counts the status as
-//                kPaperWarp does, plus the shadow-map fills and edges.
+//                kPaperWarp does, plus the shadow-map fills and edges. With a traced depth
+//                (ForwardFrame::traced_depth) samples off the pixel's tangent plane are not used, as the compute
+//                warp's depth test (WarpSettings::server_edges_depth).
 // Targets, display-sized:
 //   depth  D32_SFLOAT (reversed-Z, as the G-buffer's)
 //   colour R8G8B8A8_UNORM, sRGB-encoded bytes (as the shading pass's output), ends in GENERAL
@@ -79,6 +81,10 @@ struct ForwardFrame {
   const ShadowMaps* shadow_maps = nullptr;      // kShadowMaps, kServerEdges (required)
   std::span<const SceneLight> lights;           // the scene's lights (at most kMaxLights)
   ShadingSettings shading;                      // exposure, background, swap_red_blue; view must be kShaded
+  // kServerEdges: source 0's traced depth, rendered with depth_camera(traced, depth_test.depth_scale), in
+  // SHADER_READ_ONLY_OPTIMAL; null: no depth test. depth_test: its depth_scale and plane tolerances.
+  const vk::Image* traced_depth = nullptr;
+  WarpSettings depth_test = WarpSettings::server_edges_depth(1);
 };
 
 class ForwardPass {

@@ -152,11 +152,13 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     slot.sources[s].upload(*context_, display, *in, params.source[s]);
     vk::Image* traced_depth = frame.sources[s].traced_depth;
     if (traced_depth != nullptr) {
-      if (traced_depth->width() != in->traced.extent.width || traced_depth->height() != in->traced.extent.height) {
-        throw std::invalid_argument("warp pass: a traced depth differs in size from its traced camera");
+      const Extent depth_extent = depth_camera(in->traced, settings.depth_scale).extent;
+      if (traced_depth->width() != depth_extent.width || traced_depth->height() != depth_extent.height) {
+        throw std::invalid_argument("warp pass: a traced depth differs in size from its traced camera's depth_camera");
       }
       old_depth[s] = traced_depth;
       params.source[s].flags |= kClientSourceHasDepth;
+      params.source[s].depth_scale = settings.depth_scale;
     }
   }
   if (usable[0]) params.unknown_mask = unknown_mask(own->buffer);

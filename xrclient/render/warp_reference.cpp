@@ -43,11 +43,16 @@ uint64_t WarpCounts::unknown_surface() const {
          (*this)[WarpStatus::kNoData] + (*this)[WarpStatus::kDisoccluded];
 }
 
-WarpSettings warp_settings_for(client::WarpChoice choice) {
+WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale) {
   switch (choice) {
     case client::WarpChoice::kPaper: return WarpSettings{};
-    case client::WarpChoice::kFull: return WarpSettings::full();
-    case client::WarpChoice::kEdges: return WarpSettings::server_edges();
+    case client::WarpChoice::kFull: {
+      WarpSettings s = WarpSettings::full();
+      s.depth_scale = depth_scale;
+      return s;
+    }
+    case client::WarpChoice::kEdges: return WarpSettings::server_edges_depth(depth_scale);
+    case client::WarpChoice::kEdgesNoDepth: return WarpSettings::server_edges();
   }
   return WarpSettings{};
 }
@@ -63,6 +68,35 @@ WarpSettings WarpSettings::server_edges() {
   WarpSettings s;
   s.bilinear = s.shadow_edges = s.shadow_fill = true;
   return s;
+}
+
+WarpSettings WarpSettings::server_edges_depth(uint32_t depth_scale) {
+  WarpSettings s = server_edges();
+  s.depth_test = true;
+  s.depth_scale = depth_scale;
+  return s;
+}
+
+bool WarpSettings::is_server_edges() const {
+  WarpSettings plain = *this;
+  plain.depth_test = false;
+  plain.depth_scale = 1;
+  plain.plane_tolerance_rel = server_edges().plane_tolerance_rel;
+  plain.plane_tolerance_abs = server_edges().plane_tolerance_abs;
+  return plain == server_edges();
+}
+
+Camera depth_camera(const Camera& traced, uint32_t scale) {
+  if (scale == 0 || scale > 16) throw std::invalid_argument("depth_camera: scale must be 1 to 16");
+  if (scale == 1) return traced;
+  Camera c = traced;
+  const Extent e = traced.extent;
+  c.extent = Extent{(e.width + scale - 1) / scale, (e.height + scale - 1) / scale};
+  const double step_x = traced.tangents.width() / e.width;
+  const double step_y = traced.tangents.height() / e.height;
+  c.tangents.right = traced.tangents.left + step_x * (static_cast<double>(c.extent.width) * scale);
+  c.tangents.down = traced.tangents.up - step_y * (static_cast<double>(c.extent.height) * scale);
+  return c;
 }
 
 uint64_t WarpCounts::surface() const { return unknown_surface() + (*this)[WarpStatus::kKnown]; }
@@ -120,9 +154,13 @@ struct SourceLookup {
 // lowers `margin` by how close the distance is to the tolerance. False too where the old pixel saw no surface.
 bool on_tangent_plane(const WarpInput& input, const WarpSource& src, int a, int b, const glm::dvec3& p_old,
                       const glm::dvec3& n_old, double depth_old, double tolerance, double& margin) {
-  const double ds = src.traced_depth[static_cast<size_t>(b) * src.traced.extent.width + static_cast<size_t>(a)];
+  // Texel (a, b) / k of the traced depth, along the ray through its centre (bilinear_warp.h's warp_depth_point).
+  const int k = static_cast<int>(input.settings.depth_scale);
+  const int ta = a / k, tb = b / k;
+  const size_t depth_width = (size_t{src.traced.extent.width} + k - 1) / k;
+  const double ds = src.traced_depth[static_cast<size_t>(tb) * depth_width + static_cast<size_t>(ta)];
   if (!(ds > 0.0)) return false;
-  const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray(a + 0.5, b + 0.5);
+  const glm::dvec3 q = (input.near_plane / ds) * src.traced.eye_ray((ta + 0.5) * k, (tb + 0.5) * k);
   const double dist = std::abs(glm::dot(n_old, q - p_old));
   margin = std::min(margin, std::abs(dist - tolerance) / depth_old * 200.0);
   return dist <= tolerance;
@@ -308,8 +346,8 @@ WarpResult warp_reference(const WarpInput& input) {
     if (auto err = validate_visibility_input(src.traced, *src.visibility, src.row_valid)) {
       throw std::invalid_argument("warp reference: source " + std::to_string(s) + ": " + *err);
     }
-    if (!src.traced_depth.empty() &&
-        src.traced_depth.size() != size_t{src.traced.extent.width} * src.traced.extent.height) {
+    const Extent depth_extent = depth_camera(src.traced, set.depth_scale).extent;
+    if (!src.traced_depth.empty() && src.traced_depth.size() != size_t{depth_extent.width} * depth_extent.height) {
       throw std::invalid_argument("warp reference: source " + std::to_string(s) + ": traced depth size");
     }
   }

@@ -98,17 +98,31 @@ struct WarpSettings {
   bool shadow_first = false;  // bits the shadow maps are confident about from the shadow maps
   double plane_tolerance_rel = 0.02;  // metres per metre of depth
   double plane_tolerance_abs = 0.01;  // metres
+  // depth_test: the traced depth is rendered at 1 / depth_scale of the traced camera's resolution per axis
+  // (depth_camera); old pixel (a, b) tests the surface its texel (a, b) / depth_scale shows. 1: every old pixel.
+  uint32_t depth_scale = 1;
   static WarpSettings full();  // every ingredient on
   // Server bits first: 2x2 bilinear samples, bits they all agree on from the server, the others and pixels
   // without a usable sample from the shadow maps; no depth test, so no traced depth: the forward pass runs it.
   static WarpSettings server_edges();
+  // server_edges() with the depth test against a traced depth at 1 / depth_scale resolution: samples whose traced
+  // surface is off the pixel's tangent plane are not used (none left: disoccluded, from the shadow maps).
+  static WarpSettings server_edges_depth(uint32_t depth_scale);
+  // The settings the forward pass runs (kServerEdges): server_edges(), with or without the depth test.
+  bool is_server_edges() const;
   bool uses_shadow_maps() const { return shadow_fill || shadow_edges || shadow_first; }
   bool operator==(const WarpSettings&) const = default;
 };
 
-// The settings of a --warp choice (paper: WarpSettings{}): one mapping for dhr-xrclient's command line and
-// client_bench's shipped configuration.
-WarpSettings warp_settings_for(client::WarpChoice choice);
+// The settings of a --warp choice (paper: WarpSettings{}) with --depth-scale (edges, full): one mapping for
+// dhr-xrclient's command line, client_bench's configurations and dhr-eval's `default`.
+WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale);
+
+// The camera a traced depth is rendered with at 1 / scale of `traced`'s resolution per axis: the same eye and
+// top-left tangents, extent ceil(width / scale) x ceil(height / scale), its texel t covering old pixels
+// t * scale .. t * scale + scale - 1 (the right and bottom tangents grow to whole texels). scale 1: `traced`.
+// Throws std::invalid_argument for scale 0 or above 16.
+Camera depth_camera(const Camera& traced, uint32_t scale);
 
 // Mask for unknown pixels: every light bit of the buffer, all 32 without one.
 uint32_t unknown_mask(const VisibilityBuffer* visibility);
@@ -126,7 +140,8 @@ struct WarpSource {
   const VisibilityBuffer* visibility = nullptr;  // null: none
   Camera traced;                                 // the guard-banded camera it was traced for
   std::span<const uint8_t> row_valid;            // empty (all rows) or one entry per old row, 0 = missing
-  std::span<const float> traced_depth;           // the traced camera's depth (reversed-Z); empty: no depth test
+  std::span<const float> traced_depth;           // depth_camera(traced, settings.depth_scale)'s depth (reversed-Z);
+                                                 // empty: no depth test
 };
 
 struct WarpInput {

@@ -212,7 +212,9 @@ DHR_CONST uint kClientCountBucketGroups = 8u;
 // (ray0/ray_dx/ray_dy: R_old^T R_new applied to the display camera's tangent-plane point (tx, ty, -1) and its
 // per-pixel steps), and lands at px = old_px_scale * p_old.x / -p_old.z + old_px_offset (same for y).
 // The old pixel (a, b) looks along (old_tan_left + (a + 0.5) * old_tan_step_x, old_tan_up - (b + 0.5) *
-// old_tan_step_y, -1); `rot` (row-major R_old^T) takes world normals into the old eye's space.
+// old_tan_step_y, -1); `rot` (row-major R_old^T) takes world normals into the old eye's space. Its traced depth
+// (kClientSourceHasDepth) may be coarser: texel t = (a, b) / depth_scale looks along the same formula at the old
+// pixel coordinate (t + 0.5) * depth_scale (bilinear_warp.h's warp_depth_point).
 struct ClientWarpSource {
   float ray0[3];
   float ray_dx[3];
@@ -231,6 +233,7 @@ struct ClientWarpSource {
   uint old_height;
   uint mask_bits;        // 8, 16 or 32
   uint flags;            // kClientSource*
+  uint depth_scale;      // kClientSourceHasDepth: one traced-depth texel per depth_scale x depth_scale old pixels
 };
 
 // Shadow lookups: p_rel = (near_plane / d) * (world_ray0 + (i + 0.5) * world_ray_dx + (j + 0.5) * world_ray_dy)
@@ -321,11 +324,13 @@ DHR_CONST uint kClientForwardBindingShadowMap = 3;     // sampler2D: shadow map 
 DHR_CONST uint kClientForwardBindingShadowLights = 4;  // storage buffer ClientShadowLight[]
 DHR_CONST uint kClientForwardBindingLights = 5;        // storage buffer PackedLight[] (display-eye-relative)
 DHR_CONST uint kClientForwardBindingShading = 6;       // storage buffer ClientForwardShading
+DHR_CONST uint kClientForwardBindingTracedDepth0 = 7;  // sampler2D: source 0's traced depth (kServerEdges, depth test)
 DHR_CONST uint kClientForwardLambert = 0u;     // every light bit set: Lambert without shadows
 DHR_CONST uint kClientForwardShadowMaps = 1u;  // the mask of the client's shadow maps (shadow_lookup.h)
 DHR_CONST uint kClientForwardPaperWarp = 2u;   // the paper's warp of source 0 (paper_warp.h); writes the status
 // Server bits first (WarpSettings::server_edges): source 0's 2x2 bilinear samples (bilinear_warp.h); bits they
-// disagree on and pixels without a sample from the shadow maps. Writes the status.
+// disagree on and pixels without a sample from the shadow maps. With kClientWarpDepthTest and source 0's traced
+// depth, samples off the pixel's tangent plane are not used (all off: disoccluded). Writes the status.
 DHR_CONST uint kClientForwardServerEdges = 3u;
 // Colour attachment 0: display-encoded bytes (RGBA8 UNORM); 1: R8_UINT status (kClientStatus*, with these
 // flags; the count pass sums it); 2 (optional, tests): R32_UINT mask.
@@ -343,8 +348,8 @@ struct ClientForwardShading {
 static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the GLSL layout");
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
-static_assert(sizeof(ClientWarpSource) == 132, "ClientWarpSource must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 3 * 132 + 4 * 29, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpSource) == 136, "ClientWarpSource must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 29, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 16, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 16, "ClientForwardShading must match the std430 layout");
