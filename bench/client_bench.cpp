@@ -18,14 +18,13 @@
 //                    two, so that each frame can be waited for and interleaved with the others.
 //   dhr_full_ms      the same with `--warp full`: the traced camera's depth is rendered every frame, the warp also
 //                    reads the other eye's buffer, the eye's previous one and the shadow maps; dhr_full_decode_ms,
-//                    dhr_full_upload_ms, dhr_full_record_ms as above. dhr_ms measures the same as the configuration of
-//                    the shipped warp (today dhr_edges_ms, twice).
-//   dhr_edges_no_depth_ms  the same with `--warp edges-no-depth` (WarpSettings::server_edges(): 2x2 lookups,
-//                    bits they disagree on and pixels without a sample from the shadow maps, on the forward path, no
-//                    depth test); dhr_edges_no_depth_*_ms as above, _shadow_frac: the median fraction of surface
-//                    pixels that looked up the maps; against the goals: _vs_forward and _added_vs_shadowmap_added.
-//   dhr_edges_depthN_ms  (--depth-scales N,...) `--warp edges --depth-scale N`: the same with the depth test
-//                    against the traced depth rendered at 1/N resolution every frame; keys as above.
+//                    dhr_full_upload_ms, dhr_full_record_ms as above. dhr_ms is the shipped warp (today
+//                    `--warp edges`).
+//   dhr_edges_depthN_ms  (--depth-scales N,..., default the shipped --depth-scale) `--warp edges-depth
+//                    --depth-scale N`: `--warp edges` plus the depth test against the traced camera's depth rendered
+//                    at 1/N resolution every frame; keys as above, _vs_forward and _added_vs_shadowmap_added its
+//                    ratios against the goals. With the shipped `--warp edges`, dhr_shadow_frac is the median
+//                    fraction of surface pixels that looked up the shadow maps.
 //   dhr_paper_static_ms  the paper's warp on the forward path, one eye at a fixed view with a fixed visibility
 //                    buffer (render::EyePipeline directly): the warp and shading alone, no frame loop
 //   dhr_deferred_ms  the same rule in the deferred passes (G-buffer -> warp -> shading; the client before issue 15),
@@ -84,7 +83,7 @@ struct Options {
   uint32_t frames = 30;
   uint32_t warmup = 5;
   bool skip_full = false;
-  std::vector<uint32_t> depth_scales;  // --warp edges at these depth scales too (dhr_edges_depthN_ms)
+  std::vector<uint32_t> depth_scales{client::shipped::kDepthScale};  // --warp edges-depth at these (dhr_edges_depthN_ms)
 };
 
 std::optional<Extent> parse_size(const std::string& text) {
@@ -225,11 +224,6 @@ int run(const Options& o) {
     full.eye.warp = render::WarpSettings::full();
     add_loop("dhr_full", full);
   }
-  {
-    client::CoordinatorOptions edges = shipped_options();
-    edges.eye.warp = render::WarpSettings::server_edges();
-    add_loop("dhr_edges_no_depth", edges);
-  }
   std::vector<std::string> scale_names;
   for (const uint32_t scale : o.depth_scales) {
     client::CoordinatorOptions edges = shipped_options();
@@ -311,9 +305,6 @@ int run(const Options& o) {
   out["dhr_vs_forward"] = dhr / forward;
   out["dhr_added_vs_shadowmap_added"] = (dhr - forward) / (shadowmap - forward);
   if (!o.skip_full) out["dhr_full_vs_forward"] = out["dhr_full_ms"].get<double>() / forward;
-  const double edges = out["dhr_edges_no_depth_ms"].get<double>();
-  out["dhr_edges_no_depth_vs_forward"] = edges / forward;
-  out["dhr_edges_no_depth_added_vs_shadowmap_added"] = (edges - forward) / (shadowmap - forward);
   for (const std::string& name : scale_names) {
     const double ms = out[name + "_ms"].get<double>();
     out[name + "_vs_forward"] = ms / forward;
@@ -350,7 +341,8 @@ int main(int argc, char** argv) {
   app.add_option("--warmup", o.warmup, "unmeasured frames first")->capture_default_str();
   app.add_flag("--skip-full", o.skip_full, "do not measure --warp full (dhr_full_ms)");
   app.add_option("--depth-scales", o.depth_scales,
-                 "also measure --warp edges with the traced depth at each of these scales (dhr_edges_depthN_ms)")
+                 "also measure --warp edges-depth with the traced depth at each of these scales (dhr_edges_depthN_ms)")
+      ->capture_default_str()
       ->delimiter(',')
       ->check(CLI::Range(1u, 16u));
   bool quick = false;

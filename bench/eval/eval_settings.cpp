@@ -48,12 +48,12 @@ MethodSpec shipped_method() {
     if (!server::shipped::kPredict) spec.without |= kIngredientPrediction;
     if (!server::shipped::kAdaptiveFov) spec.without |= kIngredientAdaptiveFov;
     // server_edges_depth(): full without the ingredients that decide before the server's bits or read other
-    // buffers; edges-no-depth also without the depth test.
+    // buffers; edges (server_edges()) also without the depth test.
     if (client::shipped::kWarp == client::WarpChoice::kEdges ||
-        client::shipped::kWarp == client::WarpChoice::kEdgesNoDepth) {
+        client::shipped::kWarp == client::WarpChoice::kEdgesDepth) {
       spec.without |= kIngredientShadowFirst | kIngredientOtherEye | kIngredientOlderBuffer | kIngredientNeighbour;
     }
-    if (client::shipped::kWarp == client::WarpChoice::kEdgesNoDepth) spec.without |= kIngredientDepthTest;
+    if (client::shipped::kWarp == client::WarpChoice::kEdges) spec.without |= kIngredientDepthTest;
     if ((spec.without & kIngredientDepthTest) == 0) spec.depth_scale = client::shipped::kDepthScale;
   } else {
     spec.method = server::shipped::kPredict ? Method::kPaperPred : Method::kPaper;

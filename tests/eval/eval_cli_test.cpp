@@ -268,7 +268,7 @@ TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
   if (dhr::client::shipped::kWarp != dhr::client::WarpChoice::kPaper) {
     // Ingredients in dhr-eval's naming order (bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first,
     // pred, adaptive-fov, older, neighbour).
-    const bool depth = dhr::client::shipped::kWarp != dhr::client::WarpChoice::kEdgesNoDepth;
+    const bool depth = dhr::client::shipped::kWarp != dhr::client::WarpChoice::kEdges;
     const bool edges = dhr::client::shipped::kWarp != dhr::client::WarpChoice::kFull;
     equivalent = "full";
     if (!depth) equivalent += "-no-depth";

@@ -101,7 +101,7 @@ void expect_rejected(const std::string& line, const std::string& phrase) {
 }
 
 TEST(ShownFrame, EveryWarpTheClientWritesIsRead) {
-  for (const char* warp : {"paper", "full", "edges"}) {
+  for (const char* warp : {"paper", "full", "edges", "edges-depth"}) {
     std::string error;
     const auto f = dhr::parse_shown_frame(edited("\"warp\":\"paper\"", std::string("\"warp\":\"") + warp + "\""), &error);
     ASSERT_TRUE(f.has_value()) << warp << ": " << error;

@@ -108,13 +108,13 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   app.add_option("--warp", warp,
                  "paper: the paper's warp (unknown pixels lit); full: 2x2 depth-tested lookups, the other eye's "
                  "buffer and the client's shadow maps (docs/client.md, Warp rule); edges: 2x2 lookups, bits they "
-                 "agree on from the server, samples whose traced surface is off the pixel's tangent plane (disocclusions) "
-                 "not used, the others and unknown pixels from the client's shadow maps (forward); edges-no-depth: "
-                 "edges without that depth test (no traced depth rendered; an occluder's bits leak where it moved)")
+                 "agree on from the server, the others and unknown pixels from the client's shadow maps (forward); "
+                 "edges-depth: edges plus the depth test against the traced camera's depth rendered at 1/--depth-scale "
+                 "resolution for every arriving buffer (samples off the pixel's tangent plane, disocclusions, not used)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"paper", "full", "edges", "edges-no-depth"}));
+      ->check(CLI::IsMember({"paper", "full", "edges", "edges-depth"}));
   app.add_option("--depth-scale", out.depth_scale,
-                 "edges, full: render the traced camera's depth for the depth test at 1/N of the traced resolution "
+                 "edges-depth, full: render the traced camera's depth for the depth test at 1/N of the traced resolution "
                  "per axis (1: full resolution)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 16u));
@@ -172,7 +172,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   out.codec_v2 = codec == "v2";
   out.warp = warp == "full"             ? WarpChoice::kFull
              : warp == "edges"          ? WarpChoice::kEdges
-             : warp == "edges-no-depth" ? WarpChoice::kEdgesNoDepth
+             : warp == "edges-depth"    ? WarpChoice::kEdgesDepth
                                         : WarpChoice::kPaper;
   out.deferred = render_path == "deferred";
   if (!parse_view(view, out)) {

@@ -51,8 +51,8 @@ WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale) 
       s.depth_scale = depth_scale;
       return s;
     }
-    case client::WarpChoice::kEdges: return WarpSettings::server_edges_depth(depth_scale);
-    case client::WarpChoice::kEdgesNoDepth: return WarpSettings::server_edges();
+    case client::WarpChoice::kEdges: return WarpSettings::server_edges();
+    case client::WarpChoice::kEdgesDepth: return WarpSettings::server_edges_depth(depth_scale);
   }
   return WarpSettings{};
 }

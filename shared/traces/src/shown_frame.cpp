@@ -189,7 +189,7 @@ std::optional<ShownFrame> parse_shown_frame(std::string_view line, std::string* 
   f.frame = *frame;
   f.eye_size = *eye_size;
   if (*path != "forward" && *path != "deferred") return fail("frame: unknown \"render_path\" \"" + *path + "\"");
-  if (*warp != "paper" && *warp != "full" && *warp != "edges")
+  if (*warp != "paper" && *warp != "full" && *warp != "edges" && *warp != "edges-depth")
     return fail("frame: unknown \"warp\" \"" + *warp + "\"");
   if (view->empty() || view->size() > 64) return fail("frame: \"view\" must be a short name");
   f.render_path = *path;

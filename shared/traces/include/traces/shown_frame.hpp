@@ -33,7 +33,7 @@ struct ShownFrame {
   std::optional<TracedFormat> traced;   // the session's traced format (display + guard band per side)
   std::optional<uint64_t> scene_hash;   // the scene content the server traced (its Welcome's hash)
   std::string render_path;              // "forward" or "deferred"
-  std::string warp;                     // "paper", "full" or "edges" (dhr-xrclient --warp)
+  std::string warp;                     // "paper", "full", "edges" or "edges-depth" (dhr-xrclient --warp)
   std::string view = "shaded";          // what the pictures show (--view)
   std::array<ShownEye, 2> eyes{};       // [0] left, [1] right
 };

@@ -13,7 +13,7 @@ namespace dhr::client::shipped {
 inline constexpr Schedule kSchedule = Schedule::kNewest;  // --schedule
 inline constexpr uint32_t kXMax = 3;                      // --x-max (the paper schedule only)
 inline constexpr WarpChoice kWarp = WarpChoice::kEdges;   // --warp
-// --depth-scale: the depth test's traced depth at 1/2 of the traced resolution per axis (a quarter of the pixels).
+// --depth-scale (edges-depth, full): the depth test's traced depth at 1/2 of the traced resolution per axis.
 inline constexpr uint32_t kDepthScale = 2;
 inline constexpr bool kForwardPath = true;                // --render-path auto (the forward pass where it applies)
 // --guard: the paper's +64x36 at 1920x1080, scaled to the eye size.

@@ -7,8 +7,8 @@ namespace dhr::client {
 enum class WarpChoice {
   kPaper,  // the paper's warp (unknown pixels lit)
   kFull,   // render::WarpSettings::full() (deferred, with shadow maps)
-  kEdges,        // render::WarpSettings::server_edges_depth(--depth-scale) (forward, shadow maps, traced depth)
-  kEdgesNoDepth, // render::WarpSettings::server_edges() (forward, shadow maps, no depth test: leaks disocclusions)
+  kEdges,       // render::WarpSettings::server_edges() (forward, shadow maps where the samples disagree)
+  kEdgesDepth,  // render::WarpSettings::server_edges_depth(--depth-scale) (the same plus the depth test)
 };
 
 inline const char* to_string(WarpChoice choice) {
@@ -16,7 +16,7 @@ inline const char* to_string(WarpChoice choice) {
     case WarpChoice::kPaper: return "paper";
     case WarpChoice::kFull: return "full";
     case WarpChoice::kEdges: return "edges";
-    case WarpChoice::kEdgesNoDepth: return "edges-no-depth";
+    case WarpChoice::kEdgesDepth: return "edges-depth";
   }
   return "?";
 }
