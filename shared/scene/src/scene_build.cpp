@@ -61,8 +61,8 @@ struct MaterialTexturing {
 class Builder {
  public:
   Builder(const tinygltf::Model& model, const SceneLoadOptions& options, const ImageDecodeContext& images,
-          WarningSink& warnings, Scene* out)
-      : model_(model), options_(options), images_(images), warnings_(warnings), out_(out) {
+          const LightJson& light_json, WarningSink& warnings, Scene* out)
+      : model_(model), options_(options), images_(images), light_json_(light_json), warnings_(warnings), out_(out) {
     budget_.triangles_left = options.max_triangles;
     budget_.vertices_left = options.max_vertices;
   }
@@ -76,8 +76,8 @@ class Builder {
     const tinygltf::Scene& scene = model_.scenes[static_cast<std::size_t>(scene_index)];
     if (scene.nodes.empty()) return fail(format("scene %d has no nodes", scene_index), out_error);
     convert_materials();
-    punctual_extents_ = read_punctual_extents(model_, warnings_);
-    area_defs_ = read_area_lights(model_, warnings_);
+    punctual_extents_ = read_punctual_extents(model_, light_json_, warnings_);
+    area_defs_ = read_area_lights(light_json_, warnings_);
     if (!walk(scene, scene_index, out_error)) return false;
     finish();
     return true;
@@ -319,6 +319,7 @@ class Builder {
   const tinygltf::Model& model_;
   const SceneLoadOptions& options_;
   const ImageDecodeContext& images_;
+  const LightJson& light_json_;
   WarningSink& warnings_;
   Scene* out_;
   Budget budget_;
@@ -337,8 +338,8 @@ class Builder {
 }  // namespace
 
 bool build_scene(const tinygltf::Model& model, const SceneLoadOptions& options, const ImageDecodeContext& images,
-                 WarningSink& warnings, Scene* out, std::string* out_error) {
-  return Builder(model, options, images, warnings, out).run(out_error);
+                 const LightJson& light_json, WarningSink& warnings, Scene* out, std::string* out_error) {
+  return Builder(model, options, images, light_json, warnings, out).run(out_error);
 }
 
 }  // namespace dhr::scene_detail

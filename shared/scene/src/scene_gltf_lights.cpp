@@ -1,5 +1,6 @@
 // Lights from glTF: KHR_lights_punctual (with the extent in extras.radius / extras.angle) and EXT_lights_area
 // (KhronosGroup glTF PR 2525: rect and disk, intensity in nits, size scaled by the node's largest world scale).
+// Values are read from the raw JSON (LightJson), not tinygltf's copy, which drops null members silently.
 // The JSON validator leaves these lenient on purpose: a bad light value costs that light (or its extent) with a
 // warning naming it, never the whole scene (DESIGN 5b: never silently, never a crash).
 #include <tiny_gltf.h>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
+#include <nlohmann/json.hpp>
 
 #include "scene_internal.hpp"
 
@@ -25,106 +27,120 @@ glm::vec3 normalized_or(const glm::dvec3& v, const glm::vec3& fallback) {
   return glm::vec3(v / len);
 }
 
+using Json = nlohmann::json;
+
 // A JSON value for a warning: the number, or what kind of value it is.
+std::string describe(const Json& v) {
+  if (v.is_number()) return format("%g", v.get<double>());
+  if (v.is_string()) return "\"" + v.get<std::string>() + "\"";
+  if (v.is_null()) return "null";
+  return v.type_name() + std::string(v.is_array() || v.is_object() ? "" : " value");
+}
 std::string describe(const tinygltf::Value& v) {
   if (v.IsNumber()) return format("%g", v.GetNumberAsDouble());
   if (v.IsString()) return "\"" + v.Get<std::string>() + "\"";
-  if (v.IsArray()) return "an array";
-  if (v.IsObject()) return "an object";
-  if (v.IsBool()) return "a boolean";
-  return "null";
+  return v.IsArray() ? "an array" : v.IsObject() ? "an object" : "null";
 }
 
 // A number in [lo, hi] (finite), or nullopt.
-std::optional<double> number_in(const tinygltf::Value& v, double lo, double hi) {
-  if (!v.IsNumber()) return std::nullopt;
-  const double x = v.GetNumberAsDouble();
+std::optional<double> number_in(const Json& v, double lo, double hi) {
+  if (!v.is_number()) return std::nullopt;
+  const double x = v.get<double>();
   if (!std::isfinite(x) || x < lo || x > hi) return std::nullopt;
   return x;
 }
+
+// A positive, finite number, or nullopt.
+std::optional<double> positive(const Json& v) {
+  if (!v.is_number()) return std::nullopt;
+  const double x = v.get<double>();
+  if (!std::isfinite(x) || !(x > 0.0)) return std::nullopt;
+  return x;
+}
+
+// The JSON text extract_light_json kept ("" = absent -> null).
+Json parse_kept(const std::string& text) { return text.empty() ? Json() : Json::parse(text); }
 
 std::string light_label(const char* kind, std::size_t index, const std::string& name) {
   return format("%s %zu ('%s')", kind, index, name.c_str());
 }
 
 // extras.radius / extras.angle of one KHR_lights_punctual light; each bad value is named and ignored.
-PunctualExtent read_extent(const tinygltf::Light& src, std::size_t index, WarningSink& warnings) {
+PunctualExtent read_extent(const tinygltf::Light& src, const Json& extras, std::size_t index, WarningSink& warnings) {
   PunctualExtent e;
-  if (!src.extras.IsObject()) return e;
+  if (!extras.is_object()) return e;
   const std::string label = light_label("light", index, src.name);
   const bool directional = src.type == "directional";
-  if (src.extras.Has("radius")) {
-    const tinygltf::Value& v = src.extras.Get("radius");
+  if (auto it = extras.find("radius"); it != extras.end()) {
     if (directional) {
       warnings.add(label + ": extras.radius is for point and spot lights (a sun takes extras.angle); ignored");
-    } else if (const auto r = number_in(v, 0.0, kMaxLightExtent)) {
+    } else if (const auto r = number_in(*it, 0.0, kMaxLightExtent)) {
       e.radius = static_cast<float>(*r);
     } else {
       warnings.add(format("%s: extras.radius %s is not a number of metres in [0, %g]; ignored, the light stays "
                           "punctual",
-                          label.c_str(), describe(v).c_str(), static_cast<double>(kMaxLightExtent)));
+                          label.c_str(), describe(*it).c_str(), static_cast<double>(kMaxLightExtent)));
     }
   }
-  if (src.extras.Has("angle")) {
-    const tinygltf::Value& v = src.extras.Get("angle");
+  if (auto it = extras.find("angle"); it != extras.end()) {
     if (!directional) {
       warnings.add(label + ": extras.angle is for directional lights (a point or spot takes extras.radius); ignored");
-    } else if (const auto a = number_in(v, 0.0, kMaxLightAngle)) {
+    } else if (const auto a = number_in(*it, 0.0, kMaxLightAngle)) {
       e.angle = static_cast<float>(*a);
     } else {
       warnings.add(format("%s: extras.angle %s is not an angular diameter in [0, %g] rad; ignored, the light stays "
                           "punctual",
-                          label.c_str(), describe(v).c_str(), static_cast<double>(kMaxLightAngle)));
+                          label.c_str(), describe(*it).c_str(), static_cast<double>(kMaxLightAngle)));
     }
   }
   return e;
 }
 
 // One EXT_lights_area definition; `usable` false (after a warning) when a value is unusable.
-AreaLightDef read_area_def(const tinygltf::Value& v, std::size_t index, WarningSink& warnings) {
+AreaLightDef read_area_def(const Json& v, std::size_t index, WarningSink& warnings) {
   AreaLightDef def;
-  if (!v.IsObject()) {
+  if (!v.is_object()) {
     warnings.add(format("EXT_lights_area light %zu is %s, not an object; skipped", index, describe(v).c_str()));
     return def;
   }
-  if (v.Get("name").IsString()) def.name = v.Get("name").Get<std::string>();
+  if (auto n = v.find("name"); n != v.end() && n->is_string()) def.name = n->get<std::string>();
   const std::string label = light_label("EXT_lights_area light", index, def.name);
   auto skip = [&](const std::string& what) {
     warnings.add(label + ": " + what + "; the light is skipped");
     return def;
   };
-  const tinygltf::Value& type = v.Get("type");
-  if (type.IsString() && type.Get<std::string>() == "rect") {
+  const Json type = v.value("type", Json());
+  if (type == "rect") {
     def.type = SceneLight::Type::kRect;
-  } else if (type.IsString() && type.Get<std::string>() == "disk") {
+  } else if (type == "disk") {
     def.type = SceneLight::Type::kDisk;
   } else {
     return skip("unknown type " + describe(type) + " (rect or disk)");
   }
-  if (v.Has("color")) {
-    const tinygltf::Value& c = v.Get("color");
+  if (auto c = v.find("color"); c != v.end()) {
     std::optional<double> rgb[3];
-    for (int i = 0; c.IsArray() && c.ArrayLen() == 3 && i < 3; ++i) rgb[i] = number_in(c.Get(i), 0.0, kMaxIntensity);
+    for (std::size_t i = 0; c->is_array() && c->size() == 3 && i < 3; ++i)
+      rgb[i] = number_in((*c)[i], 0.0, kMaxIntensity);
     if (!rgb[0] || !rgb[1] || !rgb[2]) return skip("color is not 3 finite, non-negative numbers");
     def.color = glm::vec3(static_cast<float>(*rgb[0]), static_cast<float>(*rgb[1]), static_cast<float>(*rgb[2]));
   }
   def.nits = kDefaultNits;
-  if (v.Has("intensity")) {
-    const auto nits = number_in(v.Get("intensity"), 0.0, kMaxIntensity);
-    if (!nits) return skip("intensity " + describe(v.Get("intensity")) + " is not a luminance in nits (>= 0)");
+  if (auto i = v.find("intensity"); i != v.end()) {
+    const auto nits = number_in(*i, 0.0, kMaxIntensity);
+    if (!nits) return skip("intensity " + describe(*i) + " is not a luminance in nits (>= 0)");
     def.nits = *nits;
   }
-  if (v.Has("size")) {
-    const tinygltf::Value& s = v.Get("size");
-    if (!s.IsNumber() || !std::isfinite(s.GetNumberAsDouble()) || !(s.GetNumberAsDouble() > 0.0))
-      return skip("size " + describe(s) + " is not a positive number");
-    def.size = s.GetNumberAsDouble();
+  if (auto s = v.find("size"); s != v.end()) {
+    const auto size = positive(*s);
+    if (!size) return skip("size " + describe(*s) + " is not a positive number");
+    def.size = *size;
   }
-  if (def.type == SceneLight::Type::kRect && v.Get("rect").IsObject() && v.Get("rect").Has("aspect")) {
-    const tinygltf::Value& a = v.Get("rect").Get("aspect");
-    if (!a.IsNumber() || !std::isfinite(a.GetNumberAsDouble()) || !(a.GetNumberAsDouble() > 0.0))
-      return skip("rect.aspect " + describe(a) + " is not a positive number");
-    def.aspect = a.GetNumberAsDouble();
+  if (auto r = v.find("rect"); def.type == SceneLight::Type::kRect && r != v.end() && r->is_object()) {
+    if (auto a = r->find("aspect"); a != r->end()) {
+      const auto aspect = positive(*a);
+      if (!aspect) return skip("rect.aspect " + describe(*a) + " is not a positive number");
+      def.aspect = *aspect;
+    }
   }
   def.usable = true;
   return def;
@@ -140,10 +156,27 @@ std::optional<glm::dvec3> orthonormal(glm::dvec3 v, std::initializer_list<glm::d
 
 }  // namespace
 
-std::vector<PunctualExtent> read_punctual_extents(const tinygltf::Model& model, WarningSink& warnings) {
+LightJson extract_light_json(const Json& root) {
+  LightJson out;
+  const Json* ext = root.contains("extensions") ? &root["extensions"] : nullptr;
+  if (ext && ext->is_object() && ext->contains("EXT_lights_area")) out.area = (*ext)["EXT_lights_area"].dump();
+  if (!ext || !ext->is_object() || !ext->contains("KHR_lights_punctual")) return out;
+  const Json& lights = (*ext)["KHR_lights_punctual"].value("lights", Json::array());
+  for (const Json& light : lights) {
+    const auto extras = light.is_object() ? light.find("extras") : light.end();
+    out.extras.push_back(light.is_object() && extras != light.end() ? extras->dump() : std::string());
+  }
+  return out;
+}
+
+std::vector<PunctualExtent> read_punctual_extents(const tinygltf::Model& model, const LightJson& json,
+                                                  WarningSink& warnings) {
   std::vector<PunctualExtent> out;
   out.reserve(model.lights.size());
-  for (std::size_t i = 0; i < model.lights.size(); ++i) out.push_back(read_extent(model.lights[i], i, warnings));
+  for (std::size_t i = 0; i < model.lights.size(); ++i) {
+    const Json extras = i < json.extras.size() ? parse_kept(json.extras[i]) : Json();
+    out.push_back(read_extent(model.lights[i], extras, i, warnings));
+  }
   return out;
 }
 
@@ -169,17 +202,16 @@ SceneLight light_from_gltf(const tinygltf::Model& model, int index, const glm::d
   return light;
 }
 
-std::vector<AreaLightDef> read_area_lights(const tinygltf::Model& model, WarningSink& warnings) {
+std::vector<AreaLightDef> read_area_lights(const LightJson& json, WarningSink& warnings) {
   std::vector<AreaLightDef> defs;
-  const auto ext = model.extensions.find("EXT_lights_area");
-  if (ext == model.extensions.end()) return defs;
-  const tinygltf::Value& lights = ext->second.Get("lights");
-  if (!lights.IsArray()) {
+  if (json.area.empty()) return defs;
+  const Json area = parse_kept(json.area);
+  const Json lights = area.value("lights", Json());
+  if (!lights.is_array()) {
     warnings.add("EXT_lights_area: \"lights\" is " + describe(lights) + ", not an array; no area light is read");
     return defs;
   }
-  for (std::size_t i = 0; i < lights.ArrayLen(); ++i)
-    defs.push_back(read_area_def(lights.Get(static_cast<int>(i)), i, warnings));
+  for (std::size_t i = 0; i < lights.size(); ++i) defs.push_back(read_area_def(lights[i], i, warnings));
   return defs;
 }
 

@@ -120,6 +120,10 @@ std::optional<SceneLight> parse_light_spec(std::string_view spec, std::string* o
   // Named fields trail the positional ones.
   std::size_t positional = f.size();
   while (positional > 0 && f[positional - 1].find('=') != std::string_view::npos) --positional;
+  for (std::size_t i = 1; i < positional; ++i) {
+    if (f[i].find('=') != std::string_view::npos)
+      return fail("named field \"" + std::string(f[i]) + "\" must follow the others (expected " + shape.usage + ")");
+  }
   for (std::size_t i = positional; i < f.size(); ++i) {
     if (!parse_named(f[i], shape, light, &error)) return fail(error);
   }
