@@ -219,6 +219,21 @@ TEST(SceneAreaLights, BadAreaLightsAreSkippedWithAWarning) {
   }
 }
 
+// NaN and Infinity are not JSON: such a file is refused with a parse error (never a crash, never a default).
+TEST(SceneAreaLights, ANanLiteralIsAJsonError) {
+  LightsGltf g;
+  g.area({{"type", "disk"}, {"size", 1.5}});
+  g.area_node(0);
+  g.doc["scenes"] = json::array({{{"nodes", {0}}}});
+  std::string text = g.doc.dump();
+  const std::size_t at = text.find("1.5");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 3, "NaN");
+  auto r = dhr::load_scene_from_memory(text.data(), text.size(), ".", "nan.gltf");
+  EXPECT_FALSE(r);
+  EXPECT_NE(r.error.find("nan.gltf"), std::string::npos) << r.error;
+}
+
 TEST(SceneAreaLights, AMalformedRootExtensionIsNamed) {
   LightsGltf g;
   g.doc["extensions"]["EXT_lights_area"]["lights"] = "none";
