@@ -98,7 +98,7 @@ std::optional<Extent> parse_size(const std::string& text) {
   return Extent{w, h};
 }
 
-// Point lights beyond the scene's, up to `count` (at most kMaxLights): copies of its point (or spot) lights in
+// Point lights beyond the scene's, up to `count` (at most kMaxLights): copies of its point (or spot, rect, disk) lights in
 // turn, each moved by a fixed pattern of up to 0.6 m and dimmed by the number of copies.
 void add_lights(Scene& scene, uint32_t count) {
   std::vector<SceneLight> sources;
@@ -108,7 +108,11 @@ void add_lights(Scene& scene, uint32_t count) {
   const size_t original = scene.lights.size();
   for (size_t i = original; i < count; ++i) {
     SceneLight l = sources[(i - original) % sources.size()];
+    // A copy of a rect or disk light is a point light of its peak intensity (nits x area candela); copies are
+    // punctual (they only add shadow-map load).
+    if (l.type == SceneLight::Type::kRect || l.type == SceneLight::Type::kDisk) l.intensity *= l.area();
     l.type = SceneLight::Type::kPoint;
+    l.radius = l.angle = l.width = l.height = 0.0f;
     const double a = 2.399963 * static_cast<double>(i);  // golden angle: spread around the original
     const double r = 0.25 + 0.35 * static_cast<double>((i * 7) % 10) / 10.0;
     l.position += glm::vec3(static_cast<float>(r * std::cos(a)), -0.1f * static_cast<float>(i % 3),

@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Generates the project's own default scene: assets/scenes/default_room.gltf (+ .cameras.json).
+"""Generates the project's own default scene: assets/scenes/default_room.gltf (+ .cameras.json), and its sibling
+default_room_area.gltf (+ .cameras.json): the same room whose lights have an extent (an EXT_lights_area rect panel,
+a sphere light), so soft-shadow code runs without the shared test data.
 
 A 4 x 3 m room, 3 m high (floor at y = 0, walls at x = +-2 and z = -1.5, open towards +z and above),
 single-sided and facing inward, with objects that cast clear shadows: two boxes, a shelf plank on the
@@ -185,7 +187,8 @@ class Writer:
             {"attributes": attributes, "indices": geometry["indices"], "material": material}]})
         return len(self.gltf["meshes"]) - 1
 
-    def node(self, name, mesh=None, translation=None, rotation_y_deg=None, scale=None, light=None):
+    def node(self, name, mesh=None, translation=None, rotation_y_deg=None, scale=None, light=None, rotation=None,
+             area_light=None):
         n = {"name": name}
         if mesh is not None:
             n["mesh"] = mesh
@@ -194,10 +197,14 @@ class Writer:
         if rotation_y_deg:
             half = math.radians(rotation_y_deg) / 2
             n["rotation"] = [0.0, round(math.sin(half), 9), 0.0, round(math.cos(half), 9)]
+        if rotation:
+            n["rotation"] = [round(v, 9) for v in rotation]
         if scale:
             n["scale"] = list(scale)
         if light is not None:
             n["extensions"] = {"KHR_lights_punctual": {"light": light}}
+        if area_light is not None:
+            n["extensions"] = {"EXT_lights_area": {"light": area_light}}
         self.gltf["nodes"].append(n)
         index = len(self.gltf["nodes"]) - 1
         self.gltf["scenes"][0]["nodes"].append(index)
@@ -211,7 +218,8 @@ class Writer:
         return self.gltf
 
 
-def build():
+def build(area=False):
+    """The default room; area=True: its sibling whose lights have an extent (default_room_area.gltf)."""
     w = Writer()
     png = checker_png()
     w.gltf["images"].append({"name": "floor_checker", "mimeType": "image/png", "bufferView": w.view(png)})
@@ -238,6 +246,9 @@ def build():
     w.node("column", w.mesh("column", w.geometry(cylinder(0.15, 2.2, 32)), grey), translation=(0.15, 0.0, -1.05))
     w.node("sphere", w.mesh("sphere", w.geometry(uv_sphere(0.35, 24, 16)), yellow), translation=(-0.25, 0.35, 0.1))
 
+    if area:
+        add_area_lights(w)
+        return w.finish()
     w.gltf["extensions"] = {"KHR_lights_punctual": {"lights": [
         {"name": "ceiling_key", "type": "point", "color": [1.0, 0.93, 0.82], "intensity": 16.0},
         {"name": "fill_left", "type": "point", "color": [0.8, 0.88, 1.0], "intensity": 7.0},
@@ -249,30 +260,56 @@ def build():
     return w.finish()
 
 
-def cameras():
+def add_area_lights(w):
+    """The same three light positions, with an extent: the ceiling key becomes a 0.8 x 0.4 m EXT_lights_area panel
+    facing down (50 nits x 0.32 m^2 = 16 cd, as the point light it replaces), the lamp a 5 cm sphere light
+    (extras.radius), the fill stays a point light."""
+    w.gltf["extensionsUsed"] = ["KHR_lights_punctual", "EXT_lights_area"]
+    w.gltf["extensions"] = {
+        "KHR_lights_punctual": {"lights": [
+            {"name": "fill_left", "type": "point", "color": [0.8, 0.88, 1.0], "intensity": 7.0},
+            {"name": "lamp_right", "type": "point", "color": [1.0, 0.78, 0.5], "intensity": 2.0, "range": 6.0,
+             "extras": {"radius": 0.05}},
+        ]},
+        "EXT_lights_area": {"lights": [
+            {"name": "ceiling_panel", "type": "rect", "color": [1.0, 0.93, 0.82], "intensity": 50.0, "size": 0.4,
+             "rect": {"aspect": 2.0}},
+        ]},
+    }
+    s = math.sqrt(0.5)
+    # -90 degrees about X: the node's -Z (the emitting side) points down.
+    w.node("light_ceiling_panel", translation=(0.5, 2.7, 0.3), rotation=(-s, 0.0, 0.0, s), area_light=0)
+    w.node("light_fill_left", translation=(-1.5, 2.0, 1.0), light=0)
+    w.node("light_lamp_right", translation=(1.1, 0.9, 0.6), light=1)
+
+
+def cameras(scene="default_room.gltf"):
     def cam(name, position, target):
         return {"name": name, "position": list(position), "target": list(target)}
-    return {"scene": "default_room.gltf", "units": "metres", "up": [0, 1, 0], "yfov_deg_suggested": 60,
+    return {"scene": scene, "units": "metres", "up": [0, 1, 0], "yfov_deg_suggested": 60,
             "cameras": [cam("entrance_overview", (0.0, EYE_HEIGHT, 1.35), (-0.1, 0.5, -0.9)),
                         cam("left_corner", (-1.6, EYE_HEIGHT, 1.2), (0.6, 0.4, -0.8)),
                         cam("right_side_shelf", (1.6, EYE_HEIGHT, 0.9), (-1.4, 0.9, -0.4))]}
+
+
+def write_json(path, value, **kwargs):
+    with open(path, "w", encoding="ascii", newline="\n") as f:
+        json.dump(value, f, **kwargs)
+        f.write("\n")
 
 
 def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     out_dir = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "assets", "scenes")
     os.makedirs(out_dir, exist_ok=True)
-    gltf = build()
-    with open(os.path.join(out_dir, "default_room.gltf"), "w", encoding="ascii", newline="\n") as f:
-        json.dump(gltf, f, indent=1, separators=(",", ": "))
-        f.write("\n")
-    with open(os.path.join(out_dir, "default_room.cameras.json"), "w", encoding="ascii", newline="\n") as f:
-        json.dump(cameras(), f, indent=2)
-        f.write("\n")
-    triangles = sum(gltf["accessors"][p["indices"]]["count"] // 3
-                    for n in gltf["nodes"] if "mesh" in n for p in gltf["meshes"][n["mesh"]]["primitives"])
-    path = os.path.join(out_dir, "default_room.gltf")
-    print("wrote %s (%d bytes, %d triangles drawn)" % (path, os.path.getsize(path), triangles))
+    for name, area in (("default_room", False), ("default_room_area", True)):
+        gltf = build(area)
+        path = os.path.join(out_dir, name + ".gltf")
+        write_json(path, gltf, indent=1, separators=(",", ": "))
+        write_json(os.path.join(out_dir, name + ".cameras.json"), cameras(name + ".gltf"), indent=2)
+        triangles = sum(gltf["accessors"][p["indices"]]["count"] // 3
+                        for n in gltf["nodes"] if "mesh" in n for p in gltf["meshes"][n["mesh"]]["primitives"])
+        print("wrote %s (%d bytes, %d triangles drawn)" % (path, os.path.getsize(path), triangles))
 
 if __name__ == "__main__":
     main()

@@ -1,5 +1,5 @@
 // The Embree tracer against analytic answers on hand-made scenes: a floor with a floating box and
-// point / directional / spot lights, range cut-off, back-facing lights, single/double-sided surfaces.
+// point / directional / spot / rect lights, range cut-off, back-facing lights, single/double-sided surfaces.
 // Pixels whose answer changes within a small margin (silhouettes, shadow boundaries) are not checked.
 #include "trace/embree/embree_tracer.hpp"
 #include "test_scenes.hpp"
@@ -155,6 +155,37 @@ TEST(EmbreeAnalytic, SpotConeLimitsTheLitRegion) {
   EXPECT_GT(r.checked_dark, 100);
   EXPECT_GT(r.checked_lit, 100);
   EXPECT_GT(stats.skipped_out_of_range, 0u);  // outside the cone: no ray
+}
+
+// A rect light is one-sided (nothing behind its plane, and no ray: kOutOfRange) and, for hard shadows, a point at
+// its centre: tilted 45 degrees towards +X above the floor, it lights the floor where x > -3, minus the box's shadow.
+TEST(EmbreeAnalytic, RectLightIsOneSidedAndShadowsFromItsCentre) {
+  const glm::dvec3 pos(0.0, 3.0, 0.0), dir = glm::normalize(glm::dvec3(1.0, -1.0, 0.0));
+  SceneLight rect;
+  rect.type = SceneLight::Type::kRect;
+  rect.position = glm::vec3(pos);
+  rect.direction = glm::vec3(dir);
+  rect.tangent = glm::vec3(glm::normalize(glm::dvec3(1.0, 1.0, 0.0)));
+  rect.bitangent = glm::cross(rect.tangent, rect.direction);
+  rect.intensity = 100.0f;
+  rect.width = 1.0f;
+  rect.height = 0.5f;
+  ASSERT_FALSE(validate_light(rect).has_value());
+  const Scene scene = floor_and_box({rect});
+  EmbreeTracer tracer(scene, tracer_options());
+  const Camera camera = test::look_camera({0.0, 7.0, 7.0}, {0.0, 0.0, 0.0}, 200, 150, 100.0);
+  VisibilityBuffer vis;
+  TraceStats stats;
+  tracer.trace(camera, vis, stats);
+  const FloorCheck r = check_floor(camera, vis, true, [&](const glm::dvec3& p) {
+    const double in_front = glm::dot(p - pos, dir);
+    if (std::fabs(in_front) < kMargin) return Expect::kSkip;
+    return in_front < 0.0 ? Expect::kDark : box_shadow(p, pos);
+  });
+  EXPECT_EQ(r.mismatches, 0);
+  EXPECT_GT(r.checked_dark, 1000);  // behind the emitter
+  EXPECT_GT(r.checked_lit, 1000);
+  EXPECT_GT(stats.skipped_out_of_range, 0u);  // behind it: no ray
 }
 
 TEST(EmbreeAnalytic, RangeCutsOffPointLight) {

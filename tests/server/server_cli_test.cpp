@@ -86,6 +86,27 @@ TEST(ServerCli, CheckOnTheLivingRoom) {
   EXPECT_EQ(j.at("lights").get<int>(), 3);
 }
 
+// Each light's type and extent: the area sibling of the default room, and --lights with a sun disk.
+TEST(ServerCli, CheckListsEachLightsTypeAndExtent) {
+  const RunResult r = run_server("--check --scene " + quote(test::source_path("assets/scenes/default_room_area.gltf")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(lines(r.out).at(0));
+  const auto& details = j.at("light_details");
+  ASSERT_EQ(details.size(), 3u) << r.out;
+  EXPECT_EQ(details[0].at("name"), "ceiling_panel");
+  EXPECT_EQ(details[0].at("type"), "rect");
+  EXPECT_EQ(details[0].at("extent"), "rect 0.8 x 0.4 m");
+  EXPECT_EQ(details[0].at("spec").get<std::string>().rfind("rect:0.5,2.70000005,0.300000012:0,-1,", 0), 0u) << details[0];
+  EXPECT_EQ(details[1].at("extent"), "point");
+  EXPECT_EQ(details[2].at("extent"), "point, sphere r 0.05 m");
+  EXPECT_TRUE(j.at("warnings").empty()) << j.at("warnings");
+  const RunResult sun = run_server("--check --lights 'dir:0,-1,0:1,1,1:3:angle_deg=0.53'");
+  ASSERT_EQ(sun.exit_code, 0) << sun.err;
+  const auto s = nlohmann::json::parse(lines(sun.out).at(0));
+  EXPECT_EQ(s.at("light_details").at(0).at("extent"), "dir, sun disk 0.53 deg");
+  EXPECT_EQ(s.at("light_details").at(0).at("spec"), "dir:0,-1,0:1,1,1:3:angle_deg=0.529999971");
+}
+
 TEST(ServerCli, CheckRejectsUnusableScenesWithOneLine) {
   std::vector<std::string> bad = {"/nonexistent/missing.gltf"};
   if (const std::string draco = test::shared_data_path("gltf-bad/draco/2CylinderEngine.gltf"); !draco.empty())

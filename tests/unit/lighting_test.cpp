@@ -7,6 +7,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <cmath>
+#include <cstring>
 
 namespace dhr {
 namespace {
@@ -131,6 +132,78 @@ TEST(Lighting, DirectionalLightIsIntensityTimesColour) {
   EXPECT_EQ(s.distance, light_eval::kLightInfiniteDistance);
   EXPECT_NEAR(glm::length(s.l - glm::normalize(glm::vec3(0, 1, 1))), 0.0f, 1e-6);
   EXPECT_EQ(light_eval::light_irradiance(p, s.l, s.distance), glm::vec3(3.0f, 1.5f, 0.0f));
+  EXPECT_EQ(sample_light(p, glm::vec3(0.0f), -kUp).test, LightTest::kBackfacing);
+}
+
+// A 0.8 x 0.5 m rect light at (0, 2, 0) facing down, 50 nits: 20 cd along its normal.
+SceneLight make_rect() {
+  SceneLight l;
+  l.type = SceneLight::Type::kRect;
+  l.position = {0, 2, 0};
+  l.direction = {0, -1, 0};
+  l.tangent = {1, 0, 0};
+  l.bitangent = {0, 0, -1};
+  l.intensity = 50.0f;
+  l.width = 0.8f;
+  l.height = 0.5f;
+  return l;
+}
+
+TEST(Lighting, RectAndDiskPackAsNitsTimesArea) {
+  const PackedLight rect = pack_light(make_rect(), glm::dvec3(0.0, 1.0, 0.0));
+  EXPECT_EQ(rect.position_type, glm::vec4(0, 1, 0, light_eval::kLightTypeRect));
+  EXPECT_EQ(glm::vec3(rect.direction_range), glm::vec3(0, -1, 0));
+  EXPECT_FLOAT_EQ(rect.color_intensity.w, 20.0f);  // 50 nits x 0.4 m^2
+  EXPECT_TRUE(light_eval::light_is_area(rect));
+  EXPECT_FALSE(light_eval::light_is_directional(rect));
+  EXPECT_FALSE(light_eval::light_is_spot(rect));
+  SceneLight disk = make_rect();
+  disk.type = SceneLight::Type::kDisk;
+  disk.height = disk.width;
+  const PackedLight d = pack_light(disk);
+  EXPECT_EQ(d.position_type.w, light_eval::kLightTypeDisk);
+  EXPECT_NEAR(d.color_intensity.w, 50.0 * M_PI * 0.16, 1e-4);  // pi r^2, r = 0.4
+  EXPECT_TRUE(light_eval::light_is_area(d));
+  EXPECT_FALSE(light_eval::light_is_directional(d));
+}
+
+// Sphere lights and the sun disk shade exactly as their punctual light (their extent only softens shadows).
+TEST(Lighting, SphereAndSunPackAsTheirPunctualLight) {
+  SceneLight sphere = make_point({1, 2, 3}, 8.0f, 5.0f);
+  const PackedLight punctual = pack_light(sphere);
+  sphere.radius = 0.06f;
+  const PackedLight packed = pack_light(sphere);
+  EXPECT_EQ(std::memcmp(&packed, &punctual, sizeof packed), 0);
+  SceneLight sun;
+  sun.type = SceneLight::Type::kDirectional;
+  sun.direction = {0, -1, 0};
+  const PackedLight sun_punctual = pack_light(sun);
+  sun.angle = 0.0093f;
+  const PackedLight sun_packed = pack_light(sun);
+  EXPECT_EQ(std::memcmp(&sun_packed, &sun_punctual, sizeof sun_packed), 0);
+}
+
+// One-sided: nothing behind the emitter's plane (kOutOfRange, like outside a spot's cone); in front, a point light
+// at the centre whose intensity falls off with the cosine between the emission normal and the direction to the point.
+TEST(Lighting, RectLightIsZeroBehindAndCosineWeightedInFront) {
+  const PackedLight p = pack_light(make_rect());
+  // Straight below, 2 m: E = 20 cd / 4 m^2.
+  const LightSample below = sample_light(p, glm::vec3(0.0f), kUp);
+  ASSERT_EQ(below.test, LightTest::kContributes);
+  EXPECT_FLOAT_EQ(light_contribution(p, below, kUp).x, 5.0f);
+  // 60 degrees off the normal (a wall point facing the light): cos 60 = 0.5 of the intensity.
+  const glm::vec3 q(2.0f * std::tan(glm::radians(60.0f)), 0.0f, 0.0f);
+  const LightSample off = sample_light(p, q, kUp);
+  ASSERT_EQ(off.test, LightTest::kContributes);
+  EXPECT_NEAR(light_eval::light_attenuation(p, off.l, off.distance) * off.distance * off.distance, 0.5f, 1e-5);
+  // Above the emitter (behind it) and in its plane: nothing, even for a surface that faces the light.
+  for (const glm::vec3& behind : {glm::vec3(0, 3, 0), glm::vec3(1, 3, 1), glm::vec3(3, 2, 0)}) {
+    const LightSample s = sample_light(p, behind, -kUp);
+    EXPECT_EQ(s.test, LightTest::kOutOfRange);
+    EXPECT_EQ(light_contribution(p, s, -kUp), glm::vec3(0.0f));
+    EXPECT_EQ(light_eval::light_attenuation(p, s.l, s.distance), 0.0f);
+  }
+  // Back-facing surfaces in front of it are back-facing, as for a point light.
   EXPECT_EQ(sample_light(p, glm::vec3(0.0f), -kUp).test, LightTest::kBackfacing);
 }
 

@@ -290,4 +290,45 @@ TEST(SceneDataRealScene, LivingRoomLightsAndBounds) {
   EXPECT_TRUE(r.scene->warnings.empty()) << r.scene->warnings.front();
 }
 
+// MANIFEST: a 1.0 x 0.4 m ceiling panel (rect) and a 0.6 m ceiling disk, both facing down, and the lamp bulb as
+// a 6 cm sphere light.
+TEST(SceneDataRealScene, LivingRoomAreaLightsHaveTheirExtent) {
+  REQUIRE_DATA("scenes/living_room_area.glb");
+  auto r = load("scenes/living_room_area.glb");
+  ASSERT_TRUE(r) << r.error;
+  check_invariants(*r.scene);
+  EXPECT_EQ(r.scene->triangle_count, 163448u);
+  EXPECT_TRUE(r.scene->warnings.empty()) << r.scene->warnings.front();
+  const auto& lights = r.scene->lights;
+  ASSERT_EQ(lights.size(), 3u);
+  // Node order: the two ceiling lights, then the lamp.
+  EXPECT_EQ(lights[0].type, Type::kRect);
+  EXPECT_NEAR(lights[0].width, 1.0f, 1e-6f);
+  EXPECT_NEAR(lights[0].height, 0.4f, 1e-6f);
+  EXPECT_EQ(lights[1].type, Type::kDisk);
+  EXPECT_NEAR(lights[1].width, 0.6f, 1e-6f);
+  EXPECT_EQ(lights[1].width, lights[1].height);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(glm::length(lights[i].direction - glm::vec3(0, -1, 0)), 0.0f, 1e-6f) << lights[i].name;
+    EXPECT_NEAR(lights[i].position.y, 2.55f, 1e-5f);
+  }
+  EXPECT_EQ(lights[2].type, Type::kPoint);
+  EXPECT_FLOAT_EQ(lights[2].radius, 0.06f);
+  for (const auto& l : lights) EXPECT_FALSE(dhr::validate_light(l).has_value()) << l.name;
+}
+
+// MANIFEST: the 3 room lights and a directional sun with extras.angle 0.0093 rad.
+TEST(SceneDataRealScene, LivingRoomSunHasItsAngle) {
+  REQUIRE_DATA("scenes/living_room_sun.glb");
+  auto r = load("scenes/living_room_sun.glb");
+  ASSERT_TRUE(r) << r.error;
+  EXPECT_TRUE(r.scene->warnings.empty()) << r.scene->warnings.front();
+  const auto& lights = r.scene->lights;
+  ASSERT_EQ(lights.size(), 4u);
+  for (int i = 0; i < 3; ++i) EXPECT_FALSE(lights[i].has_extent()) << lights[i].name;
+  EXPECT_EQ(lights[3].type, Type::kDirectional);
+  EXPECT_FLOAT_EQ(lights[3].angle, 0.0093f);
+  EXPECT_LT(lights[3].direction.y, 0.0f);  // 40 degrees high: it shines down
+}
+
 }  // namespace

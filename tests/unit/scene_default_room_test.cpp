@@ -109,4 +109,33 @@ TEST(SceneDefaultRoom, CameraBookmarksAreAtEyeHeightInsideTheRoom) {
   }
 }
 
+// The sibling whose lights have an extent (default_room_area.gltf, same generator): the feature runs without the
+// shared data. Same room; the ceiling key is a 0.8 x 0.4 m rect panel facing down, the lamp a 5 cm sphere light.
+TEST(SceneDefaultRoom, TheAreaLightSiblingHasLightsWithAnExtent) {
+  const fs::path path = fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.gltf";
+  auto r = dhr::load_scene(path.string());
+  ASSERT_TRUE(r) << r.error;
+  const dhr::Scene& scene = *r.scene;
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_EQ(scene.triangle_count, kTriangles);
+  ASSERT_EQ(scene.lights.size(), 3u);
+  const dhr::SceneLight& panel = scene.lights[0];
+  EXPECT_EQ(panel.type, dhr::SceneLight::Type::kRect);
+  EXPECT_EQ(panel.name, "ceiling_panel");
+  EXPECT_NEAR(panel.width, 0.8f, 1e-6f);
+  EXPECT_NEAR(panel.height, 0.4f, 1e-6f);
+  EXPECT_NEAR(glm::length(panel.direction - glm::vec3(0, -1, 0)), 0.0f, 1e-6f);
+  EXPECT_NEAR(panel.intensity * panel.area(), 16.0f, 1e-4f);  // the 16 cd of the point light it replaces
+  EXPECT_EQ(scene.lights[1].type, dhr::SceneLight::Type::kPoint);
+  EXPECT_FALSE(scene.lights[1].has_extent());
+  EXPECT_FLOAT_EQ(scene.lights[2].radius, 0.05f);
+  for (const auto& l : scene.lights) EXPECT_FALSE(dhr::validate_light(l).has_value()) << l.name;
+  // Same geometry as the default room, so the hash differs only through the lights.
+  auto base = dhr::load_scene(kScene.string());
+  ASSERT_TRUE(base) << base.error;
+  EXPECT_EQ(base.scene->bounds.min, scene.bounds.min);
+  EXPECT_EQ(base.scene->bounds.max, scene.bounds.max);
+  EXPECT_TRUE(fs::exists(fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.cameras.json"));
+}
+
 }  // namespace

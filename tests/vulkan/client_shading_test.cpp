@@ -57,6 +57,33 @@ Scene lit_room() {
   return scene;
 }
 
+// lit_room with a rect light tilted towards +X (the room's left part is behind it: no light there) and a disk
+// facing down instead of the spot and the sun.
+Scene area_lit_room() {
+  Scene scene = lit_room();
+  SceneLight rect;
+  rect.type = SceneLight::Type::kRect;
+  rect.position = {0.0f, 1.5f, -3.0f};
+  rect.direction = glm::normalize(glm::vec3(1.0f, -0.5f, 0.0f));
+  rect.tangent = {0.0f, 0.0f, 1.0f};
+  rect.bitangent = glm::cross(rect.tangent, rect.direction);
+  rect.color = {1.0f, 0.9f, 0.7f};
+  rect.intensity = 40.0f;  // nits: x 0.5 m^2 = 20 cd
+  rect.width = 1.0f;
+  rect.height = 0.5f;
+  SceneLight disk = rect;
+  disk.type = SceneLight::Type::kDisk;
+  disk.position = {-1.0f, 2.5f, -1.0f};
+  disk.direction = {0.0f, -1.0f, 0.0f};
+  disk.tangent = {1.0f, 0.0f, 0.0f};
+  disk.bitangent = {0.0f, 0.0f, -1.0f};
+  disk.color = {0.7f, 0.8f, 1.0f};
+  disk.width = disk.height = 0.6f;
+  scene.lights[1] = rect;
+  scene.lights[2] = disk;
+  return scene;
+}
+
 View room_view() {
   View view;
   view.pose = test::look_at({0.2, 1.5, 1.5}, {0.0, 0.8, -4.0});
@@ -99,22 +126,22 @@ struct ShadingRig {
 
 uint8_t to_byte(float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 
-TEST_F(ClientShadingTest, MatchesTheCpuShadingEquation) {
-  const Scene scene = lit_room();
+// The shading pass's output against the shading equation evaluated on the CPU (light_eval.h, the same header).
+void expect_cpu_shading(vk::Context& context, const Scene& scene) {
   const View view = room_view();
   const Camera camera = display_camera(view, kExtent);
   const Camera traced = Camera::with_guard_band(view, kExtent, kGuard);
   const VisibilityBuffer vis = make_random_visibility(traced.extent.width, traced.extent.height, 3, 42);
-  ShadingRig rig(ctx(), scene);
+  ShadingRig rig(context, scene);
   ShadingSettings settings;
   settings.exposure = 1.3f;
-  rig.run(ctx(), view, VisibilityInput{&vis, traced, {}, 0}, settings);
+  rig.run(context, view, VisibilityInput{&vis, traced, {}, 0}, settings);
 
-  const std::vector<float> depth = test::read_pixels<float>(ctx(), rig.gbuffer.depth);
-  const std::vector<float> normal = test::read_normals(ctx(), rig.gbuffer.normal);
-  const std::vector<uint8_t> albedo = test::read_pixels<uint8_t>(ctx(), rig.gbuffer.albedo, 4);
-  const std::vector<uint32_t> mask = test::read_pixels<uint32_t>(ctx(), rig.warp.mask);
-  const std::vector<uint8_t> out = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  const std::vector<float> depth = test::read_pixels<float>(context, rig.gbuffer.depth);
+  const std::vector<float> normal = test::read_normals(context, rig.gbuffer.normal);
+  const std::vector<uint8_t> albedo = test::read_pixels<uint8_t>(context, rig.gbuffer.albedo, 4);
+  const std::vector<uint32_t> mask = test::read_pixels<uint32_t>(context, rig.warp.mask);
+  const std::vector<uint8_t> out = test::read_pixels<uint8_t>(context, rig.output, 4);
   const std::vector<PackedLight> lights = pack_lights(scene.lights, camera.T_world_eye.position);
 
   size_t surface = 0, lit = 0, worst = 0;
@@ -152,6 +179,15 @@ TEST_F(ClientShadingTest, MatchesTheCpuShadingEquation) {
   EXPECT_GT(surface, kExtent.width * kExtent.height / 2);
   EXPECT_GT(lit, surface / 4) << "the test scene should be mostly lit";
   EXPECT_LE(worst, 1u);
+}
+
+TEST_F(ClientShadingTest, MatchesTheCpuShadingEquation) { expect_cpu_shading(ctx(), lit_room()); }
+
+// Rect and disk lights: one-sided, cosine-weighted, identically on the GPU and the CPU.
+TEST_F(ClientShadingTest, AreaLightsMatchTheCpuShadingEquation) {
+  const Scene scene = area_lit_room();
+  for (const SceneLight& l : scene.lights) ASSERT_FALSE(validate_light(l).has_value()) << l.name;
+  expect_cpu_shading(ctx(), scene);
 }
 
 TEST_F(ClientShadingTest, ShadowedPixelsGetNoLight) {

@@ -37,11 +37,18 @@ constexpr Extent kExtent{96, 72};
 constexpr GuardBand kGuard{4, 3};
 constexpr double kMargin = 2e-3;  // warp_reference.hpp
 
-Scene default_room() {
-  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / kDefaultScenePath).string());
+Scene load_room(const char* relative) {
+  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / relative).string());
   if (!loaded) throw std::runtime_error(loaded.error);
   return *loaded.scene;
 }
+
+Scene default_room() { return load_room(kDefaultScenePath); }
+
+// The default room, and its sibling whose lights have an extent (a rect panel: one-sided, its cube map and its
+// shadow rays at its centre; a sphere light: as a point light).
+class ClientWarpFullRooms : public ClientWarpFullTest, public testing::WithParamInterface<const char*> {};
+constexpr const char* kAreaRoomPath = "assets/scenes/default_room_area.gltf";
 
 View room_view(double dx) {
   View view;
@@ -109,8 +116,8 @@ class StereoRig {
   std::array<std::unique_ptr<EyePipeline>, 2> eyes_;
 };
 
-TEST_F(ClientWarpFullTest, GpuMatchesCpuReferenceWithEveryIngredient) {
-  const Scene scene = default_room();
+TEST_P(ClientWarpFullRooms, GpuMatchesCpuReferenceWithEveryIngredient) {
+  const Scene scene = load_room(GetParam());
   StereoRig rig(ctx(), scene, WarpSettings::full());
   const std::array<View, 2> views = {room_view(-0.032), room_view(0.032)};
   struct Move {
@@ -248,8 +255,8 @@ VisibilityBuffer embree_truth(const Scene& scene, const Camera& camera) {
   return out;
 }
 
-TEST_F(ClientWarpFullTest, ShadowMapsAgreeWithEmbreeAwayFromShadowEdges) {
-  const Scene scene = default_room();
+TEST_P(ClientWarpFullRooms, ShadowMapsAgreeWithEmbreeAwayFromShadowEdges) {
+  const Scene scene = load_room(GetParam());
   WarpSettings local;
   local.shadow_fill = true;  // no server: every surface pixel from the shadow maps
   StereoRig rig(ctx(), scene, local, 1024);
@@ -281,14 +288,19 @@ TEST_F(ClientWarpFullTest, ShadowMapsAgreeWithEmbreeAwayFromShadowEdges) {
   }
   const double interior_share = double(interior_agree) / double(interior);
   const double surface_share = double(surface_agree) / double(surface);
-  std::printf("shadow maps vs Embree, default room: %.4f of %llu pixels away from shadow edges agree, %.4f of all "
+  std::printf("shadow maps vs Embree, %s: %.4f of %llu pixels away from shadow edges agree, %.4f of all "
               "%llu surface pixels\n",
-              interior_share, static_cast<unsigned long long>(interior), surface_share,
+              GetParam(), interior_share, static_cast<unsigned long long>(interior), surface_share,
               static_cast<unsigned long long>(surface));
   EXPECT_GT(interior, surface / 2);
   EXPECT_GE(interior_share, 0.995);
   EXPECT_GE(surface_share, 0.97);
 }
+
+INSTANTIATE_TEST_SUITE_P(Rooms, ClientWarpFullRooms, testing::Values(kDefaultScenePath, kAreaRoomPath),
+                         [](const testing::TestParamInfo<const char*>& param) {
+                           return std::string(param.param) == kAreaRoomPath ? "area_lights" : "default";
+                         });
 
 TEST_F(ClientWarpFullTest, DisocclusionLeaksTheOccludersMaskInThePaperWarpOnly) {
   // A floor, a floating slab facing a point light in front of it, and the slab's shadow on the floor behind.

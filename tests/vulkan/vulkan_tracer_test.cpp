@@ -1,6 +1,6 @@
 // The Vulkan visibility tracer against the Embree reference (lavapipe, validation layer on, zero errors;
 // real scenes: vulkan_tracer_real_scene_test.cpp): build variants, hand-made scenes for culling /
-// double-sided / mirrored instances, skipping that changes no bit, statistics, mask widths, far-from-origin precision, bad input.
+// double-sided / mirrored instances, area lights, skipping that changes no bit, statistics, mask widths, far-from-origin precision, bad input.
 #include "test_scenes.hpp"
 #include "vulkan_tracer_agreement.hpp"
 #include "trace/vulkan/vulkan_tracer_internal.hpp"
@@ -34,6 +34,15 @@ TEST_F(VulkanTracerTest, FlattenedUnsortedBuildAgreesToo) {
   config.morton_sort = false;
   config.compact = false;
   expect_agreement(scene, cameras, vk_options(), embree_options(), config);
+}
+
+// Rect and sphere lights (the default room's sibling): light_eval.h's one-sided test and the shadow ray to the
+// centre agree between the ray-tracing shader and Embree.
+TEST_F(VulkanTracerTest, AreaAndSphereLightsAgreeWithEmbree) {
+  const std::string path = test::source_path("assets/scenes/default_room_area.gltf");
+  const Scene scene = load_scene_or_fail(path);
+  ASSERT_EQ(scene.lights[0].type, SceneLight::Type::kRect);
+  expect_agreement(scene, bookmark_cameras(path, {96, 72}), vk_options(), embree_options());
 }
 
 TEST_F(VulkanTracerTest, SkippingChangesNoBit) {

@@ -118,6 +118,7 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
   for (const SceneLight& light : lights) {
     ShadowTile tile;
     tile.position = glm::dvec3(light.position);
+    // Point, spot, sphere, rect and disk lights: a cube map at the light's centre (where the hard-shadow ray goes).
     if (light.type != SceneLight::Type::kDirectional) tile.row = rows++;
     tiles_.push_back(tile);
   }
@@ -208,6 +209,15 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
         const double outer = std::cos(static_cast<double>(light.outer_cone));
         out.margin = std::min(out.margin, std::abs(cd - outer) * 1e3);
         if (!(cd > outer)) {
+          out.confident |= 1u << i;
+          continue;
+        }
+      }
+      // Rect and disk lights emit from one side only (light_eval's light_test).
+      if (light.type == SceneLight::Type::kRect || light.type == SceneLight::Type::kDisk) {
+        const double cd = glm::dot(-l, glm::dvec3(light.direction));
+        out.margin = std::min(out.margin, std::abs(cd) * 1e3);
+        if (!(cd > 0.0)) {
           out.confident |= 1u << i;
           continue;
         }

@@ -9,13 +9,29 @@ namespace dhr {
 
 PackedLight pack_light(const SceneLight& light, const glm::dvec3& origin) {
   PackedLight p{};
+  // Sphere lights and the sun disk pack as their punctual type: their extent only softens shadows.
   float type = light_eval::kLightTypePoint;
-  if (light.type == SceneLight::Type::kSpot) type = light_eval::kLightTypeSpot;
-  if (light.type == SceneLight::Type::kDirectional) type = light_eval::kLightTypeDirectional;
+  float intensity = light.intensity;
+  switch (light.type) {
+    case SceneLight::Type::kPoint:
+      break;
+    case SceneLight::Type::kSpot:
+      type = light_eval::kLightTypeSpot;
+      break;
+    case SceneLight::Type::kDirectional:
+      type = light_eval::kLightTypeDirectional;
+      break;
+    case SceneLight::Type::kRect:
+    case SceneLight::Type::kDisk:
+      // A Lambertian emitter of luminance L (nits) and area A has intensity L * A * cos (candela) at a distance.
+      type = light.type == SceneLight::Type::kRect ? light_eval::kLightTypeRect : light_eval::kLightTypeDisk;
+      intensity = light.intensity * light.area();
+      break;
+  }
   const glm::dvec3 position = glm::dvec3(light.position) - origin;
   p.position_type = glm::vec4(glm::vec3(position), type);
   p.direction_range = glm::vec4(light.direction, std::max(light.range, 0.0f));
-  p.color_intensity = glm::vec4(light.color, light.intensity);
+  p.color_intensity = glm::vec4(light.color, intensity);
   // glTF's spot falloff: saturate(cd * scale + offset)^2 is 0 at the outer cone and 1 at the inner one.
   const double cos_outer = std::cos(static_cast<double>(light.outer_cone));
   const double cos_inner = std::cos(static_cast<double>(light.inner_cone));

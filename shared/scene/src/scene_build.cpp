@@ -61,8 +61,8 @@ struct MaterialTexturing {
 class Builder {
  public:
   Builder(const tinygltf::Model& model, const SceneLoadOptions& options, const ImageDecodeContext& images,
-          WarningSink& warnings, Scene* out)
-      : model_(model), options_(options), images_(images), warnings_(warnings), out_(out) {
+          const LightJson& light_json, WarningSink& warnings, Scene* out)
+      : model_(model), options_(options), images_(images), light_json_(light_json), warnings_(warnings), out_(out) {
     budget_.triangles_left = options.max_triangles;
     budget_.vertices_left = options.max_vertices;
   }
@@ -76,6 +76,8 @@ class Builder {
     const tinygltf::Scene& scene = model_.scenes[static_cast<std::size_t>(scene_index)];
     if (scene.nodes.empty()) return fail(format("scene %d has no nodes", scene_index), out_error);
     convert_materials();
+    punctual_extents_ = read_punctual_extents(model_, light_json_, warnings_);
+    area_defs_ = read_area_lights(light_json_, warnings_);
     if (!walk(scene, scene_index, out_error)) return false;
     finish();
     return true;
@@ -214,10 +216,13 @@ class Builder {
       if (auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end()) {
         const int light = static_cast<int>(number(ext->second.Get("light"), -1.0));
         if (light >= 0 && static_cast<std::size_t>(light) < model_.lights.size()) {
-          lights_.push_back(light_from_gltf(model_, light, world));
+          lights_.push_back(light_from_gltf(model_, light, world, punctual_extents_[static_cast<std::size_t>(light)]));
         }
       }
-      if (node.extensions.count("EXT_lights_area") != 0) ++area_light_nodes_;
+      if (auto ext = node.extensions.find("EXT_lights_area"); ext != node.extensions.end()) {
+        if (auto light = area_light_from_gltf(area_defs_, ext->second, index, world, warnings_))
+          lights_.push_back(std::move(*light));
+      }
       if (node.skin >= 0) ++skinned_nodes_;
       for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, world);
     }
@@ -282,7 +287,7 @@ class Builder {
       warnings_.add(format("%u primitives have morph targets: morphing is ignored (base shape)", morphed_primitives_));
     }
     if (!model_.animations.empty()) warnings_.add("animations are ignored (static scene)");
-    warn_unimplemented_lights_and_extensions();
+    warn_unimplemented_extensions();
     for (const SceneMesh& mesh : out_->meshes) {
       for (std::uint32_t i : mesh.indices) out_->bounds.extend(mesh.positions[i]);
       out_->triangle_count += mesh.triangle_count();
@@ -304,38 +309,17 @@ class Builder {
   }
 
   // What the file asks for and this loader does not implement is named, never dropped silently (DESIGN 5b).
-  void warn_unimplemented_lights_and_extensions() {
+  void warn_unimplemented_extensions() {
     for (const std::string& name : model_.extensionsUsed) {
-      if (name == "EXT_lights_area" || extension_implemented(name)) continue;
+      if (extension_implemented(name)) continue;
       warnings_.add(format("extension %s is used but not implemented: what it adds is ignored", name.c_str()));
     }
-    if (area_light_nodes_ > 0 || has_extension_used("EXT_lights_area")) {
-      warnings_.add(format("EXT_lights_area: %u area light(s) on nodes are ignored (area lights are not "
-                           "implemented)", area_light_nodes_));
-    }
-    for (std::size_t i = 0; i < model_.lights.size(); ++i) {
-      const tinygltf::Light& light = model_.lights[i];
-      const char* name = light.name.empty() ? "" : light.name.c_str();
-      if (light.extras.IsObject() && light.extras.Has("radius")) {
-        warnings_.add(format("light %zu ('%s'): extras.radius (a sphere light) is not implemented; it is traced as "
-                             "a point light", i, name));
-      }
-      if (light.extras.IsObject() && light.extras.Has("angle")) {
-        warnings_.add(format("light %zu ('%s'): extras.angle (a sun disk) is not implemented; it is traced as a "
-                             "directional light", i, name));
-      }
-    }
-  }
-
-  bool has_extension_used(const char* name) const {
-    for (const std::string& used : model_.extensionsUsed)
-      if (used == name) return true;
-    return false;
   }
 
   const tinygltf::Model& model_;
   const SceneLoadOptions& options_;
   const ImageDecodeContext& images_;
+  const LightJson& light_json_;
   WarningSink& warnings_;
   Scene* out_;
   Budget budget_;
@@ -344,17 +328,18 @@ class Builder {
   std::map<std::pair<int, int>, std::uint32_t> geometry_ids_;
   std::uint32_t next_geometry_ = 0;
   int default_material_ = -1;
-  std::vector<SceneLight> lights_;
+  std::vector<SceneLight> lights_;  // in node walk order, punctual and area lights alike (kMaxSceneLights applies)
+  std::vector<PunctualExtent> punctual_extents_;  // by KHR_lights_punctual index
+  std::vector<AreaLightDef> area_defs_;           // by EXT_lights_area index
   std::uint32_t skinned_nodes_ = 0;
-  std::uint32_t area_light_nodes_ = 0;  // nodes carrying an EXT_lights_area light
   std::uint32_t morphed_primitives_ = 0;
 };
 
 }  // namespace
 
 bool build_scene(const tinygltf::Model& model, const SceneLoadOptions& options, const ImageDecodeContext& images,
-                 WarningSink& warnings, Scene* out, std::string* out_error) {
-  return Builder(model, options, images, warnings, out).run(out_error);
+                 const LightJson& light_json, WarningSink& warnings, Scene* out, std::string* out_error) {
+  return Builder(model, options, images, light_json, warnings, out).run(out_error);
 }
 
 }  // namespace dhr::scene_detail

@@ -60,6 +60,16 @@ uint64_t scene_content_hash(const Scene& scene) {
     h.f32(light.range);
     h.f32(light.inner_cone);
     h.f32(light.outer_cone);
+    // Only lights with an extent hash it, so scenes of punctual lights keep the hash they always had (a client
+    // and a server of different versions still agree on them).
+    if (light.has_extent()) {
+      h.f32(light.radius);
+      h.f32(light.angle);
+      h.f32(light.width);
+      h.f32(light.height);
+      h.vec3(light.tangent);
+      h.vec3(light.bitangent);
+    }
   }
   return h.value();
 }

@@ -11,6 +11,7 @@
 
 namespace tinygltf {
 class Model;
+class Value;
 struct Image;
 struct Primitive;
 }  // namespace tinygltf
@@ -102,11 +103,47 @@ bool convert_primitive(const tinygltf::Model& model, const tinygltf::Primitive& 
                        Budget& budget, SceneStats& stats, WarningSink& warnings, SceneMesh* out,
                        std::string* out_error);
 
+struct LightJson;  // below
+
 // Walks the chosen scene and fills `out` (meshes, materials, images, lights, bounds, counts).
 bool build_scene(const tinygltf::Model& model, const SceneLoadOptions& options, const ImageDecodeContext& images,
-                 WarningSink& warnings, Scene* out, std::string* out_error);
+                 const LightJson& light_json, WarningSink& warnings, Scene* out, std::string* out_error);
 
-// KHR_lights_punctual light `index` placed by the node's world transform.
-SceneLight light_from_gltf(const tinygltf::Model& model, int index, const glm::dmat4& T_world_node);
+// scene_gltf_lights.cpp: lights from glTF.
+// The raw JSON of light values tinygltf would lose (it drops null members, and JSON writers turn NaN into null):
+// the root's extensions.EXT_lights_area and each KHR_lights_punctual light's extras, as JSON text ("" = absent).
+struct LightJson {
+  std::string area;                 // extensions.EXT_lights_area
+  std::vector<std::string> extras;  // by KHR_lights_punctual light index
+};
+LightJson extract_light_json(const nlohmann::json& root);
+
+// The extent of a KHR_lights_punctual light (extras.radius for point/spot, extras.angle for directional); 0 = none.
+struct PunctualExtent {
+  float radius = 0.0f;
+  float angle = 0.0f;
+};
+// One per model.lights entry, read once so that a bad value is warned about once (and ignored).
+std::vector<PunctualExtent> read_punctual_extents(const tinygltf::Model& model, const LightJson& json,
+                                                  WarningSink& warnings);
+// KHR_lights_punctual light `index` placed by the node's world transform, with its extent.
+SceneLight light_from_gltf(const tinygltf::Model& model, int index, const glm::dmat4& T_world_node,
+                           const PunctualExtent& extent);
+
+// One entry of the root's EXT_lights_area.lights, in file units (the node's scale applies at placement).
+struct AreaLightDef {
+  bool usable = false;  // false: a value was unusable (already warned about); nodes referring to it get no light
+  SceneLight::Type type = SceneLight::Type::kRect;
+  std::string name;
+  glm::vec3 color{1.0f};
+  double nits = 0.0;  // luminance of the surface (cd/m^2)
+  double size = 1.0;  // rect: height; disk: diameter
+  double aspect = 1.0;  // rect: width / height
+};
+std::vector<AreaLightDef> read_area_lights(const LightJson& json, WarningSink& warnings);
+// The area light that node `node`'s EXT_lights_area extension (`node_ext`) refers to, placed by its world
+// transform; nullopt, with a warning, for a missing index, an unusable definition or an unusable world size.
+std::optional<SceneLight> area_light_from_gltf(const std::vector<AreaLightDef>& defs, const tinygltf::Value& node_ext,
+                                               int node, const glm::dmat4& T_world_node, WarningSink& warnings);
 
 }  // namespace dhr::scene_detail

@@ -1,95 +1,57 @@
-// Lights: KHR_lights_punctual placement, the default rig, and light spec strings.
-#include <tiny_gltf.h>
-
+// Lights: type names, the default rig, validation, and a light's extent (area, description). Reading lights from
+// glTF is in scene_gltf_lights.cpp, spec strings in scene_light_spec.cpp.
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <glm/mat3x3.hpp>
 #include <limits>
 
 #include "scene/scene.hpp"
-#include "scene_internal.hpp"
 
 namespace dhr {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
-constexpr float kDegrees = kPi / 180.0f;
-
-glm::vec3 normalized_or(const glm::dvec3& v, const glm::vec3& fallback) {
-  const double len = glm::length(v);
-  if (!(len > 1e-12) || !std::isfinite(len)) return fallback;
-  return glm::vec3(v / len);
-}
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-std::vector<std::string_view> split(std::string_view s, char sep) {
-  std::vector<std::string_view> parts;
-  std::size_t begin = 0;
-  while (true) {
-    const std::size_t end = s.find(sep, begin);
-    parts.push_back(s.substr(begin, end == std::string_view::npos ? std::string_view::npos : end - begin));
-    if (end == std::string_view::npos) break;
-    begin = end + 1;
-  }
-  return parts;
-}
+bool unit(const glm::vec3& v) { return std::abs(glm::length(v) - 1.0f) <= 1e-3f; }
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
-
-// Parses exactly `n` comma-separated finite numbers (locale-independent).
-bool parse_numbers(std::string_view field, std::size_t n, float* out, const char* what, std::string* out_error) {
-  const std::vector<std::string_view> parts = split(field, ',');
-  if (parts.size() != n) {
-    *out_error = std::string(what) + ": expected " + std::to_string(n) + " comma-separated numbers, got \"" +
-                 std::string(field) + "\"";
-    return false;
+// The extent fields a light of this type must leave at 0 (a sphere radius on a sun, a sun angle on a rect...).
+std::optional<std::string> check_extent(const SceneLight& light) {
+  const std::string& name = light.name;
+  if (!std::isfinite(light.radius) || !std::isfinite(light.angle) || !std::isfinite(light.width) ||
+      !std::isfinite(light.height) || !finite(light.tangent) || !finite(light.bitangent)) {
+    return "light '" + name + "' has a non-finite extent";
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    std::string_view p = trim(parts[i]);
-    if (!p.empty() && p.front() == '+') p.remove_prefix(1);
-    double v = 0.0;
-    const auto [end, ec] = std::from_chars(p.data(), p.data() + p.size(), v);
-    if (p.empty() || ec != std::errc() || end != p.data() + p.size() || !std::isfinite(v) || std::abs(v) > 3.0e38) {
-      *out_error = std::string(what) + ": \"" + std::string(parts[i]) + "\" is not a finite number";
-      return false;
-    }
-    out[i] = static_cast<float>(v);
+  if (light.radius < 0.0f || light.angle < 0.0f || light.width < 0.0f || light.height < 0.0f)
+    return "light '" + name + "' has a negative extent";
+  const bool sphere_ok = light.type == SceneLight::Type::kPoint || light.type == SceneLight::Type::kSpot;
+  const bool area = light.type == SceneLight::Type::kRect || light.type == SceneLight::Type::kDisk;
+  if (light.radius > 0.0f && !sphere_ok) return "light '" + name + "': only point and spot lights take a radius";
+  if (light.angle > 0.0f && light.type != SceneLight::Type::kDirectional)
+    return "light '" + name + "': only directional lights take an angle";
+  if (!area && (light.width > 0.0f || light.height > 0.0f))
+    return "light '" + name + "': only rect and disk lights take a width and height";
+  if (light.radius > kMaxLightExtent || light.width > kMaxLightExtent || light.height > kMaxLightExtent) {
+    return "light '" + name + "' is larger than " + std::to_string(static_cast<int>(kMaxLightExtent)) + " m";
   }
-  return true;
+  if (light.angle > kMaxLightAngle) return "light '" + name + "' has an angle above 0.5 rad (29 degrees)";
+  if (!area) return std::nullopt;
+  if (!(light.width > 0.0f && light.height > 0.0f))
+    return "area light '" + name + "' needs a positive width and height";
+  if (light.type == SceneLight::Type::kDisk && light.width != light.height)
+    return "disk light '" + name + "' needs width == height (its diameter)";
+  if (!unit(light.tangent) || !unit(light.bitangent) || std::abs(glm::dot(light.tangent, light.direction)) > 1e-3f ||
+      std::abs(glm::dot(light.bitangent, light.direction)) > 1e-3f ||
+      std::abs(glm::dot(light.tangent, light.bitangent)) > 1e-3f) {
+    return "area light '" + name + "' needs an orthonormal frame (tangent, bitangent, direction)";
+  }
+  return std::nullopt;
 }
 
 }  // namespace
-
-namespace scene_detail {
-
-SceneLight light_from_gltf(const tinygltf::Model& model, int index, const glm::dmat4& T_world_node) {
-  const tinygltf::Light& src = model.lights[static_cast<std::size_t>(index)];
-  SceneLight light;
-  light.type = src.type == "spot"          ? SceneLight::Type::kSpot
-               : src.type == "directional" ? SceneLight::Type::kDirectional
-                                           : SceneLight::Type::kPoint;
-  light.name = src.name.empty() ? format("light%d", index) : src.name;
-  if (src.color.size() == 3) light.color = glm::vec3(src.color[0], src.color[1], src.color[2]);
-  light.intensity = static_cast<float>(src.intensity);
-  light.range = src.range > 0.0 ? static_cast<float>(src.range) : 0.0f;
-  light.inner_cone = static_cast<float>(src.spot.innerConeAngle);
-  light.outer_cone = static_cast<float>(src.spot.outerConeAngle);
-  light.position = glm::vec3(T_world_node[3]);
-  // Lights shine down their node's -Z axis.
-  light.direction = normalized_or(glm::dmat3(T_world_node) * glm::dvec3(0.0, 0.0, -1.0), glm::vec3(0.0f, 0.0f, -1.0f));
-  return light;
-}
-
-}  // namespace scene_detail
 
 const char* light_type_name(SceneLight::Type type) {
   switch (type) {
@@ -166,121 +128,36 @@ std::optional<std::string> validate_light(const SceneLight& light) {
       !(light.inner_cone >= 0.0f && light.inner_cone < light.outer_cone && light.outer_cone <= 0.5f * kPi + 1e-6f)) {
     return "spot light '" + light.name + "' needs 0 <= inner cone < outer cone <= 90 degrees";
   }
-  return std::nullopt;
+  return check_extent(light);
 }
 
-std::optional<SceneLight> parse_light_spec(std::string_view spec, std::string* out_error) {
-  std::string ignored;
-  std::string& error = out_error ? *out_error : ignored;
-  const std::vector<std::string_view> f = split(trim(spec), ':');
-  const std::string_view kind = f[0];
-  SceneLight light;
-  float v[3];
-  auto fail = [&](const std::string& message) -> std::optional<SceneLight> {
-    error = "light spec \"" + std::string(spec) + "\": " + message;
-    return std::nullopt;
-  };
-  std::size_t next = 0;
-  if (kind == "point") {
-    if (f.size() != 4 && f.size() != 5) return fail("expected point:x,y,z:r,g,b:intensity[:range]");
-    light.type = SceneLight::Type::kPoint;
-    if (!parse_numbers(f[1], 3, v, "position", &error)) return fail(error);
-    light.position = glm::vec3(v[0], v[1], v[2]);
-    next = 2;
-  } else if (kind == "spot") {
-    if (f.size() != 6 && f.size() != 7)
-      return fail("expected spot:x,y,z:dx,dy,dz:r,g,b:intensity:inner_deg,outer_deg[:range]");
-    light.type = SceneLight::Type::kSpot;
-    if (!parse_numbers(f[1], 3, v, "position", &error)) return fail(error);
-    light.position = glm::vec3(v[0], v[1], v[2]);
-    if (!parse_numbers(f[2], 3, v, "direction", &error)) return fail(error);
-    light.direction = glm::vec3(v[0], v[1], v[2]);
-    next = 3;
-  } else if (kind == "dir" || kind == "directional") {
-    if (f.size() != 4) return fail("expected dir:dx,dy,dz:r,g,b:intensity");
-    light.type = SceneLight::Type::kDirectional;
-    if (!parse_numbers(f[1], 3, v, "direction", &error)) return fail(error);
-    light.direction = glm::vec3(v[0], v[1], v[2]);
-    next = 2;
-  } else {
-    return fail("unknown light type \"" + std::string(kind) + "\" (use point, spot or dir)");
-  }
-  if (!parse_numbers(f[next], 3, v, "colour", &error)) return fail(error);
-  light.color = glm::vec3(v[0], v[1], v[2]);
-  if (!parse_numbers(f[next + 1], 1, v, "intensity", &error)) return fail(error);
-  light.intensity = v[0];
-  next += 2;
-  if (light.type == SceneLight::Type::kSpot) {
-    if (!parse_numbers(f[next], 2, v, "cone angles", &error)) return fail(error);
-    light.inner_cone = v[0] * kDegrees;
-    light.outer_cone = v[1] * kDegrees;
-    ++next;
-  }
-  if (next < f.size()) {
-    if (!parse_numbers(f[next], 1, v, "range", &error)) return fail(error);
-    light.range = v[0];
-  }
-  if (light.type != SceneLight::Type::kPoint) {
-    const float len = glm::length(light.direction);
-    if (!(len > 1e-6f)) return fail("the direction must not be zero");
-    light.direction /= len;
-  }
-  light.name = std::string(kind) + "_spec";
-  if (auto problem = validate_light(light)) return fail(*problem);
-  return light;
+float SceneLight::area() const {
+  if (type == Type::kRect) return width * height;
+  if (type == Type::kDisk) return 0.25f * kPi * width * width;
+  return 0.0f;
 }
 
-std::optional<std::vector<SceneLight>> parse_light_specs(std::string_view specs, std::string* out_error) {
-  std::vector<SceneLight> lights;
-  for (std::string_view part : split(specs, ';')) {
-    if (trim(part).empty()) continue;
-    auto light = parse_light_spec(part, out_error);
-    if (!light) return std::nullopt;
-    light->name += std::to_string(lights.size());  // "point_spec0", "dir_spec1", ...
-    lights.push_back(std::move(*light));
-  }
-  if (lights.size() > kMaxSceneLights) {
-    if (out_error)
-      *out_error =
-          "too many lights: " + std::to_string(lights.size()) + " (at most " + std::to_string(kMaxSceneLights) + ")";
-    return std::nullopt;
-  }
-  return lights;
-}
-
-std::string format_light_spec(const SceneLight& l) {
-  char buf[512];
+std::string describe_light_extent(const SceneLight& light) {
+  char buf[96];
   const auto d = [](float x) { return static_cast<double>(x); };
-  switch (l.type) {
-    case SceneLight::Type::kPoint:
-      std::snprintf(buf, sizeof buf, "point:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g", d(l.position.x), d(l.position.y),
-                    d(l.position.z), d(l.color.r), d(l.color.g), d(l.color.b), d(l.intensity));
-      break;
-    case SceneLight::Type::kSpot:
-      std::snprintf(buf, sizeof buf, "spot:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g:%.9g,%.9g",
-                    d(l.position.x), d(l.position.y), d(l.position.z), d(l.direction.x), d(l.direction.y),
-                    d(l.direction.z), d(l.color.r), d(l.color.g), d(l.color.b), d(l.intensity),
-                    d(l.inner_cone / kDegrees), d(l.outer_cone / kDegrees));
-      break;
-    case SceneLight::Type::kDirectional:
-      std::snprintf(buf, sizeof buf, "dir:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g", d(l.direction.x), d(l.direction.y),
-                    d(l.direction.z), d(l.color.r), d(l.color.g), d(l.color.b), d(l.intensity));
-      return buf;  // directional lights have no range
+  switch (light.type) {
     case SceneLight::Type::kRect:
+      std::snprintf(buf, sizeof buf, "rect %.3g x %.3g m", d(light.width), d(light.height));
+      return buf;
     case SceneLight::Type::kDisk:
-      // position : emission direction : tangent (the node's +X) : colour : intensity : width,height
-      std::snprintf(buf, sizeof buf, "%s:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g,%.9g,%.9g:%.9g:%.9g,%.9g",
-                    light_type_name(l.type), d(l.position.x), d(l.position.y), d(l.position.z), d(l.direction.x),
-                    d(l.direction.y), d(l.direction.z), d(l.tangent.x), d(l.tangent.y), d(l.tangent.z), d(l.color.r),
-                    d(l.color.g), d(l.color.b), d(l.intensity), d(l.width), d(l.height));
-      break;
+      std::snprintf(buf, sizeof buf, "disk %.3g m", d(light.width));
+      return buf;
+    case SceneLight::Type::kDirectional:
+      if (!(light.angle > 0.0f)) return "dir";
+      std::snprintf(buf, sizeof buf, "dir, sun disk %.3g deg", d(light.angle * 180.0f / kPi));
+      return buf;
+    case SceneLight::Type::kPoint:
+    case SceneLight::Type::kSpot:
+      if (!(light.radius > 0.0f)) return light_type_name(light.type);
+      std::snprintf(buf, sizeof buf, "%s, sphere r %.3g m", light_type_name(light.type), d(light.radius));
+      return buf;
   }
-  std::string out = buf;
-  if (l.range > 0.0f) {
-    std::snprintf(buf, sizeof buf, ":%.9g", d(l.range));
-    out += buf;
-  }
-  return out;
+  return "?";
 }
 
 std::optional<std::string> set_scene_lights(Scene& scene, std::vector<SceneLight> lights) {

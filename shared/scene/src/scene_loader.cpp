@@ -232,6 +232,7 @@ SceneLoadResult load_impl(const unsigned char* data, std::size_t size, const std
   scene_detail::ImageDecodeContext images;
   images.options = &options;
   images.wanted = scene_detail::base_color_image_mask(root);
+  const scene_detail::LightJson light_json = scene_detail::extract_light_json(root);
   root = nlohmann::json();  // free it before tinygltf builds its own copy
 
   tinygltf::TinyGLTF loader;
@@ -254,7 +255,7 @@ SceneLoadResult load_impl(const unsigned char* data, std::size_t size, const std
   result.scene.emplace();
   Scene& scene = *result.scene;
   scene.source = name;
-  if (!scene_detail::build_scene(model, options, images, warnings, &scene, &error)) return failure(name, error);
+  if (!scene_detail::build_scene(model, options, images, light_json, warnings, &scene, &error)) return failure(name, error);
   scene.warnings = warnings.take();
   return result;
 }

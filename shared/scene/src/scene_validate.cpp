@@ -42,8 +42,8 @@ std::uint64_t element_bytes(const std::string& type, std::uint64_t comp) {
 }  // namespace
 
 bool extension_implemented(const std::string& name) {
-  return name == "KHR_lights_punctual" || name == "KHR_texture_transform" || name == "KHR_mesh_quantization" ||
-         name.rfind("KHR_materials_", 0) == 0;
+  return name == "KHR_lights_punctual" || name == "EXT_lights_area" || name == "KHR_texture_transform" ||
+         name == "KHR_mesh_quantization" || name.rfind("KHR_materials_", 0) == 0;
 }
 
 std::optional<std::string> GltfValidator::run() {

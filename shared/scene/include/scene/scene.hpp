@@ -20,6 +20,10 @@ namespace dhr {
 inline constexpr std::uint32_t kMaxSceneLights = 32;
 // The project's own scene, relative to the repository root (used when no scene is given).
 inline constexpr const char* kDefaultScenePath = "assets/scenes/default_room.gltf";
+// Limits of a light's extent: larger values are refused (a file's light loses its extent or is skipped, with a
+// warning; validate_light rejects them). 100 m is far beyond any real lamp; 0.5 rad (29 degrees) is 50 suns.
+inline constexpr float kMaxLightExtent = 100.0f;  // metres: radius, width, height
+inline constexpr float kMaxLightAngle = 0.5f;     // radians: a directional light's angular diameter
 
 struct SceneBounds {
   glm::vec3 min{std::numeric_limits<float>::max()};
@@ -91,7 +95,9 @@ struct SceneLight {
   glm::vec3 position{0.0f};                // world space (point, spot)
   glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, unit: where the light travels (spot, directional)
   glm::vec3 color{1.0f};                   // linear RGB
-  float intensity = 1.0f;                  // candela (point, spot) or lux (directional), as glTF
+  // candela (point, spot), lux (directional), or the luminance of the emitting surface in nits (cd/m^2; rect, disk),
+  // as glTF and EXT_lights_area define them. An area light's peak intensity (along `direction`) is nits x area.
+  float intensity = 1.0f;
   float range = 0.0f;                      // metres; 0 = infinite
   float inner_cone = 0.0f;                 // radians (spot)
   float outer_cone = 0.78539816f;          // radians (spot), > inner_cone, <= pi/2
@@ -105,6 +111,8 @@ struct SceneLight {
   glm::vec3 bitangent{0.0f, 1.0f, 0.0f};   // rect, disk: world direction of the node's +Y (unit)
 
   bool has_extent() const { return radius > 0.0f || angle > 0.0f || width > 0.0f || height > 0.0f; }
+  // Emitting area in m^2: width x height (rect), pi (width/2)^2 (disk), 0 otherwise.
+  float area() const;
 };
 
 // Counts of what the loader changed or skipped (each also produces a warning when non-zero).
@@ -166,10 +174,14 @@ SceneLoadResult load_scene_from_memory(const void* data, std::size_t size, const
 std::vector<SceneLight> make_default_light_rig(const SceneBounds& bounds);
 
 // Light spec strings, for command lines and configs (numbers in metres, linear RGB, glTF units):
-//   point:x,y,z:r,g,b:intensity[:range]
-//   spot:x,y,z:dx,dy,dz:r,g,b:intensity:inner_deg,outer_deg[:range]
-//   dir:dx,dy,dz:r,g,b:intensity             ("directional" is accepted for "dir")
-// The direction is where the light travels; it is normalized.
+//   point:x,y,z:r,g,b:intensity[:range][:radius=R]
+//   spot:x,y,z:dx,dy,dz:r,g,b:intensity:inner_deg,outer_deg[:range][:radius=R]
+//   dir:dx,dy,dz:r,g,b:intensity[:angle_deg=A]            ("directional" is accepted for "dir")
+//   rect:x,y,z:dx,dy,dz:tx,ty,tz:r,g,b:nits:width,height[:range]
+//   disk:x,y,z:dx,dy,dz:tx,ty,tz:r,g,b:nits:diameter,diameter[:range]
+// The direction is where the light travels; it is normalized. radius= makes a sphere light (metres), angle_deg= a
+// sun disk (angular diameter in degrees). rect/disk: t is the tangent (the emitter's +X, along `width`); it is
+// made orthogonal to the direction and the bitangent (+Y, along `height`) completes the frame.
 std::optional<SceneLight> parse_light_spec(std::string_view spec, std::string* out_error);
 // Several specs separated by ';' (empty entries ignored). Fails when any fails or when > kMaxSceneLights.
 std::optional<std::vector<SceneLight>> parse_light_specs(std::string_view specs, std::string* out_error);
@@ -183,7 +195,11 @@ std::optional<std::string> validate_light(const SceneLight& light);
 // or there are more than kMaxSceneLights.
 std::optional<std::string> set_scene_lights(Scene& scene, std::vector<SceneLight> lights);
 
-const char* light_type_name(SceneLight::Type type);  // "point", "spot", "dir"
+const char* light_type_name(SceneLight::Type type);  // "point", "spot", "dir", "rect", "disk"
+
+// One line describing a light's type and extent for people: "rect 1 x 0.4 m", "point, sphere r 0.06 m",
+// "dir, sun disk 0.53 deg", "spot" (punctual).
+std::string describe_light_extent(const SceneLight& light);
 
 // One line for logs: triangles, meshes, materials, images, lights, bounds.
 std::string scene_summary(const Scene& scene);
