@@ -8,7 +8,7 @@
 // 90 degrees plus the server's guard band), against a converged reference (--ref uniform stratified samples per
 // pair, an independent scramble; checked by a second reference with twice the samples):
 //   adaptive      the defaults (or --initial/--max): rays per pair, share refined, trace ms, mean |f - ref|
-//   uniform_equal uniform sampling with the adaptive run's mean rays per pair (rounded): the same error
+//   uniform_equal uniform sampling with the counts just below and above the adaptive run's mean rays per pair
 //   uniform_max   uniform sampling with --max samples everywhere
 //   levels        per level count 2..16: the error of the quantized adaptive fraction, and of quantizing alone
 //   hard          the hard-shadow tracer on the same scene with the extents removed (trace ms), for scale
@@ -233,8 +233,17 @@ int run_bench(const Options& o, unsigned threads) {
     if (!camera) continue;
     const Run ref = run_soft(es, scene, *camera, server::SoftOptions::uniform(o.ref, 1), threads, 1);
     const Run ad = run_soft(es, scene, *camera, adaptive, threads, o.repeat);
-    const uint32_t equal_n = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(ad.stats.rays_per_pair())));
-    const Run un = run_soft(es, scene, *camera, server::SoftOptions::uniform(equal_n, 0), threads, o.repeat);
+    // Uniform sampling cannot take a fractional count: the two counts around the adaptive mean bracket it.
+    const double mean_rays = ad.stats.rays_per_pair();
+    Json uniform_equal = Json::array();
+    for (const double n : {std::floor(mean_rays), std::ceil(mean_rays)}) {
+      const uint32_t count = std::max<uint32_t>(1, static_cast<uint32_t>(n));
+      if (!uniform_equal.empty() && uniform_equal.back()["samples"] == count) continue;
+      const Run un = run_soft(es, scene, *camera, server::SoftOptions::uniform(count, 0), threads, o.repeat);
+      Json u = run_json(un, error_against(un.image, ref.image));
+      u["samples"] = count;
+      uniform_equal.push_back(u);
+    }
     const Run umax = run_soft(es, scene, *camera, server::SoftOptions::uniform(o.max, 0), threads, o.repeat);
     std::vector<double> hard_ms;
     VisibilityBuffer vis;
@@ -256,11 +265,10 @@ int run_bench(const Options& o, unsigned threads) {
            {"contributing_pairs", ad.stats.contributing_pairs},
            {"reference_penumbra_pairs", ad_err.penumbra_pairs},
            {"adaptive", run_json(ad, ad_err)},
-           {"uniform_equal", run_json(un, error_against(un.image, ref.image))},
+           {"uniform_equal", uniform_equal},
            {"uniform_max", run_json(umax, error_against(umax.image, ref.image))},
            {"reference_ms", round4(ref.ms)},
            {"hard", Json{{"trace_ms", round4(median(hard_ms, 0.0))}, {"shadow_rays", hs.shadow_rays}}}};
-    j["uniform_equal"]["samples"] = equal_n;
     Json levels = Json::array();
     for (uint32_t l : {2u, 4u, 8u, 16u}) {
       levels.push_back(Json{{"levels", l},

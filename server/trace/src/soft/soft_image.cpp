@@ -65,6 +65,8 @@ SoftStats trace_soft_image(const EmbreeScene& scene, std::span<const SceneLight>
   std::vector<SoftStats> partial(workers);
   std::vector<TraceStats> primary(workers);
   std::vector<detail::TileScratch> scratch(workers);
+  std::vector<std::vector<SoftPair>> pairs(workers);
+  std::vector<SoftScratch> soft_scratch(workers);
   run_tiles(
       workers, tile_count,
       [&](uint32_t worker, uint32_t t) {
@@ -73,19 +75,26 @@ SoftStats trace_soft_image(const EmbreeScene& scene, std::span<const SceneLight>
         detail::trace_primary_tile(frame, x0, y0, std::min(x0 + tile, width), std::min(y0 + tile, height), s,
                                    primary[worker]);
         SoftStats& st = partial[worker];
-        for (size_t h = 0; h < s.hits.size(); ++h) {
-          const detail::HitPixel& px = s.hit_pixels[h];
-          for (uint32_t li : frame.active_lights) {
+        // Light-major, then hit order: runs of neighbouring pixels toward one light (coherent streams).
+        std::vector<SoftPair>& batch = pairs[worker];
+        batch.clear();
+        for (uint32_t li : frame.active_lights)
+          for (size_t h = 0; h < s.hits.size(); ++h)
+            batch.push_back({&sampled[li], &s.hits[h],
+                             soft_seed(s.hit_pixels[h].x, s.hit_pixels[h].y, li, options.sampling.salt), {}});
+        soft_visibility_batch(scene, batch, options.sampling, soft_scratch[worker]);
+        size_t k = 0;
+        for (uint32_t li : frame.active_lights) {
+          for (size_t h = 0; h < s.hits.size(); ++h, ++k) {
+            const SoftSample& r = batch[k].result;
             ++st.pairs;
-            const SoftSample r = soft_visibility(scene, sampled[li], s.hits[h],
-                                                 soft_seed(px.x, px.y, li, options.sampling.salt), options.sampling);
             if (r.test == LightTest::kBackfacing) ++st.skipped_backfacing;
             if (r.test == LightTest::kOutOfRange || (r.test == LightTest::kContributes && r.samples == 0))
               ++st.skipped_out_of_range;
             if (r.samples > 0) ++st.contributing_pairs;
             if (r.refined) ++st.refined_pairs;
             st.shadow_rays += r.rays;
-            const size_t i = out.index(px.x, px.y, li);
+            const size_t i = out.index(s.hit_pixels[h].x, s.hit_pixels[h].y, li);
             out.fraction[i] = r.fraction;
             out.level[i] = static_cast<uint8_t>(quantize(r.fraction, options.levels));
             out.rays[i] = static_cast<uint16_t>(r.rays);

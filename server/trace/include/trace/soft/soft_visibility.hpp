@@ -18,7 +18,9 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 namespace dhr::server {
 
@@ -47,5 +49,28 @@ struct SoftSample {
 // of its pixel and light. Deterministic: the same inputs give the same result.
 SoftSample soft_visibility(const EmbreeScene& scene, const SampledLight& light, const SurfaceHit& hit, uint32_t seed,
                            const SoftOptions& options);
+
+// The same for many pairs at once, in two rounds of occlusion queries (all first samples, then the refinements),
+// each handed to Embree as one stream (rtcOccluded1M, as the hard tracer's tiles): what the image's tiles use.
+// soft_visibility is this with one pair.
+struct SoftPair {
+  const SampledLight* light = nullptr;
+  const SurfaceHit* hit = nullptr;
+  uint32_t seed = 0;
+  SoftSample result;  // out
+};
+
+// Reused buffers (one per thread).
+struct SoftScratch {
+  struct State;  // per pair: how it is sampled (soft_visibility.cpp)
+  std::vector<State> states;
+  std::vector<RTCRay> rays;
+  std::vector<uint32_t> owner;  // pair of each ray
+  SoftScratch();
+  ~SoftScratch();
+};
+
+void soft_visibility_batch(const EmbreeScene& scene, std::span<SoftPair> pairs, const SoftOptions& options,
+                           SoftScratch& scratch);
 
 }  // namespace dhr::server
