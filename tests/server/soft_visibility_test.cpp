@@ -112,6 +112,28 @@ TEST(SoftVisibility, SphereHalfHiddenBehindPlaneEdge) {
   EXPECT_NEAR(mean_fraction(*es, light, hit, SoftOptions{}, 64), 0.5, 0.02);
 }
 
+// The same plane edge halves every shape whose centre lies in the plane through the point and the edge: a disk sun
+// straight overhead, and rect and disk emitters (uniform over their area, symmetric about that plane).
+TEST(SoftVisibility, EveryShapeHalfHiddenBehindPlaneEdge) {
+  SceneLight sun = test::directional_light({0.0f, -1.0f, 0.0f});
+  sun.angle = 0.1f;
+  SceneLight disk = rect_light({0, 4, 0}, 1.0f, 1.0f);
+  disk.type = SceneLight::Type::kDisk;
+  const Scene scene = floor_scene([&](Scene& s) {
+    add_grid(s, {-10, 2, 10}, {10, 0, 0}, {0, 0, -20}, 2, test::kDoubleSided);
+    s.lights = {sun, rect_light({0, 4, 0}, 1.0f, 0.5f), disk};
+  });
+  const auto es = EmbreeScene::create(scene);
+  const SurfaceHit hit = floor_hit(*es, {0, 0, 0});
+  for (const SceneLight& l : scene.lights) {
+    const SampledLight light = make_sampled_light(l, es->origin());
+    ASSERT_NE(light.shape, SampledLight::Shape::kPunctual) << l.name;
+    EXPECT_NEAR(soft_visibility(*es, light, hit, soft_seed(1, 2, 0), SoftOptions::uniform(1024)).fraction, 0.5, 0.01)
+        << l.name;
+    EXPECT_NEAR(mean_fraction(*es, light, hit, SoftOptions{}, 64), 0.5, 0.02) << l.name;
+  }
+}
+
 // A disk occluder of radius a at height h centred on the axis hides the directions with tan(theta) < a / h; the
 // cap is sin(theta_max) = r / d: visible = (cos theta_b - cos theta_max) / (1 - cos theta_max).
 TEST(SoftVisibility, SphereBehindDiskMatchesCapFraction) {
