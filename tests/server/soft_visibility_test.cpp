@@ -295,18 +295,23 @@ TEST(SoftVisibility, PunctualLightsGiveTheHardTracersBits) {
 
 TEST(SoftVisibility, SequencePrefixesAreStratifiedAndSeedsDiffer) {
   for (uint32_t seed : {0u, 1u, 12345u, soft_seed(3, 4, 5)}) {
-    for (uint32_t k : {2u, 4u, 6u}) {  // the first 2^k points: one per cell of a 2^(k/2) x 2^(k/2) grid
-      const uint32_t n = 1u << k, side = 1u << (k / 2);
-      std::set<uint32_t> cells;
-      for (uint32_t i = 0; i < n; ++i) {
-        const glm::vec2 u = sample_2d(i, seed);
-        ASSERT_GE(u.x, 0.0f);
-        ASSERT_LT(u.x, 1.0f);
-        ASSERT_GE(u.y, 0.0f);
-        ASSERT_LT(u.y, 1.0f);
-        cells.insert(static_cast<uint32_t>(u.x * side) * side + static_cast<uint32_t>(u.y * side));
+    // A (0,k,2)-net: the first 2^k points put one point in each cell of every 2^a x 2^(k-a) grid.
+    for (uint32_t k = 1; k <= 8; ++k) {
+      const uint32_t n = 1u << k;
+      for (uint32_t a = 0; a <= k; ++a) {
+        const uint32_t nx = 1u << a, ny = 1u << (k - a);
+        std::set<uint32_t> cells;
+        for (uint32_t i = 0; i < n; ++i) {
+          const glm::vec2 u = sample_2d(i, seed);
+          ASSERT_GE(u.x, 0.0f);
+          ASSERT_LT(u.x, 1.0f);
+          ASSERT_GE(u.y, 0.0f);
+          ASSERT_LT(u.y, 1.0f);
+          cells.insert(static_cast<uint32_t>(u.x * static_cast<float>(nx)) * ny +
+                       static_cast<uint32_t>(u.y * static_cast<float>(ny)));
+        }
+        EXPECT_EQ(cells.size(), n) << "seed " << seed << " k " << k << " a " << a;
       }
-      EXPECT_EQ(cells.size(), n) << "seed " << seed << " k " << k;
     }
   }
   EXPECT_NE(sample_2d(0, soft_seed(0, 0, 0)), sample_2d(0, soft_seed(1, 0, 0)));
