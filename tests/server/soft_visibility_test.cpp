@@ -17,6 +17,7 @@
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <stdexcept>
 
 namespace dhr::server {
 namespace {
@@ -227,7 +228,31 @@ TEST(SoftVisibility, ImageIsDeterministicForAnyThreadCount) {
   EXPECT_GT(sa.refined_pairs, 0u);
   EXPECT_LT(sa.refined_share(), 0.1);  // measured 0.009 (4.26 rays per pair)
   EXPECT_EQ(sa.pairs, (sa.pixels - sa.background_pixels) * scene.lights.size());
+  // Every pair is sampled or skipped for one counted reason.
+  EXPECT_EQ(sa.pairs, sa.contributing_pairs + sa.skipped_backfacing + sa.skipped_out_of_range);
   for (size_t i = 0; i < a.fraction.size(); ++i) ASSERT_EQ(a.level[i], quantize(a.fraction[i], a.levels));
+}
+
+TEST(SoftVisibility, UnusableOptionsAreRejected) {
+  const Scene scene = soft_room();
+  const auto es = EmbreeScene::create(scene);
+  SoftImage out;
+  auto trace_with = [&](const SoftImageOptions& o) { trace_soft_image(*es, scene.lights, soft_camera(), o, out); };
+  SoftImageOptions o;
+  o.sampling = SoftOptions{0, 4, 0};
+  EXPECT_THROW(trace_with(o), std::invalid_argument);
+  o.sampling = SoftOptions{8, 4, 0};
+  EXPECT_THROW(trace_with(o), std::invalid_argument);
+  o.sampling = SoftOptions::uniform(kMaxSoftSamples + 1);
+  EXPECT_THROW(trace_with(o), std::invalid_argument);
+  o = SoftImageOptions{};
+  o.levels = 1;
+  EXPECT_THROW(trace_with(o), std::invalid_argument);
+  o.levels = kMaxSoftLevels + 1;
+  EXPECT_THROW(trace_with(o), std::invalid_argument);
+  o = SoftImageOptions{};
+  o.tile_size = 6;
+  EXPECT_THROW(trace_with(o), std::invalid_argument);
 }
 
 // Mean |adaptive - 1024-sample uniform| over the pairs where the light contributes, and over the reference's
