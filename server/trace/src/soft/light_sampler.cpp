@@ -120,70 +120,75 @@ SampledLight make_sampled_light(const SceneLight& light, const glm::dvec3& origi
 
 std::optional<LightView> LightView::create(const SampledLight& light, const glm::vec3& origin) {
   LightView v;
-  v.light_ = &light;
-  v.origin_ = glm::dvec3(origin);
+  v.shape_ = light.shape;
+  const glm::dvec3 o(origin);
+  const glm::dvec3 to_centre = light.centre - o;
+  v.centre_ = glm::vec3(to_centre);
+  glm::dvec3 axis(0.0);
+  double one_minus_cos_max = 0.0;
   switch (light.shape) {
     case SampledLight::Shape::kPunctual:
       return std::nullopt;  // the caller traces the hard ray
     case SampledLight::Shape::kSphere: {
-      const glm::dvec3 to_centre = light.centre - v.origin_;
       const double d = glm::length(to_centre);
       if (!(d > light.radius)) return std::nullopt;  // inside the sphere: no cap to sample
-      v.axis_ = to_centre / d;
+      axis = to_centre / d;
       const double sin_max = light.radius / d;
       const double sin2 = sin_max * sin_max;
-      v.one_minus_cos_max_ = sin2 / (1.0 + std::sqrt(1.0 - sin2));  // 1 - cos, no cancellation for small caps
+      one_minus_cos_max = sin2 / (1.0 + std::sqrt(1.0 - sin2));  // 1 - cos, no cancellation for small caps
+      v.sphere_c_ = static_cast<float>(glm::dot(to_centre, to_centre) - light.radius * light.radius);
       break;
     }
     case SampledLight::Shape::kSunDisk:
-      v.axis_ = -light.direction;
-      v.one_minus_cos_max_ = light.sun_one_minus_cos;
+      axis = -light.direction;
+      one_minus_cos_max = light.sun_one_minus_cos;
       break;
     case SampledLight::Shape::kRect:
     case SampledLight::Shape::kDisk:
       // One-sided: only points strictly in front of the emitter (on the side it emits to) receive light.
-      if (!(glm::dot(v.origin_ - light.centre, light.direction) > 0.0)) return std::nullopt;
+      if (!(glm::dot(-to_centre, light.direction) > 0.0)) return std::nullopt;
+      v.half_u_ = glm::vec3(light.half_u);
+      v.half_v_ = glm::vec3(light.half_v);
       return v;
   }
-  basis(v.axis_, v.b1_, v.b2_);
+  glm::dvec3 b1, b2;
+  basis(axis, b1, b2);
+  v.axis_ = glm::vec3(axis);
+  v.b1_ = glm::vec3(b1);
+  v.b2_ = glm::vec3(b2);
+  v.one_minus_cos_max_ = static_cast<float>(one_minus_cos_max);
   return v;
 }
 
 SampleRay LightView::sample(glm::vec2 u) const {
-  const SampledLight& l = *light_;
   SampleRay ray;
-  if (l.shape == SampledLight::Shape::kRect || l.shape == SampledLight::Shape::kDisk) {
-    const glm::dvec2 q = l.shape == SampledLight::Shape::kRect
-                             ? glm::dvec2(2.0 * glm::dvec2(u) - 1.0)
-                             : concentric_disk(u);
-    const glm::dvec3 d = (l.centre + q.x * l.half_u + q.y * l.half_v) - origin_;
-    const double dist = glm::length(d);
-    ray.dir = glm::vec3(d / dist);
-    ray.tfar = static_cast<float>(dist) * detail::kShadowTfarScale;  // the emitter's own surface is no occluder
+  if (shape_ == SampledLight::Shape::kRect || shape_ == SampledLight::Shape::kDisk) {
+    const glm::vec2 q = shape_ == SampledLight::Shape::kRect ? 2.0f * u - 1.0f : glm::vec2(concentric_disk(u));
+    const glm::vec3 d = centre_ + q.x * half_u_ + q.y * half_v_;
+    const float dist = glm::length(d);
+    ray.dir = d / dist;
+    ray.tfar = dist * detail::kShadowTfarScale;  // the emitter's own surface is no occluder
     return ray;
   }
   // Uniform in the cone's solid angle: 1 - cos(theta) uniform in [0, 1 - cos_max), phi uniform.
-  const double om = static_cast<double>(u.x) * one_minus_cos_max_;
-  const double sin_theta = std::sqrt(std::max(0.0, om * (2.0 - om)));
-  const double phi = 2.0 * std::numbers::pi * static_cast<double>(u.y);
-  const glm::dvec3 d = glm::normalize((1.0 - om) * axis_ + sin_theta * (std::cos(phi) * b1_ + std::sin(phi) * b2_));
-  ray.dir = glm::vec3(d);
-  if (l.shape == SampledLight::Shape::kSunDisk) {
+  const float om = u.x * one_minus_cos_max_;
+  const float sin_theta = std::sqrt(std::max(0.0f, om * (2.0f - om)));
+  const float phi = 2.0f * std::numbers::pi_v<float> * u.y;
+  ray.dir = glm::normalize((1.0f - om) * axis_ + sin_theta * (std::cos(phi) * b1_ + std::sin(phi) * b2_));
+  if (shape_ == SampledLight::Shape::kSunDisk) {
     ray.tfar = std::numeric_limits<float>::infinity();
     return ray;
   }
   // Sphere: end at its near surface (the cap the point sees), so nothing inside the light occludes it.
-  const glm::dvec3 oc = l.centre - origin_;
-  const double b = glm::dot(d, oc);
-  const double disc = b * b - (glm::dot(oc, oc) - l.radius * l.radius);
-  const double t = b - std::sqrt(std::max(0.0, disc));
-  ray.tfar = static_cast<float>(t) * detail::kShadowTfarScale;
+  const float b = glm::dot(ray.dir, centre_);
+  const float t = b - std::sqrt(std::max(0.0f, b * b - sphere_c_));
+  ray.tfar = t * detail::kShadowTfarScale;
   return ray;
 }
 
 double LightView::cone_solid_angle() const {
-  const bool cone = light_->shape == SampledLight::Shape::kSphere || light_->shape == SampledLight::Shape::kSunDisk;
-  return cone ? 2.0 * std::numbers::pi * one_minus_cos_max_ : 0.0;
+  const bool cone = shape_ == SampledLight::Shape::kSphere || shape_ == SampledLight::Shape::kSunDisk;
+  return cone ? 2.0 * std::numbers::pi * static_cast<double>(one_minus_cos_max_) : 0.0;
 }
 
 }  // namespace dhr::server
