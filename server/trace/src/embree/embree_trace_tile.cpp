@@ -14,29 +14,6 @@ namespace {
 
 constexpr uint32_t kBlock = 4;  // primary packets cover 4x4 pixels
 constexpr uint32_t kBlockPixels = kBlock * kBlock;
-// Point/spot shadow rays stop this fraction short of the light, so geometry exactly at the light (a
-// bulb's surface through the light's centre) does not count as an occluder of its own light.
-constexpr float kShadowTfarScale = 1.0f - 1e-5f;
-
-// The occlusion ray for one pixel-light pair: from the offset surface point toward the light.
-void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const LightSample& sample,
-                     const RayOffset& offset, RTCRay& out) {
-  // Leave from the side of the surface the light is on (the geometric normal, not the shading normal).
-  const glm::vec3 n = glm::dot(hit.geometric_normal, sample.l) >= 0.0f ? hit.geometric_normal : -hit.geometric_normal;
-  const glm::vec3 origin = offset_ray_origin(hit.position, n, offset);
-  if (light_eval::light_is_directional(light)) {
-    out = make_rtc_ray(origin, sample.l, std::numeric_limits<float>::infinity());
-    return;
-  }
-  const glm::vec3 d = glm::vec3(light.position_type) - origin;
-  const float dist = glm::length(d);
-  if (!(dist > 0.0f)) {
-    out = make_rtc_ray(origin, sample.l, 0.0f);  // at the light: nothing can be in between
-    return;
-  }
-  out = make_rtc_ray(origin, d / dist, dist * kShadowTfarScale);
-}
-
 // Appends a primary hit of pixel (x, y) (tile slot `slot`) to the scratch lists.
 void add_hit(TileScratch& scratch, const SurfaceHit& hit, uint32_t slot, uint32_t x, uint32_t y) {
   scratch.hits.push_back(hit);
@@ -153,6 +130,24 @@ void trace_shadow_rays(const FrameSetup& frame, TileScratch& scratch) {
 
 }  // namespace
 
+void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const LightSample& sample,
+                     const RayOffset& offset, RTCRay& out) {
+  // Leave from the side of the surface the light is on (the geometric normal, not the shading normal).
+  const glm::vec3 n = glm::dot(hit.geometric_normal, sample.l) >= 0.0f ? hit.geometric_normal : -hit.geometric_normal;
+  const glm::vec3 origin = offset_ray_origin(hit.position, n, offset);
+  if (light_eval::light_is_directional(light)) {
+    out = make_rtc_ray(origin, sample.l, std::numeric_limits<float>::infinity());
+    return;
+  }
+  const glm::vec3 d = glm::vec3(light.position_type) - origin;
+  const float dist = glm::length(d);
+  if (!(dist > 0.0f)) {
+    out = make_rtc_ray(origin, sample.l, 0.0f);  // at the light: nothing can be in between
+    return;
+  }
+  out = make_rtc_ray(origin, d / dist, dist * kShadowTfarScale);
+}
+
 FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
                             const SkipOptions& skip, uint32_t requested) {
   FrameSetup frame;
@@ -195,16 +190,21 @@ bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const Sur
   return true;
 }
 
-void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
-                TraceStats& stats, TileScratch& scratch) {
+void trace_primary_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1,
+                        TileScratch& scratch, TraceStats& stats) {
   const uint32_t blocks_x = (x1 - x0 + kBlock - 1) / kBlock, blocks_y = (y1 - y0 + kBlock - 1) / kBlock;
-
-  // 1. Primary rays, block by block (slot = block * 16 + lane); only hits are kept, in slot order.
+  // Block by block (slot = block * 16 + lane); only hits are kept, in slot order.
   scratch.hits.clear();
   scratch.hit_pixels.clear();
   for (uint32_t b = 0; b < blocks_x * blocks_y; ++b)
     trace_primary_block(frame, x0 + (b % blocks_x) * kBlock, y0 + (b / blocks_x) * kBlock, x1, y1, b * kBlockPixels,
                         scratch, stats);
+}
+
+void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
+                TraceStats& stats, TileScratch& scratch) {
+  // 1. Primary rays.
+  trace_primary_tile(frame, x0, y0, x1, y1, scratch, stats);
   const uint32_t hits = static_cast<uint32_t>(scratch.hits.size());
   stats.skipped_culled_light += uint64_t{hits} * frame.culled_lights;
 

@@ -1,14 +1,12 @@
 #include "trace/embree/embree_tracer.hpp"
 
 #include "trace/embree/embree_trace_tile.hpp"
+#include "trace/embree/tile_pool.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <exception>
 #include <stdexcept>
 #include <string>
-#include <system_error>
 #include <thread>
 
 namespace dhr::server {
@@ -60,44 +58,19 @@ void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
   const uint32_t tile = config_.tile_size;
   const uint32_t tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
   const uint32_t tile_count = tiles_x * tiles_y;
-  const uint32_t workers = std::max(1u, std::min(threads_, tile_count));
-  std::atomic<uint32_t> next_tile{0};
+  const uint32_t workers = tile_workers(threads_, tile_count);
   std::vector<TraceStats> partial(workers);
   std::vector<detail::TileScratch> scratch(workers);
-  // Tiles are claimed dynamically (load balance); each pixel's bits depend only on its own rays, so the
-  // image is the same whichever thread traced it. Counters are summed per thread: integers, exact.
-  std::vector<std::exception_ptr> errors(workers);
-  auto work = [&](uint32_t worker) {
-    try {
-      for (uint32_t t = next_tile.fetch_add(1); t < tile_count; t = next_tile.fetch_add(1)) {
+  // Each pixel's bits depend only on its own rays, so the image is the same whichever thread traced it.
+  // Counters are summed per thread: integers, exact.
+  run_tiles(
+      workers, tile_count,
+      [&](uint32_t worker, uint32_t t) {
         const uint32_t x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
         detail::trace_tile(frame, x0, y0, std::min(x0 + tile, width), std::min(y0 + tile, height), out,
                            partial[worker], scratch[worker]);
-      }
-    } catch (...) {
-      errors[worker] = std::current_exception();  // e.g. bad_alloc: rethrown on the caller's thread
-      next_tile.store(tile_count);
-    }
-  };
-  // A thread that cannot start (the system's thread limit) ends the trace with an error, after the started ones
-  // finished: a std::thread still joinable when the pool is destroyed would terminate the process.
-  std::vector<std::thread> pool;
-  pool.reserve(workers - 1);
-  std::string start_error;
-  for (uint32_t w = 1; w < workers && start_error.empty(); ++w) {
-    try {
-      pool.emplace_back(work, w);
-    } catch (const std::system_error& e) {
-      start_error = "embree tracer: cannot start tracer thread " + std::to_string(w + 1) + " of " +
-                    std::to_string(workers) + ": " + e.what();
-      next_tile.store(tile_count);  // the started threads stop at their next tile
-    }
-  }
-  if (start_error.empty()) work(0);
-  for (std::thread& th : pool) th.join();
-  if (!start_error.empty()) throw std::runtime_error(start_error);
-  for (const std::exception_ptr& e : errors)
-    if (e) std::rethrow_exception(e);
+      },
+      "embree tracer");
 
   TraceStats stats;
   stats.pixels = static_cast<uint64_t>(width) * height;

@@ -78,6 +78,23 @@ inline float primary_tnear(const FrameSetup& frame, const glm::vec3& dir) {
   return static_cast<float>(frame.primary_near / glm::dot(glm::dvec3(dir), frame.ray_forward));
 }
 
+// Point/spot shadow rays stop this fraction short of the light, so geometry exactly at the light (a bulb's
+// surface through the light's centre) does not count as an occluder of its own light.
+inline constexpr float kShadowTfarScale = 1.0f - 1e-5f;
+
+// The occlusion ray for one surface point and light (sample: its light test): from the surface point offset
+// along the geometric normal on the light's side (ray_offset.hpp) toward the light; tfar = the distance to a
+// point/spot light times kShadowTfarScale, infinite for a directional one. The soft-visibility sampler
+// (trace/soft) builds its punctual rays with it, so they are the hard tracer's rays.
+void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const LightSample& sample,
+                     const RayOffset& offset, RTCRay& out);
+
+// Primary rays of pixels [x0, x1) x [y0, y1): scratch.hits / hit_pixels get the hit pixels (in 4x4-block slot
+// order); primary_rays and background_pixels are added to `stats`. trace_tile's first step; the soft-visibility
+// image reuses it so that its surface points are the hard tracer's.
+void trace_primary_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1,
+                        TileScratch& scratch, TraceStats& stats);
+
 // One surface point and light: true with the occlusion ray to trace (and whether the light contributes, else
 // the ray is traced only because a skip is off), or false when frame.skip skips the pair (counted in `stats`
 // by reason). bench/trace_bench uses it to replay exactly the tracer's rays.
