@@ -178,11 +178,12 @@ TEST(SoftVisibility, RectVisibleHiddenAndBehind) {
   const SoftSample hidden = soft_visibility(*es, covered, floor_hit(*es, {6, 0, 0}), soft_seed(0, 0, 1), {});
   EXPECT_EQ(hidden.fraction, 0.0f);
   EXPECT_EQ(hidden.rays, 4u);
-  // Above the emitter, facing it: the centre test passes but a one-sided emitter sends nothing up. No ray.
+  // Above the emitter, facing it: a one-sided emitter sends nothing up; the light test at its centre already says
+  // so (light_eval: behind a rect or disk light is out of range). No ray.
   SurfaceHit above = floor_hit(*es, {0, 5, 0});
   above.geometric_normal = above.shading_normal = glm::vec3(0, -1, 0);
   const SoftSample behind = soft_visibility(*es, open, above, soft_seed(0, 0, 0), SoftOptions::uniform(64));
-  EXPECT_EQ(behind.test, LightTest::kContributes);
+  EXPECT_EQ(behind.test, LightTest::kOutOfRange);
   EXPECT_EQ(behind.fraction, 0.0f);
   EXPECT_EQ(behind.rays, 0u);
   // Every sample ends on the rect: within its half extents, in its plane.
