@@ -181,7 +181,7 @@ Error error_against(const server::SoftImage& a, const server::SoftImage& ref, ui
   for (size_t i = 0; i < ref.fraction.size(); ++i) {
     if (ref.rays[i] == 0) continue;
     float f = a.fraction[i];
-    if (levels) f = server::dequantize(server::quantize(a.fraction[i], levels), levels);
+    if (levels) f = dequantize(quantize(a.fraction[i], levels), levels);
     const double d = std::fabs(static_cast<double>(f) - static_cast<double>(quantization_only ? a.fraction[i] : ref.fraction[i]));
     e.all += d;
     ++e.pairs;

@@ -6,7 +6,7 @@
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/soft/light_sampler.hpp"
 #include "trace/soft/soft_image.hpp"
-#include "trace/soft/soft_levels.hpp"
+#include "visibility/soft_levels.hpp"
 #include "trace/soft/soft_visibility.hpp"
 #include "test_scenes.hpp"
 

@@ -8,7 +8,7 @@
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
 #include "trace/embree/embree_scene.hpp"
-#include "trace/soft/soft_levels.hpp"
+#include "visibility/soft_levels.hpp"
 #include "trace/soft/soft_visibility.hpp"
 #include "trace/visibility_tracer.hpp"
 

@@ -3,13 +3,14 @@
 // Levels are evenly spaced over [0, 1] with both ends exact (level 0 = fully hidden, levels - 1 = fully
 // visible), so hard-shadow pixels and punctual lights survive quantization unchanged. docs/server.md
 // ("Soft visibility") has the measurement behind kDefaultSoftLevels: the quantization error against the
-// sampling noise at the default sample counts.
+// sampling noise at the default sample counts. Server (the soft tracer) and client (the warp, the shading,
+// PCSS) share it through visibility_layout.hpp.
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
-namespace dhr::server {
+namespace dhr {
 
 inline constexpr uint32_t kMinSoftLevels = 2;    // 1 bit: the hard bit
 inline constexpr uint32_t kMaxSoftLevels = 256;  // levels are stored in 8 bits
@@ -38,4 +39,4 @@ inline uint32_t gray_decode(uint32_t gray) {
   return gray;
 }
 
-}  // namespace dhr::server
+}  // namespace dhr
