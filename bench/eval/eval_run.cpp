@@ -8,6 +8,7 @@
 #include "eval_results.hpp"
 #include "eval_session.hpp"
 #include "eval_truth.hpp"
+#include "snapshot_crops.hpp"
 #include "json_writer.hpp"
 #include "pose/trace_pose_source.hpp"
 #include "vk/context.hpp"
@@ -28,6 +29,34 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kMinWarmupMs = 250.0;
+
+// --snapshot-crop: one picture per round trip and guard band, the methods in the order of the settings.
+void write_crop_pictures(const RunOptions& options, const std::vector<Setting>& settings) {
+  std::vector<CropPicture> pictures;
+  for (const Setting& s : settings) {
+    char rtt[32];
+    std::snprintf(rtt, sizeof rtt, "%g", s.rtt_ms);  // as eval_session names the snapshots
+    auto it = std::find_if(pictures.begin(), pictures.end(),
+                           [&](const CropPicture& p) { return p.rtt == rtt && p.guard == s.guard; });
+    if (it == pictures.end()) {
+      CropPicture p;
+      p.out_dir = options.out_dir;
+      p.rtt = rtt;
+      p.guard = s.guard;
+      p.crop = *parse_crop(*options.snapshot_crop);
+      pictures.push_back(p);
+      it = pictures.end() - 1;
+    }
+    const std::string name = method_name(s.method);
+    if (std::find(it->methods.begin(), it->methods.end(), name) == it->methods.end()) it->methods.push_back(name);
+  }
+  for (const CropPicture& p : pictures) {
+    std::string error;
+    const auto path = write_crop_picture(p, &error);
+    if (!path) throw std::runtime_error("--snapshot-crop: " + error);
+    log::info("dhr-eval: %s", path->c_str());
+  }
+}
 
 // The part of the trace from start_s on (the first sample interpolated at exactly start_s).
 PoseTrace skip_start(const PoseTrace& trace, double start_s) {
@@ -89,6 +118,14 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     const EyeModel eyes = EyeModel::typical_headset();
     client::TracePoseSource source(trace, eyes, placement, fs::path(options.trace).filename().string());
 
+    if (options.snapshot_crop) {
+      const auto crop = parse_crop(*options.snapshot_crop);
+      if (!crop) throw cli::InputError("--snapshot-crop '" + *options.snapshot_crop + "': expected X,Y,W,H");
+      if (uint64_t{crop->x} + crop->width > options.eye.width || uint64_t{crop->y} + crop->height > options.eye.height) {
+        throw cli::InputError("--snapshot-crop '" + *options.snapshot_crop + "' does not lie inside the " +
+                              std::to_string(options.eye.width) + "x" + std::to_string(options.eye.height) + " eye");
+      }
+    }
     const std::vector<Setting> settings = expand_settings(options);
     if (settings.empty()) throw std::runtime_error("no settings to run (empty lists)");
     double max_rtt = 0.0;
@@ -186,6 +223,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
         !write_file(out / "run.json", meta.str() + "\n")) {
       throw std::runtime_error(options.out_dir + ": cannot write the results");
     }
+    if (options.snapshot_crop) write_crop_pictures(options, settings);
     std::printf("%s", results_table(results).c_str());
     std::printf("dhr-eval: %llu frames x 2 eyes x %zu settings in %.1f s; results in %s\n",
                 static_cast<unsigned long long>(frames), settings.size(),

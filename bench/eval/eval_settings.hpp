@@ -89,6 +89,7 @@ struct RunOptions {
   double plane_tolerance_rel = render::WarpSettings{}.plane_tolerance_rel;  // full's depth test
   double plane_tolerance_abs = render::WarpSettings{}.plane_tolerance_abs;
   std::optional<uint64_t> snapshot_frame;  // measured frame (0: the first) whose images go to <out>/snapshots
+  std::optional<std::string> snapshot_crop;  // "X,Y,W,H": per round trip, one picture of that crop (snapshot_crops.hpp)
   uint32_t threads = 0;          // Embree threads (0: all cores)
   // --render-path: deferred (every method and the truth on the deferred passes: the images differ only by
   // visibility) or shipped (each method on the path the client would take for it, the forward pass where it

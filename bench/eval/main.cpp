@@ -95,6 +95,11 @@ int main(int argc, char** argv) {
   run->add_option("--snapshot-frame", options.snapshot_frame,
                   "write PNGs of this measured frame (0: the first) to <out>/snapshots: every setting's eyes, "
                   "the exact ones and the wrong visibility bits");
+  run->add_option("--snapshot-crop", options.snapshot_crop,
+                  "with --snapshot-frame: X,Y,W,H of the eye image; per round trip and guard band one picture, "
+                  "snapshots/crop_rtt<R>_guard<G>_eye0.png: that crop of the exact image and of every method's, "
+                  "scaled up, each method's wrong bits below")
+      ->needs("--snapshot-frame");
   run->add_option("--render-path", render_path,
                   "deferred: every method and the truth on the deferred passes (images differ by visibility only); "
                   "shipped: each method on the path the client takes for it (forward where it applies), so client_ms "

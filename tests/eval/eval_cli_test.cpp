@@ -12,6 +12,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "image/png_reader.hpp"
 #include "plan/shipped_defaults.hpp"
 #include "session/shipped_defaults.hpp"
 
@@ -233,7 +234,7 @@ TEST(EvalCliMethodsTest, LocalAndFullWriteTheirFillCounts) {
   const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
                            " --frames 6 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,100 "
                            "--method paper+pred,local,full,full-no-shadow-first-no-pred --shadow-size 256 "
-                           "--snapshot-frame 2");
+                           "--snapshot-frame 2 --snapshot-crop 8,6,32,24");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto results = by_setting(read_results(out));
   ASSERT_EQ(results.size(), 8u);
@@ -257,6 +258,16 @@ TEST(EvalCliMethodsTest, LocalAndFullWriteTheirFillCounts) {
   EXPECT_TRUE(fs::exists(out / "snapshots" / "full_rtt100_guard64x36_eye0.png"));
   EXPECT_TRUE(fs::exists(out / "snapshots" / "exact_guard64x36_eye1.png"));
   EXPECT_TRUE(fs::exists(out / "snapshots" / "local_rtt100_guard64x36_wrong_bits_eye0.png"));
+  // --snapshot-crop: one picture per round trip, exact and four methods side by side, wrong bits below.
+  for (const char* rtt : {"0", "100"}) {
+    const fs::path crop = out / "snapshots" / (std::string("crop_rtt") + rtt + "_guard64x36_eye0.png");
+    ASSERT_TRUE(fs::exists(crop)) << crop;
+    std::string error;
+    const auto picture = dhr::read_png_rgb(crop.string(), &error);
+    ASSERT_TRUE(picture.has_value()) << error;
+    EXPECT_GE(picture->width, 5u * 32u * 7u);  // five columns of the 32-pixel crop scaled 7x (240 / 32)
+    EXPECT_GE(picture->height, 2u * 24u * 7u);
+  }
   fs::remove_all(out);
 }
 
@@ -324,7 +335,8 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   EXPECT_NE(r.output.find("--rtt-ms"), std::string::npos) << r.output;
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method warp");
   EXPECT_EQ(r.exit_code, 2);
-  for (const char* bad : {"full-no-warp", "full-no-depth-no-depth", "local-no-depth", "fullx"}) {
+  for (const char* bad : {"full-no-warp", "full-no-depth-no-depth", "local-no-depth", "fullx",
+                          "full-no-depth-depth-scale-2", "full-depth-scale-1", "full-depth-scale-", "full-depth-scale-99"}) {
     r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_NE(r.output.find("full-no-<ingredient>"), std::string::npos) << r.output;
@@ -333,6 +345,12 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
               " --frames 4 --eye-size 32x24 --rtt-ms 0 --method full --snapshot-frame 4 --no-progress");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--snapshot-frame 4: the run measures 4 frames"), std::string::npos) << r.output;
+  for (const char* crop : {"--snapshot-frame 1 --snapshot-crop 30,20,8,8", "--snapshot-frame 1 --snapshot-crop 1,2,3",
+                           "--snapshot-crop 0,0,8,8"}) {  // outside the 32x24 eye, malformed, no frame to crop
+    r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+                " --frames 4 --eye-size 32x24 --rtt-ms 0 --method full --no-progress " + crop);
+    EXPECT_EQ(r.exit_code, 2) << crop << "\n" << r.output;
+  }
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --eye-size 0x0");
   EXPECT_EQ(r.exit_code, 2);
   r = run_cli("run --scene " + kScene + " --trace /nonexistent.csv --out " + out.string() + " --no-progress");
