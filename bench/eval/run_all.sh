@@ -64,4 +64,7 @@ done
 # Side-by-side pictures: exact, paper and full at 100 ms (and local), one frame of the living room, User1.
 one living_room_user1_pictures --scene "$living" --trace "$user1" --trace-start 2 --frames 46 --eye-size 320x240 \
   --rtt-ms 100 --method paper,paper+pred,local,full --snapshot-frame 45
+# What ships against the headset alone at 100 ms: one crop of the table's shadows (docs/evaluation.md).
+one living_room_user1_default_pictures --scene "$living" --trace "$user1" --trace-start 2 --frames 46 \
+  --eye-size 320x240 --rtt-ms 100 --method default,local,paper+pred --snapshot-frame 45 --snapshot-crop 185,128,80,60
 python3 bench/eval/evaluation_tables.py  # fills docs/evaluation.md's tables from the results
