@@ -21,25 +21,6 @@ namespace {
 using ClientForwardDepthTest = vk::test::VulkanTest;
 using namespace forward_test;
 
-std::vector<glm::vec3> normals_of(const vk::Context& ctx, vk::Image& image) {
-  const std::vector<float> raw = test::read_normals(ctx, image);
-  std::vector<glm::vec3> out(raw.size() / 4);
-  for (size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(raw[i * 4], raw[i * 4 + 1], raw[i * 4 + 2]);
-  return out;
-}
-
-ShadowReference shadow_reference(const vk::Context& ctx, ShadowMaps& maps, std::vector<float>& storage) {
-  vk::Image& atlas = maps.atlas();
-  storage.resize(size_t{atlas.width()} * atlas.height());
-  vk::read_image(ctx, atlas, storage.data(), storage.size() * sizeof(float));
-  ShadowReference ref;
-  ref.atlas = storage;
-  ref.face_size = maps.face_size();
-  ref.tiles = maps.tiles();
-  ref.settings = maps.settings();
-  return ref;
-}
-
 TEST_F(ClientForwardDepthTest, EqualsTheCpuReferenceAtEveryDepthScale) {
   const Scene scene = default_room();
   const ClientScene gpu_scene(ctx(), scene);
@@ -80,7 +61,7 @@ TEST_F(ClientForwardDepthTest, EqualsTheCpuReferenceAtEveryDepthScale) {
     EXPECT_EQ(test::read_pixels<float>(ctx(), *deferred.traced_depth(warp.traced)), traced_depth);
     const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
     const std::vector<uint32_t> deferred_status = test::read_pixels<uint32_t>(ctx(), deferred.warp().status);
-    const std::vector<glm::vec3> normals = normals_of(ctx(), deferred.gbuffer().normal);
+    const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
 
     WarpInput in;
     in.depth = fwd.depth;

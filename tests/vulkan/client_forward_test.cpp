@@ -175,19 +175,9 @@ TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline
   ctx().submit_and_wait([&](VkCommandBuffer cmd) { deferred.record(cmd, 0, view, input, {}, &maps); });
   ASSERT_FALSE(deferred.read_stats(0).forward);
   const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
-  const std::vector<float> raw_normals = test::read_normals(ctx(), deferred.gbuffer().normal);
-  std::vector<glm::vec3> normals(raw_normals.size() / 4);
-  for (size_t i = 0; i < normals.size(); ++i) {
-    normals[i] = glm::vec3(raw_normals[i * 4], raw_normals[i * 4 + 1], raw_normals[i * 4 + 2]);
-  }
-  vk::Image& atlas = const_cast<ShadowMaps&>(maps).atlas();
-  std::vector<float> atlas_storage(size_t{atlas.width()} * atlas.height());
-  vk::read_image(ctx(), atlas, atlas_storage.data(), atlas_storage.size() * sizeof(float));
-  ShadowReference shadow;
-  shadow.atlas = atlas_storage;
-  shadow.face_size = maps.face_size();
-  shadow.tiles = maps.tiles();
-  shadow.settings = maps.settings();
+  const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
+  std::vector<float> atlas_storage;
+  const ShadowReference shadow = shadow_reference(ctx(), const_cast<ShadowMaps&>(maps), atlas_storage);
 
   WarpInput in;
   in.depth = fwd.depth;

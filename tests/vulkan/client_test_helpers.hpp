@@ -104,4 +104,12 @@ inline std::vector<float> read_normals(const vk::Context& context, vk::Image& im
   return out;
 }
 
+// The same as world normal vectors (what the CPU warp reference takes).
+inline std::vector<glm::vec3> read_normal_vectors(const vk::Context& context, vk::Image& image) {
+  const std::vector<float> raw = read_normals(context, image);
+  std::vector<glm::vec3> out(raw.size() / 4);
+  for (size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(raw[i * 4], raw[i * 4 + 1], raw[i * 4 + 2]);
+  return out;
+}
+
 }  // namespace dhr::render::test

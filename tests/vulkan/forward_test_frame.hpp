@@ -11,6 +11,7 @@
 #include "render/client_scene.hpp"
 #include "render/forward_pass.hpp"
 #include "render/offscreen_sink.hpp"
+#include "render/shadow_maps.hpp"
 #include "render/warp_reference.hpp"
 #include "scene/scene.hpp"
 #include "vk/context.hpp"
@@ -130,6 +131,19 @@ inline ForwardResult run_forward(vk::Context& ctx, const ClientScene& scene, For
   out.mask = test::read_pixels<uint32_t>(ctx, targets.mask);
   out.counts = pass.read_counts(0);
   return out;
+}
+
+// The client's shadow maps as the CPU reference reads them; `storage` holds the atlas's texels.
+inline ShadowReference shadow_reference(const vk::Context& ctx, ShadowMaps& maps, std::vector<float>& storage) {
+  vk::Image& atlas = maps.atlas();
+  storage.resize(size_t{atlas.width()} * atlas.height());
+  vk::read_image(ctx, atlas, storage.data(), storage.size() * sizeof(float));
+  ShadowReference ref;
+  ref.atlas = storage;
+  ref.face_size = maps.face_size();
+  ref.tiles = maps.tiles();
+  ref.settings = maps.settings();
+  return ref;
 }
 
 }  // namespace dhr::render::forward_test
