@@ -47,6 +47,7 @@ int run_serve_command(const ServerOptions& options) {
   config.rate_control.enabled = options.rate_adapt;
   config.workers = options.workers;
   config.codec_v2 = options.codec_v2;
+  config.soft_levels = options.soft_levels;
   if (options.predict_horizon_ms >= 0.0)
     config.predict_horizon_ns = static_cast<int64_t>(options.predict_horizon_ms * static_cast<double>(net::kNsPerMs));
 
@@ -60,11 +61,12 @@ int run_serve_command(const ServerOptions& options) {
                options.impairment.active() ? options.impairment.describe().c_str() : "");
   const std::vector<bool> extents = tracer->light_extents();
   const bool any_extent = std::find(extents.begin(), extents.end(), true) != extents.end();
-  std::fprintf(stderr, "mask layout: %s%s\n", layout_line(scene->lights).c_str(),
+  std::fprintf(stderr, "mask layout: %s%s\n",
+               config.soft_levels ? layout_line(scene->lights).c_str() : "one bit per light (--soft-levels off)",
                tracer->backend() == TracerBackend::kVulkan && any_extent
                    ? " (Vulkan: levels 0 or 7 from the ray to each light's centre until it samples)"
                    : "");
-  for (const std::string& name : demoted_lights(scene->lights))
+  for (const std::string& name : config.soft_levels ? demoted_lights(scene->lights) : std::vector<std::string>{})
     std::fprintf(stderr, "warning: light '%s' has an extent but no room for its levels: one bit, traced to its centre\n",
                  name.c_str());
   try {
