@@ -180,6 +180,45 @@ TEST(SoftLayoutTrace, SubsetLayoutTracesOnlyItsLights) {
   EXPECT_THROW(tracer.trace_layout(camera, VisibilityLayout::hard(n + 1), all, st), std::invalid_argument);
 }
 
+// Skips change no field: a sphere light whose range cannot reach the view is culled as a whole (its field is 0,
+// no ray), and the same fields come out with every skip off (SkipOptions::none()), hard and soft.
+TEST(SoftLayoutTrace, SkipsAndCullingTakeASoftFieldAsAWhole) {
+  Scene scene = test::make_empty_scene();
+  test::add_grid(scene, {-10, 0, 10}, {20, 0, 0}, {0, 0, -20}, 4, test::kSingleSided);
+  test::add_box(scene, {-0.5f, 0.5f, -0.5f}, {0.5f, 1.5f, 0.5f}, test::kSingleSided);
+  SceneLight near = test::point_light({1.0f, 3.5f, 0.5f}, 10.0f);
+  near.radius = 0.4f;
+  SceneLight far = test::point_light({0.0f, 3.0f, 60.0f}, 10.0f, /*range=*/5.0f);  // behind the camera
+  far.radius = 0.5f;
+  scene.lights = {near, test::point_light({-1.0f, 3.0f, 0.0f}, 10.0f), far};
+  test::finalize(scene);
+  const Camera camera = test::look_camera({0.0, 5.0, 6.0}, {0.0, 0.0, 0.0}, 96, 72);
+  TracerOptions skipping = two_threads(), exhaustive = two_threads();
+  exhaustive.skip = SkipOptions::none();
+  EmbreeTracer a(scene, skipping), b(scene, exhaustive);
+  const VisibilityLayout layout = layout_for_lights(a.light_extents(), a.light_count());
+  ASSERT_TRUE(layout.is_soft(0) && !layout.is_soft(1) && layout.is_soft(2));
+  VisibilityBuffer va, vb;
+  TraceStats sa, sb;
+  a.trace_layout(camera, layout, va, sa);
+  b.trace_layout(camera, layout, vb, sb);
+  EXPECT_TRUE(va == vb);
+  EXPECT_EQ(sa.lights_culled, 1u);
+  EXPECT_EQ(sb.lights_culled, 0u);
+  const uint64_t hits = sa.pixels - sa.background_pixels;
+  EXPECT_EQ(sa.soft_pairs, hits);       // the near sphere only
+  EXPECT_EQ(sb.soft_pairs, 2 * hits);   // both: the far one's test at its centre says out of range, no ray
+  EXPECT_EQ(sa.soft_shadow_rays, sb.soft_shadow_rays);
+  EXPECT_LT(sa.shadow_rays, sb.shadow_rays);  // the hard light's skipped pairs
+  size_t far_set = 0, near_set = 0;
+  for (size_t p = 0; p < va.pixel_count(); ++p) {
+    far_set += layout.field(va.mask_at(p), 2) != 0;
+    near_set += layout.field(va.mask_at(p), 0) != 0;
+  }
+  EXPECT_EQ(far_set, 0u);
+  EXPECT_GT(near_set, 0u);
+}
+
 // The interface's default trace_layout (the Vulkan backend's interim: the ray to the centre, level 0 or 7) has the
 // same hard fields, and its soft fields equal the sampled ones where the sampled fraction is 0 or 1, except where
 // the centre ray and the samples disagree (an occluder edge between the centre and the samples). Measured below.
