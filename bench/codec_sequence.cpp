@@ -101,7 +101,10 @@ int run_sequence(const SequenceOptions& o) {
   server::TracerOptions tracer_options;
   tracer_options.threads = o.threads;
   const auto tracer = server::create_tracer(server::TracerBackend::kEmbree, scene, tracer_options);
-  const uint32_t lights = tracer->light_count();
+  const VisibilityLayout layout = o.soft_levels
+                                     ? server::layout_for_lights(tracer->light_extents(), tracer->light_count())
+                                     : VisibilityLayout::hard(tracer->light_count());
+  const uint32_t lights = layout.total_bits();  // bits per mask: what the codecs code
 
   // Trace every frame first (the codec is timed on its own afterwards).
   std::vector<std::array<VisibilityBuffer, 2>> frames(o.frames);
@@ -113,7 +116,7 @@ int run_sequence(const SequenceOptions& o) {
     for (int e = 0; e < 2; ++e) {
       cameras[f][e] = format.camera(views[e]);
       server::TraceStats stats;
-      tracer->trace(cameras[f][e], frames[f][e], stats);
+      tracer->trace_layout(cameras[f][e], layout, frames[f][e], stats);
     }
     std::fprintf(stderr, "\rcodec_bench: traced %u/%u frames (%.0f s)", f + 1, o.frames, ms_since(trace_start) / 1e3);
   }
@@ -221,7 +224,8 @@ int run_sequence(const SequenceOptions& o) {
   j.value("tracer", tracer->device_description());
   j.value("frames", o.frames).value("width", o.size.width).value("height", o.size.height);
   j.value("display", std::to_string(display.width) + "x" + std::to_string(display.height));
-  j.value("lights", lights).value("rtt_ms", o.rtt_ms, 1).value("ack_delay_frames", ack_delay);
+  j.value("lights", layout.light_count).value("soft_levels", o.soft_levels).value("mask_bits_used", lights);
+  j.value("rtt_ms", o.rtt_ms, 1).value("ack_delay_frames", ack_delay);
   j.value("loss", o.loss, 4).value("seed", static_cast<unsigned long long>(o.seed));
   j.value("v1_bytes_per_eye_frame", v1_bytes / eye_frames, 1);
   j.value("v2_bytes_per_eye_frame", v2_bytes / eye_frames, 1);
@@ -229,7 +233,7 @@ int run_sequence(const SequenceOptions& o) {
   j.value("v2_shards_per_eye_frame", shards_v2 / eye_frames, 2);
   j.value("v1_mbit_s", mbit(v1_bytes / eye_frames), 3);
   j.value("v2_mbit_s", mbit(v2_bytes / eye_frames), 3);
-  j.value("v2_bytes_per_light", lights > 0 ? v2_bytes / eye_frames / lights : 0.0, 1);
+  j.value("v2_bytes_per_light", layout.light_count > 0 ? v2_bytes / eye_frames / layout.light_count : 0.0, 1);
   j.value("v2_inter_frac", inter_frames / eye_frames, 3);
   j.value("v2_v1_fallback_rows", static_cast<unsigned long long>(fallback_rows));
   j.value("v2_pixel_bits_coded_per_eye_frame", static_cast<double>(pixels_coded) / eye_frames, 0);

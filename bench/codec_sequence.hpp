@@ -22,6 +22,9 @@ struct SequenceOptions {
   uint32_t lights = 0;        // 0: the scene's lights; more: point lights added around the scene (many-light runs)
   unsigned threads = 0;       // tracer threads (the codec runs on one)
   uint64_t seed = 1;
+  // Soft levels (docs/protocol.md, "Mask layout"): lights with an extent get 3-bit Gray-coded level fields,
+  // traced as a soft-capable session's (VisibilityTracer::trace_layout); off: one bit per light.
+  bool soft_levels = false;
 };
 
 // Prints progress on stderr and one JSON object as the last stdout line. Returns the exit code.

@@ -1,6 +1,7 @@
 #include "check_command.hpp"
 
 #include "scene/scene.hpp"
+#include "layout_report.hpp"
 #include "scene_setup.hpp"
 #include "cli/exit_codes.hpp"
 
@@ -27,6 +28,7 @@ int run_check(const ServerOptions& options) {
                                  {"triangles", scene->triangle_count},
                                  {"lights", scene->lights.size()},
                                  {"light_details", light_details},
+                                 {"mask_layout", layout_json(scene->lights)},
                                  {"default_lights", scene->default_lights},
                                  {"materials", scene->materials.size()},
                                  {"images", scene->images.size()},

@@ -1,9 +1,11 @@
 #include "serve_command.hpp"
 
+#include "layout_report.hpp"
 #include "scene_setup.hpp"
 #include "scene/scene_hash.hpp"
 #include "session/serve.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -45,6 +47,7 @@ int run_serve_command(const ServerOptions& options) {
   config.rate_control.enabled = options.rate_adapt;
   config.workers = options.workers;
   config.codec_v2 = options.codec_v2;
+  config.soft_levels = options.soft_levels;
   if (options.predict_horizon_ms >= 0.0)
     config.predict_horizon_ns = static_cast<int64_t>(options.predict_horizon_ms * static_cast<double>(net::kNsPerMs));
 
@@ -56,6 +59,16 @@ int run_serve_command(const ServerOptions& options) {
                config.predict ? "tracing the views predicted for display" : "tracing the poses as sent (--no-predict)",
                config.adaptive_fov.enabled ? ", adaptive FOV" : "", options.impairment.active() ? ", impairment on send: " : "",
                options.impairment.active() ? options.impairment.describe().c_str() : "");
+  const std::vector<bool> extents = tracer->light_extents();
+  const bool any_extent = std::find(extents.begin(), extents.end(), true) != extents.end();
+  std::fprintf(stderr, "mask layout: %s%s\n",
+               config.soft_levels ? layout_line(scene->lights).c_str() : "one bit per light (--soft-levels off)",
+               tracer->backend() == TracerBackend::kVulkan && any_extent
+                   ? " (Vulkan: levels 0 or 7 from the ray to each light's centre until it samples)"
+                   : "");
+  for (const std::string& name : config.soft_levels ? demoted_lights(scene->lights) : std::vector<std::string>{})
+    std::fprintf(stderr, "warning: light '%s' has an extent but no room for its levels: one bit, traced to its centre\n",
+                 name.c_str());
   try {
     return run_serve(serve, *tracer);
   } catch (const std::invalid_argument& e) {  // e.g. a --bind that is not an address

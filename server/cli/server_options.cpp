@@ -143,6 +143,13 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
                  "visibility codec for clients that offer v2: v2 (context-modelled, against acknowledged frames) or v1 (LZ4)")
       ->capture_default_str()
       ->check(CLI::IsMember({"v1", "v2"}));
+  std::string soft_levels = "on";
+  app.add_option("--soft-levels", soft_levels,
+                 "3-bit Gray-coded visibility levels for lights with an extent, for clients that offer them "
+                 "(docs/protocol.md, \"Mask layout\"); off: one bit per light, traced to the light's centre")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}))
+      ->group(kServeGroup);
   app.add_flag("--predict,!--no-predict", out.predict,
                "trace the views predicted for when the result is displayed (constant velocity from the "
                "client's last poses); on by default, --no-predict traces the poses as sent (the paper's server)")
@@ -220,6 +227,7 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   if (no_skip) out.tracer.skip = SkipOptions::none();
   out.rate_adapt = !no_rate_adapt;
   out.codec_v2 = codec == "v2";
+  out.soft_levels = soft_levels == "on";
   out.skip_identical_pose = !trace_identical;
   if (*serve) {
     const auto p = parse_port(port);

@@ -127,11 +127,11 @@ TEST(ClientSession, AnotherProtocolVersionFailsWithBothVersions) {
   h.client.tick();
   h.run_for(kMs);
   std::vector<uint8_t> bye = encode_datagram(Datagram{0, 0, Bye{ByeReason::kVersionMismatch}});
-  bye[4] = 4;  // the server's version
+  bye[4] = 5;  // the server's version
   h.server_send_raw(bye);
   h.run_for(kMs);
   EXPECT_TRUE(h.client.failed());
-  EXPECT_NE(h.client.failure().find("version 4"), std::string::npos) << h.client.failure();
+  EXPECT_NE(h.client.failure().find("version 5"), std::string::npos) << h.client.failure();
   EXPECT_EQ(h.client.stats().rejections[DecodeError::kWrongVersion], 1u);
 }
 
@@ -145,6 +145,26 @@ TEST(ClientSession, WelcomeThatDoesNotFitTheHelloFails) {
   h.run_for(kMs);
   EXPECT_TRUE(h.client.failed());
   EXPECT_NE(h.client.failure().find("guard band"), std::string::npos) << h.client.failure();
+}
+
+// The client does not offer soft levels yet (its warp and shading read one bit per light): a Welcome granting
+// them anyway fails instead of showing level fields as light bits.
+TEST(ClientSession, SoftLevelsAreNotOfferedAndAGrantFails) {
+  Harness h;
+  h.client.tick();
+  h.run_for(kMs);
+  const auto hellos = h.received<Hello>();
+  ASSERT_EQ(hellos.size(), 1u);
+  EXPECT_EQ(hellos[0].capabilities & kCapabilitySoftLevels, 0u);
+  Welcome w = h.welcome_for(hellos[0].client_nonce);
+  w.capabilities |= kCapabilitySoftLevels;
+  w.soft_light_count = 1;
+  w.mask_bits = mask_width_for_light_count(w.used_mask_bits());
+  h.server_send(w);
+  h.run_for(kMs);
+  EXPECT_FALSE(h.client.connected());
+  EXPECT_TRUE(h.client.failed());
+  EXPECT_NE(h.client.failure().find("soft levels"), std::string::npos) << h.client.failure();
 }
 
 // A client that renders the scene with hash 0x1111222233334444, answered by a Welcome naming `server_hash`.

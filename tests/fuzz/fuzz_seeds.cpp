@@ -11,9 +11,11 @@
 #include "protocol_fixtures.hpp"
 #include "secure/envelope.hpp"
 #include "secure/key.hpp"
+#include "visibility/visibility_layout.hpp"
 
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <cstring>
 
 namespace dhr::fuzz {
@@ -39,6 +41,16 @@ std::vector<Seed> datagram_seeds() {
     out.push_back({"shard_last", datagram(77, shards.back())});
   }
   out.push_back({"bye_to_hello", datagram(0, Bye{ByeReason::kVersionMismatch})});
+  // Soft levels (protocol version 4): a Hello offering them, a Welcome granting them (2 of 3 lights: 7 bits).
+  Hello soft_hello = std::get<Hello>(samples.front().message);
+  soft_hello.capabilities |= kCapabilityCodecV2 | kCapabilitySoftLevels;
+  out.push_back({"hello_soft_levels", datagram(0, soft_hello)});
+  Welcome soft_welcome = std::get<Welcome>(samples[1].message);
+  soft_welcome.capabilities |= kCapabilitySoftLevels;
+  soft_welcome.light_count = 3;
+  soft_welcome.soft_light_count = 2;
+  soft_welcome.mask_bits = MaskWidth::k8;
+  out.push_back({"welcome_soft_levels", datagram(77, soft_welcome)});
   Bytes other_version = encode_datagram(samples.front());
   if (other_version.size() > 4) other_version[4] = kProtocolVersion + 1;
   out.push_back({"hello_version2", other_version});
@@ -161,6 +173,37 @@ std::vector<Seed> shard_payload_v2_seeds() {
       p.write(b);
       put_bytes(b, shards[i].payload);
       out.push_back({"v2_mode" + std::to_string(mode) + "_" + std::to_string(i), std::move(b)});
+    }
+  }
+  // Soft levels: 3 soft lights (9 bits, mode 1), each field the Gray code of a level ramp across a penumbra.
+  {
+    ShardPayloadV2Params p;
+    p.mode = 1;
+    p.width = 100;
+    p.height = 40;
+    const bool soft[3] = {true, true, true};
+    const VisibilityLayout layout = VisibilityLayout::for_lights(soft);
+    VisibilityBuffer cur = VisibilityBuffer::create(p.width, p.height, layout.total_bits());
+    for (uint32_t y = 0; y < p.height; ++y)
+      for (uint32_t x = 0; x < p.width; ++x) {
+        uint32_t m = 0;
+        for (uint32_t l = 0; l < 3; ++l)
+          m = layout.with_visibility(m, l, std::clamp((static_cast<float>(x + 7 * l) - 30.0f) / 25.0f, 0.0f, 1.0f));
+        cur.set(x, y, m);
+      }
+    EncodeOptions options;
+    options.max_payload = 120;
+    std::vector<EncodedShard> shards;
+    if (encode_visibility_v2(cur, 2, nullptr, options, shards)) {
+      for (size_t i = 0; i < shards.size() && i < 2; ++i) {
+        if (!is_v2_payload(shards[i].payload)) continue;
+        p.first_row = shards[i].first_pixel / p.width;
+        p.rows = shards[i].pixel_count / p.width;
+        Bytes b;
+        p.write(b);
+        put_bytes(b, shards[i].payload);
+        out.push_back({"v2_soft9_" + std::to_string(i), std::move(b)});
+      }
     }
   }
   return out;

@@ -54,10 +54,10 @@ python3 - "$port" <<'PY'
 import socket, struct, sys
 port = int(sys.argv[1])
 s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-def header(kind, flags=0, version=3, token=0, seq=0):
+def header(kind, flags=0, version=4, token=0, seq=0):  # version: kProtocolVersion
     return b"DHRX" + struct.pack("<BBHQI", version, kind, flags, token, seq)
 bad = [
-    b"DHRX\x03\x01",                                              # shorter than the header
+    b"DHRX\x04\x01",                                              # shorter than the header
     header(9) + b"\x00" * 8,                                      # unknown type
     header(6, flags=4, token=5) + b"\x00",                        # unknown flags
     header(6, token=5) + b"\xc8",                                 # Bye with an unknown reason

@@ -5,6 +5,7 @@
 #include "net/udp_socket.hpp"
 #include "secure/envelope.hpp"
 #include "secure/key.hpp"
+#include "test_scenes.hpp"
 #include <glm/gtc/quaternion.hpp>
 #include <sys/stat.h>
 
@@ -197,6 +198,34 @@ TEST(ServeCli, ServesAHelloAndStopsAfterMaxSeconds) {
   EXPECT_EQ(stats.at("sessions_opened").get<int>(), 1);
   EXPECT_EQ(stats.at("sessions_closed").get<int>(), 1);
   EXPECT_NE(server.err().find("session "), std::string::npos);
+}
+
+// A client offering soft levels, served the area-light scene: the Welcome grants them (2 of 3 lights: 7 bits), the
+// serving line names the layout, and the statistics count the soft session; --soft-levels off grants none.
+TEST(ServeCli, SoftLevelsAreGrantedOnTheAreaLightScene) {
+  for (const bool on : {true, false}) {
+    ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "2", "--insecure", "--scene",
+                          dhr::test::source_path("assets/scenes/default_room_area.gltf"), "--soft-levels",
+                          on ? "on" : "off"});
+    ASSERT_TRUE(server.started());
+    const uint16_t port = server.wait_for_port(std::chrono::seconds(60));
+    ASSERT_NE(port, 0) << server.err();
+    Client client;
+    Hello hello = small_hello();
+    hello.capabilities |= kCapabilityCodecV2 | kCapabilitySoftLevels;
+    ASSERT_TRUE(client.socket.send_to(encode_datagram(Datagram{0, 0, hello}), net::PeerAddress::loopback_ipv4(port)));
+    const auto welcome = client.wait_for<Welcome>(std::chrono::seconds(5));
+    ASSERT_TRUE(welcome) << server.err();
+    EXPECT_EQ((welcome->second.capabilities & kCapabilitySoftLevels) != 0, on);
+    EXPECT_EQ(welcome->second.soft_light_count, on ? 2 : 0);
+    EXPECT_EQ(welcome->second.used_mask_bits(), on ? 7u : 3u);
+    ASSERT_EQ(server.wait_exit(std::chrono::seconds(30)), 0) << server.err();
+    EXPECT_NE(server.err().find(on ? "mask layout: soft levels for clients that offer them: 'ceiling_panel' bits 0-2"
+                                   : "mask layout: one bit per light (--soft-levels off)"),
+              std::string::npos)
+        << server.err();
+    EXPECT_EQ(last_json_line(server.out()).at("sessions_soft").get<int>(), on ? 1 : 0);
+  }
 }
 
 TEST(ServeCli, ImpairedSendsStillDeliverTheFinalBye) {

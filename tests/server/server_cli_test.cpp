@@ -107,6 +107,30 @@ TEST(ServerCli, CheckListsEachLightsTypeAndExtent) {
   EXPECT_EQ(s.at("light_details").at(0).at("spec"), "dir:0,-1,0:1,1,1:3:angle_deg=0.529999971");
 }
 
+// The mask layout a soft-capable client gets (docs/protocol.md, "Mask layout"), and soft lights demoted to one bit
+// when 32 bits do not hold every level field.
+TEST(ServerCli, CheckSaysTheMaskLayout) {
+  const RunResult r = run_server("--check --scene " + quote(test::source_path("assets/scenes/default_room_area.gltf")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto layout = nlohmann::json::parse(lines(r.out).at(0)).at("mask_layout");
+  EXPECT_EQ(layout.at("bits"), 7);
+  EXPECT_EQ(layout.at("mask_bits"), 8);
+  ASSERT_EQ(layout.at("soft_lights").size(), 2u) << layout;
+  EXPECT_EQ(layout.at("soft_lights")[0].at("name"), "ceiling_panel");
+  EXPECT_EQ(layout.at("soft_lights")[0].at("first_bit"), 0);
+  EXPECT_EQ(layout.at("soft_lights")[0].at("bits"), 3);
+  EXPECT_EQ(layout.at("soft_lights")[1].at("first_bit"), 4);
+  EXPECT_TRUE(layout.at("demoted").empty());
+  std::string suns;
+  for (int i = 0; i < 11; ++i) suns += std::string(i ? ";" : "") + "dir:0,-1,0:1,1,1:3:angle_deg=0.53";
+  const RunResult many = run_server("--check --lights '" + suns + "'");
+  ASSERT_EQ(many.exit_code, 0) << many.err;
+  const auto m = nlohmann::json::parse(lines(many.out).at(0)).at("mask_layout");
+  EXPECT_EQ(m.at("bits"), 31);  // ten level fields and the eleventh light's bit
+  EXPECT_EQ(m.at("soft_lights").size(), 10u);
+  EXPECT_EQ(m.at("demoted").size(), 1u);
+}
+
 TEST(ServerCli, CheckRejectsUnusableScenesWithOneLine) {
   std::vector<std::string> bad = {"/nonexistent/missing.gltf"};
   if (const std::string draco = test::shared_data_path("gltf-bad/draco/2CylinderEngine.gltf"); !draco.empty())

@@ -146,7 +146,7 @@ class VisibilityServiceTest : public ::testing::Test {
     ReassemblerConfig rc;
     rc.width = w.buffer_width;
     rc.height = w.buffer_height;
-    rc.light_count = w.light_count;
+    rc.light_count = w.used_mask_bits();
     VisibilityReassembler reassembler(rc);
     for (const VisibilityShard& s : shards) {
       const InsertResult r = reassembler.insert(s);

@@ -63,7 +63,7 @@ struct Rig {
       ReassemblerConfig rc;
       rc.width = w->buffer_width;
       rc.height = w->buffer_height;
-      rc.light_count = w->light_count;
+      rc.light_count = w->used_mask_bits();
       reassembler = std::make_unique<VisibilityReassembler>(rc);
     });
   }

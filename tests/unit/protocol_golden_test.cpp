@@ -92,7 +92,7 @@ TEST(ProtocolGolden, Hello) {
   m.scene_id = "room";
   const Bytes expected = {
       'D', 'H', 'R', 'X',                              // magic
-      0x03,                                            // version
+      0x04,                                            // version
       0x01,                                            // type Hello
       0x00, 0x00,                                      // reserved
       0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 0
@@ -124,19 +124,76 @@ TEST(ProtocolGolden, Welcome) {
   m.heartbeat_interval_ms = 1000;
   m.session_timeout_ms = 5000;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x03, 0x02, 0x00, 0x00,  // magic, version, type Welcome, reserved
+      'D',  'H',  'R',  'X',  0x04, 0x02, 0x00, 0x00,  // magic, version, type Welcome, reserved
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token 0x0123456789ABCDEF
       0x07, 0x00, 0x00, 0x00,                          // sequence 7
       0x88, 0x77, 0x66, 0x55, 0x44, 0x33, 0x22, 0x11,  // client nonce echo
       0x01, 0x00, 0x00, 0x00,                          // capabilities
       0xEF, 0xBE, 0xAD, 0xDE, 0xBE, 0xBA, 0xFE, 0xCA,  // scene hash
-      0x03, 0x08,                                      // 3 lights, 8-bit masks
+      0x03, 0x08, 0x00,                                // 3 lights, 8-bit masks, no soft light
       0xC0, 0x07, 0x5C, 0x04,                          // buffer 1984 x 1116
       0x20, 0x00, 0x12, 0x00,                          // guard 32, 18
       0xE8, 0x03,                                      // heartbeat 1000 ms
       0x88, 0x13, 0x00, 0x00,                          // timeout 5000 ms
   };
   expect_golden(Datagram{0x0123456789ABCDEFull, 7, m}, expected);
+  Datagram back;
+  ASSERT_EQ(decode_datagram(expected, back), DecodeError::kNone);
+  EXPECT_EQ(std::get<Welcome>(back.message), m);
+}
+
+// Soft levels offered (capability bit 2) and granted: 3 lights of which 2 have a 3-bit level field, so
+// 3 + 2 x 2 = 7 bits per mask in 8-bit masks.
+TEST(ProtocolGolden, HelloOffersSoftLevels) {
+  Hello m;
+  m.client_nonce = 1;
+  m.capabilities = kCapabilityLz4RowShards | kCapabilityCodecV2 | kCapabilitySoftLevels;
+  m.eye_width = 320;
+  m.eye_height = 240;
+  const Bytes expected = {
+      'D',  'H',  'R',  'X',  0x04, 0x01, 0x00, 0x00,  // magic, version 4, type Hello, flags
+      0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 0
+      0x00, 0x00, 0x00, 0x00,                          // sequence 0
+      0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // client nonce 1
+      0x07, 0x00, 0x00, 0x00,                          // capabilities: v1, v2, soft levels
+      0x40, 0x01, 0xF0, 0x00,                          // eye 320 x 240
+      0x00, 0x00, 0x00, 0x00,                          // no guard band
+      0x00,                                            // lights wanted: all
+      0x00,                                            // default scene
+  };
+  expect_golden(Datagram{0, 0, m}, expected);
+  Datagram back;
+  ASSERT_EQ(decode_datagram(expected, back), DecodeError::kNone);
+  EXPECT_EQ(std::get<Hello>(back.message), m);
+}
+
+TEST(ProtocolGolden, WelcomeGrantsSoftLevels) {
+  Welcome m;
+  m.client_nonce = 1;
+  m.capabilities = kCapabilityLz4RowShards | kCapabilitySoftLevels;
+  m.scene_hash = 2;
+  m.light_count = 3;
+  m.mask_bits = MaskWidth::k8;
+  m.soft_light_count = 2;
+  m.buffer_width = 320;
+  m.buffer_height = 240;
+  m.heartbeat_interval_ms = 1000;
+  m.session_timeout_ms = 5000;
+  EXPECT_EQ(m.used_mask_bits(), 7u);
+  const Bytes expected = {
+      'D',  'H',  'R',  'X',  0x04, 0x02, 0x00, 0x00,  // magic, version 4, type Welcome, flags
+      0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 1
+      0x00, 0x00, 0x00, 0x00,                          // sequence 0
+      0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // client nonce echo
+      0x05, 0x00, 0x00, 0x00,                          // capabilities: v1, soft levels
+      0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // scene hash
+      0x03, 0x08, 0x02,                                // 3 lights, 8-bit masks, 2 with soft levels
+      0x40, 0x01, 0xF0, 0x00,                          // buffer 320 x 240
+      0x00, 0x00, 0x00, 0x00,                          // no guard band
+      0xE8, 0x03,                                      // heartbeat 1000 ms
+      0x88, 0x13, 0x00, 0x00,                          // timeout 5000 ms
+  };
+  expect_golden(Datagram{1, 0, m}, expected);
   Datagram back;
   ASSERT_EQ(decode_datagram(expected, back), DecodeError::kNone);
   EXPECT_EQ(std::get<Welcome>(back.message), m);
@@ -149,7 +206,7 @@ TEST(ProtocolGolden, PoseUpdate) {
   m.views = {left_view(), right_view()};
   m.held_distance = {5, 0x0102};  // left holds frame 37, right frame 42 - 258: none (older than frame 0)
   const Bytes expected = cat({
-      {'D', 'H', 'R', 'X', 0x03, 0x03, 0x00, 0x00},      // version 3, type PoseUpdate
+      {'D', 'H', 'R', 'X', 0x04, 0x03, 0x00, 0x00},      // version 4, type PoseUpdate
       {0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01},  // token
       {0x08, 0x00, 0x00, 0x00},                          // sequence 8
       {0x2A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // frame 42
@@ -188,7 +245,7 @@ TEST(ProtocolGolden, VisibilityShard) {
   m.payload_size = sizeof(payload);
   std::copy(std::begin(payload), std::end(payload), m.payload.begin());
   const Bytes expected = cat({
-      {'D', 'H', 'R', 'X', 0x03, 0x04, 0x00, 0x00},      // type VisibilityShard
+      {'D', 'H', 'R', 'X', 0x04, 0x04, 0x00, 0x00},      // type VisibilityShard
       {0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01},  // token
       {0x09, 0x00, 0x00, 0x00},                          // sequence 9
       {0x2A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // frame 42
@@ -228,7 +285,7 @@ TEST(ProtocolGolden, Heartbeat) {
   m.frames_done = 4;
   m.frames_dropped = 5;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x03, 0x05, 0x00, 0x00,  // type Heartbeat
+      'D',  'H',  'R',  'X',  0x04, 0x05, 0x00, 0x00,  // type Heartbeat
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0A, 0x00, 0x00, 0x00,                          // sequence 10
       0x00, 0xF2, 0x05, 0x2A, 0x01, 0x00, 0x00, 0x00,  // send time 5e9
@@ -246,7 +303,7 @@ TEST(ProtocolGolden, Heartbeat) {
 
 TEST(ProtocolGolden, Bye) {
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x03, 0x06, 0x00, 0x00,  // type Bye
+      'D',  'H',  'R',  'X',  0x04, 0x06, 0x00, 0x00,  // type Bye
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0B, 0x00, 0x00, 0x00,                          // sequence 11
       0x03,                                            // reason: shutdown

@@ -174,6 +174,24 @@ TEST(ProtocolRobustness, OtherFieldRangesAreValidated) {
     w = std::get<Welcome>(samples[1].message);
     w.heartbeat_interval_ms = 0;
     EXPECT_EQ(decode_datagram(encode_datagram({kToken, 0, w}), out), DecodeError::kBadValue);
+    // Soft levels: the capability and a soft light count come together, and every field fits 32 bits.
+    w = std::get<Welcome>(samples[1].message);  // 17 lights, 32-bit masks
+    w.soft_light_count = 2;                     // 21 bits, but the capability is not granted
+    EXPECT_EQ(decode_datagram(encode_datagram({kToken, 0, w}), out), DecodeError::kBadValue);
+    w.capabilities |= kCapabilitySoftLevels;
+    EXPECT_EQ(decode_datagram(encode_datagram({kToken, 0, w}), out), DecodeError::kNone);
+    w.soft_light_count = 0;  // granted, but no light has levels
+    EXPECT_EQ(decode_datagram(encode_datagram({kToken, 0, w}), out), DecodeError::kBadValue);
+    w.soft_light_count = 8;  // 17 + 16 = 33 bits
+    EXPECT_EQ(decode_datagram(encode_datagram({kToken, 0, w}), out), DecodeError::kBadValue);
+    w.light_count = 3;
+    w.soft_light_count = 4;  // more soft lights than lights
+    w.mask_bits = MaskWidth::k16;
+    EXPECT_EQ(decode_datagram(encode_datagram({kToken, 0, w}), out), DecodeError::kBadValue);
+    w.soft_light_count = 3;  // 3 + 6 = 9 bits: 16-bit masks, not 8
+    EXPECT_EQ(decode_datagram(encode_datagram({kToken, 0, w}), out), DecodeError::kNone);
+    w.mask_bits = MaskWidth::k8;
+    EXPECT_EQ(decode_datagram(encode_datagram({kToken, 0, w}), out), DecodeError::kBadValue);
   }
   {
     const VisibilityShard base = std::get<VisibilityShard>(samples[3].message);

@@ -1,4 +1,4 @@
--- Wireshark / tshark dissector for the DHR-XR wire protocol, version 3 (docs/protocol.md).
+-- Wireshark / tshark dissector for the DHR-XR wire protocol, version 4 (docs/protocol.md).
 -- Load:  tshark -X lua_script:tools/wireshark/dhr.lua -r capture.pcapng -Y dhr
 --        (Wireshark: copy to ~/.local/lib/wireshark/plugins/ or pass -X lua_script:...)
 -- A heuristic dissector on UDP: every datagram that starts with "DHRX". Each message type and field is
@@ -10,7 +10,7 @@
 -- BEGIN LAYOUT: written by `dhr-protocol-layout --update-wireshark tools/wireshark/dhr.lua` from
 -- shared/protocol/include/protocol/wire_layout.hpp (ProtocolLayout.WiresharkLayoutIsCurrent checks it).
 -- Per field: { offset, wire type, name }; offsets from the datagram's start (the View's from its own).
-local VERSION = 3
+local VERSION = 4
 local MAX_DATAGRAM = 1280
 local SEAL_TAG = 16
 local HEADER = { size = 20, fields = {
@@ -45,18 +45,19 @@ local MESSAGES = {
     { 92, "View", "right_view" },
     { 148, "u16 x2", "held_distance" },
   } },
-  [2] = { name = "Welcome", size = 56, fields = {
+  [2] = { name = "Welcome", size = 57, fields = {
     { 20, "u64", "client_nonce" },
     { 28, "u32", "capabilities" },
     { 32, "u64", "scene_hash" },
     { 40, "u8", "light_count" },
     { 41, "u8", "mask_bits" },
-    { 42, "u16", "buffer_width" },
-    { 44, "u16", "buffer_height" },
-    { 46, "u16", "guard_x" },
-    { 48, "u16", "guard_y" },
-    { 50, "u16", "heartbeat_interval_ms" },
-    { 52, "u32", "session_timeout_ms" },
+    { 42, "u8", "soft_light_count" },
+    { 43, "u16", "buffer_width" },
+    { 45, "u16", "buffer_height" },
+    { 47, "u16", "guard_x" },
+    { 49, "u16", "guard_y" },
+    { 51, "u16", "heartbeat_interval_ms" },
+    { 53, "u32", "session_timeout_ms" },
   } },
   [4] = { name = "VisibilityShard", size = 104, tail_length = "payload_size", fields = {
     { 20, "u64", "frame_number" },
@@ -120,6 +121,7 @@ local f = {
   scene_hash = ProtoField.uint64("dhr.scene_hash", "Scene hash", base.HEX),
   light_count = ProtoField.uint8("dhr.light_count", "Light count"),
   mask_bits = ProtoField.uint8("dhr.mask_bits", "Mask bits"),
+  soft_light_count = ProtoField.uint8("dhr.soft_light_count", "Lights with soft levels"),
   buffer_width = ProtoField.uint16("dhr.buffer_width", "Buffer width"),
   buffer_height = ProtoField.uint16("dhr.buffer_height", "Buffer height"),
   heartbeat_interval_ms = ProtoField.uint16("dhr.heartbeat_ms", "Heartbeat interval (ms)"),

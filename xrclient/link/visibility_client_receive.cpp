@@ -129,6 +129,8 @@ void VisibilityClient::handle_welcome(const Datagram& datagram, int64_t now) {
   }
   if ((w.capabilities & kCapabilityCodecV2) && !config_.codec_v2)
     return fail("the server granted codec v2, which this client did not offer");
+  if (w.capabilities & kCapabilitySoftLevels)
+    return fail("the server granted soft levels, which this client did not offer");
   if (w.format().display != config_.format.display)
     return fail("the server's buffer " + std::to_string(w.buffer_width) + "x" + std::to_string(w.buffer_height) +
                 " is not the eye size " + std::to_string(config_.format.display.width) + "x" +
@@ -150,7 +152,7 @@ void VisibilityClient::adopt_session(const Datagram& datagram, int64_t now) {
   ReassemblerConfig rc;
   rc.width = w.buffer_width;
   rc.height = w.buffer_height;
-  rc.light_count = w.light_count;
+  rc.light_count = w.used_mask_bits();  // bits per mask: the reassembler and the codecs code bits
   rc.max_frames_in_flight = config_.max_frames_in_flight;
   // Codec v2 granted: keep the newest complete frames as references (the count both sides assume).
   rc.reference_frames = (w.capabilities & kCapabilityCodecV2) ? kV2ReferenceFrames : 0;

@@ -85,9 +85,10 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
   VisibilityService service(tracer, options.service, sender, clock);
   service.set_session_observer([](const VisibilityService::SessionInfo& s, bool opened, ByeReason reason) {
     if (opened) {
-      std::fprintf(stderr, "session %016llx opened: %s, %ux%u per eye (guard %u,%u), %u lights\n",
+      std::fprintf(stderr, "session %016llx opened: %s, %ux%u per eye (guard %u,%u), %u lights (%u with soft levels)\n",
                    static_cast<unsigned long long>(s.token), s.peer.to_string().c_str(), s.welcome.buffer_width,
-                   s.welcome.buffer_height, s.welcome.guard_x, s.welcome.guard_y, s.welcome.light_count);
+                   s.welcome.buffer_height, s.welcome.guard_x, s.welcome.guard_y, s.welcome.light_count,
+                   s.welcome.soft_light_count);
     } else {
       std::fprintf(stderr, "session %016llx closed: %s, %s, newest frame traced %llu\n",
                    static_cast<unsigned long long>(s.token), s.peer.to_string().c_str(), reason_text(reason),

@@ -48,6 +48,16 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
           {"prediction_horizon_ms", s.prediction_horizon_ms},
           {"eyes_fov_widened", s.eyes_fov_widened},
           {"fov_span_ratio", s.fov_span_ratio},
+          {"sessions_soft", s.sessions_soft},
+          {"soft_pairs", s.soft_pairs},
+          {"soft_contributing_pairs", s.soft_contributing_pairs},
+          {"soft_refined_pairs", s.soft_refined_pairs},
+          {"soft_shadow_rays", s.soft_shadow_rays},
+          // Rays per hit pixel per soft light, and the share of (contributing) soft pairs refined.
+          {"soft_rays_per_pair", s.soft_pairs ? static_cast<double>(s.soft_shadow_rays) / s.soft_pairs : 0.0},
+          {"soft_refined_share", s.soft_contributing_pairs
+                                     ? static_cast<double>(s.soft_refined_pairs) / s.soft_contributing_pairs
+                                     : 0.0},
           {"trace_ms", s.trace_ms},
           {"encode_ms", s.encode_ms}};
 }

@@ -47,7 +47,7 @@ bool VisibilityService::reject_hello(const Hello& hello, std::string& out_reason
   return false;
 }
 
-Welcome VisibilityService::make_welcome(const Hello& hello) const {
+Welcome VisibilityService::make_welcome(const Hello& hello, VisibilityLayout& out_layout) const {
   Welcome w;
   w.client_nonce = hello.client_nonce;
   w.capabilities = kCapabilityLz4RowShards |
@@ -55,7 +55,18 @@ Welcome VisibilityService::make_welcome(const Hello& hello) const {
   w.scene_hash = config_.scene_hash;
   const uint32_t wanted = hello.light_count_wanted == 0 ? scene_light_count_ : hello.light_count_wanted;
   w.light_count = static_cast<uint8_t>(std::min(wanted, scene_light_count_));
-  w.mask_bits = mask_width_for_light_count(w.light_count);
+  // Soft levels only when the client offered them and some light of the session gets a level field; otherwise
+  // one bit per light (a soft light traced to its centre), exactly the masks of a client without the capability.
+  out_layout = VisibilityLayout::hard(w.light_count);
+  if (config_.soft_levels && (hello.capabilities & kCapabilitySoftLevels) && !light_extents_.empty()) {
+    const VisibilityLayout soft = layout_for_lights(light_extents_, w.light_count);
+    if (soft.any_soft()) out_layout = soft;
+  }
+  uint32_t soft_lights = 0;
+  for (uint32_t i = 0; i < out_layout.light_count; ++i) soft_lights += out_layout.is_soft(i) ? 1u : 0u;
+  if (soft_lights > 0) w.capabilities |= kCapabilitySoftLevels;
+  w.soft_light_count = static_cast<uint8_t>(soft_lights);
+  w.mask_bits = out_layout.mask_width();
   w.buffer_width = static_cast<uint16_t>(hello.eye_width + 2u * hello.guard_x);
   w.buffer_height = static_cast<uint16_t>(hello.eye_height + 2u * hello.guard_y);
   w.guard_x = hello.guard_x;
@@ -116,7 +127,8 @@ void VisibilityService::handle_hello(const Hello& hello, const std::optional<sec
       session->token = new_token();
       session->peer = from;
       session->hello = hello;
-      session->welcome = make_welcome(hello);
+      session->welcome = make_welcome(hello, session->layout);
+      if (session->layout.any_soft()) ++stats_.sessions_soft;
       if (random && config_.key) {
         session->secure = true;
         session->client_random = *random;

@@ -130,9 +130,9 @@ std::vector<VisibilityShard> VisibilityService::encode_v2(Session& s, Eye eye, c
 bool VisibilityService::trace_and_send(const Work& work) {
   Session& s = *work.session;
   const TracedFormat format = s.welcome.format();
-  const uint32_t light_count = s.welcome.light_count;
   double trace_ms = 0.0, encode_ms = 0.0;
   uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0, shed = 0, rays = 0;
+  uint64_t soft_pairs = 0, soft_contributing = 0, soft_refined = 0, soft_rays = 0;
   std::array<double, 2> eye_trace_ms{};
   bool ok = true;
   const int64_t start_ns = clock_.now_ns();
@@ -143,8 +143,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
     const Camera camera = format.camera(view);
     TraceStats trace_stats;
     try {
-      // Only the lights the client asked for (the first light_count): the others cost no ray.
-      tracer_.trace_lights(camera, light_count, scratch, trace_stats);
+      // Only the lights the client asked for (the layout's, the first light_count): the others cost no ray.
+      tracer_.trace_layout(camera, s.layout, scratch, trace_stats);
     } catch (const std::exception& ex) {
       log::warn("session %016llx frame %llu: trace failed: %s", static_cast<unsigned long long>(s.token),
                 static_cast<unsigned long long>(work.traced.frame), ex.what());
@@ -154,6 +154,10 @@ bool VisibilityService::trace_and_send(const Work& work) {
     trace_ms += trace_stats.trace_ms;
     eye_trace_ms[static_cast<size_t>(e)] = trace_stats.trace_ms;
     rays += trace_stats.primary_rays + trace_stats.shadow_rays;
+    soft_pairs += trace_stats.soft_pairs;
+    soft_contributing += trace_stats.soft_contributing_pairs;
+    soft_refined += trace_stats.soft_refined_pairs;
+    soft_rays += trace_stats.soft_shadow_rays;
     const int64_t encode_start = net::steady_now_ns();
     const std::vector<VisibilityShard> encoded =
         (s.welcome.capabilities & kCapabilityCodecV2)
@@ -186,6 +190,10 @@ bool VisibilityService::trace_and_send(const Work& work) {
   stats_.eyes_coded_v2_intra += intra_eyes;
   stats_.datagrams_shed += shed;
   stats_.rays += rays;
+  stats_.soft_pairs += soft_pairs;
+  stats_.soft_contributing_pairs += soft_contributing;
+  stats_.soft_refined_pairs += soft_refined;
+  stats_.soft_shadow_rays += soft_rays;
   if (!ok) {
     ++stats_.trace_errors;
     return false;

@@ -12,6 +12,12 @@ nlohmann::ordered_json to_json(const TraceStats& s) {
           {"skipped_culled_light", s.skipped_culled_light},
           {"lights_culled", s.lights_culled},
           {"lights_unrequested", s.lights_unrequested},
+          {"soft_pairs", s.soft_pairs},
+          {"soft_contributing_pairs", s.soft_contributing_pairs},
+          {"soft_refined_pairs", s.soft_refined_pairs},
+          {"soft_shadow_rays", s.soft_shadow_rays},
+          {"soft_rays_per_pair", s.soft_rays_per_pair()},
+          {"soft_refined_share", s.soft_refined_share()},
           {"trace_ms", s.trace_ms},
           {"gpu_ms", s.gpu_ms}};
 }

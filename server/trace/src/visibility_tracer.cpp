@@ -2,9 +2,21 @@
 // and Vulkan backends trace the subset directly.
 #include "trace/visibility_tracer.hpp"
 
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace dhr::server {
+
+double TraceStats::soft_rays_per_pair() const {
+  return soft_pairs ? static_cast<double>(soft_shadow_rays) / static_cast<double>(soft_pairs) : 0.0;
+}
+
+double TraceStats::soft_refined_share() const {
+  return soft_contributing_pairs
+             ? static_cast<double>(soft_refined_pairs) / static_cast<double>(soft_contributing_pairs)
+             : 0.0;
+}
 
 void keep_first_lights(VisibilityBuffer& buffer, uint32_t lights) {
   if (lights >= buffer.light_count) return;
@@ -19,6 +31,42 @@ void VisibilityTracer::trace_lights(const Camera& camera, uint32_t lights, Visib
                                     TraceStats& out_stats) {
   trace(camera, out, out_stats);
   keep_first_lights(out, lights);
+}
+
+VisibilityLayout layout_for_lights(const std::vector<bool>& extents, uint32_t lights) {
+  if (extents.empty()) return VisibilityLayout::hard(lights);
+  if (lights > extents.size())
+    throw std::invalid_argument("layout: " + std::to_string(lights) + " lights of " + std::to_string(extents.size()));
+  bool soft[kMaxLights] = {};
+  for (uint32_t i = 0; i < lights && i < kMaxLights; ++i) soft[i] = extents[i];
+  return VisibilityLayout::for_lights(std::span<const bool>(soft, lights));
+}
+
+void widen_to_layout(const VisibilityBuffer& hard, const VisibilityLayout& layout, VisibilityBuffer& out) {
+  if (hard.light_count != layout.light_count)
+    throw std::invalid_argument("widen_to_layout: " + std::to_string(hard.light_count) + " bits for " +
+                                std::to_string(layout.light_count) + " lights");
+  if (out.width != hard.width || out.height != hard.height || out.light_count != layout.total_bits())
+    out = VisibilityBuffer::create(hard.width, hard.height, layout.total_bits());
+  const size_t n = hard.pixel_count();
+  for (size_t p = 0; p < n; ++p) {
+    const uint32_t bits = hard.mask_at(p);
+    uint32_t mask = 0;
+    for (uint32_t i = 0; i < layout.light_count; ++i)
+      mask = layout.with_visibility(mask, i, static_cast<float>((bits >> i) & 1u));
+    out.set_mask_at(p, mask);
+  }
+}
+
+void VisibilityTracer::trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                                    TraceStats& out_stats) {
+  if (!layout.any_soft()) {
+    trace_lights(camera, layout.light_count, out, out_stats);
+    return;
+  }
+  thread_local VisibilityBuffer hard;
+  trace_lights(camera, layout.light_count, hard, out_stats);
+  widen_to_layout(hard, layout, out);
 }
 
 }  // namespace dhr::server

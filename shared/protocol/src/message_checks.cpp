@@ -44,8 +44,12 @@ DecodeError validate(const Hello& m) {
 
 DecodeError validate(const Welcome& m) {
   if (m.light_count > kMaxLights) return DecodeError::kBadValue;
+  // Soft levels: granted exactly when some light has a level field, and every field fits 32 bits.
+  const bool soft = (m.capabilities & kCapabilitySoftLevels) != 0;
+  if (m.soft_light_count > m.light_count || soft != (m.soft_light_count > 0) || m.used_mask_bits() > kMaxLights)
+    return DecodeError::kBadValue;
   const auto width = mask_width_from_bits(raw(m.mask_bits));
-  if (!width || *width != mask_width_for_light_count(m.light_count)) return DecodeError::kBadValue;
+  if (!width || *width != mask_width_for_light_count(m.used_mask_bits())) return DecodeError::kBadValue;
   if (!valid_buffer_size(m.buffer_width, m.buffer_height)) return DecodeError::kBadValue;
   if (2u * m.guard_x >= m.buffer_width || 2u * m.guard_y >= m.buffer_height) return DecodeError::kBadValue;
   if (m.heartbeat_interval_ms == 0 || m.session_timeout_ms == 0) return DecodeError::kBadValue;

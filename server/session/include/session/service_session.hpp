@@ -24,6 +24,7 @@ struct VisibilityService::Session {
   net::PeerAddress peer;
   Hello hello;
   Welcome welcome;
+  VisibilityLayout layout;  // where each light sits in the masks (hard, or soft levels when the Welcome grants them)
   // With a key: both handshake randoms, the session's keys and the replay window of the client's datagrams.
   bool secure = false;
   secure::Random client_random{};

@@ -75,6 +75,10 @@ struct ServiceConfig {
   // default; dhr-server turns it on. A capped session's datagrams wait in its pacing queue: whoever drives
   // the service must then call pace() every few milliseconds (run_serve does).
   RateControlConfig rate_control;
+  // Soft levels (docs/protocol.md, "Mask layout") for clients that offer them, when the scene has a light with
+  // an extent: its field is the Gray-coded level of its sampled visibility (Embree; the Vulkan tracer writes
+  // level 0 or the top level for now). Off: every session gets one bit per light.
+  bool soft_levels = true;
   // Worker threads run_serve starts to trace sessions in parallel (one session per worker at a time); the
   // Vulkan tracer takes one at a time, so it is clamped to 1 there.
   uint32_t workers = 1;
@@ -135,6 +139,12 @@ struct ServiceStats {
   uint64_t eyes_coded_v2_inter = 0;      // eyes sent with codec v2 against an acknowledged reference
   uint64_t eyes_coded_v2_intra = 0;      // eyes sent with codec v2 on their own
   uint64_t rays = 0;                     // primary and shadow rays traced
+  // Soft levels (sessions whose layout has level fields; TraceStats' soft_* summed over traced eyes).
+  uint64_t sessions_soft = 0;            // sessions opened with the soft layout (Welcome grants soft levels)
+  uint64_t soft_pairs = 0;               // hit pixel x soft light
+  uint64_t soft_contributing_pairs = 0;  // of those, samples taken
+  uint64_t soft_refined_pairs = 0;       // of those, refined past the first samples
+  uint64_t soft_shadow_rays = 0;
   LatencyHistogram trace_hist;           // trace time per eye
   LatencyHistogram response_hist;        // pose received -> its frame's last datagram handed to the socket
   double trace_ms = 0.0;                 // sums over all eyes traced (tracer wall time)
@@ -203,7 +213,8 @@ class VisibilityService {
   void handle_hello(const Hello& hello, const std::optional<secure::Random>& random, const net::PeerAddress& from);
   void handle_session_message(const Datagram& datagram, const net::PeerAddress& from);
   bool reject_hello(const Hello& hello, std::string& out_reason, ByeReason& out_bye) const;
-  Welcome make_welcome(const Hello& hello) const;
+  // The Welcome and the session's mask layout (soft levels when offered, enabled and the scene has soft lights).
+  Welcome make_welcome(const Hello& hello, VisibilityLayout& out_layout) const;
   uint64_t new_token();
   bool allow_unsolicited_reply(int64_t now_ns);
 
@@ -240,6 +251,7 @@ class VisibilityService {
   net::DatagramSender& sender_;
   const net::Clock& clock_;
   const uint32_t scene_light_count_;
+  const std::vector<bool> light_extents_;  // tracer_.light_extents(): which lights may get level fields
 
   mutable std::mutex mutex_;  // sessions_, stats_, rng_, reply budget
   std::condition_variable work_ready_;

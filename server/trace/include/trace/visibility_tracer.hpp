@@ -6,11 +6,13 @@
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
 #include "visibility/visibility.hpp"
+#include "visibility/visibility_layout.hpp"
 
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace dhr::server {
 
@@ -61,6 +63,15 @@ struct TraceStats {
   uint64_t skipped_culled_light = 0;   // pixel-light pairs of lights culled for this view
   uint32_t lights_culled = 0;          // of the traced lights
   uint32_t lights_unrequested = 0;     // lights past trace_lights' count: no light test, no ray at all
+  // Soft lights (a layout with level fields, trace_layout): their pairs, sampled over the light's extent.
+  uint64_t soft_pairs = 0;               // hit pixel x soft light not culled
+  uint64_t soft_contributing_pairs = 0;  // of those, the light test passed: samples were taken
+  uint64_t soft_refined_pairs = 0;       // of those, the first samples disagreed: sampled up to the maximum
+  uint64_t soft_shadow_rays = 0;         // their occlusion rays (also counted in shadow_rays)
+  // Rays per hit pixel per soft light (soft_shadow_rays / soft_pairs; 0 without soft pairs).
+  double soft_rays_per_pair() const;
+  // Share of contributing soft pairs that needed more than the first samples.
+  double soft_refined_share() const;
   double trace_ms = 0.0;               // wall time of the whole trace call (host)
   double gpu_ms = -1.0;                // GPU timestamp time (Vulkan), -1 when not measured
 };
@@ -84,7 +95,28 @@ class VisibilityTracer {
   // gets `lights` lights in the narrowest mask width, with the bits trace() gives those lights. Both backends
   // override this; the default, for wrappers that implement only trace(), traces all and drops the rest.
   virtual void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats);
+
+  // Per scene light: it has an extent (SceneLight::has_extent(), a soft light). Empty for tracers that only
+  // know hard bits (their layout is always the hard one).
+  virtual std::vector<bool> light_extents() const { return {}; }
+
+  // Traces one eye in `layout` (its light_count lights: the scene's first ones, at most light_count()):
+  // `out` gets layout.total_bits() bits per mask (VisibilityBuffer::light_count), each light in its field.
+  // A hard layout is exactly trace_lights. Soft fields: the Embree backend writes the Gray-coded level of the
+  // light's sampled visibility (trace/soft, as trace_soft_image: same seeds, same samples); this default, which
+  // the Vulkan backend uses for now, traces the light's centre as a punctual light and writes level 0 or the top
+  // level (the hard bit, widened). Hard fields are trace_lights' bits in both.
+  virtual void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                            TraceStats& out_stats);
 };
+
+// The soft-capable layout of the first `lights` lights of `extents` (light_extents()): for_lights of their
+// extents, or hard(lights) when `extents` is empty.
+VisibilityLayout layout_for_lights(const std::vector<bool>& extents, uint32_t lights);
+
+// Writes the one-bit-per-light masks of `hard` into `layout`'s fields: a hard light's bit as it is, a soft
+// light's bit as level 0 or the top level (Gray-coded). `out` gets layout.total_bits() bits per mask.
+void widen_to_layout(const VisibilityBuffer& hard, const VisibilityLayout& layout, VisibilityBuffer& out);
 
 // Keeps lights [0, lights) of `buffer` (no-op when it has no more), narrowing its mask width to match.
 void keep_first_lights(VisibilityBuffer& buffer, uint32_t lights);

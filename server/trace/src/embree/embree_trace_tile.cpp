@@ -164,6 +164,7 @@ FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLig
   frame.ray_forward = R[2] * -1.0;
   frame.lights = pack_lights(lights, scene.origin());
   frame.skip = skip;
+  for (uint32_t i = 0; i < kMaxLights; ++i) frame.bit[i] = static_cast<uint8_t>(i);
   const uint32_t traced = static_cast<uint32_t>(std::min<size_t>(requested, lights.size()));
   for (uint32_t i = 0; i < traced; ++i) {
     if (skip.cull_lights && !light_may_reach_view(lights[i], camera))
@@ -232,7 +233,8 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   scratch.masks.assign(hits, 0u);
   for (size_t r = 0; r < scratch.rays.size(); ++r) {
     const bool reached = scratch.rays[r].tfar >= 0.0f;  // Embree sets tfar = -inf when occluded
-    if (reached && scratch.pending[r].contributes) scratch.masks[scratch.pending[r].hit] |= 1u << scratch.pending[r].light;
+    const PendingShadowRay& p = scratch.pending[r];
+    if (reached && p.contributes) scratch.masks[p.hit] |= 1u << frame.bit[p.light];
   }
   const size_t mask_bytes = out.bytes_per_mask();
   for (uint32_t y = y0; y < y1; ++y)

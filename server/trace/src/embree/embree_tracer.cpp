@@ -1,5 +1,6 @@
 #include "trace/embree/embree_tracer.hpp"
 
+#include "trace/embree/embree_soft_tile.hpp"
 #include "trace/embree/embree_trace_tile.hpp"
 #include "trace/embree/tile_pool.hpp"
 
@@ -8,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace dhr::server {
 
@@ -18,6 +20,7 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, const TracerOptions& options, con
                              std::to_string(kMaxLights) + " supported");
   if (config_.tile_size == 0 || config_.tile_size % 4 != 0)
     throw std::runtime_error("embree tracer: tile size must be a positive multiple of 4");
+  if (auto err = validate_soft_options(config_.soft)) throw std::runtime_error("embree tracer: " + *err);
   if (options.threads > kMaxTracerThreads)
     throw std::invalid_argument("embree tracer: " + std::to_string(options.threads) + " threads, at most " +
                                 std::to_string(kMaxTracerThreads));
@@ -26,6 +29,7 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, const TracerOptions& options, con
   EmbreeBuildOptions build = config_.build;
   if (build.threads == 0) build.threads = threads_;
   scene_ = EmbreeScene::create(scene, build);
+  for (const SceneLight& l : lights_) sampled_.push_back(make_sampled_light(l, scene_->origin()));
 }
 
 EmbreeTracer::~EmbreeTracer() = default;
@@ -38,7 +42,26 @@ void EmbreeTracer::trace(const Camera& camera, VisibilityBuffer& out, TraceStats
   trace_lights(camera, light_count(), out, out_stats);
 }
 
+std::vector<bool> EmbreeTracer::light_extents() const {
+  std::vector<bool> out;
+  for (const SceneLight& l : lights_) out.push_back(l.has_extent());
+  return out;
+}
+
 void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out,
+                                TraceStats& out_stats) {
+  trace_fields(camera, VisibilityLayout::hard(std::min(lights, light_count())), out, out_stats);
+}
+
+void EmbreeTracer::trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                                TraceStats& out_stats) {
+  if (layout.light_count > light_count())
+    throw std::invalid_argument("trace: a layout of " + std::to_string(layout.light_count) + " lights, the scene has " +
+                                std::to_string(light_count()));
+  trace_fields(camera, layout, out, out_stats);
+}
+
+void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                                 TraceStats& out_stats) {
   const auto t0 = std::chrono::steady_clock::now();
   if (auto err = validate_camera(camera)) throw std::invalid_argument("trace: " + *err);
@@ -46,14 +69,26 @@ void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
     throw std::invalid_argument("trace: image exceeds " + std::to_string(kMaxBufferDimension) + " pixels per axis");
 
   const uint32_t width = camera.extent.width, height = camera.extent.height;
-  lights = std::min(lights, light_count());
-  if (out.width != width || out.height != height || out.light_count != lights)
-    out = VisibilityBuffer::create(width, height, lights);
+  const uint32_t lights = layout.light_count, bits = layout.total_bits();
+  if (out.width != width || out.height != height || out.light_count != bits)
+    out = VisibilityBuffer::create(width, height, bits);
 
   detail::FrameSetup frame = detail::make_frame_setup(*scene_, lights_, camera, options_.skip, lights);
   frame.primary_near = options_.primary_near;
   frame.primary_packets = config_.primary_packets;
   frame.shadow_query = config_.shadow_query;
+  // A layout with level fields: hard lights to their bit, soft lights (not culled) to trace_soft_tile. Culling
+  // (light_may_reach_view) takes or leaves a soft light's field as a whole.
+  detail::SoftTileSetup soft;
+  soft.sampled = &sampled_;
+  soft.layout = &layout;
+  soft.sampling = config_.soft;
+  if (layout.any_soft()) {
+    std::vector<uint32_t> hard;
+    for (uint32_t li : frame.active_lights) (layout.is_soft(li) ? soft.active : hard).push_back(li);
+    frame.active_lights = std::move(hard);
+    for (uint32_t i = 0; i < lights; ++i) frame.bit[i] = layout.offset[i];
+  }
 
   const uint32_t tile = config_.tile_size;
   const uint32_t tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
@@ -61,6 +96,7 @@ void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
   const uint32_t workers = tile_workers(threads_, tile_count);
   std::vector<TraceStats> partial(workers);
   std::vector<detail::TileScratch> scratch(workers);
+  std::vector<detail::SoftTileScratch> soft_scratch(soft.active.empty() ? 0 : workers);
   // Each pixel's bits depend only on its own rays, so the image is the same whichever thread traced it.
   // Counters are summed per thread: integers, exact.
   run_tiles(
@@ -69,6 +105,8 @@ void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
         const uint32_t x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
         detail::trace_tile(frame, x0, y0, std::min(x0 + tile, width), std::min(y0 + tile, height), out,
                            partial[worker], scratch[worker]);
+        if (!soft.active.empty())
+          detail::trace_soft_tile(frame, soft, scratch[worker], soft_scratch[worker], out, partial[worker]);
       },
       "embree tracer");
 
@@ -83,6 +121,10 @@ void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
     stats.skipped_backfacing += p.skipped_backfacing;
     stats.skipped_out_of_range += p.skipped_out_of_range;
     stats.skipped_culled_light += p.skipped_culled_light;
+    stats.soft_pairs += p.soft_pairs;
+    stats.soft_contributing_pairs += p.soft_contributing_pairs;
+    stats.soft_refined_pairs += p.soft_refined_pairs;
+    stats.soft_shadow_rays += p.soft_shadow_rays;
   }
   stats.trace_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   stats.gpu_ms = -1.0;

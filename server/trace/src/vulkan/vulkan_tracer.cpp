@@ -186,6 +186,12 @@ VulkanTracer::~VulkanTracer() = default;
 std::string VulkanTracer::device_description() const { return impl_->description; }
 const AccelStats& VulkanTracer::accel_stats() const { return impl_->scene.stats; }
 uint32_t VulkanTracer::light_count() const { return static_cast<uint32_t>(impl_->lights.size()); }
+
+std::vector<bool> VulkanTracer::light_extents() const {
+  std::vector<bool> out;
+  for (const SceneLight& l : impl_->lights) out.push_back(l.has_extent());
+  return out;
+}
 const VulkanTracerConfig& VulkanTracer::config() const { return impl_->config; }
 bool VulkanTracer::is_cpu_device() const { return impl_->context->info().is_cpu; }
 uint32_t VulkanTracer::validation_error_count() const { return impl_->context->validation_error_count(); }

@@ -30,7 +30,7 @@ namespace dhr {
 struct ReassemblerConfig {
   uint32_t width = 0;  // negotiated per-eye buffer size (Welcome::buffer_width/height)
   uint32_t height = 0;
-  uint32_t light_count = 0;          // the mask width follows (Welcome::light_count)
+  uint32_t light_count = 0;          // bits per mask (Welcome::used_mask_bits()); the mask width follows
   size_t max_frames_in_flight = 4;   // per eye, >= 2
   size_t max_payload = kMaxShardPayload;  // the server's shard budget, for the shard-count bound
   // Complete frames kept per eye as references for codec v2 shards (0: v1 only; a v2 inter shard is then

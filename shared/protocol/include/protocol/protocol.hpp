@@ -9,6 +9,7 @@
 #include "protocol/protocol_error.hpp"
 #include "protocol/wire_layout.hpp"
 #include "visibility/visibility.hpp"
+#include "visibility/visibility_layout.hpp"
 
 #include <array>
 #include <optional>
@@ -23,8 +24,9 @@ namespace dhr {
 
 inline constexpr std::array<uint8_t, 4> kProtocolMagic = {'D', 'H', 'R', 'X'};
 // 2: codec v2 capability, acknowledgements in PoseUpdate; 3: the header's flags (authentication,
-// secure/envelope.hpp), shard payloads leave room for the seal's tag, Bye reasons 8 and 9.
-inline constexpr uint8_t kProtocolVersion = 3;
+// secure/envelope.hpp), shard payloads leave room for the seal's tag, Bye reasons 8 and 9; 4: the soft-levels
+// capability and Welcome's soft light count (masks with Gray-coded level fields, visibility/visibility_layout.hpp).
+inline constexpr uint8_t kProtocolVersion = 4;
 
 static_assert(kMaxShardPayload <= 1200);
 // |q|^2 of a decoded quaternion must be within this of 1 (float rounding is ~1e-7); then renormalized.
@@ -49,6 +51,10 @@ inline constexpr uint8_t kMaxByeReason = 9;
 // Capability bits (Hello: what the client supports; Welcome: what the server will use).
 inline constexpr uint32_t kCapabilityLz4RowShards = 1u << 0;  // codec v1: LZ4 chunk shards (always supported)
 inline constexpr uint32_t kCapabilityCodecV2 = 1u << 1;       // codec v2 (codec/codec_v2.hpp), intra and inter
+// Soft levels: a light with an extent takes kSoftLevelBits bits (the Gray code of its visibility quantized to 8
+// levels) instead of one, as VisibilityLayout::for_lights says; both ends derive the layout from the scene's
+// lights. The server grants it only when the client offered it and the scene has such a light.
+inline constexpr uint32_t kCapabilitySoftLevels = 1u << 2;
 
 struct Hello {
   uint64_t client_nonce = 0;  // random per attempt; Welcome echoes it
@@ -68,13 +74,18 @@ struct Welcome {
   uint32_t capabilities = kCapabilityLz4RowShards;
   uint64_t scene_hash = 0;   // identifies the scene content the server traces
   uint8_t light_count = 0;   // lights in every mask (0..32)
-  MaskWidth mask_bits = MaskWidth::k8;  // must equal mask_width_for_light_count(light_count)
+  MaskWidth mask_bits = MaskWidth::k8;  // must equal mask_width_for_light_count(used_mask_bits())
+  // Lights given a level field (kSoftLevelBits bits) by the soft-levels capability; 0 without it. A check on
+  // the layout the client derives from the scene (VisibilityLayout::for_lights), not the layout itself.
+  uint8_t soft_light_count = 0;
   uint16_t buffer_width = 0;   // traced size per eye, guard band included
   uint16_t buffer_height = 0;
   uint16_t guard_x = 0;  // guard band per side actually used
   uint16_t guard_y = 0;
   uint16_t heartbeat_interval_ms = 1000;
   uint32_t session_timeout_ms = 5000;
+  // Bits every mask uses: one per light, kSoftLevelBits per soft light (VisibilityLayout::total_bits()).
+  uint32_t used_mask_bits() const { return uint32_t{light_count} + uint32_t{soft_light_count} * (kSoftLevelBits - 1); }
   // The granted format: the buffer minus the guard band on both sides is the displayed size.
   TracedFormat format() const {
     const auto display = [](uint32_t buffer, uint32_t guard) { return buffer > 2 * guard ? buffer - 2 * guard : 0u; };

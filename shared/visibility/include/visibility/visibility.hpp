@@ -43,6 +43,8 @@ inline void store_mask(uint8_t* p, uint32_t bytes, uint32_t v) {
 struct VisibilityBuffer {
   uint32_t width = 0;
   uint32_t height = 0;
+  // Bits in use per mask: one per light in the hard layout, VisibilityLayout::total_bits() with soft levels
+  // (whoever interprets the masks holds the layout; the codecs and the reassembler code bits).
   uint32_t light_count = 0;
   MaskWidth mask_bits = MaskWidth::k8;
   std::vector<uint8_t> data;  // width * height masks, row-major, mask_bytes(mask_bits) bytes each
@@ -54,7 +56,7 @@ struct VisibilityBuffer {
   uint32_t bytes_per_mask() const { return mask_bytes(mask_bits); }
   size_t pixel_count() const { return static_cast<size_t>(width) * height; }
   size_t size_bytes() const { return pixel_count() * bytes_per_mask(); }
-  // Bits that may be set: (1 << light_count) - 1.
+  // Bits that may be set: (1 << light_count) - 1 (VisibilityLayout::used_bits()).
   uint32_t light_bits() const { return light_count >= 32 ? 0xFFFFFFFFu : (1u << light_count) - 1u; }
 
   uint32_t mask_at(size_t pixel) const { return load_mask(&data[pixel * bytes_per_mask()], bytes_per_mask()); }

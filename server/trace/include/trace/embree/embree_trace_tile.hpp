@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -29,7 +30,10 @@ struct FrameSetup {
   glm::dvec3 ray_forward{0.0};          // R[2] * -1
   double primary_near = kClipNearPlane;  // TracerOptions::primary_near
   std::vector<PackedLight> lights;      // all lights, relative frame
-  std::vector<uint32_t> active_lights;  // indices of lights not culled for this view
+  std::vector<uint32_t> active_lights;  // indices of lights not culled for this view (trace_tile traces these)
+  // Where light i's bit goes in the mask: i (make_frame_setup), or its field's offset in a layout with level
+  // fields (trace_layout; soft lights are then traced by trace_soft_tile, not trace_tile).
+  std::array<uint8_t, kMaxLights> bit{};
   uint32_t culled_lights = 0;
   SkipOptions skip;
   bool primary_packets = true;

@@ -8,6 +8,8 @@
 #pragma once
 #include "trace/embree/embree_scene.hpp"
 #include "trace/embree/shadow_query.hpp"
+#include "trace/soft/light_sampler.hpp"
+#include "trace/soft/soft_visibility.hpp"
 #include "trace/visibility_tracer.hpp"
 
 #include <memory>
@@ -20,6 +22,7 @@ struct EmbreeTracerConfig {
   bool primary_packets = true;                  // rtcIntersect16 per 4x4 block (false: rtcIntersect1 per pixel)
   ShadowQuery shadow_query = ShadowQuery::kStream;
   uint32_t tile_size = 16;                      // pixels per tile side (a multiple of 4)
+  SoftOptions soft;                             // soft lights' sampling in trace_layout (trace_soft_image's default)
 };
 
 class EmbreeTracer final : public VisibilityTracer {
@@ -34,6 +37,10 @@ class EmbreeTracer final : public VisibilityTracer {
   uint32_t light_count() const override;
   void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) override;
   void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats) override;
+  std::vector<bool> light_extents() const override;
+  // Soft fields: each soft light sampled over its extent (trace/soft, embree_soft_tile.hpp).
+  void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                    TraceStats& out_stats) override;
 
   // The Embree scene (e.g. to cast primary rays for a shaded preview with the same geometry).
   const EmbreeScene& embree_scene() const { return *scene_; }
@@ -41,7 +48,11 @@ class EmbreeTracer final : public VisibilityTracer {
 
  private:
   std::unique_ptr<EmbreeScene> scene_;
+  // Traces the first layout.light_count lights into their fields (hard layout: one bit per light).
+  void trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out, TraceStats& out_stats);
+
   std::vector<SceneLight> lights_;
+  std::vector<SampledLight> sampled_;  // lights_ prepared for sampling (soft fields)
   TracerOptions options_;
   EmbreeTracerConfig config_;
   uint32_t threads_ = 1;

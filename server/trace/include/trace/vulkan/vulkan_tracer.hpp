@@ -43,6 +43,9 @@ class VulkanTracer final : public VisibilityTracer {
   void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) override;
   // Lights past `lights` are neither tested nor traced by the shader (push constant light_count).
   void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats) override;
+  // Soft lights get level fields, but the shader does not sample them yet: trace_layout is the interface's
+  // default, the ray to the light's centre widened to level 0 or the top level (docs/server.md).
+  std::vector<bool> light_extents() const override;
 
   const VulkanTracerConfig& config() const;
   // True on a CPU implementation (lavapipe).

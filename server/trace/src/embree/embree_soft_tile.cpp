@@ -1,0 +1,36 @@
+#include "trace/embree/embree_soft_tile.hpp"
+
+namespace dhr::server::detail {
+
+void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const TileScratch& scratch,
+                     SoftTileScratch& soft_scratch, VisibilityBuffer& out, TraceStats& stats) {
+  const size_t hits = scratch.hits.size();
+  if (soft.active.empty() || hits == 0) return;
+  // Light-major, then hit order (as trace_soft_image): runs of neighbouring pixels toward one light.
+  std::vector<SoftPair>& batch = soft_scratch.pairs;
+  batch.clear();
+  for (uint32_t li : soft.active)
+    for (size_t h = 0; h < hits; ++h)
+      batch.push_back({&(*soft.sampled)[li], &scratch.hits[h],
+                       soft_seed(scratch.hit_pixels[h].x, scratch.hit_pixels[h].y, li, soft.sampling.salt), {}});
+  soft_visibility_batch(*frame.scene, batch, soft.sampling, soft_scratch.soft);
+  size_t k = 0;
+  for (uint32_t li : soft.active) {
+    for (size_t h = 0; h < hits; ++h, ++k) {
+      const SoftSample& r = batch[k].result;
+      ++stats.soft_pairs;
+      if (r.test == LightTest::kBackfacing) ++stats.skipped_backfacing;
+      if (r.test == LightTest::kOutOfRange || (r.test == LightTest::kContributes && r.samples == 0))
+        ++stats.skipped_out_of_range;
+      if (r.samples > 0) ++stats.soft_contributing_pairs;
+      if (r.refined) ++stats.soft_refined_pairs;
+      stats.soft_shadow_rays += r.rays;
+      stats.shadow_rays += r.rays;
+      if (r.fraction <= 0.0f) continue;  // level 0 is Gray code 0: the field is already clear
+      const HitPixel& px = scratch.hit_pixels[h];
+      out.set(px.x, px.y, soft.layout->with_visibility(out.get(px.x, px.y), li, r.fraction));
+    }
+  }
+}
+
+}  // namespace dhr::server::detail
