@@ -31,7 +31,10 @@
 //                    same fixed view and buffer
 //   forward_ms       a plain forward Lambert render without shadows (the cost of not having shadows)
 //   shadowmap_ms     a forward render with the client's cube shadow maps (what a headset would do without DHR;
-//                    the maps are rendered once, as for a static scene: shadow_map_render_ms is that host time)
+//                    the maps are rendered once, as for a static scene: shadow_map_render_ms is that host time).
+//                    Lights with an extent take PCSS (shaders/client/pcss.h): shadowmap_soft_lights counts them
+//                    (0: every lookup is the hard one-texel test), shadowmap_pcss_taps gives the blocker-search and
+//                    filter taps per soft light and pixel
 // Against the cost goal: dhr_vs_forward (<= 1.3) and dhr_added_vs_shadowmap_added = (dhr_ms - forward_ms) /
 // (shadowmap_ms - forward_ms) (<= 0.5). The fixed view is the scene's first bookmark; the fixed visibility buffer
 // is the server's Embree trace for the pose one 90 Hz frame earlier (turning 60 deg/s). --lights N above the
@@ -67,6 +70,8 @@
 #include "render/eye_pipeline.hpp"
 #include "render/forward_pass.hpp"
 #include "render/render_camera.hpp"
+#include "render/light_layout.hpp"
+#include "render/pcss_reference.hpp"
 #include "render/shadow_maps.hpp"
 #include "scene/scene.hpp"
 #include "vk/buffer.hpp"
@@ -209,6 +214,14 @@ int run(const Options& o) {
   out["scene"] = std::filesystem::path(o.scene).filename().string();
   out["size"] = std::to_string(size->width) + "x" + std::to_string(size->height);
   out["lights"] = light_count;
+  {
+    const VisibilityLayout layout = render::layout_for_lights(scene.lights);
+    uint32_t soft = 0;
+    for (uint32_t i = 0; i < layout.light_count; ++i) soft += layout.is_soft(i) ? 1u : 0u;
+    const render::PcssTaps taps = render::pcss_taps();
+    out["shadowmap_soft_lights"] = soft;
+    out["shadowmap_pcss_taps"] = {{"search", taps.search}, {"filter", taps.filter}};
+  }
   out["device"] = context->info().name;
   out["frames"] = o.frames;
 

@@ -10,6 +10,8 @@
 
 #include "dhr_shaders_client.hpp"
 #include "render/client_scene.hpp"
+#include "render/light_layout.hpp"
+#include "render/pcss_reference.hpp"
 #include "render/pass_util.hpp"
 #include "render/render_camera.hpp"
 #include "shaders/shader_interface.h"
@@ -181,8 +183,10 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
   out.margin = std::numeric_limits<double>::infinity();
   const uint32_t size = maps.face_size;
   const size_t atlas_width = size_t{6} * size;
-  for (size_t i = 0; i < lights.size() && i < 32; ++i) {
+  const VisibilityLayout layout = layout_for_lights(lights.first(std::min<size_t>(lights.size(), kMaxLights)));
+  for (uint32_t i = 0; i < layout.light_count; ++i) {
     const SceneLight& light = lights[i];
+    const uint32_t field = ((1u << layout.bits[i]) - 1u) << layout.offset[i];
     // light_test in double, with the margins of its decisions.
     glm::dvec3 l;
     double dist = std::numeric_limits<double>::infinity();
@@ -192,7 +196,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       const glm::dvec3 d = glm::dvec3(light.position) - p;
       dist = glm::length(d);
       if (!(dist > 0.0)) {
-        out.confident |= 1u << i;
+        out.confident |= field;
         continue;
       }
       l = d / dist;
@@ -200,7 +204,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       if (range > 0.0) {
         out.margin = std::min(out.margin, std::abs(dist - range) / range * 1e3);
         if (!(dist < range)) {
-          out.confident |= 1u << i;
+          out.confident |= field;
           continue;
         }
       }
@@ -209,7 +213,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
         const double outer = std::cos(static_cast<double>(light.outer_cone));
         out.margin = std::min(out.margin, std::abs(cd - outer) * 1e3);
         if (!(cd > outer)) {
-          out.confident |= 1u << i;
+          out.confident |= field;
           continue;
         }
       }
@@ -218,7 +222,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
         const double cd = glm::dot(-l, glm::dvec3(light.direction));
         out.margin = std::min(out.margin, std::abs(cd) * 1e3);
         if (!(cd > 0.0)) {
-          out.confident |= 1u << i;
+          out.confident |= field;
           continue;
         }
       }
@@ -226,12 +230,12 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
     const double nl = glm::dot(n, l);
     out.margin = std::min(out.margin, std::abs(nl) * 1e3);
     if (!(nl > 0.0)) {
-      out.confident |= 1u << i;
+      out.confident |= field;
       continue;
     }
     const ShadowTile& tile = maps.tiles.at(i);
     if (!tile.row) {
-      out.mask |= 1u << i;
+      out.mask = layout.with_visibility(out.mask, i, 1.0f);
       continue;
     }
     const glm::dvec3 v0 = p - tile.position;
@@ -240,6 +244,16 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
     const CubeLookup c = cube_lookup(v, size);
     out.margin = std::min(out.margin, c.margin);
     const double tan_nl = std::min(std::sqrt(std::max(1.0 - nl * nl, 0.0)) / nl, 10.0);
+    if (layout.is_soft(i)) {
+      // PCSS (pcss_reference.hpp); confident where every filter tap agrees. Its taps' flips are not in `margin`:
+      // a tap within rounding of its threshold moves the level by one step (the tests count such pixels).
+      const double fraction = pcss_fraction_reference(maps, *tile.row, c, pcss_light_radius(light),
+                                                      maps.settings.bias_rel * c.distance + maps.settings.bias_abs,
+                                                      texel * tan_nl);
+      out.mask = layout.with_visibility(out.mask, i, static_cast<float>(fraction));
+      if (fraction == 0.0 || fraction == 1.0) out.confident |= field;
+      continue;
+    }
     const double bias =
         maps.settings.bias_rel * c.distance + maps.settings.bias_abs + maps.settings.bias_slope * texel * tan_nl;
     // Whether texel t (clamped to the face) holds nothing nearer than `threshold`.
@@ -255,7 +269,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
     };
     const double threshold = c.distance - bias;
     const bool lit = texel_lit(c.texel, threshold);
-    if (lit) out.mask |= 1u << i;
+    if (lit) out.mask |= field;
     bool alike = true;
     out.margin = std::min(out.margin, std::abs(texel - pixel_world) / pixel_world * 1e3);
     if (texel > pixel_world) {
@@ -265,7 +279,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
                                                  boundary_distance(c.position.y - 0.5)));
       for (int k = 0; k < 4; ++k) alike = alike && texel_lit(t0 + glm::ivec2(k & 1, k >> 1), threshold) == lit;
     }
-    if (alike) out.confident |= 1u << i;
+    if (alike) out.confident |= field;
   }
   return out;
 }
