@@ -2,8 +2,8 @@
 // area-light room the GPU lookup (the compute warp's `local`: every pixel from the shadow maps) equals the CPU
 // reference (render/pcss_reference.cpp) on every hard bit and on all but a bounded few soft levels, and the
 // forward pass's shadow-map mode (the headset alone) agrees with it; on a synthetic scene (floor, occluder,
-// sphere light) fully lit points see level 7, points deep in the occluder's shadow level 0, and the penumbra
-// widens with the light's radius.
+// sphere light; the same under a sun, whose fitted orthographic map this also checks) fully lit points see
+// level 7, points deep in the occluder's shadow level 0, and the penumbra widens with the light's radius (angle).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -58,8 +58,24 @@ uint32_t level(const VisibilityLayout& layout, uint32_t mask, uint32_t light) {
   return gray_decode(layout.field(mask, light));
 }
 
-TEST_F(ClientPcssTest, GpuLookupEqualsTheCpuReferenceOnTheAreaRoom) {
-  const Scene scene = area_room();
+// The area room, and the same with a sun (directional, 3 degrees wide: a visible penumbra) added.
+Scene area_room_with_sun() {
+  Scene scene = area_room();
+  SceneLight sun;
+  sun.type = SceneLight::Type::kDirectional;
+  sun.name = "sun";
+  sun.direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
+  sun.intensity = 2.0f;
+  sun.angle = 0.05f;
+  scene.lights.push_back(sun);
+  return scene;
+}
+
+class ClientPcssRooms : public vk::test::VulkanTest, public testing::WithParamInterface<bool> {};
+
+TEST_P(ClientPcssRooms, GpuLookupEqualsTheCpuReferenceOnTheAreaRoom) {
+  const bool with_sun = GetParam();
+  const Scene scene = with_sun ? area_room_with_sun() : area_room();
   const VisibilityLayout layout = layout_for_lights(scene.lights);
   ASSERT_TRUE(layout.any_soft());
   const ClientScene gpu_scene(ctx(), scene);
@@ -116,7 +132,9 @@ TEST_F(ClientPcssTest, GpuLookupEqualsTheCpuReferenceOnTheAreaRoom) {
     std::printf("pcss light %u (%s): %zu of %zu surface pixels in a penumbra; GPU level differs from the CPU "
                 "reference by one on %zu, by more on %zu\n",
                 l, scene.lights[l].name.c_str(), penumbra[l], surface, off_one[l], off_more[l]);
-    EXPECT_GT(penumbra[l], surface / 200) << "light " << l << ": the view should have soft shadows";
+    if (scene.lights[l].type != SceneLight::Type::kDirectional) {
+      EXPECT_GT(penumbra[l], surface / 200) << "light " << l << ": the view should have soft shadows";
+    }
     // A filter tap whose stored depth is within float rounding of its threshold moves the level by one step;
     // a flipped blocker-search tap moves the filter radius and may move it more.
     EXPECT_LE(off_one[l], surface / 100) << "light " << l;
@@ -136,25 +154,43 @@ TEST_F(ClientPcssTest, GpuLookupEqualsTheCpuReferenceOnTheAreaRoom) {
   EXPECT_GE(static_cast<double>(same), 0.98 * static_cast<double>(surface));
 }
 
-// A floor, a 1 m square occluder 0.5 m above it, a sphere light 2 m above the floor's centre.
-Scene occluder_scene(float radius) {
+INSTANTIATE_TEST_SUITE_P(Area, ClientPcssRooms, testing::Values(false, true),
+                         [](const testing::TestParamInfo<bool>& p) { return p.param ? "with_sun" : "as_loaded"; });
+
+// A 6 m floor, a 1 m square occluder 0.5 m above it, and `light`.
+Scene occluder_scene(const SceneLight& light) {
   Scene scene;
   scene.materials.push_back(test::colour_material({0.8f, 0.8f, 0.8f, 1.0f}));
-  scene.meshes.push_back(test::quad_mesh({-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}, 0));
+  scene.meshes.push_back(test::quad_mesh({-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}, 0));
   scene.meshes.push_back(test::quad_mesh({-0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}, {0.5, 0.5, -0.5}, {-0.5, 0.5, -0.5}, 0));
-  SceneLight light;
-  light.type = SceneLight::Type::kPoint;
-  light.position = {0.0f, 2.0f, 0.0f};
-  light.intensity = 10.0f;
-  light.radius = radius;
   scene.lights = {light};
   test::finish_scene(scene);
   return scene;
 }
 
+// A sphere light 2 m above the floor's centre.
+SceneLight sphere_light(float radius) {
+  SceneLight light;
+  light.type = SceneLight::Type::kPoint;
+  light.position = {0.0f, 2.0f, 0.0f};
+  light.intensity = 10.0f;
+  light.radius = radius;
+  return light;
+}
+
+// A sun straight down.
+SceneLight sun_light(float angle) {
+  SceneLight light;
+  light.type = SceneLight::Type::kDirectional;
+  light.direction = {0.0f, -1.0f, 0.0f};
+  light.intensity = 2.0f;
+  light.angle = angle;
+  return light;
+}
+
 // The level PCSS gives floor points (x, 0, z) for x = 0 .. 2.5 m in 5 mm steps.
-std::vector<uint32_t> floor_levels(vk::Context& ctx, float radius, double z) {
-  const Scene scene = occluder_scene(radius);
+std::vector<uint32_t> floor_levels(vk::Context& ctx, const SceneLight& light, double z) {
+  const Scene scene = occluder_scene(light);
   const VisibilityLayout layout = layout_for_lights(scene.lights);
   EXPECT_TRUE(layout.is_soft(0));
   const ClientScene gpu_scene(ctx, scene);
@@ -174,7 +210,7 @@ TEST_F(ClientPcssTest, LitAndShadowedEndsAndAPenumbraThatGrowsWithTheLight) {
   constexpr uint32_t kTop = kDefaultSoftLevels - 1;
   size_t previous_width = 0;
   for (const float radius : {0.03f, 0.1f, 0.25f}) {
-    const std::vector<uint32_t> levels = floor_levels(ctx(), radius, 0.1);
+    const std::vector<uint32_t> levels = floor_levels(ctx(), sphere_light(radius), 0.1);
     // The occluder's shadow edge is at x = 0.5 * 2 / 1.5 = 0.67 m (from the light's centre).
     EXPECT_EQ(levels.front(), 0u) << "radius " << radius << ": deep in the shadow";
     for (size_t k = 300; k < levels.size(); ++k) ASSERT_EQ(levels[k], kTop) << "radius " << radius << " x " << k * 0.005;
@@ -186,6 +222,27 @@ TEST_F(ClientPcssTest, LitAndShadowedEndsAndAPenumbraThatGrowsWithTheLight) {
     EXPECT_GT(width, previous_width) << "radius " << radius;
     previous_width = width;
   }
+}
+
+// The sun's fitted orthographic map (8 mm texels over this 6 m floor): the same checks; the shadow edge is at
+// x = 0.5 m, its penumbra 0.5 m x tan(angle / 2) to either side.
+TEST_F(ClientPcssTest, SunMapLitAndShadowedEndsAndAPenumbraThatGrowsWithTheAngle) {
+  constexpr uint32_t kTop = kDefaultSoftLevels - 1;
+  size_t previous_width = 0;
+  for (const float angle : {0.05f, 0.15f, 0.3f}) {
+    const std::vector<uint32_t> levels = floor_levels(ctx(), sun_light(angle), 0.1);
+    EXPECT_EQ(levels.front(), 0u) << "angle " << angle << ": deep in the shadow";
+    for (size_t k = 160; k < levels.size(); ++k) ASSERT_EQ(levels[k], kTop) << "angle " << angle << " x " << k * 0.005;
+    for (size_t k = 1; k < levels.size(); ++k) ASSERT_GE(levels[k], levels[k - 1]) << "angle " << angle << " x " << k * 0.005;
+    size_t width = 0;
+    for (const uint32_t v : levels) width += v > 0 && v < kTop ? 1 : 0;
+    std::printf("pcss sun angle %.2f rad: penumbra %zu samples of 5 mm\n", static_cast<double>(angle), width);
+    EXPECT_GT(width, previous_width) << "angle " << angle;
+    previous_width = width;
+  }
+}
+
+TEST_F(ClientPcssTest, TapCounts) {
   const PcssTaps taps = pcss_taps();
   EXPECT_EQ(taps.search, 16u);
   EXPECT_EQ(taps.filter, 25u);

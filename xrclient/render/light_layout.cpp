@@ -39,7 +39,7 @@ double pcss_light_radius(const SceneLight& light) {
     case SceneLight::Type::kDisk:
       return 0.5 * static_cast<double>(light.width);
     case SceneLight::Type::kDirectional:
-      return 0.5 * static_cast<double>(light.angle);
+      return std::tan(0.5 * static_cast<double>(light.angle));
   }
   return 0.0;
 }

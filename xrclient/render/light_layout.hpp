@@ -18,8 +18,9 @@ VisibilityLayout layout_for_lights(std::span<const SceneLight> lights);
 uint32_t soft_light_mask(const VisibilityLayout& layout);
 
 // The radius PCSS takes for a light with an extent (metres; 0: hard): a sphere light's radius; a rect's
-// equal-area disk radius sqrt(width x height / pi); a disk's width / 2. A sun (directional with an angle) has no
-// cube map; its angular radius is angle / 2 (not a length: unused while directional lights get no map).
+// equal-area disk radius sqrt(width x height / pi); a disk's width / 2. A sun (directional with an angle, its
+// angular diameter) has no length: tan(angle / 2), the tangent of its angular radius (penumbra half-width per
+// metre between blocker and receiver).
 double pcss_light_radius(const SceneLight& light);
 
 }  // namespace dhr::render

@@ -26,8 +26,9 @@ PcssTaps pcss_taps() {
                   kClientPcssMinRadius, kClientPcssMaxRadius};
 }
 
-double pcss_fraction_reference(const ShadowReference& maps, uint32_t row, const CubeLookup& c, double radius,
-                               double base_bias, double slope) {
+double pcss_fraction_reference(const ShadowReference& maps, const ShadowTile& tile, const CubeLookup& c,
+                               double scale, double base_bias, double slope) {
+  const uint32_t row = *tile.row;
   const uint32_t size = maps.face_size;
   const size_t atlas_width = size_t{6} * size;
   const int last = static_cast<int>(size) - 1;
@@ -37,12 +38,15 @@ double pcss_fraction_reference(const ShadowReference& maps, uint32_t row, const 
     const size_t index = (size_t{row} * size + static_cast<size_t>(ty)) * atlas_width + size_t{c.face} * size +
                          static_cast<size_t>(tx);
     const double stored = maps.atlas[index];
-    return stored > 0.0 ? maps.settings.near_plane / stored : 3.0e38;
+    if (!(stored > 0.0)) return 3.0e38;
+    return tile.sun ? (1.0 - stored) * tile.sun->depth_range : maps.settings.near_plane / stored;
   };
-  const double s = 0.5 * size;
   const double d = c.distance;
   const double slope_bias = maps.settings.bias_slope;
-  const double search = clamp_radius(radius / d * s);
+  const bool sun = tile.sun.has_value();
+  // Blockers between the receiver and the light: a sun's anywhere up to the map's near plane, a cube's from
+  // halfway to the light.
+  const double search = clamp_radius(sun ? scale * d : scale);
   const double search_threshold = d - (base_bias + (slope_bias + std::sqrt(2.0) * search) * slope);
   double blocker_sum = 0.0;
   uint32_t blockers = 0;
@@ -56,7 +60,7 @@ double pcss_fraction_reference(const ShadowReference& maps, uint32_t row, const 
   }
   if (blockers == 0) return 1.0;
   const double z = blocker_sum / blockers;
-  const double filter = clamp_radius(radius * (d - z) / (z * d) * s);
+  const double filter = clamp_radius(sun ? scale * (d - z) : scale * (d - z) / z);
   const double threshold = d - (base_bias + (slope_bias + std::sqrt(2.0) * filter) * slope);
   uint32_t lit = 0;
   for (uint32_t k = 0; k < kClientPcssFilterGrid * kClientPcssFilterGrid; ++k) {

@@ -17,10 +17,11 @@ struct PcssTaps {
 };
 PcssTaps pcss_taps();
 
-// The share of a light of representative radius `radius` (metres) that a receiver sees, looked up at `c` (its
-// face, continuous texel position and distance along the face axis) in atlas row `row`. base_bias: the hard
+// The share of a light that a receiver sees, looked up at `c` (its face, continuous texel position and distance
+// along the map's axis) in the light's tile. scale: texels per unit of the similar-triangles term (a cube:
+// R / d x size / 2 with R the light's radius; a sun: tan(angular radius) / texel size); base_bias: the hard
 // lookup's bias without its slope term; slope: a texel's world size at the point x tan(N, L).
-double pcss_fraction_reference(const ShadowReference& maps, uint32_t row, const CubeLookup& c, double radius,
-                               double base_bias, double slope);
+double pcss_fraction_reference(const ShadowReference& maps, const ShadowTile& tile, const CubeLookup& c,
+                               double scale, double base_bias, double slope);
 
 }  // namespace dhr::render

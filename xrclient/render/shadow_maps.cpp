@@ -14,6 +14,7 @@
 #include "render/pcss_reference.hpp"
 #include "render/pass_util.hpp"
 #include "render/render_camera.hpp"
+#include "render/sun_map.hpp"
 #include "shaders/shader_interface.h"
 #include "vk/context.hpp"
 #include "vk/graphics_pipeline.hpp"
@@ -121,7 +122,13 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
     ShadowTile tile;
     tile.position = glm::dvec3(light.position);
     // Point, spot, sphere, rect and disk lights: a cube map at the light's centre (where the hard-shadow ray goes).
-    if (light.type != SceneLight::Type::kDirectional) tile.row = rows++;
+    if (light.type != SceneLight::Type::kDirectional) {
+      tile.row = rows++;
+    } else if (light.angle > 0.0f) {
+      tile.sun = fit_sun_map(scene_->bounds(), glm::dvec3(light.direction));
+      tile.position = tile.sun->position;
+      tile.row = rows++;
+    }
     tiles_.push_back(tile);
   }
   const uint32_t max_dim = max_image_dimension(*context_);
@@ -147,6 +154,10 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
       scene.bind_geometry(cmd);
       for (const ShadowTile& tile : tiles_) {
         if (!tile.row) continue;
+        if (tile.sun) {
+          render_sun(cmd, tile);
+          continue;
+        }
         for (uint32_t face = 0; face < 6; ++face) {
           const Camera camera = cube_face_camera(tile.position, face, size_);
           const VkViewport viewport{static_cast<float>(face * size_), static_cast<float>(*tile.row * size_),
@@ -175,6 +186,25 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
     atlas_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   });
   render_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+void ShadowMaps::render_sun(VkCommandBuffer cmd, const ShadowTile& tile) const {
+  const VkViewport viewport{0.0f, static_cast<float>(*tile.row * size_), static_cast<float>(size_),
+                            static_cast<float>(size_), 0.0f, 1.0f};
+  const VkRect2D scissor{{0, static_cast<int32_t>(*tile.row * size_)}, {size_, size_}};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  shader::ClientGBufferPush push{};
+  const std::array<float, 16> vp = matrix_floats(glm::mat4(sun_view_projection(*tile.sun)));
+  std::copy(vp.begin(), vp.end(), push.view_proj);
+  for (const ClientMesh& mesh : scene_->meshes()) {  // the tile covers the whole scene: no culling
+    const glm::vec3 t(mesh.origin - tile.sun->position);
+    push.translation_x = t.x;
+    push.translation_y = t.y;
+    push.translation_z = t.z;
+    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
+    vkCmdDrawIndexed(cmd, mesh.index_count, 1, mesh.first_index, mesh.vertex_offset, 0);
+  }
 }
 
 ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<const SceneLight> lights,
@@ -239,15 +269,17 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       continue;
     }
     const glm::dvec3 v0 = p - tile.position;
-    const double texel = 2.0 * cube_face_distance(v0) / size;
+    const double texel = tile.sun ? 2.0 * tile.sun->half_extent / size : 2.0 * cube_face_distance(v0) / size;
     const glm::dvec3 v = v0 + (maps.settings.normal_offset * texel) * n;
-    const CubeLookup c = cube_lookup(v, size);
+    const CubeLookup c = tile.sun ? sun_lookup(*tile.sun, v, size) : cube_lookup(v, size);
     out.margin = std::min(out.margin, c.margin);
     const double tan_nl = std::min(std::sqrt(std::max(1.0 - nl * nl, 0.0)) / nl, 10.0);
     if (layout.is_soft(i)) {
       // PCSS (pcss_reference.hpp); confident where every filter tap agrees. Its taps' flips are not in `margin`:
       // a tap within rounding of its threshold moves the level by one step (the tests count such pixels).
-      const double fraction = pcss_fraction_reference(maps, *tile.row, c, pcss_light_radius(light),
+      // Texels per unit of the similar-triangles term (pcss.h): cube R / d x size / 2, sun tan / texel.
+      const double scale = tile.sun ? pcss_light_radius(light) / texel : pcss_light_radius(light) / c.distance * 0.5 * size;
+      const double fraction = pcss_fraction_reference(maps, tile, c, scale,
                                                       maps.settings.bias_rel * c.distance + maps.settings.bias_abs,
                                                       texel * tan_nl);
       out.mask = layout.with_visibility(out.mask, i, static_cast<float>(fraction));
@@ -263,7 +295,9 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       const size_t index = (size_t{*tile.row} * size + static_cast<size_t>(t.y)) * atlas_width +
                            size_t{c.face} * size + static_cast<size_t>(t.x);
       const double stored = maps.atlas[index];
-      const double occluder = stored > 0.0 ? maps.settings.near_plane / stored : 3.0e38;
+      const double occluder = stored > 0.0 ? (tile.sun ? (1.0 - stored) * tile.sun->depth_range
+                                                       : maps.settings.near_plane / stored)
+                                           : 3.0e38;
       out.margin = std::min(out.margin, std::abs(occluder - threshold) / c.distance * 1e3);
       return occluder >= threshold;
     };

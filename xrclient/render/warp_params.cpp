@@ -104,6 +104,13 @@ void describe_shadow_maps(const ShadowMaps& maps, std::span<const SceneLight> li
     shadow_lights[i].mask_offset = layout.offset[i];
     shadow_lights[i].mask_bits = layout.bits[i];
     shadow_lights[i].radius = layout.is_soft(static_cast<uint32_t>(i)) ? static_cast<float>(pcss_light_radius(lights[i])) : 0.0f;
+    if (tile.sun) {
+      shadow_lights[i].flags = kClientShadowSun;
+      copy3(tile.sun->right, shadow_lights[i].right);
+      copy3(tile.sun->up, shadow_lights[i].up);
+      shadow_lights[i].half_extent = static_cast<float>(tile.sun->half_extent);
+      shadow_lights[i].depth_range = static_cast<float>(tile.sun->depth_range);
+    }
   }
   params.light_count = static_cast<uint32_t>(lights.size());
   params.shadow_size = maps.face_size();

@@ -276,13 +276,22 @@ DHR_CONST uint kClientNoShadowMap = 0xFFFFFFFFu;
 // 0 for a hard light).
 DHR_CONST uint kClientSoftBits = 3u;
 DHR_CONST uint kClientSoftLevels = 8u;
+// A sun (a directional light with an angle; kClientShadowSun in `flags`) has a fitted orthographic map instead
+// of a cube: one size x size tile in column 0 of its row, covering the scene's bounds, looking along
+// cross(up, right) from `position` (the centre of its near plane); stored depth = 1 - distance / depth_range
+// (0: nothing); `radius` is tan of the sun's angular radius.
+DHR_CONST uint kClientShadowSun = 1u;
 struct ClientShadowLight {
   float position[3];
   uint tile_row;
   float radius;
   uint mask_offset;
   uint mask_bits;
-  uint pad0;
+  uint flags;          // kClientShadowSun
+  float right[3];      // sun: the map's axes (world, unit) and half its side in metres
+  float half_extent;
+  float up[3];
+  float depth_range;   // sun: metres from `position` to the far plane
 };
 // PCSS (client/pcss.h): a blocker search over a kClientPcssSearchGrid^2 grid of taps, then a PCF filter over a
 // kClientPcssFilterGrid^2 grid, both radii (in texels) clamped to [kClientPcssMinRadius, kClientPcssMaxRadius].
@@ -371,7 +380,7 @@ static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stri
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientWarpSource) == 136, "ClientWarpSource must match the std430 layout");
 static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 29, "ClientWarpParams must match the std430 layout");
-static_assert(sizeof(ClientShadowLight) == 32, "ClientShadowLight must match the std430 array stride");
+static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 84, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
