@@ -31,7 +31,12 @@
 //                    same fixed view and buffer
 //   forward_ms       a plain forward Lambert render without shadows (the cost of not having shadows)
 //   shadowmap_ms     a forward render with the client's cube shadow maps (what a headset would do without DHR;
-//                    the maps are rendered once, as for a static scene: shadow_map_render_ms is that host time)
+//                    the maps are rendered once, as for a static scene: shadow_map_render_ms is that host time).
+//                    Lights with an extent take PCSS (shaders/client/pcss.h): shadowmap_soft_lights counts them
+//                    (0: every lookup is the hard one-texel test), shadowmap_pcss_taps gives the blocker-search and
+//                    filter taps per soft light and pixel
+//   shadowmap_hard_ms (scenes with soft lights) the same render with every light's lookup hard (extents dropped,
+//                    the same maps): shadowmap_ms - shadowmap_hard_ms is the soft shadows' cost
 // Against the cost goal: dhr_vs_forward (<= 1.3) and dhr_added_vs_shadowmap_added = (dhr_ms - forward_ms) /
 // (shadowmap_ms - forward_ms) (<= 0.5). The fixed view is the scene's first bookmark; the fixed visibility buffer
 // is the server's Embree trace for the pose one 90 Hz frame earlier (turning 60 deg/s). --lights N above the
@@ -67,6 +72,8 @@
 #include "render/eye_pipeline.hpp"
 #include "render/forward_pass.hpp"
 #include "render/render_camera.hpp"
+#include "render/light_layout.hpp"
+#include "render/pcss_reference.hpp"
 #include "render/shadow_maps.hpp"
 #include "scene/scene.hpp"
 #include "vk/buffer.hpp"
@@ -209,6 +216,14 @@ int run(const Options& o) {
   out["scene"] = std::filesystem::path(o.scene).filename().string();
   out["size"] = std::to_string(size->width) + "x" + std::to_string(size->height);
   out["lights"] = light_count;
+  {
+    const VisibilityLayout layout = render::layout_for_lights(scene.lights);
+    uint32_t soft = 0;
+    for (uint32_t i = 0; i < layout.light_count; ++i) soft += layout.is_soft(i) ? 1u : 0u;
+    const render::PcssTaps taps = render::pcss_taps();
+    out["shadowmap_soft_lights"] = soft;
+    out["shadowmap_pcss_taps"] = {{"search", taps.search}, {"filter", taps.filter}};
+  }
   out["device"] = context->info().name;
   out["frames"] = o.frames;
 
@@ -270,19 +285,36 @@ int run(const Options& o) {
   frame.display = display;
   frame.lights = scene.lights;
   frame.shadow_maps = &maps;
-  for (const render::ForwardMode mode : {render::ForwardMode::kLambert, render::ForwardMode::kShadowMaps}) {
+  // With soft lights, the same shadow-map render with every lookup hard (the lights' extents dropped; the same
+  // maps): shadowmap_ms - shadowmap_hard_ms is what PCSS costs.
+  std::vector<SceneLight> hard_lights = scene.lights;
+  for (SceneLight& l : hard_lights) l.radius = l.angle = l.width = l.height = 0.0f;
+  render::ForwardFrame hard_frame = frame;
+  hard_frame.lights = hard_lights;
+  struct Baseline {
+    const char* name;
+    render::ForwardMode mode;
+    const render::ForwardFrame* frame;
+  };
+  std::vector<Baseline> baselines = {{"forward_ms", render::ForwardMode::kLambert, &frame},
+                                     {"shadowmap_ms", render::ForwardMode::kShadowMaps, &frame}};
+  if (out["shadowmap_soft_lights"].get<uint32_t>() > 0) {
+    baselines.push_back({"shadowmap_hard_ms", render::ForwardMode::kShadowMaps, &hard_frame});
+  }
+  for (const Baseline& b : baselines) {
     render::ForwardOptions fo;
-    fo.mode = mode;
+    fo.mode = b.mode;
     const size_t k = passes.size();
     passes.push_back(std::make_unique<render::ForwardPass>(*context, gpu_scene, fo));
     targets.push_back(render::ForwardTargets::create(*context, *size, fo));
     stamps.push_back(std::make_unique<vk::TimestampQueries>(*context, 2));
+    const render::ForwardFrame* f = b.frame;
     configs.push_back(single_eye_config(
-        *context, mode == render::ForwardMode::kLambert ? "forward_ms" : "shadowmap_ms",
-        [&, k](VkCommandBuffer cmd, uint32_t) {
+        *context, b.name,
+        [&, k, f](VkCommandBuffer cmd, uint32_t) {
           stamps[k]->reset(cmd);
           stamps[k]->write(cmd, 0);
-          passes[k]->record(cmd, 0, frame, targets[k]);
+          passes[k]->record(cmd, 0, *f, targets[k]);
           stamps[k]->write(cmd, 1);
         },
         [&, k]() -> std::optional<double> {

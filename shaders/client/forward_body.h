@@ -10,7 +10,8 @@
 // then this fragment's light mask and the shading equation, in the raster pass: no G-buffer round trip. The mask
 // is, by mode (ClientForwardShading::mode, dynamically uniform):
 //   kClientForwardLambert     all lights (no shadows: the cost of not having shadows)
-//   kClientForwardShadowMaps  the client's shadow maps (what a headset would do without DHR)
+//   kClientForwardShadowMaps  the client's shadow maps (what a headset would do without DHR; PCSS for soft
+//                             lights, whose fraction is k_i unquantized)
 //   kClientForwardPaperWarp   the paper's warp of this eye's newest visibility (the DHR client)
 //   kClientForwardServerEdges this eye's newest visibility, 2x2 bilinear samples: bits they agree on from the
 //                             server, the others and pixels without a sample from the shadow maps, which are
@@ -50,6 +51,26 @@ layout(location = 2) out uint out_mask;
 #include "client/bilinear_warp.h"
 #include "client/shade.h"
 
+// kClientForwardShadowMaps: the shadow maps' mask (as shadow_lookup) and the shading with each light's share
+// itself as k_i: a soft light's PCSS fraction unquantized (the mask holds its level), a hard light's bit.
+vec3 shade_local(vec3 p, vec3 n, vec3 albedo, float pixel_world, out uint mask) {
+  vec3 sum = vec3(0.0);
+  mask = 0u;
+  for (uint i = 0u; i < pc.light_count; ++i) {
+    const ClientShadowLight sl = shadow_lights[i];
+    vec3 l;
+    float dist;
+    if (light_test(lights[i], p, n, l, dist) != kLightContributes) continue;
+    const float k = shadow_light_lookup(pc, shadow_atlas, sl, p, n, l, pixel_world).fraction;
+    mask |= field_from_fraction(k, sl.mask_offset, sl.mask_bits);
+    if (!(k > 0.0)) continue;
+    vec3 term;
+    if (!shade_light_term(i, p, n, term)) continue;
+    sum += sl.mask_bits == 1u ? term : k * term;
+  }
+  return albedo * 0.31830988618379067 * sum;
+}
+
 void main() {
   const vec4 factor = vec4(mat.base_color_r, mat.base_color_g, mat.base_color_b, mat.base_color_a);
   const vec4 base = texture(base_color_texture, in_uv) * factor;
@@ -62,8 +83,10 @@ void main() {
   const float d = gl_FragCoord.z;
   const vec2 centre = gl_FragCoord.xy;
   const vec3 p = (pc.near_plane / d) * (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
-  uint mask = 0xFFFFFFFFu;
+  uint mask = fields_all_lit(shading.soft_lights, shading.light_count);
   uint status = kClientStatusKnown;
+  bool shaded = false;
+  vec3 radiance = vec3(0.0);
   if (shading.mode == kClientForwardPaperWarp) {
     const PaperWarpLookup at = paper_warp_lookup(pc, centre, d);
     const uint row_word = paper_warp_reads_rows(pc) ? rows0[at.row >> 5] : 0u;
@@ -130,9 +153,11 @@ void main() {
       status |= known ? kClientForwardStatusShadowEdge : kClientForwardStatusShadowFill;
     }
   } else if (shading.mode == kClientForwardShadowMaps) {
-    mask = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent).mask;
+    radiance = shade_local(p, n, albedo, (pc.near_plane / d) * pc.pixel_tangent, mask);
+    shaded = true;
   }
-  vec3 display = encode_radiance(shade_radiance(p, n, albedo, mask, shading.light_count), shading.exposure);
+  if (!shaded) radiance = shade_radiance(p, n, albedo, mask, shading.light_count, shading.soft_lights);
+  vec3 display = encode_radiance(radiance, shading.exposure);
   if ((shading.flags & kClientShadingSwapRedBlue) != 0u) display = display.bgr;
   out_colour = vec4(display, 1.0);
 #if DHR_FORWARD_STATUS

@@ -4,7 +4,8 @@
 #include "shaders/display_encode.h"
 #include "client/float3.h"
 
-// Shading: I = albedo / pi * sum_i k_i * saturate(N.L_i) * E_i, with k_i the predicted mask bit and the
+// Shading: I = albedo / pi * sum_i k_i * saturate(N.L_i) * E_i, with k_i light i's field of the predicted mask
+// (client/visibility_field.h: the bit, or a soft light's level / 7) and the
 // light math of light_eval.h (the server's notion of "contributes"). Positions are eye-relative (world axes):
 // the surface point from depth, the lights packed relative to the eye in double on the CPU.
 // Output: exposure -> ACES approximation -> sRGB encoding, stored as bytes in an RGBA8_UNORM image.
@@ -35,7 +36,7 @@ void main() {
   const vec3 albedo = texelFetch(albedo_texture, pixel, 0).rgb;
   const uint mask = imageLoad(mask_image, pixel).x;
 
-  const vec3 radiance = shade_radiance(p, n, albedo, mask, pc.light_count);
+  const vec3 radiance = shade_radiance(p, n, albedo, mask, pc.light_count, pc.soft_lights);
   vec3 display = encode_radiance(radiance, pc.exposure);
 
   if (pc.view_mode != kClientViewShaded) {
@@ -43,8 +44,13 @@ void main() {
     const uint status = packed & 0xFFu;
     const uint fill = packed >> 8;
     if (pc.view_mode == kClientViewLightVisibility) {
-      display = status != kClientStatusKnown ? vec3(1.0, 0.0, 0.0)
-                                             : vec3(((mask >> pc.debug_light) & 1u) != 0u ? 0.9 : 0.1);
+      // A soft light: grey by its level (0.1 hidden .. 0.9 fully visible).
+      uint offset = 0u;
+      for (uint i = 0u; i < pc.debug_light; ++i) offset += field_bits(pc.soft_lights, i);
+      const uint bits = field_bits(pc.soft_lights, pc.debug_light);
+      const float grey = bits == 1u ? (((mask >> offset) & 1u) != 0u ? 0.9 : 0.1)
+                                    : 0.1 + 0.8 * field_visibility(mask, offset, bits);
+      display = status != kClientStatusKnown ? vec3(1.0, 0.0, 0.0) : vec3(grey);
     } else if (pc.view_mode == kClientViewUnknown) {
       // Unfilled (shaded lit): magenta; filled from the other eye: cyan; from the shadow maps: yellow.
       const vec3 tint = fill == kClientFillOtherEye ? vec3(0.0, 1.0, 1.0)

@@ -16,6 +16,7 @@
 #include "client/cube_face.h"
 #include "client/float3.h"
 #include "client/light_buffer.h"
+#include "client/visibility_field.h"
 
 layout(set = DHR_SHADOW_LIGHT_BUFFER_SET, binding = DHR_SHADOW_LIGHT_BUFFER_BINDING, std430)
 readonly buffer ShadowLights {
@@ -33,55 +34,79 @@ struct ShadowLookup {
   uint confident;
 };
 
-// Whether the atlas texel t (clamped to the face) of tile row `row`, cube face `face` is at or beyond `threshold`.
-bool shadow_texel_lit(sampler2D atlas, uint size, float near_plane, uint row, uint face, ivec2 t, float threshold) {
-  const ivec2 c = clamp(t, ivec2(0), ivec2(int(size) - 1));
-  const float stored = texelFetch(atlas, ivec2(face * size + uint(c.x), row * size + uint(c.y)), 0).r;
-  const float occluder = stored > 0.0 ? near_plane / stored : 3.0e38;
-  return occluder >= threshold;
+#include "client/pcss.h"
+
+// Light i's share at p (0 or 1 for a hard light, PCSS's fraction for a soft one) and whether the maps are
+// confident of it (see ShadowLookup), for a light that can contribute there (light_test: l = direction to it).
+struct ShadowLight {
+  float fraction;
+  bool confident;
+};
+
+ShadowLight shadow_light_lookup(ClientWarpParams params, sampler2D atlas, ClientShadowLight sl, vec3 p, vec3 n,
+                                vec3 l, float pixel_world) {
+  ShadowLight r;
+  if (sl.tile_row == kClientNoShadowMap) {  // no map (a directional light without an angle): lit, never confident
+    r.fraction = 1.0;
+    r.confident = false;
+    return r;
+  }
+  const float size = float(params.shadow_size);
+  const vec3 v0 = p - v3(sl.position);
+  const bool sun = (sl.flags & kClientShadowSun) != 0u;
+  // Normal offset: a few texels (at this distance) along the normal, against acne on slopes.
+  const float texel = sun ? 2.0 * sl.half_extent / size : 2.0 * cube_face_distance(v0) / size;
+  const vec3 v = v0 + (params.shadow_normal_offset * texel) * n;
+  const CubeLookup c = sun ? sun_lookup(sl, v, params.shadow_size) : cube_lookup(v, params.shadow_size);
+  // Slope-scaled: a texel spans more depth the more grazing the light (tan of the angle, at most 10).
+  const float cos_nl = dot(n, l);
+  const float tan_nl = min(sqrt(max(1.0 - cos_nl * cos_nl, 0.0)) / cos_nl, 10.0);
+  if (sl.mask_bits != 1u) {
+    // Soft: PCSS; confident where every filter tap agrees (fully lit or fully shadowed).
+    const float base_bias = params.shadow_bias_rel * c.distance + params.shadow_bias_abs;
+    // Texels per unit of the similar-triangles term: cube R s / d (times (d - z) / z), sun tan / texel (times
+    // d - z).
+    const float scale = sun ? sl.radius / texel : sl.radius / c.distance * (0.5 * size);
+    r.fraction = pcss_fraction(params, atlas, sl, c.face, c.position, c.distance, scale, base_bias, texel * tan_nl);
+    r.confident = r.fraction == 0.0 || r.fraction == 1.0;
+    return r;
+  }
+  const float bias =
+      params.shadow_bias_rel * c.distance + params.shadow_bias_abs + params.shadow_bias_slope * texel * tan_nl;
+  const float threshold = c.distance - bias;
+  const bool lit = shadow_texel_lit(atlas, params, sl, c.face, c.texel, threshold);
+  r.fraction = lit ? 1.0 : 0.0;
+  // Confidence: the 2x2 footprint around the lookup.
+  bool alike = true;
+  if (texel > pixel_world) {
+    const ivec2 t0 = ivec2(floor(c.position - 0.5));
+    for (int k = 0; k < 4; ++k) {
+      alike = alike && shadow_texel_lit(atlas, params, sl, c.face, t0 + ivec2(k & 1, k >> 1), threshold) == lit;
+    }
+  }
+  r.confident = alike;
+  return r;
 }
 
+// The mask over every light, each in its field (ClientShadowLight::mask_offset, mask_bits): a hard light's bit,
+// a soft light's level (Gray-coded); `confident` has all bits of a light's field set where the maps are
+// confident of it (or the light cannot contribute).
 ShadowLookup shadow_lookup(ClientWarpParams params, sampler2D atlas, vec3 p, vec3 n, float pixel_world) {
   ShadowLookup r;
   r.mask = 0u;
   r.confident = 0u;
-  const float size = float(params.shadow_size);
   for (uint i = 0u; i < params.light_count; ++i) {
+    const ClientShadowLight sl = shadow_lights[i];
+    const uint field = ((1u << sl.mask_bits) - 1u) << sl.mask_offset;
     vec3 l;
     float dist;
     if (light_test(lights[i], p, n, l, dist) != kLightContributes) {
-      r.confident |= 1u << i;
+      r.confident |= field;
       continue;
     }
-    const ClientShadowLight sl = shadow_lights[i];
-    if (sl.tile_row == kClientNoShadowMap) {
-      r.mask |= 1u << i;  // no map (directional): taken as lit, never confident
-      continue;
-    }
-    const vec3 v0 = p - v3(sl.position);
-    // Normal offset: a few texels (at this distance) along the normal, against acne on slopes.
-    const float texel = 2.0 * cube_face_distance(v0) / size;
-    const vec3 v = v0 + (params.shadow_normal_offset * texel) * n;
-    const CubeLookup c = cube_lookup(v, params.shadow_size);
-    // Slope-scaled: a texel spans more depth the more grazing the light (tan of the angle, at most 10).
-    const float cos_nl = dot(n, l);
-    const float tan_nl = min(sqrt(max(1.0 - cos_nl * cos_nl, 0.0)) / cos_nl, 10.0);
-    const float bias =
-        params.shadow_bias_rel * c.distance + params.shadow_bias_abs + params.shadow_bias_slope * texel * tan_nl;
-    const float threshold = c.distance - bias;
-    const bool lit =
-        shadow_texel_lit(atlas, params.shadow_size, params.shadow_near, sl.tile_row, c.face, c.texel, threshold);
-    if (lit) r.mask |= 1u << i;
-    // Confidence: the band around the point's distance, and the 2x2 footprint around the lookup.
-    bool alike = true;
-    if (texel > pixel_world) {
-      const ivec2 t0 = ivec2(floor(c.position - 0.5));
-      for (int k = 0; k < 4; ++k) {
-        alike = alike && shadow_texel_lit(atlas, params.shadow_size, params.shadow_near, sl.tile_row, c.face,
-                                          t0 + ivec2(k & 1, k >> 1), threshold) == lit;
-      }
-    }
-    if (alike) r.confident |= 1u << i;
+    const ShadowLight s = shadow_light_lookup(params, atlas, sl, p, n, l, pixel_world);
+    r.mask |= field_from_fraction(s.fraction, sl.mask_offset, sl.mask_bits);
+    if (s.confident) r.confident |= field;
   }
   return r;
 }

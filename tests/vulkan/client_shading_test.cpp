@@ -2,6 +2,7 @@
 // shared light_eval.h math and display encoding) within 1/255 per channel; debug views select what they say.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "metrics/visibility_synthetic.hpp"
 #include "render/client_scene.hpp"
 #include "render/gbuffer_pass.hpp"
+#include "render/light_layout.hpp"
 #include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "render/shading_pass.hpp"
@@ -131,7 +133,11 @@ void expect_cpu_shading(vk::Context& context, const Scene& scene) {
   const View view = room_view();
   const Camera camera = display_camera(view, kExtent);
   const Camera traced = Camera::with_guard_band(view, kExtent, kGuard);
-  const VisibilityBuffer vis = make_random_visibility(traced.extent.width, traced.extent.height, 3, 42);
+  // The mask's fields follow the lights (light_layout.hpp): a soft light's three bits hold its Gray-coded level;
+  // random bits over every field give every level.
+  const VisibilityLayout layout = layout_for_lights(scene.lights);
+  const VisibilityBuffer vis =
+      make_random_visibility(traced.extent.width, traced.extent.height, layout.total_bits(), 42);
   ShadingRig rig(context, scene);
   ShadingSettings settings;
   settings.exposure = 1.3f;
@@ -145,6 +151,7 @@ void expect_cpu_shading(vk::Context& context, const Scene& scene) {
   const std::vector<PackedLight> lights = pack_lights(scene.lights, camera.T_world_eye.position);
 
   size_t surface = 0, lit = 0, worst = 0;
+  std::array<size_t, kDefaultSoftLevels> soft_levels{};
   for (uint32_t j = 0; j < kExtent.height; ++j) {
     for (uint32_t i = 0; i < kExtent.width; ++i) {
       const size_t p = size_t{j} * kExtent.width + i;
@@ -159,9 +166,15 @@ void expect_cpu_shading(vk::Context& context, const Scene& scene) {
                                                                                   depth[p]));
         const glm::vec3 n = glm::normalize(glm::vec3(normal[p * 4], normal[p * 4 + 1], normal[p * 4 + 2]));
         glm::vec3 sum(0.0f);
-        for (size_t l = 0; l < lights.size(); ++l) {
-          if (((mask[p] >> l) & 1u) == 0) continue;
-          sum += light_contribution(lights[l], sample_light(lights[l], pos, n), n);
+        for (uint32_t l = 0; l < lights.size(); ++l) {
+          const float k = layout.visibility(mask[p], l);  // the bit, or level / 7
+          if (k == 0.0f) continue;
+          if (layout.is_soft(l)) {
+            ++soft_levels[gray_decode(layout.field(mask[p], l))];
+            sum += k * light_contribution(lights[l], sample_light(lights[l], pos, n), n);
+          } else {
+            sum += light_contribution(lights[l], sample_light(lights[l], pos, n), n);
+          }
         }
         const glm::vec3 a(albedo[p * 4] / 255.0f, albedo[p * 4 + 1] / 255.0f, albedo[p * 4 + 2] / 255.0f);
         const glm::vec3 radiance = a * 0.31830988618f * sum;
@@ -179,14 +192,30 @@ void expect_cpu_shading(vk::Context& context, const Scene& scene) {
   EXPECT_GT(surface, kExtent.width * kExtent.height / 2);
   EXPECT_GT(lit, surface / 4) << "the test scene should be mostly lit";
   EXPECT_LE(worst, 1u);
+  if (layout.any_soft()) {
+    for (uint32_t level = 1; level < kDefaultSoftLevels; ++level) EXPECT_GT(soft_levels[level], 0u) << level;
+  }
 }
 
 TEST_F(ClientShadingTest, MatchesTheCpuShadingEquation) { expect_cpu_shading(ctx(), lit_room()); }
 
-// Rect and disk lights: one-sided, cosine-weighted, identically on the GPU and the CPU.
+// Rect and disk lights: one-sided, cosine-weighted, identically on the GPU and the CPU. Both have an extent, so
+// each has a soft field (three Gray-coded bits) and shades with k = level / 7.
 TEST_F(ClientShadingTest, AreaLightsMatchTheCpuShadingEquation) {
   const Scene scene = area_lit_room();
   for (const SceneLight& l : scene.lights) ASSERT_FALSE(validate_light(l).has_value()) << l.name;
+  const VisibilityLayout layout = layout_for_lights(scene.lights);
+  ASSERT_FALSE(layout.is_soft(0));
+  ASSERT_TRUE(layout.is_soft(1) && layout.is_soft(2));
+  EXPECT_EQ(soft_light_mask(layout), 6u);
+  expect_cpu_shading(ctx(), scene);
+}
+
+// A sphere light (a point light with a radius) takes a soft field too; the punctual lights around it keep theirs.
+TEST_F(ClientShadingTest, SphereLightShadesWithItsLevel) {
+  Scene scene = lit_room();
+  scene.lights[0].radius = 0.2f;
+  ASSERT_EQ(soft_light_mask(layout_for_lights(scene.lights)), 1u);
   expect_cpu_shading(ctx(), scene);
 }
 

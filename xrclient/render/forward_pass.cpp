@@ -8,6 +8,7 @@
 #include "log/log.hpp"
 #include "render/client_scene.hpp"
 #include "render/gbuffer_pass.hpp"
+#include "render/light_layout.hpp"
 #include "render/shadow_maps.hpp"
 #include "scene/lighting.hpp"
 #include "shaders/display_encode.h"
@@ -216,6 +217,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   shading.mode = static_cast<uint32_t>(mode);
   shading.flags = frame.shading.swap_red_blue ? kClientShadingSwapRedBlue : 0u;
   shading.light_count = static_cast<uint32_t>(packed.size());
+  shading.soft_lights = soft_light_mask(layout_for_lights(frame.lights));
   slot.shading.write(&shading, sizeof(shading));
 
   const VkDevice device = context_->device();

@@ -7,6 +7,7 @@
 #include "scene/lighting.hpp"
 #include "dhr_shaders_client.hpp"
 #include "render/gbuffer_pass.hpp"
+#include "render/light_layout.hpp"
 #include "render/pass_util.hpp"
 #include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
@@ -132,6 +133,7 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
   push.width = extent.width;
   push.height = extent.height;
   push.light_count = static_cast<uint32_t>(packed.size());
+  push.soft_lights = soft_light_mask(layout_for_lights(lights));
   push.view_mode = static_cast<uint32_t>(settings.view);
   push.debug_light = std::min(settings.debug_light, 31u);
   push.flags = settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u;

@@ -10,8 +10,11 @@
 
 #include "dhr_shaders_client.hpp"
 #include "render/client_scene.hpp"
+#include "render/light_layout.hpp"
+#include "render/pcss_reference.hpp"
 #include "render/pass_util.hpp"
 #include "render/render_camera.hpp"
+#include "render/sun_map.hpp"
 #include "shaders/shader_interface.h"
 #include "vk/context.hpp"
 #include "vk/graphics_pipeline.hpp"
@@ -119,7 +122,13 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
     ShadowTile tile;
     tile.position = glm::dvec3(light.position);
     // Point, spot, sphere, rect and disk lights: a cube map at the light's centre (where the hard-shadow ray goes).
-    if (light.type != SceneLight::Type::kDirectional) tile.row = rows++;
+    if (light.type != SceneLight::Type::kDirectional) {
+      tile.row = rows++;
+    } else if (light.angle > 0.0f) {
+      tile.sun = fit_sun_map(scene_->bounds(), glm::dvec3(light.direction));
+      tile.position = tile.sun->position;
+      tile.row = rows++;
+    }
     tiles_.push_back(tile);
   }
   const uint32_t max_dim = max_image_dimension(*context_);
@@ -145,6 +154,10 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
       scene.bind_geometry(cmd);
       for (const ShadowTile& tile : tiles_) {
         if (!tile.row) continue;
+        if (tile.sun) {
+          render_sun(cmd, tile);
+          continue;
+        }
         for (uint32_t face = 0; face < 6; ++face) {
           const Camera camera = cube_face_camera(tile.position, face, size_);
           const VkViewport viewport{static_cast<float>(face * size_), static_cast<float>(*tile.row * size_),
@@ -175,14 +188,35 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
   render_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+void ShadowMaps::render_sun(VkCommandBuffer cmd, const ShadowTile& tile) const {
+  const VkViewport viewport{0.0f, static_cast<float>(*tile.row * size_), static_cast<float>(size_),
+                            static_cast<float>(size_), 0.0f, 1.0f};
+  const VkRect2D scissor{{0, static_cast<int32_t>(*tile.row * size_)}, {size_, size_}};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  shader::ClientGBufferPush push{};
+  const std::array<float, 16> vp = matrix_floats(glm::mat4(sun_view_projection(*tile.sun)));
+  std::copy(vp.begin(), vp.end(), push.view_proj);
+  for (const ClientMesh& mesh : scene_->meshes()) {  // the tile covers the whole scene: no culling
+    const glm::vec3 t(mesh.origin - tile.sun->position);
+    push.translation_x = t.x;
+    push.translation_y = t.y;
+    push.translation_z = t.z;
+    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
+    vkCmdDrawIndexed(cmd, mesh.index_count, 1, mesh.first_index, mesh.vertex_offset, 0);
+  }
+}
+
 ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<const SceneLight> lights,
                                      const glm::dvec3& p, const glm::dvec3& n, double pixel_world) {
   ShadowDecision out;
   out.margin = std::numeric_limits<double>::infinity();
   const uint32_t size = maps.face_size;
   const size_t atlas_width = size_t{6} * size;
-  for (size_t i = 0; i < lights.size() && i < 32; ++i) {
+  const VisibilityLayout layout = layout_for_lights(lights.first(std::min<size_t>(lights.size(), kMaxLights)));
+  for (uint32_t i = 0; i < layout.light_count; ++i) {
     const SceneLight& light = lights[i];
+    const uint32_t field = ((1u << layout.bits[i]) - 1u) << layout.offset[i];
     // light_test in double, with the margins of its decisions.
     glm::dvec3 l;
     double dist = std::numeric_limits<double>::infinity();
@@ -192,7 +226,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       const glm::dvec3 d = glm::dvec3(light.position) - p;
       dist = glm::length(d);
       if (!(dist > 0.0)) {
-        out.confident |= 1u << i;
+        out.confident |= field;
         continue;
       }
       l = d / dist;
@@ -200,7 +234,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       if (range > 0.0) {
         out.margin = std::min(out.margin, std::abs(dist - range) / range * 1e3);
         if (!(dist < range)) {
-          out.confident |= 1u << i;
+          out.confident |= field;
           continue;
         }
       }
@@ -209,7 +243,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
         const double outer = std::cos(static_cast<double>(light.outer_cone));
         out.margin = std::min(out.margin, std::abs(cd - outer) * 1e3);
         if (!(cd > outer)) {
-          out.confident |= 1u << i;
+          out.confident |= field;
           continue;
         }
       }
@@ -218,7 +252,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
         const double cd = glm::dot(-l, glm::dvec3(light.direction));
         out.margin = std::min(out.margin, std::abs(cd) * 1e3);
         if (!(cd > 0.0)) {
-          out.confident |= 1u << i;
+          out.confident |= field;
           continue;
         }
       }
@@ -226,20 +260,32 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
     const double nl = glm::dot(n, l);
     out.margin = std::min(out.margin, std::abs(nl) * 1e3);
     if (!(nl > 0.0)) {
-      out.confident |= 1u << i;
+      out.confident |= field;
       continue;
     }
     const ShadowTile& tile = maps.tiles.at(i);
     if (!tile.row) {
-      out.mask |= 1u << i;
+      out.mask = layout.with_visibility(out.mask, i, 1.0f);
       continue;
     }
     const glm::dvec3 v0 = p - tile.position;
-    const double texel = 2.0 * cube_face_distance(v0) / size;
+    const double texel = tile.sun ? 2.0 * tile.sun->half_extent / size : 2.0 * cube_face_distance(v0) / size;
     const glm::dvec3 v = v0 + (maps.settings.normal_offset * texel) * n;
-    const CubeLookup c = cube_lookup(v, size);
+    const CubeLookup c = tile.sun ? sun_lookup(*tile.sun, v, size) : cube_lookup(v, size);
     out.margin = std::min(out.margin, c.margin);
     const double tan_nl = std::min(std::sqrt(std::max(1.0 - nl * nl, 0.0)) / nl, 10.0);
+    if (layout.is_soft(i)) {
+      // PCSS (pcss_reference.hpp); confident where every filter tap agrees. Its taps' flips are not in `margin`:
+      // a tap within rounding of its threshold moves the level by one step (the tests count such pixels).
+      // Texels per unit of the similar-triangles term (pcss.h): cube R / d x size / 2, sun tan / texel.
+      const double scale = tile.sun ? pcss_light_radius(light) / texel : pcss_light_radius(light) / c.distance * 0.5 * size;
+      const double fraction = pcss_fraction_reference(maps, tile, c, scale,
+                                                      maps.settings.bias_rel * c.distance + maps.settings.bias_abs,
+                                                      texel * tan_nl);
+      out.mask = layout.with_visibility(out.mask, i, static_cast<float>(fraction));
+      if (fraction == 0.0 || fraction == 1.0) out.confident |= field;
+      continue;
+    }
     const double bias =
         maps.settings.bias_rel * c.distance + maps.settings.bias_abs + maps.settings.bias_slope * texel * tan_nl;
     // Whether texel t (clamped to the face) holds nothing nearer than `threshold`.
@@ -249,13 +295,15 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       const size_t index = (size_t{*tile.row} * size + static_cast<size_t>(t.y)) * atlas_width +
                            size_t{c.face} * size + static_cast<size_t>(t.x);
       const double stored = maps.atlas[index];
-      const double occluder = stored > 0.0 ? maps.settings.near_plane / stored : 3.0e38;
+      const double occluder = stored > 0.0 ? (tile.sun ? (1.0 - stored) * tile.sun->depth_range
+                                                       : maps.settings.near_plane / stored)
+                                           : 3.0e38;
       out.margin = std::min(out.margin, std::abs(occluder - threshold) / c.distance * 1e3);
       return occluder >= threshold;
     };
     const double threshold = c.distance - bias;
     const bool lit = texel_lit(c.texel, threshold);
-    if (lit) out.mask |= 1u << i;
+    if (lit) out.mask |= field;
     bool alike = true;
     out.margin = std::min(out.margin, std::abs(texel - pixel_world) / pixel_world * 1e3);
     if (texel > pixel_world) {
@@ -265,7 +313,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
                                                  boundary_distance(c.position.y - 0.5)));
       for (int k = 0; k < 4; ++k) alike = alike && texel_lit(t0 + glm::ivec2(k & 1, k >> 1), threshold) == lit;
     }
-    if (alike) out.confident |= 1u << i;
+    if (alike) out.confident |= field;
   }
   return out;
 }

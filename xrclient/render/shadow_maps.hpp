@@ -1,6 +1,8 @@
 // The client's own shadow maps: one cube (six 90-degree depth faces) per point or spot light, rendered from
 // the ClientScene once (the scene is static; again when the lights change) into one depth atlas, row l for
-// light l, faces 0-5 in columns (face conventions: shaders/client/cube_face.h). Directional lights get none.
+// light l, faces 0-5 in columns (face conventions: shaders/client/cube_face.h). A sun (a directional light with
+// an angle) gets an orthographic tile fitted to the scene's bounds in column 0 of its row (sun_map.hpp); other
+// directional lights get none.
 // The warp pass looks them up for pixels no visibility buffer fills (and, with kClientWarpShadowEdges, for
 // bits the buffer's samples disagree on); without any server they shade the whole frame (offline, `local`).
 //
@@ -51,10 +53,20 @@ double cube_face_distance(const glm::dvec3& v);
 // The 90-degree camera of a face at `light` (extent size x size).
 Camera cube_face_camera(const glm::dvec3& light, uint32_t face, uint32_t size);
 
-// Where a light's faces are: row of the atlas, or nullopt (directional: no shadow map).
+// A sun's orthographic tile (sun_map.hpp): world frame, metres.
+struct SunMap {
+  glm::dvec3 position{0.0};  // centre of the near plane
+  glm::dvec3 right{1.0, 0.0, 0.0};
+  glm::dvec3 up{0.0, 1.0, 0.0};  // the map looks along cross(up, right), the light's direction
+  double half_extent = 0.0;
+  double depth_range = 0.0;
+};
+
+// Where a light's map is: row of the atlas, or nullopt (a directional light without an angle: no shadow map).
 struct ShadowTile {
   std::optional<uint32_t> row;
-  glm::dvec3 position{0.0};  // world
+  glm::dvec3 position{0.0};  // world: the cube's centre (the light's); a sun: its map's near-plane centre
+  std::optional<SunMap> sun;  // a sun (directional with an angle): one orthographic tile in column 0
 };
 
 class ShadowMaps {
@@ -73,6 +85,8 @@ class ShadowMaps {
   double render_ms() const { return render_ms_; }  // host time of the last render
 
  private:
+  void render_sun(VkCommandBuffer cmd, const ShadowTile& tile) const;
+
   const vk::Context* context_;
   const ClientScene* scene_;
   ShadowMapSettings settings_;

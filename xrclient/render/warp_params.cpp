@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "render/light_layout.hpp"
 #include "render/render_camera.hpp"
 #include "render/shadow_maps.hpp"
 #include "render/warp_reference.hpp"
@@ -95,10 +96,21 @@ void describe_shadow_maps(const ShadowMaps& maps, std::span<const SceneLight> li
     throw std::invalid_argument("the lights differ from the shadow maps'");
   }
   const glm::dvec3 eye = display.T_world_eye.position;
+  const VisibilityLayout layout = layout_for_lights(lights);
   for (size_t i = 0; i < lights.size(); ++i) {
     const ShadowTile& tile = maps.tiles()[i];
     copy3(tile.position - eye, shadow_lights[i].position);
     shadow_lights[i].tile_row = tile.row ? *tile.row : kClientNoShadowMap;
+    shadow_lights[i].mask_offset = layout.offset[i];
+    shadow_lights[i].mask_bits = layout.bits[i];
+    shadow_lights[i].radius = layout.is_soft(static_cast<uint32_t>(i)) ? static_cast<float>(pcss_light_radius(lights[i])) : 0.0f;
+    if (tile.sun) {
+      shadow_lights[i].flags = kClientShadowSun;
+      copy3(tile.sun->right, shadow_lights[i].right);
+      copy3(tile.sun->up, shadow_lights[i].up);
+      shadow_lights[i].half_extent = static_cast<float>(tile.sun->half_extent);
+      shadow_lights[i].depth_range = static_cast<float>(tile.sun->depth_range);
+    }
   }
   params.light_count = static_cast<uint32_t>(lights.size());
   params.shadow_size = maps.face_size();

@@ -270,10 +270,35 @@ struct ClientWarpParams {
 // first tile of its six cube faces in the atlas (row `tile_row`, faces in columns 0-5); kClientNoShadowMap
 // where the light has none (directional lights: such bits are taken as lit).
 DHR_CONST uint kClientNoShadowMap = 0xFFFFFFFFu;
+// Where a light's visibility sits in the mask (visibility/visibility_layout.hpp): mask_offset is its first bit,
+// mask_bits 1 (hard: the bit) or kClientSoftBits (soft: the Gray code of its level, kClientSoftLevels levels).
+// A soft light's map lookup is PCSS (client/pcss.h) with the light's representative radius `radius` (metres;
+// 0 for a hard light).
+DHR_CONST uint kClientSoftBits = 3u;
+DHR_CONST uint kClientSoftLevels = 8u;
+// A sun (a directional light with an angle; kClientShadowSun in `flags`) has a fitted orthographic map instead
+// of a cube: one size x size tile in column 0 of its row, covering the scene's bounds, looking along
+// cross(up, right) from `position` (the centre of its near plane); stored depth = 1 - distance / depth_range
+// (0: nothing); `radius` is tan of the sun's angular radius.
+DHR_CONST uint kClientShadowSun = 1u;
 struct ClientShadowLight {
   float position[3];
   uint tile_row;
+  float radius;
+  uint mask_offset;
+  uint mask_bits;
+  uint flags;          // kClientShadowSun
+  float right[3];      // sun: the map's axes (world, unit) and half its side in metres
+  float half_extent;
+  float up[3];
+  float depth_range;   // sun: metres from `position` to the far plane
 };
+// PCSS (client/pcss.h): a blocker search over a kClientPcssSearchGrid^2 grid of taps, then a PCF filter over a
+// kClientPcssFilterGrid^2 grid, both radii (in texels) clamped to [kClientPcssMinRadius, kClientPcssMaxRadius].
+DHR_CONST uint kClientPcssSearchGrid = 4u;   // 16 taps
+DHR_CONST uint kClientPcssFilterGrid = 5u;   // 25 taps
+DHR_CONST float kClientPcssMinRadius = 0.5f;
+DHR_CONST float kClientPcssMaxRadius = 32.0f;
 
 // Shading (compute, 8x8 groups).
 DHR_CONST uint kClientShadingBindingDepth = 0;   // sampler2D
@@ -312,6 +337,7 @@ struct ClientShadingPush {
   uint view_mode;        // kClientView*
   uint debug_light;      // light index for kClientViewLightVisibility
   uint flags;            // kClientShading*
+  uint soft_lights;      // bit i: light i has a soft field in the mask (client/visibility_field.h)
 };
 
 // Forward (graphics, forward*.frag over client/forward_body.h; set 0 = the G-buffer's per-material set): rasterizes and shades in one pass.
@@ -342,6 +368,10 @@ struct ClientForwardShading {
   uint mode;             // kClientForward*
   uint flags;            // kClientShading* (swap red and blue)
   uint light_count;
+  uint soft_lights;      // bit i: light i has a soft field in the mask (client/visibility_field.h)
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
 
 #ifdef __cplusplus
@@ -350,9 +380,9 @@ static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stri
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientWarpSource) == 136, "ClientWarpSource must match the std430 layout");
 static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 29, "ClientWarpParams must match the std430 layout");
-static_assert(sizeof(ClientShadowLight) == 16, "ClientShadowLight must match the std430 array stride");
-static_assert(sizeof(ClientShadingPush) == 80, "push constants must match the GLSL layout");
-static_assert(sizeof(ClientForwardShading) == 16, "ClientForwardShading must match the std430 layout");
+static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
+static_assert(sizeof(ClientShadingPush) == 84, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
 static_assert(sizeof(VisPushConstants) == 92, "push constants must match the GLSL layout");
 }  // namespace dhr::shader
