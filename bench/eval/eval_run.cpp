@@ -9,6 +9,7 @@
 #include "eval_session.hpp"
 #include "eval_truth.hpp"
 #include "snapshot_crops.hpp"
+#include "render/light_layout.hpp"
 #include "json_writer.hpp"
 #include "pose/trace_pose_source.hpp"
 #include "vk/context.hpp"
@@ -155,7 +156,9 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
 
     std::vector<FramePose> history;
     const uint64_t total = warmup + frames;
-    SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), &history, total};
+    const uint32_t soft_lights = render::soft_light_mask(render::layout_for_lights(
+        std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights))));
+    SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), soft_lights, &history, total};
     std::vector<std::unique_ptr<SettingSession>> sessions;
     for (const Setting& s : settings) {
       sessions.push_back(std::make_unique<SettingSession>(s, options, shared));

@@ -83,6 +83,7 @@ struct SessionShared {
   EyeRenderer* renderer = nullptr;
   Extent eye;
   uint32_t light_count = 0;
+  uint32_t soft_lights = 0;  // bit i: light i has an extent (the client offers soft levels for them)
   const std::vector<FramePose>* history = nullptr;  // every frame so far, index = frame
   size_t frames_total = 0;                          // frames the run plays (the planner's history holds them all)
 };

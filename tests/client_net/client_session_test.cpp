@@ -147,9 +147,9 @@ TEST(ClientSession, WelcomeThatDoesNotFitTheHelloFails) {
   EXPECT_NE(h.client.failure().find("guard band"), std::string::npos) << h.client.failure();
 }
 
-// The client does not offer soft levels yet (its warp and shading read one bit per light): a Welcome granting
+// Soft levels: a client whose scene has no light with an extent does not offer them, and a Welcome granting
 // them anyway fails instead of showing level fields as light bits.
-TEST(ClientSession, SoftLevelsAreNotOfferedAndAGrantFails) {
+TEST(ClientSession, SoftLevelsAreNotOfferedWithoutSoftLightsAndAGrantFails) {
   Harness h;
   h.client.tick();
   h.run_for(kMs);
@@ -165,6 +165,34 @@ TEST(ClientSession, SoftLevelsAreNotOfferedAndAGrantFails) {
   EXPECT_FALSE(h.client.connected());
   EXPECT_TRUE(h.client.failed());
   EXPECT_NE(h.client.failure().find("soft levels"), std::string::npos) << h.client.failure();
+}
+
+// A client whose light 0 has an extent offers soft levels and connects when they are granted for exactly that
+// light; a Welcome without them (one bit per light) or for another count fails: the client would read the
+// fields wrongly.
+TEST(ClientSession, SoftLevelsAreOfferedForSoftLightsAndTheGrantMustMatch) {
+  VisibilityClientConfig config = test_config();
+  config.soft_lights = 1u;  // light 0
+  for (const int granted : {1, 0, 2}) {  // soft lights the Welcome grants (0: not granted)
+    SCOPED_TRACE("granted " + std::to_string(granted));
+    Harness h(config);
+    h.client.tick();
+    h.run_for(kMs);
+    const auto hellos = h.received<Hello>();
+    ASSERT_EQ(hellos.size(), 1u);
+    EXPECT_NE(hellos[0].capabilities & kCapabilitySoftLevels, 0u);
+    Welcome w = h.welcome_for(hellos[0].client_nonce);
+    ASSERT_GE(w.light_count, 2u);
+    if (granted > 0) w.capabilities |= kCapabilitySoftLevels;
+    w.soft_light_count = static_cast<uint8_t>(granted);
+    w.mask_bits = mask_width_for_light_count(w.used_mask_bits());
+    h.server_send(w);
+    h.run_for(kMs);
+    EXPECT_EQ(h.client.connected(), granted == 1) << h.client.failure();
+    if (granted != 1) {
+      EXPECT_NE(h.client.failure().find("soft"), std::string::npos) << h.client.failure();
+    }
+  }
 }
 
 // A client that renders the scene with hash 0x1111222233334444, answered by a Welcome naming `server_hash`.

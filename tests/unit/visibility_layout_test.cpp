@@ -44,6 +44,10 @@ TEST(VisibilityLayout, SoftLightsHoldEveryLevelInGrayCode) {
   }
   EXPECT_EQ(layout.visibility(layout.with_visibility(0, 1, 0.0f), 1), 0.0f);
   EXPECT_EQ(layout.visibility(layout.with_visibility(0, 1, 1.0f), 1), 1.0f);
+  const uint32_t lit = layout.all_lit();
+  for (uint32_t i = 0; i < 3; ++i) EXPECT_EQ(layout.visibility(lit, i), 1.0f) << i;
+  EXPECT_EQ(lit & ~layout.used_bits(), 0u);
+  EXPECT_EQ(VisibilityLayout::hard(3).all_lit(), 7u);
 }
 
 TEST(VisibilityLayout, SoftLightsThatDoNotFitTakeOneBit) {

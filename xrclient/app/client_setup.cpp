@@ -23,7 +23,7 @@ Scene load_client_scene(const ClientOptions& options) {
 }
 
 std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard,
-                                                       uint64_t scene_hash) {
+                                                       uint64_t scene_hash, uint32_t soft_lights) {
   std::string host;
   uint16_t port = 0;
   if (!net::split_host_port(options.server, host, port)) {
@@ -36,6 +36,7 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
     if (!config.key) throw InputError("--key-file: " + error);
   }
   config.scene_hash = scene_hash;
+  config.soft_lights = soft_lights;
   config.format = TracedFormat{eye, guard};
   config.codec_v2 = options.codec_v2;
   config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);

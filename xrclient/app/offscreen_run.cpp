@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "app/client_setup.hpp"
+#include "render/light_layout.hpp"
 #include "app/run_modes.hpp"
 #include "traces/pose_trace.hpp"
 #include "traces/eye_model.hpp"
@@ -57,7 +58,8 @@ int run_offscreen(const ClientOptions& options) {
 
   const Extent eye = options.eye_size;
   const GuardBand guard = options.guard.value_or(default_guard_band(eye));
-  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene));
+  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene),
+                                                                       render::soft_light_mask(render::layout_for_lights(scene.lights)));
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
 
   FrameCoordinator coordinator(*context, client_scene, eye, source, coordinator_options(options));

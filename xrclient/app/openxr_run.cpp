@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "app/client_setup.hpp"
+#include "render/light_layout.hpp"
 #include "app/run_modes.hpp"
 #include "traces/eye_model.hpp"
 #include "frame/frame_coordinator.hpp"
@@ -59,7 +60,8 @@ int run_openxr(const ClientOptions& options) {
   headset->frame_loop().set_image_extent({eye.width, eye.height});
   const render::ClientScene client_scene(vulkan, scene);
   const GuardBand guard = options.guard.value_or(default_guard_band(eye));
-  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene));
+  const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene),
+                                                                       render::soft_light_mask(render::layout_for_lights(scene.lights)));
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
 
   CoordinatorOptions frame_options = coordinator_options(options);

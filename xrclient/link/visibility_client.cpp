@@ -101,9 +101,9 @@ void VisibilityClient::send_hello(int64_t now) {
   hello.guard_y = static_cast<uint16_t>(config_.format.guard.y);
   hello.light_count_wanted = config_.light_count_wanted;
   hello.scene_id = config_.scene_id;
-  // Not kCapabilitySoftLevels: the client offers soft levels once its warp and shading read level fields; until
-  // then the server sends one bit per light (a soft light traced to its centre).
-  hello.capabilities = kCapabilityLz4RowShards | (config_.codec_v2 ? kCapabilityCodecV2 : 0u);
+  // Soft levels: offered when the scene has lights with an extent, whose fields the client shades from levels.
+  hello.capabilities = kCapabilityLz4RowShards | (config_.codec_v2 ? kCapabilityCodecV2 : 0u) |
+                       (config_.soft_lights != 0 ? kCapabilitySoftLevels : 0u);
   last_hello_ns_ = now;
   if (send(hello, 0)) ++stats_.hellos_sent;
 }

@@ -62,6 +62,10 @@ struct VisibilityClientConfig {
   // another scene fails the client for good (ClientFailure::kSceneMismatch). std::nullopt: not checked.
   std::optional<uint64_t> scene_hash;
   bool codec_v2 = true;            // offer codec v2 (the server decides; v1 is always offered)
+  // Bit i: this client's light i has an extent (render::soft_light_mask of the scene's VisibilityLayout). Non-zero:
+  // soft levels are offered, and the Welcome must grant them for exactly the soft lights among the lights it sends
+  // (the client shades those lights from level fields; one bit per light would be read as levels).
+  uint32_t soft_lights = 0;
   int64_t hello_retry_ns = 250 * net::kNsPerMs;
   int64_t hello_give_up_ns = 5 * net::kNsPerSecond;
   // Offline mode: past hello_give_up_ns keep sending Hello, the interval doubling from hello_retry_ns up to

@@ -3,6 +3,7 @@
 #include "log/log.hpp"
 #include "link/visibility_client.hpp"
 
+#include <bit>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -129,8 +130,18 @@ void VisibilityClient::handle_welcome(const Datagram& datagram, int64_t now) {
   }
   if ((w.capabilities & kCapabilityCodecV2) && !config_.codec_v2)
     return fail("the server granted codec v2, which this client did not offer");
-  if (w.capabilities & kCapabilitySoftLevels)
+  // The soft lights among those the server sends: the client's layout must be the server's.
+  const uint32_t sent = w.light_count >= 32 ? 0xFFFFFFFFu : (1u << w.light_count) - 1u;
+  const auto soft_sent = static_cast<uint32_t>(std::popcount(config_.soft_lights & sent));
+  if ((w.capabilities & kCapabilitySoftLevels) && config_.soft_lights == 0)
     return fail("the server granted soft levels, which this client did not offer");
+  if ((w.capabilities & kCapabilitySoftLevels) && w.soft_light_count != soft_sent)
+    return fail("the server sends levels for " + std::to_string(w.soft_light_count) + " soft lights, this scene has " +
+                std::to_string(soft_sent) + " among its first " + std::to_string(w.light_count));
+  if (!(w.capabilities & kCapabilitySoftLevels) && soft_sent > 0)
+    return fail("the server sends one bit per light, but " + std::to_string(soft_sent) +
+                " of this scene's lights have an extent, which this client shades from levels (a server with "
+                "--soft-levels off or an older one)");
   if (w.format().display != config_.format.display)
     return fail("the server's buffer " + std::to_string(w.buffer_width) + "x" + std::to_string(w.buffer_height) +
                 " is not the eye size " + std::to_string(config_.format.display.width) + "x" +

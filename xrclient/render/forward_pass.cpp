@@ -179,10 +179,10 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   }
   ClientWarpParams params = make_warp_params(display, out.visibility_used ? &in->traced : nullptr, frame.near_plane);
   for (size_t s = 0; s < kClientWarpSourceCount; ++s) params.source[s] = make_warp_source(display, s == 0 && out.visibility_used ? &in->traced : nullptr);
+  params.unknown_mask = unknown_mask(out.visibility_used ? in->buffer : nullptr, frame.lights);
   const vk::Image* traced_depth = &placeholder_atlas_;
   if (out.visibility_used) {
     slot.source.upload(*context_, display, *in, params.source[0]);
-    params.unknown_mask = unknown_mask(in->buffer);
     if (mode == ForwardMode::kServerEdges && frame.traced_depth != nullptr) {
       const WarpSettings& test = frame.depth_test;
       const Extent depth_extent = depth_camera(in->traced, test.depth_scale).extent;

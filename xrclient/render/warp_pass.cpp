@@ -161,7 +161,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
       params.source[s].depth_scale = settings.depth_scale;
     }
   }
-  if (usable[0]) params.unknown_mask = unknown_mask(own->buffer);
+  params.unknown_mask = unknown_mask(usable[0] ? own->buffer : nullptr, frame.lights);
 
   const vk::Image* atlas = &placeholder_depth_;
   if (shadows) {

@@ -1,5 +1,7 @@
 #include "render/warp_reference.hpp"
 
+#include "render/light_layout.hpp"
+
 #include <algorithm>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -105,8 +107,10 @@ bool same_eye(const Camera& display, const Camera& traced) {
   return glm::length(display.T_world_eye.position - traced.T_world_eye.position) <= 1e-9;
 }
 
-uint32_t unknown_mask(const VisibilityBuffer* visibility) {
-  return visibility != nullptr ? visibility->light_bits() : 0xFFFFFFFFu;
+uint32_t unknown_mask(const VisibilityBuffer* visibility, std::span<const SceneLight> lights) {
+  const uint32_t all = visibility != nullptr ? visibility->light_bits() : 0xFFFFFFFFu;
+  const VisibilityLayout layout = layout_for_lights(lights.first(std::min<size_t>(lights.size(), kMaxLights)));
+  return layout.any_soft() ? all & layout.all_lit() : all;
 }
 
 std::optional<std::string> validate_visibility_input(const Camera& traced, const VisibilityBuffer& visibility,
@@ -351,7 +355,7 @@ WarpResult warp_reference(const WarpInput& input) {
       throw std::invalid_argument("warp reference: source " + std::to_string(s) + ": traced depth size");
     }
   }
-  const uint32_t unknown = unknown_mask(sources[0].visibility);
+  const uint32_t unknown = unknown_mask(sources[0].visibility, input.lights);
   WarpResult out;
   out.extent = extent;
   out.masks.assign(n, unknown);

@@ -124,8 +124,9 @@ WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale);
 // Throws std::invalid_argument for scale 0 or above 16.
 Camera depth_camera(const Camera& traced, uint32_t scale);
 
-// Mask for unknown pixels: every light bit of the buffer, all 32 without one.
-uint32_t unknown_mask(const VisibilityBuffer* visibility);
+// Mask for unknown pixels: every light lit. Without soft lights every bit of the buffer, all 32 without one; with
+// them the layout's all-lit mask (a soft field's top level, not all its bits: Gray 0b111 is level 5).
+uint32_t unknown_mask(const VisibilityBuffer* visibility, std::span<const SceneLight> lights);
 
 // Whether `traced` was traced from `display`'s eye position (within 1e-9 m; the warp's kClientSourceSameEye).
 bool same_eye(const Camera& display, const Camera& traced);

@@ -56,6 +56,12 @@ uint32_t VisibilityLayout::used_bits() const {
   return n >= 32 ? 0xFFFFFFFFu : (1u << n) - 1u;
 }
 
+uint32_t VisibilityLayout::all_lit() const {
+  uint32_t mask = 0;
+  for (uint32_t i = 0; i < light_count; ++i) mask = with_visibility(mask, i, 1.0f);
+  return mask;
+}
+
 float VisibilityLayout::visibility(uint32_t mask, uint32_t light) const {
   const uint32_t f = field(mask, light);
   if (!is_soft(light)) return static_cast<float>(f);

@@ -37,6 +37,8 @@ struct VisibilityLayout {
   MaskWidth mask_width() const { return mask_width_for_light_count(total_bits()); }
   // Every bit a mask may have set ((1 << total_bits()) - 1).
   uint32_t used_bits() const;
+  // Every light fully lit: a hard light's bit, the top level's Gray code in a soft field.
+  uint32_t all_lit() const;
   // Light i's field in `mask` (its Gray code for a soft light, the bit for a hard one).
   uint32_t field(uint32_t mask, uint32_t light) const { return (mask >> offset[light]) & ((1u << bits[light]) - 1u); }
   // The share of light i the mask says the point sees: 0 or 1 for a hard light, level / (levels - 1) for a soft

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Soft shadows end to end on the project's own area-light room: dhr-xrclient (offscreen) offers soft levels
+# because two of the scene's lights have an extent, dhr-server grants them and traces their levels, and the
+# client presents every frame from them; against a server with --soft-levels off (one bit per light) the
+# client refuses the session with a reason instead of reading bits as levels.
+# Usage: client_soft_levels_cli.sh DHR_SERVER DHR_XRCLIENT SOURCE_DIR
+set -euo pipefail
+server_exe="$1" client_exe="$2" src="$3"
+tmp="$(mktemp -d)"
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+export DHR_TEST_LIB="$here"
+. "$here/server_lib.sh"
+scene="$src/assets/scenes/default_room_area.gltf"
+trace="$src/assets/traces/synthetic_6dof.csv"
+export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json DHR_LOG=info
+
+run_client() {  # name
+  mkdir -p "$tmp/$1"
+  "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --trace "$trace" \
+    --offscreen "$tmp/$1" --eye-size 96x72 --frames 30 --png-every 0 --connect-timeout 2 >"$tmp/$1.out" 2>"$tmp/$1.err"
+}
+
+mkdir -p "$tmp/server1" "$tmp/server2"
+start_server "$server_exe" "$scene" "$tmp/server1"
+run_client granted || { tail -n 20 "$tmp/granted.err"; echo "FAIL: the soft-levels run"; exit 1; }
+grep -q "3 lights (2 with soft levels)" "$server_tmp/server.log" ||
+  { cat "$server_tmp/server.log"; echo "FAIL: the server did not grant soft levels for 2 lights"; exit 1; }
+python3 - "$tmp/granted.out" <<'PY'
+import json, sys
+s = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])
+assert s["exit"] == "clean", s
+assert s["frames_with_visibility"] >= 25, s  # all but the frames before the first buffer
+print("soft levels granted: %d of %d frames from the server" % (s["frames_with_visibility"], s["frames"]))
+PY
+stop_server
+server_pid=""
+
+start_server "$server_exe" "$scene" "$tmp/server2" --soft-levels off
+if run_client refused; then echo "FAIL: the client accepted one bit per light for soft lights"; exit 1; fi
+grep -q "have an extent" "$tmp/refused.err" || { tail -n 5 "$tmp/refused.err"; echo "FAIL: no reason given"; exit 1; }
+echo "soft levels refused by the server: the client says $(grep -o 'one bit per light[^(]*' "$tmp/refused.err" | head -n1)"
+rm -rf "$tmp"
+echo "PASS"
