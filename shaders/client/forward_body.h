@@ -110,12 +110,16 @@ void main() {
       // saw something else (an occluder since moved out of the way); not used.
       const bool depth_test = (pc.flags & kClientWarpDepthTest) != 0u && (src.flags & kClientSourceHasDepth) != 0u;
       const bool same_ray = samples.centred && (src.flags & kClientSourceSameEye) != 0u;
-      const vec3 p_old = (pc.near_plane / d) * (v3(src.ray0) + centre.x * v3(src.ray_dx) + centre.y * v3(src.ray_dy)) +
-                         v3(src.trans);
-      const vec3 n_old = vec3(src.rot[0] * n.x + src.rot[1] * n.y + src.rot[2] * n.z,
-                              src.rot[3] * n.x + src.rot[4] * n.y + src.rot[5] * n.z,
-                              src.rot[6] * n.x + src.rot[7] * n.y + src.rot[8] * n.z);
-      const float tolerance = pc.plane_tolerance_rel * at.depth_old + pc.plane_tolerance_abs;
+      vec3 p_old = vec3(0.0), n_old = vec3(0.0);
+      float tolerance = 0.0;
+      if (depth_test) {  // dynamically uniform: without the test nothing of it is computed
+        p_old = (pc.near_plane / d) * (v3(src.ray0) + centre.x * v3(src.ray_dx) + centre.y * v3(src.ray_dy)) +
+                v3(src.trans);
+        n_old = vec3(src.rot[0] * n.x + src.rot[1] * n.y + src.rot[2] * n.z,
+                     src.rot[3] * n.x + src.rot[4] * n.y + src.rot[5] * n.z,
+                     src.rot[6] * n.x + src.rot[7] * n.y + src.rot[8] * n.z);
+        tolerance = pc.plane_tolerance_rel * at.depth_old + pc.plane_tolerance_abs;
+      }
       uint masks[4];
       uint used = 0u, rows = 0u;
       for (int k = 0; k < 4; ++k) {
