@@ -177,7 +177,7 @@ TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline
   const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
   const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
   std::vector<float> atlas_storage;
-  const ShadowReference shadow = shadow_reference(ctx(), const_cast<ShadowMaps&>(maps), atlas_storage);
+  const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
 
   WarpInput in;
   in.depth = fwd.depth;

@@ -41,19 +41,6 @@ Scene area_room() {
   return *loaded.scene;
 }
 
-// The maps read back for the CPU reference (atlas storage owned by the caller).
-ShadowReference read_back(vk::Context& ctx, const ShadowMaps& maps, std::vector<float>& storage) {
-  vk::Image& atlas = const_cast<ShadowMaps&>(maps).atlas();
-  storage.resize(size_t{atlas.width()} * atlas.height());
-  vk::read_image(ctx, atlas, storage.data(), storage.size() * sizeof(float));
-  ShadowReference ref;
-  ref.atlas = storage;
-  ref.face_size = maps.face_size();
-  ref.tiles = maps.tiles();
-  ref.settings = maps.settings();
-  return ref;
-}
-
 uint32_t level(const VisibilityLayout& layout, uint32_t mask, uint32_t light) {
   return gray_decode(layout.field(mask, light));
 }
@@ -95,7 +82,7 @@ TEST_P(ClientPcssRooms, GpuLookupEqualsTheCpuReferenceOnTheAreaRoom) {
     normals[i] = glm::vec3(raw_normals[i * 4], raw_normals[i * 4 + 1], raw_normals[i * 4 + 2]);
   }
   std::vector<float> storage;
-  const ShadowReference ref = read_back(ctx(), maps, storage);
+  const ShadowReference ref = forward_test::shadow_reference(ctx(), maps, storage);
   WarpInput in;
   in.depth = depth;
   in.normals = normals;
@@ -196,7 +183,7 @@ std::vector<uint32_t> floor_levels(vk::Context& ctx, const SceneLight& light, do
   const ClientScene gpu_scene(ctx, scene);
   const ShadowMaps maps(ctx, gpu_scene);
   std::vector<float> storage;
-  const ShadowReference ref = read_back(ctx, maps, storage);
+  const ShadowReference ref = forward_test::shadow_reference(ctx, maps, storage);
   std::vector<uint32_t> levels;
   for (int k = 0; k <= 500; ++k) {
     const glm::dvec3 p(0.005 * k, 0.0, z);

@@ -134,8 +134,8 @@ inline ForwardResult run_forward(vk::Context& ctx, const ClientScene& scene, For
 }
 
 // The client's shadow maps as the CPU reference reads them; `storage` holds the atlas's texels.
-inline ShadowReference shadow_reference(const vk::Context& ctx, ShadowMaps& maps, std::vector<float>& storage) {
-  vk::Image& atlas = maps.atlas();
+inline ShadowReference shadow_reference(const vk::Context& ctx, const ShadowMaps& maps, std::vector<float>& storage) {
+  vk::Image& atlas = const_cast<ShadowMaps&>(maps).atlas();  // read only: read_image takes the image by reference
   storage.resize(size_t{atlas.width()} * atlas.height());
   vk::read_image(ctx, atlas, storage.data(), storage.size() * sizeof(float));
   ShadowReference ref;
