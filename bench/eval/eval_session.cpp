@@ -127,6 +127,18 @@ void ModelledTimeTracer::trace(const Camera& camera, VisibilityBuffer& out, serv
   clock_.add_busy_ns(ns_per_eye_);
 }
 
+void ModelledTimeTracer::trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out,
+                                      server::TraceStats& out_stats) {
+  inner_.trace_lights(camera, lights, out, out_stats);
+  clock_.add_busy_ns(ns_per_eye_);
+}
+
+void ModelledTimeTracer::trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                                      server::TraceStats& out_stats) {
+  inner_.trace_layout(camera, layout, out, out_stats);
+  clock_.add_busy_ns(ns_per_eye_);
+}
+
 bool CountingSender::send_to(std::span<const uint8_t> datagram, const net::PeerAddress& to) {
   DatagramHeader header;
   const bool shard = decode_header(datagram, header) == DecodeError::kNone && header.type == MessageType::kVisibilityShard;

@@ -115,7 +115,12 @@ class ModelledTimeTracer final : public server::VisibilityTracer {
   std::string device_description() const override { return inner_.device_description(); }
   const server::AccelStats& accel_stats() const override { return inner_.accel_stats(); }
   uint32_t light_count() const override { return inner_.light_count(); }
+  std::vector<bool> light_extents() const override { return inner_.light_extents(); }
   void trace(const Camera& camera, VisibilityBuffer& out, server::TraceStats& out_stats) override;
+  // The inner tracer's own subsets and layouts (soft levels sampled as it samples them), each one eye's time.
+  void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, server::TraceStats& out_stats) override;
+  void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                    server::TraceStats& out_stats) override;
 
  private:
   server::VisibilityTracer& inner_;

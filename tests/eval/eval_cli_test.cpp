@@ -351,6 +351,11 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
                 " --frames 4 --eye-size 32x24 --rtt-ms 0 --method full --no-progress " + crop);
     EXPECT_EQ(r.exit_code, 2) << crop << "\n" << r.output;
   }
+  // A scene whose lights have an extent: refused (its truth would be traced to the lights' centres).
+  r = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " + kTrace +
+              " --out " + out.string() + " --frames 4 --eye-size 32x24 --rtt-ms 0 --no-progress");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("does not evaluate soft shadows yet"), std::string::npos) << r.output;
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --eye-size 0x0");
   EXPECT_EQ(r.exit_code, 2);
   r = run_cli("run --scene " + kScene + " --trace /nonexistent.csv --out " + out.string() + " --no-progress");
