@@ -11,6 +11,7 @@
 #define DHR_BILINEAR_WARP_H
 
 #include "shaders/shader_interface.h"
+#include "client/visibility_field.h"
 
 // The old pixels a lookup reads. Nearest (the paper): the one under the lookup; bilinear: the 2x2 around
 // pixel - 0.5 (one of them is the nearest's), sample k at first + (k & 1, k >> 1).
@@ -111,6 +112,32 @@ WarpVote warp_vote(WarpSamples s, uint masks[4], uint used) {
       }
       if (2.0 * set >= total) v.value |= 1u << bit;
     }
+  }
+  return v;
+}
+
+// warp_vote, then each soft field (soft_lights, the first light_count lights' fields) the used samples disagree on
+// takes the bilinear blend of their levels, sum w_k level_k / 7 / sum w_k, quantized to the nearest level: a level
+// is a share of the light, so between two samples it is meaningful to interpolate (a hard bit's vote is not). The
+// field counts as agreed: the blend is the server's answer, not something for the shadow maps to decide.
+WarpVote warp_vote_fields(WarpSamples s, uint masks[4], uint used, uint soft_lights, uint light_count) {
+  WarpVote v = warp_vote(s, masks, used);
+  if (soft_lights == 0u || v.exact) return v;
+  float total = 0.0;
+  for (int k = 0; k < s.count; ++k) total += ((used >> k) & 1u) != 0u ? warp_sample_weight(s, k) : 0.0;
+  uint offset = 0u;
+  for (uint i = 0u; i < light_count; ++i) {
+    const uint bits = field_bits(soft_lights, i);
+    const uint field = ((1u << bits) - 1u) << offset;
+    if (bits > 1u && (~v.agree & field) != 0u) {
+      float blend = 0.0;
+      for (int k = 0; k < s.count; ++k) {
+        if (((used >> k) & 1u) != 0u) blend += warp_sample_weight(s, k) * field_visibility(masks[k], offset, bits);
+      }
+      v.value = (v.value & ~field) | field_from_fraction(blend / total, offset, bits);
+      v.agree |= field;
+    }
+    offset += bits;
   }
   return v;
 }

@@ -144,7 +144,7 @@ void main() {
       } else if (used == 0u) {
         status = kClientStatusDisoccluded;
       } else {
-        const WarpVote vote = warp_vote(samples, masks, used);
+        const WarpVote vote = warp_vote_fields(samples, masks, used, pc.soft_lights, pc.light_count);
         value = vote.value;
         undecided = ~vote.agree & pc.unknown_mask;
       }

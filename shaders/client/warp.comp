@@ -138,7 +138,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     return r;
   }
   r.status = kClientStatusKnown;
-  const WarpVote vote = warp_vote(samples, masks, used);
+  const WarpVote vote = warp_vote_fields(samples, masks, used, pc.soft_lights, pc.light_count);
   r.agree = vote.agree;
   r.value = vote.value;
   r.exact = vote.exact;

@@ -216,7 +216,11 @@ TEST_P(ClientWarpFullRooms, GpuMatchesCpuReferenceWithEveryIngredient) {
       // Shadow lookups add texel and face boundaries to the flips that are excluded (~5 % of the pixels).
       EXPECT_GT(judged, depth.size() * 90 / 100) << "too many decisions near a flip for a meaningful test";
       const WarpCounts counts = eye.read_stats(0).warp;
-      EXPECT_GT(counts.edges_shadow_map, 0u);  // random masks: neighbours disagree everywhere
+      // Random masks: neighbours disagree everywhere. Soft fields blend their levels instead of asking the maps,
+      // and the area room's one hard light is mostly decided by the maps first (shadow_first).
+      if (!layout_for_lights(scene.lights).any_soft()) {
+        EXPECT_GT(counts.edges_shadow_map, 0u);
+      }
       if (move.drop_rows && e == 0) {
         EXPECT_GT(counts.filled_other_eye, 0u);
         EXPECT_GT(counts[WarpStatus::kMissingRow] + counts[WarpStatus::kOutside], 0u);

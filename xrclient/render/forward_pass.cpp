@@ -211,6 +211,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   const std::vector<PackedLight> packed = pack_lights(frame.lights, display.T_world_eye.position);
   if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
   params.light_count = static_cast<uint32_t>(packed.size());
+  params.soft_lights = soft_light_mask(layout_for_lights(frame.lights));  // the fields the bilinear vote blends
   slot.params.write(&params, sizeof(params));
   ClientForwardShading shading{};
   shading.exposure = frame.shading.exposure;

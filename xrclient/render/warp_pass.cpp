@@ -1,5 +1,7 @@
 #include "render/warp_pass.hpp"
 
+#include "render/light_layout.hpp"
+
 #include <algorithm>
 #include <array>
 #include <glm/gtc/quaternion.hpp>
@@ -162,6 +164,9 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     }
   }
   params.unknown_mask = unknown_mask(usable[0] ? own->buffer : nullptr, frame.lights);
+  // The fields the bilinear vote blends (describe_shadow_maps sets the same light count with the maps).
+  params.light_count = static_cast<uint32_t>(std::min<size_t>(frame.lights.size(), kMaxLights));
+  params.soft_lights = soft_light_mask(layout_for_lights(frame.lights.first(params.light_count)));
 
   const vk::Image* atlas = &placeholder_depth_;
   if (shadows) {

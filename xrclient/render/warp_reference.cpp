@@ -263,6 +263,27 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
       if (2.0 * set_weight >= total) r.value |= 1u << bit;
     }
   }
+  // Soft fields the samples disagree on: the bilinear blend of their levels, quantized, agreed
+  // (bilinear_warp.h's warp_vote_fields).
+  const VisibilityLayout layout = layout_for_lights(input.lights.first(std::min<size_t>(input.lights.size(), kMaxLights)));
+  if (layout.any_soft()) {
+    double total = 0.0;
+    for (int k = 0; k < n; ++k) total += (used >> k) & 1u ? weights[k] : 0.0;
+    for (uint32_t i = 0; i < layout.light_count; ++i) {
+      const uint32_t field = ((1u << layout.bits[i]) - 1u) << layout.offset[i];
+      if (!layout.is_soft(i) || (~r.agree & field) == 0) continue;
+      double blend = 0.0;
+      for (int k = 0; k < n; ++k) {
+        if ((used >> k) & 1u) blend += weights[k] * static_cast<double>(layout.visibility(masks[k], i));
+      }
+      blend /= total;
+      // The level flips where blend x 7 crosses a half: a lookup moving by one old pixel moves it by at most 7.
+      const double scaled = blend * (kDefaultSoftLevels - 1);
+      r.margin = std::min(r.margin, std::abs(scaled - std::floor(scaled) - 0.5) / (kDefaultSoftLevels - 1));
+      r.value = layout.with_visibility(r.value, i, static_cast<float>(blend));
+      r.agree |= field;
+    }
+  }
   return r;
 }
 

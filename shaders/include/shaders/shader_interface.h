@@ -264,6 +264,7 @@ struct ClientWarpParams {
   uint light_count;
   uint unknown_mask;     // mask for unfilled pixels: all light bits
   uint flags;            // kClientWarp*
+  uint soft_lights;      // bit i: light i has a soft field (visibility_field.h); the bilinear vote blends its levels
 };
 
 // A light as the warp's shadow lookup sees it: position relative to the display eye (world axes) and the
@@ -379,7 +380,7 @@ static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the G
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientWarpSource) == 136, "ClientWarpSource must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 29, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 30, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 84, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");

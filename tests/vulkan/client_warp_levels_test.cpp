@@ -1,0 +1,130 @@
+// The warp of soft levels (bilinear_warp.h's warp_vote_fields): on the area room (a rect and a sphere light with
+// soft fields, one hard light), with level patterns in the soft fields, the 2x2 lookups blend the samples' levels
+// where they differ. The deferred warp (G-buffer normals) equals the CPU reference on every pixel not within
+// kMargin of a flip, the forward pass on all but a few (interpolated normals in its shadow-map lookups), and the
+// blends are between the samples' levels: a blended field is never outside the range of the four around it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <vector>
+
+#include "forward_test_frame.hpp"
+#include "render/eye_pipeline.hpp"
+#include "render/light_layout.hpp"
+#include "render/shadow_maps.hpp"
+#include "vulkan_test_fixture.hpp"
+
+namespace dhr::render {
+namespace {
+
+using ClientWarpLevelsTest = vk::test::VulkanTest;
+using namespace forward_test;
+
+Scene area_room() {
+  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.gltf").string());
+  if (!loaded) throw std::runtime_error(loaded.error);
+  return *loaded.scene;
+}
+
+VisibilityLayout g_layout;  // the area room's, set before the frame is made
+
+// Levels in blocks of several pixels that step by one to three levels, and a blocky hard bit.
+VisibilityBuffer levels(const Camera& traced, uint32_t) {
+  VisibilityBuffer b = VisibilityBuffer::create(traced.extent.width, traced.extent.height, g_layout.total_bits());
+  for (uint32_t y = 0; y < b.height; ++y) {
+    for (uint32_t x = 0; x < b.width; ++x) {
+      uint32_t m = 0;
+      for (uint32_t i = 0; i < g_layout.light_count; ++i) {
+        const float k = g_layout.is_soft(i) ? static_cast<float>(((x / 5) + (y / 4) * (i + 1)) % 8) / 7.0f
+                                            : static_cast<float>(((x / 8) + (y / 6)) % 2);
+        m = g_layout.with_visibility(m, i, k);
+      }
+      b.set(x, y, m);
+    }
+  }
+  return b;
+}
+
+TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
+  const Scene scene = area_room();
+  g_layout = layout_for_lights(scene.lights);
+  ASSERT_TRUE(g_layout.any_soft());
+  const ClientScene gpu_scene(ctx(), scene);
+  ShadowMaps maps(ctx(), gpu_scene);
+  std::vector<float> atlas_storage;
+  const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
+  const ForwardTestFrame warp(scene, levels, &maps);
+  const WarpSettings settings = WarpSettings::server_edges();
+  const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, warp.frame);
+
+  EyePipelineOptions deferred_options;
+  deferred_options.forward = false;
+  deferred_options.warp_status = true;
+  deferred_options.warp = settings;
+  EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { deferred.record(cmd, 0, warp.view, warp.input, {}, &maps); });
+  const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
+  const std::vector<uint32_t> deferred_status = test::read_pixels<uint32_t>(ctx(), deferred.warp().status);
+
+  WarpInput in;
+  in.depth = fwd.depth;
+  const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
+  in.normals = normals;
+  in.display = warp.frame.display;
+  in.near_plane = kNear;
+  in.sources[0].traced = warp.traced;
+  in.sources[0].visibility = &warp.buffer;
+  in.sources[0].row_valid = warp.input.row_valid;
+  in.settings = settings;
+  in.shadow = &shadow;
+  in.lights = scene.lights;
+  const WarpResult cpu = warp_reference(in);
+
+  size_t compared = 0, ambiguous = 0, deferred_wrong = 0, forward_wrong = 0, blended = 0, outside_range = 0;
+  for (size_t i = 0; i < fwd.depth.size(); ++i) {
+    if (cpu.margin[i] < kMargin) {
+      ++ambiguous;
+      continue;
+    }
+    ++compared;
+    const uint32_t status = static_cast<uint32_t>(cpu.status[i]);
+    if ((deferred_status[i] & 0xFFu) != status || deferred_mask[i] != cpu.masks[i]) {
+      if (++deferred_wrong <= 5) {
+        ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": deferred " << deferred_mask[i]
+                      << ", cpu " << cpu.masks[i] << " (" << to_string(cpu.status[i]) << ")";
+      }
+    }
+    forward_wrong += (fwd.status[i] & shader::kClientForwardStatusMask) != status || fwd.mask[i] != cpu.masks[i];
+    if (cpu.status[i] != WarpStatus::kKnown) continue;
+    // A soft field between the levels of the 2x2 samples around the lookup (the pattern's levels).
+    const glm::dvec2 q = cpu.lookup[i] - glm::dvec2(0.5);
+    const int a0 = static_cast<int>(std::floor(q.x)), b0 = static_cast<int>(std::floor(q.y));
+    for (uint32_t l = 0; l < g_layout.light_count; ++l) {
+      if (!g_layout.is_soft(l)) continue;
+      float lo = 1.0f, hi = 0.0f;
+      for (int k = 0; k < 4; ++k) {
+        const int a = std::clamp(a0 + (k & 1), 0, static_cast<int>(warp.buffer.width) - 1);
+        const int b = std::clamp(b0 + (k >> 1), 0, static_cast<int>(warp.buffer.height) - 1);
+        const float v = g_layout.visibility(warp.buffer.get(static_cast<uint32_t>(a), static_cast<uint32_t>(b)), l);
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+      const float shown = g_layout.visibility(cpu.masks[i], l);
+      if (hi > lo && shown > lo && shown < hi) ++blended;
+      if (shown < lo - 1e-6f || shown > hi + 1e-6f) ++outside_range;
+    }
+  }
+  std::printf("soft levels: %zu compared, %zu ambiguous; %zu fields blended strictly between their samples, %zu "
+              "outside; %zu differ deferred, %zu forward\n",
+              compared, ambiguous, blended, outside_range, deferred_wrong, forward_wrong);
+  EXPECT_EQ(deferred_wrong, 0u);
+  EXPECT_LE(forward_wrong, compared / 200);
+  EXPECT_LT(ambiguous, fwd.depth.size() / 5);
+  EXPECT_GT(blended, compared / 20);  // the test means something: many lookups fall between different levels
+  EXPECT_EQ(outside_range, 0u);
+}
+
+}  // namespace
+}  // namespace dhr::render
