@@ -63,18 +63,11 @@ TEST_F(ClientForwardDepthTest, EqualsTheCpuReferenceAtEveryDepthScale) {
     const std::vector<uint32_t> deferred_status = test::read_pixels<uint32_t>(ctx(), deferred.warp().status);
     const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
 
-    WarpInput in;
-    in.depth = fwd.depth;
+    WarpInput in = warp.reference_input(fwd.depth);
     in.normals = normals;
-    in.display = frame.display;
-    in.near_plane = kNear;
-    in.sources[0].traced = warp.traced;
-    in.sources[0].visibility = &warp.buffer;
-    in.sources[0].row_valid = warp.input.row_valid;
     in.sources[0].traced_depth = traced_depth;
     in.settings = settings;
     in.shadow = &shadow;
-    in.lights = scene.lights;
     const WarpResult cpu = warp_reference(in);
 
     size_t compared = 0, ambiguous = 0, deferred_wrong = 0, forward_wrong = 0;

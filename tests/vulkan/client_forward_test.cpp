@@ -40,8 +40,6 @@ TEST_F(ClientForwardTest, PaperWarpEqualsTheCpuReferenceAndTheDeferredPipeline) 
   const Scene scene = default_room();
   const ClientScene gpu_scene(ctx(), scene);
   const ForwardTestFrame warp(scene, patterned);
-  const Camera& traced = warp.traced;
-  const VisibilityBuffer& buffer = warp.buffer;
   const VisibilityInput& input = warp.input;
   const View& view = warp.view;
   const ForwardFrame& frame = warp.frame;
@@ -57,14 +55,7 @@ TEST_F(ClientForwardTest, PaperWarpEqualsTheCpuReferenceAndTheDeferredPipeline) 
   for (size_t i = 0; i < gdepth.size(); ++i) depth_differs += gdepth[i] != fwd.depth[i] ? 1 : 0;
   EXPECT_EQ(depth_differs, 0u);
 
-  WarpInput in;
-  in.depth = fwd.depth;
-  in.display = frame.display;
-  in.near_plane = kNear;
-  in.sources[0].traced = traced;
-  in.sources[0].visibility = &buffer;
-  in.sources[0].row_valid = input.row_valid;
-  const WarpResult cpu = warp_reference(in);
+  const WarpResult cpu = warp_reference(warp.reference_input(fwd.depth));
   size_t compared = 0, ambiguous = 0, mismatches = 0;
   std::array<uint64_t, kWarpStatusCount> from_image{};
   for (size_t i = 0; i < fwd.depth.size(); ++i) {
@@ -159,8 +150,6 @@ TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline
   const ClientScene gpu_scene(ctx(), scene);
   const ShadowMaps maps(ctx(), gpu_scene);
   const ForwardTestFrame warp(scene, blocky, &maps);  // lost rows: from the shadow maps
-  const Camera& traced = warp.traced;
-  const VisibilityBuffer& buffer = warp.buffer;
   const VisibilityInput& input = warp.input;
   const View& view = warp.view;
   const ForwardFrame& frame = warp.frame;
@@ -179,17 +168,10 @@ TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline
   std::vector<float> atlas_storage;
   const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
 
-  WarpInput in;
-  in.depth = fwd.depth;
+  WarpInput in = warp.reference_input(fwd.depth);
   in.normals = normals;
-  in.display = frame.display;
-  in.near_plane = kNear;
-  in.sources[0].traced = traced;
-  in.sources[0].visibility = &buffer;
-  in.sources[0].row_valid = input.row_valid;
   in.settings = WarpSettings::server_edges();
   in.shadow = &shadow;
-  in.lights = scene.lights;
   const WarpResult cpu = warp_reference(in);
 
   // Where the forward pass took no shadow-map bit, its mask is the server's: equal to the CPU reference and

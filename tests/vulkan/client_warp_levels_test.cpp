@@ -68,18 +68,11 @@ TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
   const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
   const std::vector<uint32_t> deferred_status = test::read_pixels<uint32_t>(ctx(), deferred.warp().status);
 
-  WarpInput in;
-  in.depth = fwd.depth;
   const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
+  WarpInput in = warp.reference_input(fwd.depth);
   in.normals = normals;
-  in.display = warp.frame.display;
-  in.near_plane = kNear;
-  in.sources[0].traced = warp.traced;
-  in.sources[0].visibility = &warp.buffer;
-  in.sources[0].row_valid = warp.input.row_valid;
   in.settings = settings;
   in.shadow = &shadow;
-  in.lights = scene.lights;
   const WarpResult cpu = warp_reference(in);
 
   size_t compared = 0, ambiguous = 0, deferred_wrong = 0, forward_wrong = 0, blended = 0, outside_range = 0;

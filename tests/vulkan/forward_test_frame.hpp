@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -96,6 +97,19 @@ struct ForwardTestFrame {
     frame.lights = scene.lights;
   }
   ForwardTestFrame(const ForwardTestFrame&) = delete;
+  // The CPU reference's input for this frame over the display's `depth`: source 0 and the lights as the frame's
+  // (the caller adds normals, settings and shadow maps where the warp needs them).
+  WarpInput reference_input(std::span<const float> depth) const {
+    WarpInput in;
+    in.depth = depth;
+    in.display = frame.display;
+    in.near_plane = kNear;
+    in.sources[0].traced = traced;
+    in.sources[0].visibility = &buffer;
+    in.sources[0].row_valid = input.row_valid;
+    in.lights = frame.lights;
+    return in;
+  }
   ForwardTestFrame& operator=(const ForwardTestFrame&) = delete;
 
   Camera traced;

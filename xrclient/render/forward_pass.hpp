@@ -136,7 +136,7 @@ class ForwardPass {
   vk::Pipeline cull_none_;
   vk::Sampler sampler_;
   ComputePassCore count_;
-  vk::Image placeholder_atlas_;  // 1x1 D32 without shadow maps
+  vk::Image placeholder_atlas_;  // 1x1 D32 bound without shadow maps, and as the traced depth without one
   std::vector<Slot> slots_;
 };
 

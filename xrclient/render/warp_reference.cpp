@@ -170,8 +170,8 @@ bool on_tangent_plane(const WarpInput& input, const WarpSource& src, int a, int 
   return dist <= tolerance;
 }
 
-SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::dvec3& p_world,
-                     const glm::dvec3& n_world) {
+SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, const WarpSource& src,
+                     const glm::dvec3& p_world, const glm::dvec3& n_world) {
   SourceLookup r;
   if (src.visibility == nullptr) return r;
   const Reprojection rep = reproject(src.traced, p_world, input.min_depth);
@@ -265,7 +265,6 @@ SourceLookup look_up(const WarpInput& input, const WarpSource& src, const glm::d
   }
   // Soft fields the samples disagree on: the bilinear blend of their levels, quantized, agreed
   // (bilinear_warp.h's warp_vote_fields).
-  const VisibilityLayout layout = layout_for_lights(input.lights.first(std::min<size_t>(input.lights.size(), kMaxLights)));
   if (layout.any_soft()) {
     double total = 0.0;
     for (int k = 0; k < n; ++k) total += (used >> k) & 1u ? weights[k] : 0.0;
@@ -377,6 +376,8 @@ WarpResult warp_reference(const WarpInput& input) {
     }
   }
   const uint32_t unknown = unknown_mask(sources[0].visibility, input.lights);
+  // The fields the bilinear vote blends: once per warp, not per lookup.
+  const VisibilityLayout layout = layout_for_lights(input.lights.first(std::min<size_t>(input.lights.size(), kMaxLights)));
   WarpResult out;
   out.extent = extent;
   out.masks.assign(n, unknown);
@@ -396,13 +397,13 @@ WarpResult warp_reference(const WarpInput& input) {
       }
       const glm::dvec3 p = world_point_from_depth(input.display, input.near_plane, x + 0.5, y + 0.5, d);
       const glm::dvec3 nrm = needs_normals ? glm::normalize(glm::dvec3(input.normals[i])) : glm::dvec3(0.0);
-      const SourceLookup own = look_up(input, sources[0], p, nrm);
+      const SourceLookup own = look_up(input, layout, sources[0], p, nrm);
       double margin = own.margin;
       out.status[i] = own.status;
       out.lookup[i] = own.pixel;
       SourceLookup chosen = own;
       if (own.status != WarpStatus::kKnown && sources[1].visibility != nullptr) {
-        const SourceLookup other = look_up(input, sources[1], p, nrm);
+        const SourceLookup other = look_up(input, layout, sources[1], p, nrm);
         margin = std::min(margin, other.margin);
         if (other.status == WarpStatus::kKnown) {
           chosen = other;
@@ -410,7 +411,7 @@ WarpResult warp_reference(const WarpInput& input) {
         }
       }
       if (own.status != WarpStatus::kKnown && out.fill[i] == WarpFill::kNone && sources[2].visibility != nullptr) {
-        const SourceLookup older = look_up(input, sources[2], p, nrm);
+        const SourceLookup older = look_up(input, layout, sources[2], p, nrm);
         margin = std::min(margin, older.margin);
         if (older.status == WarpStatus::kKnown) {
           chosen = older;
