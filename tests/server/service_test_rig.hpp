@@ -16,6 +16,7 @@
 
 #include <map>
 #include <memory>
+#include <string>
 
 namespace dhr::server::test_rig {
 
@@ -26,18 +27,20 @@ struct SharedScene {
   std::unique_ptr<EmbreeTracer> tracer;
 };
 
-inline SharedScene& shared_scene() {
-  static SharedScene* shared = [] {
-    auto* s = new SharedScene;
-    SceneLoadResult loaded = load_scene(test::source_path(kDefaultScenePath));
+// One loaded scene and its tracer per scene file (relative to the source tree), made on first use and kept.
+inline SharedScene& shared_scene(const std::string& path = kDefaultScenePath) {
+  static auto* scenes = new std::map<std::string, std::unique_ptr<SharedScene>>;
+  std::unique_ptr<SharedScene>& slot = (*scenes)[path];
+  if (!slot) {
+    slot = std::make_unique<SharedScene>();
+    SceneLoadResult loaded = load_scene(test::source_path(path));
     if (!loaded) throw std::runtime_error(loaded.error);
-    s->scene = std::move(*loaded.scene);
+    slot->scene = std::move(*loaded.scene);
     TracerOptions options;
     options.threads = 2;
-    s->tracer = std::make_unique<EmbreeTracer>(s->scene, options);
-    return s;
-  }();
-  return *shared;
+    slot->tracer = std::make_unique<EmbreeTracer>(slot->scene, options);
+  }
+  return *slot;
 }
 
 inline std::array<View, 2> bookmark_views(size_t index, double shift_x = 0.0) {
@@ -65,20 +68,26 @@ inline Hello make_hello(uint64_t nonce, uint8_t lights = 0) {
 
 class VisibilityServiceTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    config_.scene_id = "default_room";
-    config_.scene_hash = scene_content_hash(shared_scene().scene);
+  void SetUp() override { serve("default_room", shared_scene(), 42); }
+
+  // The service for `scene` under `scene_id`, with the rig's session limits.
+  void serve(const std::string& scene_id, SharedScene& scene, uint64_t token_seed) {
+    scene_ = &scene;
+    config_.scene_id = scene_id;
+    config_.scene_hash = scene_content_hash(scene.scene);
     config_.max_sessions = 4;
     config_.session_timeout_ns = 5 * net::kNsPerSecond;
     config_.heartbeat_interval_ns = net::kNsPerSecond;
-    config_.token_seed = 42;
+    config_.token_seed = token_seed;
     make_service();
   }
 
   void make_service() {
     service_.reset();
-    service_ = std::make_unique<VisibilityService>(*shared_scene().tracer, config_, link_, clock_);
+    service_ = std::make_unique<VisibilityService>(*scene_->tracer, config_, link_, clock_);
   }
+
+  SharedScene* scene_ = nullptr;  // what serve() serves
 
   static net::PeerAddress peer(uint8_t i, uint16_t port = 5000) { return net::PeerAddress::ipv4({10, 0, 0, i}, port); }
 

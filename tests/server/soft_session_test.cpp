@@ -13,24 +13,7 @@ using namespace test_rig;
 
 constexpr const char* kAreaScene = "assets/scenes/default_room_area.gltf";
 
-struct AreaShared {
-  Scene scene;
-  std::unique_ptr<EmbreeTracer> tracer;
-};
-
-AreaShared& area_shared() {
-  static AreaShared* shared = [] {
-    auto* s = new AreaShared;
-    SceneLoadResult loaded = load_scene(test::source_path(kAreaScene));
-    if (!loaded) throw std::runtime_error(loaded.error);
-    s->scene = std::move(*loaded.scene);
-    TracerOptions options;
-    options.threads = 2;
-    s->tracer = std::make_unique<EmbreeTracer>(s->scene, options);
-    return s;
-  }();
-  return *shared;
-}
+SharedScene& area_shared() { return shared_scene(kAreaScene); }
 
 std::array<View, 2> area_views(size_t index) {
   std::string error;
@@ -43,19 +26,7 @@ std::array<View, 2> area_views(size_t index) {
 
 class SoftSessionTest : public VisibilityServiceTest {
  protected:
-  void SetUp() override {
-    config_.scene_id = "default_room_area";
-    config_.scene_hash = scene_content_hash(area_shared().scene);
-    config_.max_sessions = 4;
-    config_.session_timeout_ns = 5 * net::kNsPerSecond;
-    config_.heartbeat_interval_ns = net::kNsPerSecond;
-    config_.token_seed = 7;
-    make_area_service();
-  }
-  void make_area_service() {
-    service_.reset();
-    service_ = std::make_unique<VisibilityService>(*area_shared().tracer, config_, link_, clock_);
-  }
+  void SetUp() override { serve("default_room_area", area_shared(), 7); }
 
   // Hello with `capabilities` -> Welcome; a pose from bookmark `view` traced and reassembled.
   Welcome connect_and_trace(uint32_t capabilities, uint8_t lights, size_t view, std::array<VisibilityBuffer, 2>& out,
@@ -96,7 +67,7 @@ uint32_t soft_count(const VisibilityLayout& layout) {
 
 TEST_F(SoftSessionTest, OfferedSoftLevelsAreGrantedAndArriveAsTraced) {
   for (const uint32_t codec : {0u, kCapabilityCodecV2}) {
-    make_area_service();
+    make_service();
     std::array<VisibilityBuffer, 2> got;
     std::array<View, 2> views;
     const Welcome w = connect_and_trace(kCapabilityLz4RowShards | codec | kCapabilitySoftLevels, 0, 0, got, views);
@@ -140,7 +111,7 @@ TEST_F(SoftSessionTest, WithoutTheCapabilityTheLayoutIsExactlyHard) {
 
 TEST_F(SoftSessionTest, ServerWithSoftLevelsOffGrantsNone) {
   config_.soft_levels = false;
-  make_area_service();
+  make_service();
   std::array<VisibilityBuffer, 2> got;
   std::array<View, 2> views;
   const Welcome w = connect_and_trace(kCapabilityLz4RowShards | kCapabilitySoftLevels, 0, 0, got, views);
@@ -154,7 +125,7 @@ TEST_F(SoftSessionTest, ServerWithSoftLevelsOffGrantsNone) {
 TEST_F(SoftSessionTest, GrantFollowsTheRequestedLights) {
   const uint32_t n = area_shared().tracer->light_count();
   for (uint32_t k = 1; k <= n; ++k) {
-    make_area_service();
+    make_service();
     Hello h = make_hello(20 + k, static_cast<uint8_t>(k));
     h.capabilities = kCapabilityLz4RowShards | kCapabilitySoftLevels;
     const net::PeerAddress from = peer(2);
