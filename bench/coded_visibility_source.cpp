@@ -1,5 +1,6 @@
 #include "coded_visibility_source.hpp"
 
+#include "bench_timing.hpp"
 #include "codec/codec_v2.hpp"
 
 #include <chrono>
@@ -10,13 +11,6 @@
 #include <utility>
 
 namespace dhr::bench {
-namespace {
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
 
 double thread_cpu_ms() {
   timespec t{};
@@ -25,7 +19,10 @@ double thread_cpu_ms() {
 }
 
 CodedVisibilitySource::CodedVisibilitySource(server::VisibilityTracer& tracer, const TracedFormat& format)
-    : tracer_(&tracer), format_(format), light_count_(tracer.light_count()) {}
+    : tracer_(&tracer),
+      format_(format),
+      light_count_(tracer.light_count()),
+      layout_(server::layout_for_lights(tracer.light_extents(), tracer.light_count())) {}
 
 std::optional<client::VisibilityFormat> CodedVisibilitySource::format() const {
   return client::VisibilityFormat{format_, light_count_, 0};
@@ -41,7 +38,7 @@ void CodedVisibilitySource::send_pose(const FramePose& pose) {
     const Camera camera = format_.camera(pose.views[e]);
     VisibilityBuffer buffer;
     server::TraceStats trace_stats;
-    tracer_->trace(camera, buffer, trace_stats);
+    tracer_->trace_layout(camera, layout_, buffer, trace_stats);  // as a session granted soft levels traces
     V2Reference reference;
     reference.buffer = &eye.traced;
     reference.current_camera = &camera;
@@ -73,14 +70,15 @@ bool CodedVisibilitySource::take_newest(uint32_t e, VisibilityFrame& out) {
   const Extent size = format_.buffer();
   // Allocated before the clock starts: the client's reassembler holds its frames' storage across frames.
   VisibilityFrame frame;
-  frame.buffer = VisibilityBuffer::create(size.width, size.height, light_count_);
+  frame.buffer = VisibilityBuffer::create(size.width, size.height, layout_.total_bits());
   const bool has_reference = eye.decoded.width == size.width && eye.decoded.height == size.height;
   size_t bytes = 0;
   const auto decode_start = std::chrono::steady_clock::now();
   for (const EncodedShard& shard : coded.shards) {
     const std::span<const uint8_t> payload(shard.payload);
     const DecodeError error = decode_shard_payload_v2(payload, shard.first_pixel, shard.pixel_count, size.width,
-                                                      size.height, light_count_, has_reference ? &eye.decoded : nullptr,
+                                                      size.height, layout_.total_bits(),
+                                                      has_reference ? &eye.decoded : nullptr,
                                                       std::span<uint8_t>(frame.buffer.data));
     if (error != DecodeError::kNone) {
       throw std::runtime_error("codec v2 could not decode frame " + std::to_string(coded.frame_number));

@@ -8,6 +8,7 @@
 #include "codec/codec.hpp"
 #include "frame/visibility_source.hpp"
 #include "trace/visibility_tracer.hpp"
+#include "visibility/visibility_layout.hpp"
 
 #include <array>
 #include <cstdint>
@@ -56,6 +57,7 @@ class CodedVisibilitySource final : public client::VisibilitySource {
   server::VisibilityTracer* tracer_;
   TracedFormat format_;
   uint32_t light_count_;
+  VisibilityLayout layout_;  // the scene's, soft levels included: what a client offering them receives
   std::array<EyeState, 2> eyes_;
   client::VisibilitySourceStats stats_;
   std::vector<double> decode_ms_;
