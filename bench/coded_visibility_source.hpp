@@ -1,5 +1,6 @@
-// client_bench's visibility for `--warp full`: what a server sends at 90 Hz, without a network. Each pose the
-// client's frame loop sends is traced for both eyes (Embree) and coded with codec v2 against that eye's previous
+// client_bench's visibility for its frame loops: what a server sends at 90 Hz, without a network. Each pose the
+// client's frame loop sends is traced for both eyes (Embree, in the scene's layout: soft levels where lights have
+// an extent) and coded with codec v2 against that eye's previous
 // frame, as the server codes against an acknowledged one; the frame loop takes it one frame later (p = 1), when
 // it is decoded with the client's decoder (decode_shard_payload_v2, shard by shard, against the eye's previous
 // decoded frame, as the reassembler does). Tracing and encoding are not the client's work and are not timed;
