@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace dhr {
@@ -137,6 +138,41 @@ TEST(ProtocolRobustness, PoseValuesAreValidated) {
   p.views[0].pose.position = {123456.789012345, -0.000001, 987654.3210987};
   ASSERT_EQ(decode_datagram(encode_datagram(Datagram{kToken, 0, p}), out), DecodeError::kNone);
   EXPECT_EQ(std::get<PoseUpdate>(out.message).views[0].pose.position, p.views[0].pose.position);
+}
+
+// A view computed in f64 (a predicted one) is not what the receiver decodes; view_as_decoded() is, bit for
+// bit, for PoseUpdate and VisibilityShard alike, and refuses what decoding refuses.
+TEST(ProtocolRobustness, ViewAsDecodedIsWhatTheReceiverHolds) {
+  View view;
+  view.pose.position = {0.3067, 1.6380, 1.3468};
+  view.pose.orientation = glm::normalize(glm::dquat(0.9706914, -0.2318, 0.0613, 0.0189));  // not f32 values
+  view.fov = Fov{-0.8f, 0.75f, 0.7f, -0.72f};
+  const std::optional<View> decoded = view_as_decoded(view);
+  ASSERT_TRUE(decoded.has_value());
+  EXPECT_NE(decoded->pose.orientation, view.pose.orientation);  // the wire's f32 changed it
+  PoseUpdate pose = std::get<PoseUpdate>(sample_datagrams()[2].message);
+  pose.views = {view, view};
+  Datagram out;
+  ASSERT_EQ(decode_datagram(encode_datagram(Datagram{kToken, 0, pose}), out), DecodeError::kNone);
+  for (const View& v : std::get<PoseUpdate>(out.message).views) {
+    EXPECT_EQ(v.pose.position, decoded->pose.position);
+    EXPECT_EQ(v.pose.orientation, decoded->pose.orientation);
+    EXPECT_EQ(v.fov.angle_left, decoded->fov.angle_left);
+    EXPECT_EQ(v.fov.angle_down, decoded->fov.angle_down);
+  }
+  for (const Datagram& d : sample_datagrams()) {
+    if (!std::holds_alternative<VisibilityShard>(d.message)) continue;
+    Datagram shard = d;
+    std::get<VisibilityShard>(shard.message).view = view;
+    ASSERT_EQ(decode_datagram(encode_datagram(shard), out), DecodeError::kNone);
+    EXPECT_EQ(std::get<VisibilityShard>(out.message).view.pose.orientation, decoded->pose.orientation);
+  }
+  View bad = view;
+  bad.pose.position.x = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(view_as_decoded(bad).has_value());
+  bad = view;
+  bad.fov.angle_right = 1.6f;
+  EXPECT_FALSE(view_as_decoded(bad).has_value());
 }
 
 TEST(ProtocolRobustness, OtherFieldRangesAreValidated) {

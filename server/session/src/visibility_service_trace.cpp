@@ -139,8 +139,17 @@ bool VisibilityService::trace_and_send(const Work& work) {
   // Each worker thread its own scratch (the session's requested lights only): no allocation in steady state.
   thread_local VisibilityBuffer scratch;
   for (int e = 0; e < 2 && ok; ++e) {
+    // Traced for the view the client will decode from the shards, which carry `view`: with a predicted view
+    // (f64 orientation) that is not `view` itself, and the client would check bits against another camera.
     const View& view = work.traced.views[e];
-    const Camera camera = format.camera(view);
+    const std::optional<View> decoded = view_as_decoded(view);
+    if (!decoded) {
+      log::warn("session %016llx frame %llu: no client would accept the view to trace (predicted out of range)",
+                static_cast<unsigned long long>(s.token), static_cast<unsigned long long>(work.traced.frame));
+      ok = false;
+      break;
+    }
+    const Camera camera = format.camera(*decoded);
     TraceStats trace_stats;
     try {
       // Only the lights the client asked for (the layout's, the first light_count): the others cost no ray.

@@ -139,4 +139,16 @@ DecodeError decode_datagram(std::span<const uint8_t> bytes, Datagram& out) {
   return decode_body(header.type, r, out);
 }
 
+std::optional<View> view_as_decoded(const View& view) {
+  std::array<uint8_t, kViewWireSize> bytes{};
+  ByteWriter w(bytes);
+  wire::write_fields(w, wire::kViewFields, view);
+  ByteReader r(bytes);
+  View out;
+  size_t unused = 0;
+  wire::read_fields(r, wire::kViewFields, out, unused);
+  if (!w.ok() || !r.ok() || wire::check_nested(out) != DecodeError::kNone) return std::nullopt;
+  return out;
+}
+
 }  // namespace dhr

@@ -178,6 +178,13 @@ DecodeError decode_header(std::span<const uint8_t> bytes, DatagramHeader& out);
 // Poses are validated (finite, unit quaternion within tolerance, position range) and renormalized.
 DecodeError decode_datagram(std::span<const uint8_t> bytes, Datagram& out);
 
+// The view exactly as a receiver decodes `view` from a message that carries it (orientation rounded to the
+// wire's f32 and renormalized, as decode_datagram does); std::nullopt when no receiver would accept it. A
+// sender that traces for a view it computed itself (a predicted one) traces this one and sends `view`: the
+// receiver then holds the very view the bits were traced for. Not idempotent in general (the rounding of a
+// renormalized quaternion need not give back the same floats), so round-trip the view that is sent, once.
+std::optional<View> view_as_decoded(const View& view);
+
 // Fuzz-friendly entry point, same as decode_datagram.
 inline DecodeError decode_datagram(const uint8_t* data, size_t size, Datagram& out) {
   return decode_datagram(std::span<const uint8_t>(data, size), out);
