@@ -319,6 +319,37 @@ TEST(SoftVisibility, PunctualLightsGiveTheHardTracersBits) {
   }
 }
 
+// The shipped pattern (kPerLight) samples the same points of the light from every pixel, so a penumbra's levels
+// change along contours: across a straight edge under a rect light the fraction only grows, point by point (a
+// sample's ray clears the edge once and stays clear), adaptive stops included. kPerPixel scrambles per pixel.
+TEST(SoftVisibility, PerLightPatternGivesMonotonePenumbraAcrossAnEdge) {
+  const Scene scene = floor_scene([](Scene& s) {
+    add_grid(s, {-10, 2, 10}, {10, 0, 0}, {0, 0, -20}, 2, test::kDoubleSided);  // hides x < 0 at y = 2
+    s.lights = {rect_light({0, 4, 0}, 1.0f, 0.5f)};
+  });
+  const auto es = EmbreeScene::create(scene);
+  const SampledLight light = make_sampled_light(scene.lights[0], es->origin());
+  const SoftOptions shipped;
+  ASSERT_EQ(shipped.pattern, SoftPattern::kPerLight);
+  EXPECT_EQ(shipped.seed(3, 4, 0), shipped.seed(5, 6, 0));
+  EXPECT_NE(shipped.seed(3, 4, 0), shipped.seed(3, 4, 1));
+  SoftOptions per_pixel;
+  per_pixel.pattern = SoftPattern::kPerPixel;
+  EXPECT_NE(per_pixel.seed(3, 4, 0), per_pixel.seed(5, 6, 0));
+  float previous = 0.0f;
+  size_t partial = 0;
+  for (int i = 0; i <= 300; ++i) {
+    const double x = -1.5 + 0.01 * i;
+    const float k = soft_visibility(*es, light, floor_hit(*es, {x, 0, 0}), shipped.seed(static_cast<uint32_t>(i), 0, 0),
+                                    shipped).fraction;
+    EXPECT_GE(k, previous) << "x " << x;
+    if (k > 0.0f && k < 1.0f) ++partial;
+    previous = k;
+  }
+  EXPECT_EQ(previous, 1.0f);
+  EXPECT_GT(partial, 20u);  // the penumbra is about 1 m wide here: many points see part of the light
+}
+
 TEST(SoftVisibility, SequencePrefixesAreStratifiedAndSeedsDiffer) {
   for (uint32_t seed : {0u, 1u, 12345u, soft_seed(3, 4, 5)}) {
     // A (0,k,2)-net: the first 2^k points put one point in each cell of every 2^a x 2^(k-a) grid.

@@ -12,7 +12,7 @@ void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const T
   for (uint32_t li : soft.active)
     for (size_t h = 0; h < hits; ++h)
       batch.push_back({&(*soft.sampled)[li], &scratch.hits[h],
-                       soft_seed(scratch.hit_pixels[h].x, scratch.hit_pixels[h].y, li, soft.sampling.salt), {}});
+                       soft.sampling.seed(scratch.hit_pixels[h].x, scratch.hit_pixels[h].y, li), {}});
   soft_visibility_batch(*frame.scene, batch, soft.sampling, soft_scratch.soft);
   size_t k = 0;
   for (uint32_t li : soft.active) {

@@ -81,7 +81,7 @@ SoftStats trace_soft_image(const EmbreeScene& scene, std::span<const SceneLight>
         for (uint32_t li : frame.active_lights)
           for (size_t h = 0; h < s.hits.size(); ++h)
             batch.push_back({&sampled[li], &s.hits[h],
-                             soft_seed(s.hit_pixels[h].x, s.hit_pixels[h].y, li, options.sampling.salt), {}});
+                             options.sampling.seed(s.hit_pixels[h].x, s.hit_pixels[h].y, li), {}});
         soft_visibility_batch(scene, batch, options.sampling, soft_scratch[worker]);
         size_t k = 0;
         for (uint32_t li : frame.active_lights) {

@@ -1,7 +1,7 @@
 // Fractional (soft) visibility for a whole image: per pixel and light the fraction of the light the pixel's
 // surface point sees, and its quantized level. Primary rays and surface points are the hard tracer's
 // (embree_trace_tile.hpp's trace_primary_tile), the work split is its tile pool (tile_pool.hpp), and each
-// pixel-light pair is soft_visibility (soft_visibility.hpp) with the seed soft_seed(x, y, light, salt): each
+// pixel-light pair is soft_visibility (soft_visibility.hpp) with the seed SoftOptions::seed(x, y, light): each
 // pixel's result depends only on its own rays, so the image is identical for any thread count and run.
 // Not (yet) behind VisibilityTracer or on the wire.
 #pragma once
