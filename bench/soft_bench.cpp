@@ -54,6 +54,7 @@ struct Options {
   bool rect = false;
   bool check = true;
   bool quick = false;
+  server::SoftPattern pattern = server::SoftPattern::kPerLight;  // of the measured runs; references are per pixel
 };
 
 double round4(double v) { return std::round(v * 10000.0) / 10000.0; }
@@ -66,7 +67,8 @@ void emit(const Json& j) {
 int usage(FILE* to = stderr) {
   std::fprintf(to,
                "usage: soft_bench [--scene PATH] [--size WxH] [--bookmarks N] [--threads N] [--repeat N] "
-               "[--initial N] [--max N] [--ref N] [--radius M] [--sun-angle RAD] [--rect] [--no-check] [--quick]\n");
+               "[--initial N] [--max N] [--ref N] [--radius M] [--sun-angle RAD] [--pattern per-light|per-pixel] [--rect] "
+               "[--no-check] [--quick]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
@@ -105,6 +107,8 @@ bool parse_args(int argc, char** argv, Options& o) {
     } else if (a == "--radius") {
       o.radius = std::atof(v.c_str());
       if (!(o.radius > 0.0)) return false;
+    } else if (a == "--pattern" && (v == "per-light" || v == "per-pixel")) {
+      o.pattern = v == "per-light" ? server::SoftPattern::kPerLight : server::SoftPattern::kPerPixel;
     } else if (a == "--sun-angle") {
       o.sun_angle = std::atof(v.c_str());
       if (!(o.sun_angle > 0.0 && o.sun_angle < 1.0)) return false;
@@ -227,11 +231,11 @@ int run_bench(const Options& o, unsigned threads) {
   to.threads = threads;
   server::EmbreeTracer hard(punctual, to);  // its Embree scene serves the soft runs too (same geometry)
   const server::EmbreeScene& es = hard.embree_scene();
-  const server::SoftOptions adaptive{o.initial, o.max, 0};
+  const server::SoftOptions adaptive{o.initial, o.max, 0, o.pattern};
   for (const CameraBookmark& b : bookmarks) {
     const std::optional<Camera> camera = bench_eye_camera(b, 0, o.size);
     if (!camera) continue;
-    const Run ref = run_soft(es, scene, *camera, server::SoftOptions::uniform(o.ref, 1), threads, 1);
+    const Run ref = run_soft(es, scene, *camera, server::SoftOptions::uniform(o.ref, 1, server::SoftPattern::kPerPixel), threads, 1);
     const Run ad = run_soft(es, scene, *camera, adaptive, threads, o.repeat);
     // Uniform sampling cannot take a fractional count: the two counts around the adaptive mean bracket it.
     const double mean_rays = ad.stats.rays_per_pair();
@@ -239,12 +243,12 @@ int run_bench(const Options& o, unsigned threads) {
     for (const double n : {std::floor(mean_rays), std::ceil(mean_rays)}) {
       const uint32_t count = std::max<uint32_t>(1, static_cast<uint32_t>(n));
       if (!uniform_equal.empty() && uniform_equal.back()["samples"] == count) continue;
-      const Run un = run_soft(es, scene, *camera, server::SoftOptions::uniform(count, 0), threads, o.repeat);
+      const Run un = run_soft(es, scene, *camera, server::SoftOptions::uniform(count, 0, o.pattern), threads, o.repeat);
       Json u = run_json(un, error_against(un.image, ref.image));
       u["samples"] = count;
       uniform_equal.push_back(u);
     }
-    const Run umax = run_soft(es, scene, *camera, server::SoftOptions::uniform(o.max, 0), threads, o.repeat);
+    const Run umax = run_soft(es, scene, *camera, server::SoftOptions::uniform(o.max, 0, o.pattern), threads, o.repeat);
     std::vector<double> hard_ms;
     VisibilityBuffer vis;
     server::TraceStats hs;
@@ -258,7 +262,7 @@ int run_bench(const Options& o, unsigned threads) {
            {"bookmark", b.name},
            {"resolution", std::to_string(camera->extent.width) + "x" + std::to_string(camera->extent.height)},
            {"threads", threads},
-           {"settings", Json{{"initial", o.initial}, {"max", o.max}, {"ref", o.ref}, {"repeat", o.repeat}}},
+           {"settings", Json{{"initial", o.initial}, {"max", o.max}, {"ref", o.ref}, {"repeat", o.repeat}, {"pattern", o.pattern == server::SoftPattern::kPerLight ? "per-light" : "per-pixel"}}},
            {"pixels", ad.stats.pixels},
            {"hit_pixels", ad.stats.pixels - ad.stats.background_pixels},
            {"pairs", ad.stats.pairs},
@@ -280,7 +284,7 @@ int run_bench(const Options& o, unsigned threads) {
     if (o.check) {
       // Convergence: a second reference with twice the samples and another scramble. The adaptive error against
       // it should change by < 1 %, and the references should differ by far less than that error.
-      const Run ref2 = run_soft(es, scene, *camera, server::SoftOptions::uniform(2 * o.ref, 2), threads, 1);
+      const Run ref2 = run_soft(es, scene, *camera, server::SoftOptions::uniform(2 * o.ref, 2, server::SoftPattern::kPerPixel), threads, 1);
       const Error e2 = error_against(ad.image, ref2.image);
       const Error between = error_against(ref.image, ref2.image);
       j["reference_check"] = Json{{"ref2_samples", 2 * o.ref},
