@@ -212,7 +212,7 @@ TEST(CodecV2, GoldenIntraPayload) {
     hex += t;
   }
   // tag 0x20 (intra), block rows 0x20, checksum, then the coded bits.
-  EXPECT_EQ(hex, "202089524eeeeaffbffe7f330b947b6b60e8a800");
+  EXPECT_EQ(hex, "202089524eeeeaffbffe7f332c269b64480f0c00");
   DecodeError e;
   EXPECT_EQ(decode_all(b, shards, nullptr, &e), b.data);
 }
