@@ -156,6 +156,39 @@ TEST_F(VulkanTracerTest, SoftLayoutBoundHoldsForDiskAndSunLights) {
   expect_bound(a);
 }
 
+// A layout of the first lights only (a client that asked for fewer): the Vulkan tracer writes only those fields,
+// within the same bound of Embree's.
+TEST_F(VulkanTracerTest, SoftLayoutOfTheFirstLightsMatchesEmbree) {
+  const std::string path = test::source_path(kAreaScene);
+  const Scene scene = load_scene_or_fail(path);
+  const auto cameras = bookmark_cameras(path, {96, 72});
+  ASSERT_FALSE(cameras.empty());
+  EmbreeTracer embree(scene, embree_options());
+  VulkanTracer vulkan(scene, vk_options());
+  ASSERT_GE(vulkan.light_count(), 2u);
+  const VisibilityLayout layout = layout_for_lights(vulkan.light_extents(), 2);
+  ASSERT_TRUE(layout.any_soft());
+  SoftAgreement a;
+  for (const Camera& camera : cameras) {
+    VisibilityBuffer vk, em;
+    TraceStats vs, es;
+    vulkan.trace_layout(camera, layout, vk, vs);
+    embree.trace_layout(camera, layout, em, es);
+    ASSERT_EQ(vk.light_count, layout.total_bits());
+    EXPECT_EQ(vs.lights_unrequested, vulkan.light_count() - 2);
+    EXPECT_NEAR(double(vs.soft_pairs), double(es.soft_pairs), 0.01 * double(es.soft_pairs) + 4.0);
+    accumulate(layout, vk, em, near_silhouette(embree, camera), a);
+  }
+  a.cameras = cameras.size();
+  expect_bound(a);
+  VisibilityBuffer out;
+  TraceStats st;
+  EXPECT_THROW(vulkan.trace_layout(cameras[0], layout_for_lights(std::vector<bool>(vulkan.light_count() + 1, true),
+                                                                 vulkan.light_count() + 1),
+                                   out, st),
+               std::invalid_argument);
+}
+
 // A hard layout is trace_lights, bit for bit (the shader's soft path is off).
 TEST_F(VulkanTracerTest, HardLayoutIsTraceLights) {
   const std::string path = test::source_path(kAreaScene);
