@@ -1,10 +1,12 @@
 // trace_bench: the server's visibility tracer on real scenes; one JSON object per line, never asserts.
 //   trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] [--threads N]
-//               [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick]
+//               [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels]
 // Every scene is traced from each camera bookmark (both eyes, IPD 63 mm, 90 degree horizontal FOV plus
 // the server's default guard band) at each size, by Embree with skipping on and with SkipOptions::none(),
 // then its skipping-on rays are replayed by a bare rtcIntersect1 + rtcOccluded1 loop (bare_embree.hpp),
-// and the Vulkan backend traces it on lavapipe at a small size. Records, by their "record" field:
+// and the Vulkan backend traces it on lavapipe at a small size. --soft-levels: every tracer traces in the scene's
+// soft layout (trace_layout: each light with an extent sampled into its level field, as a session granted soft
+// levels is traced) instead of one bit per light; no bare loop then. Records, by their "record" field:
 //   run      machine, build and settings
 //   accel    one per tracer built: backend, device, driver, triangles, lights, scene load and AS build ms, bytes
 //   trace    one per scene, backend, size, skip setting, bookmark and eye: statistics of the median trace,
@@ -52,6 +54,7 @@ struct Options {
   bool vulkan = true;
   bool bare = true;
   bool quick = false;
+  bool soft_levels = false;  // trace_layout in the scene's soft layout instead of trace()
 };
 
 double round3(double v) { return std::round(v * 1000.0) / 1000.0; }
@@ -98,7 +101,7 @@ std::optional<Extent> parse_size(const std::string& text) {
 int usage(FILE* to = stderr) {
   std::fprintf(to,
                "usage: trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] "
-               "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick]\n");
+               "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
@@ -109,6 +112,7 @@ bool parse_args(int argc, char** argv, Options& o) {
     if (a == "--no-vulkan") { o.vulkan = false; continue; }
     if (a == "--no-bare") { o.bare = false; continue; }
     if (a == "--quick") { o.quick = true; continue; }
+    if (a == "--soft-levels") { o.soft_levels = true; o.bare = false; continue; }
     if (i + 1 >= argc) return false;
     const std::string v = argv[++i];
     if (a == "--scene") {
@@ -227,18 +231,28 @@ std::vector<EyeResult> trace_views(server::VisibilityTracer& tracer, const Loade
   Totals totals;
   VisibilityBuffer vis;
   bool warmed = false;
+  const VisibilityLayout layout = o.soft_levels
+                                      ? server::layout_for_lights(tracer.light_extents(), tracer.light_count())
+                                      : VisibilityLayout::hard(tracer.light_count());
+  auto trace = [&](const Camera& camera, server::TraceStats& stats) {
+    if (o.soft_levels) {
+      tracer.trace_layout(camera, layout, vis, stats);
+    } else {
+      tracer.trace(camera, vis, stats);
+    }
+  };
   for (const CameraBookmark& b : s.bookmarks) {
     for (int eye = 0; eye < 2; ++eye) {
       const std::optional<Camera> camera = bench_eye_camera(b, eye, display);
       if (!camera) continue;
       server::TraceStats stats;
-      if (!warmed) tracer.trace(*camera, vis, stats);  // first touch of buffers and caches: untimed
+      if (!warmed) trace(*camera, stats);  // first touch of buffers and caches: untimed
       warmed = true;
       std::vector<double> times, gpu_times, cpu_times;
       std::vector<server::TraceStats> all;
       for (int r = 0; r < o.repeat; ++r) {
         const double cpu0 = process_cpu_ms();
-        tracer.trace(*camera, vis, stats);
+        trace(*camera, stats);
         cpu_times.push_back(process_cpu_ms() - cpu0);
         times.push_back(stats.trace_ms);
         gpu_times.push_back(stats.gpu_ms);
@@ -260,7 +274,8 @@ std::vector<EyeResult> trace_views(server::VisibilityTracer& tracer, const Loade
       j["eye"] = eye == 0 ? "left" : "right";
       j["resolution"] = size_json(display);
       j["lights"] = tracer.light_count();
-      j["settings"] = Json{{"skip", server::to_json(skip)}, {"repeat", o.repeat}, {"fov_deg", kTraceBenchFovDegrees}};
+      j["settings"] = Json{{"skip", server::to_json(skip)}, {"repeat", o.repeat}, {"fov_deg", kTraceBenchFovDegrees},
+                           {"soft_levels", o.soft_levels}, {"mask_bits", layout.total_bits()}};
       j["stats"] = server::to_json(st);
       j["trace_ms"] = Json{{"median", round3(med)}, {"min", round3(*std::min_element(times.begin(), times.end()))}};
       if (st.gpu_ms >= 0.0) j["gpu_ms_median"] = round3(median(gpu_times));
@@ -280,6 +295,7 @@ std::vector<EyeResult> trace_views(server::VisibilityTracer& tracer, const Loade
   j["device"] = tracer.device_description();
   j["resolution"] = size_json(display);
   j["skip"] = server::to_json(skip);
+  j["soft_levels"] = o.soft_levels;
   j["eyes"] = totals.eyes;
   j["trace_ms_per_eye_mean"] = totals.eyes ? round3(totals.ms / static_cast<double>(totals.eyes)) : 0.0;
   j["rays_per_eye_mean"] = totals.eyes ? totals.rays / totals.eyes : 0;
@@ -446,6 +462,7 @@ int main(int argc, char** argv) {
             {"compiler", __VERSION__},
             {"embree", RTC_VERSION_STRING},
             {"quick", o.quick},
+            {"soft_levels", o.soft_levels},
             {"repeat", o.repeat},
             {"sizes", sizes},
             {"vulkan_size", o.vulkan ? Json(size_text(o.vulkan_size)) : Json(nullptr)},

@@ -59,13 +59,8 @@ int run_serve_command(const ServerOptions& options) {
                config.predict ? "tracing the views predicted for display" : "tracing the poses as sent (--no-predict)",
                config.adaptive_fov.enabled ? ", adaptive FOV" : "", options.impairment.active() ? ", impairment on send: " : "",
                options.impairment.active() ? options.impairment.describe().c_str() : "");
-  const std::vector<bool> extents = tracer->light_extents();
-  const bool any_extent = std::find(extents.begin(), extents.end(), true) != extents.end();
-  std::fprintf(stderr, "mask layout: %s%s\n",
-               config.soft_levels ? layout_line(scene->lights).c_str() : "one bit per light (--soft-levels off)",
-               tracer->backend() == TracerBackend::kVulkan && any_extent
-                   ? " (Vulkan: levels 0 or 7 from the ray to each light's centre until it samples)"
-                   : "");
+  std::fprintf(stderr, "mask layout: %s\n",
+               config.soft_levels ? layout_line(scene->lights).c_str() : "one bit per light (--soft-levels off)");
   for (const std::string& name : config.soft_levels ? demoted_lights(scene->lights) : std::vector<std::string>{})
     std::fprintf(stderr, "warning: light '%s' has an extent but no room for its levels: one bit, traced to its centre\n",
                  name.c_str());

@@ -1,8 +1,9 @@
 // VisibilityTracer::trace_layout on the project's area-light scene (assets/scenes/default_room_area.gltf: a rect
 // light, a punctual light and a sphere light): hard fields are the hard tracer's bits, soft fields the Gray code of
 // quantize(trace_soft_image's fraction), a hard layout is trace_lights bit for bit, the result does not depend on the
-// thread count, and the interface's default (the Vulkan backend's interim) agrees with the sampled fields wherever
-// the sampled fraction is 0 or 1, up to a measured bound.
+// thread count, and the interface's default (for tracers that know only hard bits) agrees with the sampled fields
+// wherever the sampled fraction is 0 or 1, up to a measured bound. The Vulkan backend samples as Embree does: its
+// bound is tests/vulkan/vulkan_tracer_soft_layout_test.cpp's.
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/soft/soft_image.hpp"
 #include "trace/stats_json.hpp"
@@ -39,7 +40,7 @@ TracerOptions two_threads() {
 }
 
 // A wrapper that implements only trace() and trace_lights(), with the light extents: trace_layout is then the
-// interface's default, which the Vulkan backend uses (the centre ray widened to level 0 or 7).
+// interface's default (the centre ray widened to level 0 or 7), which wrappers that know only hard bits get.
 class DefaultLayoutTracer final : public VisibilityTracer {
  public:
   explicit DefaultLayoutTracer(VisibilityTracer& inner) : inner_(inner) {}
@@ -219,7 +220,7 @@ TEST(SoftLayoutTrace, SkipsAndCullingTakeASoftFieldAsAWhole) {
   EXPECT_GT(near_set, 0u);
 }
 
-// The interface's default trace_layout (the Vulkan backend's interim: the ray to the centre, level 0 or 7) has the
+// The interface's default trace_layout (the ray to the centre, level 0 or 7) has the
 // same hard fields, and its soft fields equal the sampled ones where the sampled fraction is 0 or 1, except where
 // the centre ray and the samples disagree (an occluder edge between the centre and the samples). Measured below.
 TEST(SoftLayoutTrace, DefaultLayoutIsTheCentreRayWidenedAndAgreesWhereSamplingIsUniform) {

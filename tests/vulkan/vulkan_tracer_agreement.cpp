@@ -49,12 +49,9 @@ struct Agreement {
   double rate() const { return bits ? double(differing) / double(bits) : 0.0; }
 };
 
-Agreement compare(const VisibilityBuffer& ref, const VisibilityBuffer& got, const std::vector<PixelHit>& hits) {
-  Agreement a;
-  const int w = int(ref.width), h = int(ref.height);
-  a.bits = uint64_t(ref.pixel_count()) * ref.light_count;
+std::vector<uint8_t> silhouettes(const std::vector<PixelHit>& hits, int w, int h) {
   auto at = [&](int x, int y) -> const PixelHit& { return hits[size_t(y) * size_t(w) + size_t(x)]; };
-  std::vector<uint8_t> edge(ref.pixel_count(), 0);
+  std::vector<uint8_t> edge(size_t(w) * size_t(h), 0);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const PixelHit& p = at(x, y);
@@ -68,6 +65,14 @@ Agreement compare(const VisibilityBuffer& ref, const VisibilityBuffer& got, cons
       }
     }
   }
+  return edge;
+}
+
+Agreement compare(const VisibilityBuffer& ref, const VisibilityBuffer& got, const std::vector<PixelHit>& hits) {
+  Agreement a;
+  const int w = int(ref.width), h = int(ref.height);
+  a.bits = uint64_t(ref.pixel_count()) * ref.light_count;
+  const std::vector<uint8_t> edge = silhouettes(hits, w, h);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const uint32_t diff = ref.get(uint32_t(x), uint32_t(y)) ^ got.get(uint32_t(x), uint32_t(y));
@@ -101,6 +106,21 @@ Agreement compare(const VisibilityBuffer& ref, const VisibilityBuffer& got, cons
 }
 
 }  // namespace
+
+std::vector<uint8_t> near_silhouette(const EmbreeTracer& embree, const Camera& camera) {
+  const int w = int(camera.extent.width), h = int(camera.extent.height);
+  const std::vector<uint8_t> edge = silhouettes(reference_hits(embree, camera), w, h);
+  std::vector<uint8_t> near(edge.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx >= 0 && qy >= 0 && qx < w && qy < h && edge[size_t(qy) * size_t(w) + size_t(qx)])
+            near[size_t(y) * size_t(w) + size_t(x)] = 1;
+        }
+  return near;
+}
 
 void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,
                       const TracerOptions& embree_options, const VulkanTracerConfig& config) {

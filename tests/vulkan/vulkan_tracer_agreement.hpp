@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,11 @@ class VulkanTracerTest : public ::testing::Test {
 
 using test::bookmark_cameras;  // tests/server/test_scenes.hpp
 using test::load_scene_or_fail;
+
+// Per pixel of `camera` (row-major): 1 within a pixel (3x3) of a silhouette of the reference's primary hits (hit
+// and miss, another mesh, or a depth jump above 2 % between 4-neighbours), where the backends may see different
+// surfaces.
+std::vector<uint8_t> near_silhouette(const EmbreeTracer& embree, const Camera& camera);
 
 // Traces every camera with both backends; expects < 0.1% differing bits and none unexplained.
 void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,

@@ -49,6 +49,7 @@ DHR_CONST uint kVisBindingIndices = 5;      // uint[] 3 per triangle in the scen
 DHR_CONST uint kVisBindingPermutation = 6;  // uint[] BLAS primitive -> original triangle (spatial sort)
 DHR_CONST uint kVisBindingMasks = 7;        // uint[width * height]: one 32-bit light mask per pixel
 DHR_CONST uint kVisBindingCounters = 8;     // uint[kVisCounterSlots * kVisCounterStride]
+DHR_CONST uint kVisBindingSoftLights = 9;   // VisSoftLight[], one per scene light (its extent), scene-relative
 
 // Statistics counters; each pixel adds to slot (x % kVisCounterSlots) so atomics rarely collide.
 DHR_CONST uint kVisCounterPrimary = 0;
@@ -56,7 +57,11 @@ DHR_CONST uint kVisCounterBackground = 1;
 DHR_CONST uint kVisCounterShadow = 2;
 DHR_CONST uint kVisCounterSkippedBackfacing = 3;
 DHR_CONST uint kVisCounterSkippedOutOfRange = 4;
-DHR_CONST uint kVisCounterStride = 8;  // counters per slot (5 used)
+DHR_CONST uint kVisCounterSoftPairs = 5;        // TraceStats::soft_pairs
+DHR_CONST uint kVisCounterSoftContributing = 6; // TraceStats::soft_contributing_pairs
+DHR_CONST uint kVisCounterSoftRefined = 7;      // TraceStats::soft_refined_pairs
+DHR_CONST uint kVisCounterSoftShadow = 8;       // TraceStats::soft_shadow_rays (also in kVisCounterShadow)
+DHR_CONST uint kVisCounterStride = 16;  // counters per slot (9 used)
 DHR_CONST uint kVisCounterSlots = 64;
 
 // Shadow rays (same numbers as server/trace/include/trace/ray_offset.hpp and the Embree backend; vulkan_tracer.cpp checks them):
@@ -74,6 +79,39 @@ DHR_CONST uint kVisSkipBackfacing = 1u;
 DHR_CONST uint kVisSkipOutOfRange = 2u;
 // VisMesh::flags
 DHR_CONST uint kVisMeshDoubleSided = 1u;
+
+// Soft lights (VisibilityTracer::trace_layout with level fields; server/trace/include/trace/soft/): a light whose bit
+// is set in VisPushConstants::soft_lights has a field of kVisSoftFieldBits bits, the Gray code of its sampled
+// visibility quantized to kVisSoftLevels levels. Fields follow the lights' order without gaps (VisibilityLayout), so
+// light i's field starts at i + (kVisSoftFieldBits - 1) * (soft lights before i).
+DHR_CONST uint kVisSoftFieldBits = 3u;
+DHR_CONST uint kVisSoftLevels = 8u;
+// VisSoftLight::shape (SampledLight::Shape in trace/soft/light_sampler.hpp)
+DHR_CONST uint kVisSoftPunctual = 0u;  // no extent: the hard tracer's one ray
+DHR_CONST uint kVisSoftSphere = 1u;    // cone sampling of the cap the sphere covers
+DHR_CONST uint kVisSoftSunDisk = 2u;   // cone of half-angle angle / 2 around the direction toward the sun
+DHR_CONST uint kVisSoftRect = 3u;      // uniform over its area, one-sided
+DHR_CONST uint kVisSoftDisk = 4u;      // uniform over its area (concentric map), one-sided
+
+// A light prepared for sampling (make_sampled_light), in the scene-relative frame.
+struct VisSoftLight {
+  uint shape;               // kVisSoft*
+  uint seed;                // scramble seed of its samples, the same for every pixel (SoftPattern::kPerLight)
+  float radius;             // sphere
+  float sun_one_minus_cos;  // sun: 1 - cos(angle / 2)
+  float centre_x;           // sphere, rect, disk
+  float centre_y;
+  float centre_z;
+  float direction_x;        // unit, where the light travels (sun, rect, disk)
+  float direction_y;
+  float direction_z;
+  float half_u_x;           // rect, disk: tangent * width / 2
+  float half_u_y;
+  float half_u_z;
+  float half_v_x;           // rect, disk: bitangent * height / 2
+  float half_v_y;
+  float half_v_z;
+};
 
 struct VisMesh {
   uint vertex_offset;       // first vertex in positions / normals
@@ -108,6 +146,9 @@ struct VisPushConstants {
   uint flags;          // kVisSkip*
   float ray_offset_scale;  // server/trace/include/trace/ray_offset.hpp: ray_offset_scale(scene bounds), a power of two
   float primary_near;      // primary rays start at this depth along the view axis (the client's near plane)
+  uint soft_lights;        // bit i: light i has a level field (sampled over its extent); 0: one bit per light
+  uint soft_initial_samples;  // SoftOptions::initial_samples (powers of two: the levels equal quantize()'s)
+  uint soft_max_samples;      // SoftOptions::max_samples
 };
 
 // ---- client (xrclient/render): G-buffer, warp and shading passes ----
@@ -385,7 +426,8 @@ static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the
 static_assert(sizeof(ClientShadingPush) == 84, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
-static_assert(sizeof(VisPushConstants) == 92, "push constants must match the GLSL layout");
+static_assert(sizeof(VisSoftLight) == 64, "VisSoftLight must match the std430 array stride");
+static_assert(sizeof(VisPushConstants) == 104, "push constants must match the GLSL layout");
 }  // namespace dhr::shader
 #endif
 

@@ -102,10 +102,11 @@ class VisibilityTracer {
 
   // Traces one eye in `layout` (its light_count lights: the scene's first ones, at most light_count()):
   // `out` gets layout.total_bits() bits per mask (VisibilityBuffer::light_count), each light in its field.
-  // A hard layout is exactly trace_lights. Soft fields: the Embree backend writes the Gray-coded level of the
-  // light's sampled visibility (trace/soft, as trace_soft_image: same seeds, same samples); this default, which
-  // the Vulkan backend uses for now, traces the light's centre as a punctual light and writes level 0 or the top
-  // level (the hard bit, widened). Hard fields are trace_lights' bits in both.
+  // A hard layout is exactly trace_lights. Soft fields: both backends write the Gray-coded level of the light's
+  // sampled visibility (trace/soft, as trace_soft_image: same seeds, same samples; the Vulkan backend's shader
+  // takes the same sample points, within the bound of docs/server.md); this default, for tracers that know only
+  // hard bits, traces the light's centre as a punctual light and writes level 0 or the top level (the hard bit,
+  // widened). Hard fields are trace_lights' bits in all.
   virtual void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                             TraceStats& out_stats);
 };

@@ -34,7 +34,7 @@ vk::Buffer storage_buffer(const vk::Context& context, const std::vector<T>& data
 }  // namespace
 
 GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std::span<const PackedLight> lights,
-                          const VulkanTracerConfig& config) {
+                          std::span<const shader::VisSoftLight> soft_lights, const VulkanTracerConfig& config) {
   const auto t0 = std::chrono::steady_clock::now();
   VkPhysicalDeviceProperties properties{};
   vkGetPhysicalDeviceProperties(context.physical_device(), &properties);
@@ -42,6 +42,8 @@ GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std
 
   GpuScene gpu;
   gpu.lights = storage_buffer(context, std::vector<PackedLight>(lights.begin(), lights.end()), max_range, "lights");
+  gpu.soft_lights = storage_buffer(context, std::vector<shader::VisSoftLight>(soft_lights.begin(), soft_lights.end()),
+                                   max_range, "light extents");
   gpu.meshes = storage_buffer(context, plan.meshes, max_range, "mesh records");
   gpu.positions = storage_buffer(context, plan.positions, max_range, "vertex positions");
   gpu.normals = storage_buffer(context, plan.normals, max_range, "vertex normals");

@@ -1,6 +1,7 @@
 #include "trace/vulkan/vulkan_tracer.hpp"
 
 #include "trace/ray_offset.hpp"
+#include "trace/soft/soft_visibility.hpp"
 #include "trace/vulkan/vulkan_tracer_internal.hpp"
 
 #include "log/log.hpp"
@@ -22,6 +23,7 @@ static_assert(shader::kVisRayOffsetOriginThreshold == kRayOffsetOriginThreshold)
 static_assert(shader::kVisRayOffsetFloatScale == kRayOffsetFloatScale);
 static_assert(shader::kVisRayOffsetIntScale == kRayOffsetIntScale);
 static_assert(kMaxLights <= 32, "one 32-bit mask per pixel on the GPU");
+static_assert(shader::kVisSoftFieldBits == kSoftLevelBits && shader::kVisSoftLevels == kDefaultSoftLevels);
 
 namespace {
 
@@ -88,6 +90,19 @@ void pack_masks(const uint32_t* masks, VisibilityBuffer& out) {
   }
 }
 
+// Bit i: light i has a level field. The shader places fields from these bits alone (in the lights' order, without
+// gaps, as VisibilityLayout lays them out); a layout laid out otherwise is a programming error.
+uint32_t soft_light_bits(const VisibilityLayout& layout) {
+  uint32_t soft = 0, next = 0;
+  for (uint32_t i = 0; i < layout.light_count; ++i) {
+    if (layout.offset[i] != next || (layout.bits[i] != 1 && layout.bits[i] != shader::kVisSoftFieldBits))
+      throw std::logic_error("vulkan tracer: a mask layout whose fields are not consecutive");
+    if (layout.is_soft(i)) soft |= 1u << i;
+    next += layout.bits[i];
+  }
+  return soft;
+}
+
 }  // namespace
 
 struct VulkanTracer::Impl {
@@ -95,6 +110,7 @@ struct VulkanTracer::Impl {
   TracerOptions options;
   VulkanTracerConfig config;
   std::vector<SceneLight> lights;
+  SoftOptions soft;  // the soft fields' sampling: the defaults (the shader implements SoftPattern::kPerLight only)
   glm::dvec3 origin{0.0};
   float ray_offset_scale = 1.0f;  // ray_offset.hpp, for the scene's bounds
   detail::GpuScene scene;
@@ -172,7 +188,8 @@ VulkanTracer::VulkanTracer(const Scene& scene, const TracerOptions& options, con
   im.origin = plan.origin;
   im.ray_offset_scale = ray_offset_scale(scene.bounds);
   const std::vector<PackedLight> packed = pack_lights(im.lights, im.origin);
-  im.scene = detail::upload_gpu_scene(*im.context, plan, packed, config);
+  const std::vector<shader::VisSoftLight> extents = detail::soft_light_records(im.lights, im.origin, im.soft.salt);
+  im.scene = detail::upload_gpu_scene(*im.context, plan, packed, extents, config);
   im.scene.stats.build_ms += plan_ms;  // the spatial sort is part of building
   log::debug("vulkan tracer: scene plan (validation, instancing, Morton sort) %.1f ms", plan_ms);
 
@@ -202,6 +219,19 @@ void VulkanTracer::trace(const Camera& camera, VisibilityBuffer& out, TraceStats
 
 void VulkanTracer::trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out,
                                 TraceStats& out_stats) {
+  trace_fields(camera, VisibilityLayout::hard(std::min(lights, light_count())), out, out_stats);
+}
+
+void VulkanTracer::trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                                TraceStats& out_stats) {
+  if (layout.light_count > light_count())
+    throw std::invalid_argument("trace: a layout of " + std::to_string(layout.light_count) + " lights, the scene has " +
+                                std::to_string(light_count()));
+  trace_fields(camera, layout, out, out_stats);
+}
+
+void VulkanTracer::trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                                TraceStats& out_stats) {
   const auto t0 = std::chrono::steady_clock::now();
   if (auto err = validate_camera(camera)) throw std::invalid_argument("trace: " + *err);
   if (camera.extent.width > kMaxBufferDimension || camera.extent.height > kMaxBufferDimension)
@@ -210,13 +240,16 @@ void VulkanTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
   std::lock_guard lock(im.mutex);
 
   const uint32_t width = camera.extent.width, height = camera.extent.height;
-  lights = std::min(lights, light_count());
-  if (out.width != width || out.height != height || out.light_count != lights)
-    out = VisibilityBuffer::create(width, height, lights);
+  const uint32_t lights = layout.light_count, bits = layout.total_bits();
+  if (out.width != width || out.height != height || out.light_count != bits)
+    out = VisibilityBuffer::create(width, height, bits);
   const size_t pixels = out.pixel_count();
 
   shader::VisPushConstants pc = push_constants(camera, im.origin);
   pc.light_count = lights;  // the shader's light loop: unrequested lights are never tested
+  pc.soft_lights = soft_light_bits(layout);
+  pc.soft_initial_samples = im.soft.initial_samples;
+  pc.soft_max_samples = im.soft.max_samples;
   pc.ray_offset_scale = im.ray_offset_scale;
   pc.primary_near = static_cast<float>(im.options.primary_near);
   TraceStats stats;
@@ -252,6 +285,10 @@ void VulkanTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
     stats.shadow_rays += c[shader::kVisCounterShadow];
     stats.skipped_backfacing += c[shader::kVisCounterSkippedBackfacing];
     stats.skipped_out_of_range += c[shader::kVisCounterSkippedOutOfRange];
+    stats.soft_pairs += c[shader::kVisCounterSoftPairs];
+    stats.soft_contributing_pairs += c[shader::kVisCounterSoftContributing];
+    stats.soft_refined_pairs += c[shader::kVisCounterSoftRefined];
+    stats.soft_shadow_rays += c[shader::kVisCounterSoftShadow];
   }
   stats.skipped_culled_light = (stats.pixels - stats.background_pixels) * stats.lights_culled;
 

@@ -5,7 +5,10 @@
 // Trace: one ray-tracing pipeline launch per eye (shaders/server/visibility.rgen): a primary ray per pixel
 // centre, the surface point rebuilt from the scene-relative vertices, one terminate-on-first-hit shadow ray
 // per light that can contribute (shaders/light_eval.h), a 32-bit mask per pixel packed to the buffer's width
-// on readback. Same semantics as the Embree backend, which is the reference (see docs/server.md).
+// on readback. Same semantics as the Embree backend, which is the reference (see docs/server.md). trace_layout's
+// soft fields: each soft light sampled over its extent in the shader with the Embree backend's sample points and
+// rules (shaders/server/light_sampler.glsl; SoftOptions' defaults: 4 samples, 32 where they disagree, one scramble
+// per light), its level Gray-coded into the field.
 // Vulkan headers stay out of this file (server/trace/include/trace/vulkan/vulkan_tracer_internal.hpp has the GPU side).
 #pragma once
 #include "trace/visibility_tracer.hpp"
@@ -43,9 +46,12 @@ class VulkanTracer final : public VisibilityTracer {
   void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) override;
   // Lights past `lights` are neither tested nor traced by the shader (push constant light_count).
   void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats) override;
-  // Soft lights get level fields, but the shader does not sample them yet: trace_layout is the interface's
-  // default, the ray to the light's centre widened to level 0 or the top level (docs/server.md).
   std::vector<bool> light_extents() const override;
+  // Hard fields are trace_lights' bits; a soft field is the Gray code of the light's sampled visibility quantized
+  // to 8 levels (the Embree backend's sampler in GLSL: within the bound of docs/server.md). Throws
+  // std::invalid_argument for a layout of more lights than the scene has.
+  void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
+                    TraceStats& out_stats) override;
 
   const VulkanTracerConfig& config() const;
   // True on a CPU implementation (lavapipe).
@@ -54,6 +60,7 @@ class VulkanTracer final : public VisibilityTracer {
   uint32_t validation_error_count() const;
 
  private:
+  void trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out, TraceStats& out_stats);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -58,6 +58,12 @@ struct ScenePlan {
   uint64_t triangles = 0;               // over all instances
 };
 
+// Each light prepared for sampling over its extent (make_sampled_light, as the Embree backend's soft fields), in the
+// scene-relative frame whose world position is `origin`, with its scramble seed soft_seed(0, 0, light, salt)
+// (SoftPattern::kPerLight, the only pattern the shader implements).
+std::vector<shader::VisSoftLight> soft_light_records(std::span<const SceneLight> lights, const glm::dvec3& origin,
+                                                     uint32_t salt);
+
 // Validates the meshes (indices in range, finite positions) and plans BLASes and instances.
 // Throws std::runtime_error naming the mesh and the problem.
 ScenePlan plan_gpu_scene(const Scene& scene, const VulkanTracerConfig& config);
@@ -70,6 +76,7 @@ struct GpuScene {
   vk::Buffer normals;
   vk::Buffer indices;
   vk::Buffer permutation;
+  vk::Buffer soft_lights;  // VisSoftLight[] (at least one element)
   std::vector<vk::AccelerationStructure> blases;
   vk::AccelerationStructure tlas;
   AccelStats stats;  // build_ms covers the device work only (upload_gpu_scene's caller adds planning)
@@ -77,7 +84,7 @@ struct GpuScene {
 
 // Throws std::runtime_error when a buffer exceeds the device's maxStorageBufferRange.
 GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std::span<const PackedLight> lights,
-                          const VulkanTracerConfig& config);
+                          std::span<const shader::VisSoftLight> soft_lights, const VulkanTracerConfig& config);
 
 // The visibility pipeline with its single descriptor set.
 struct TracerPipeline {
