@@ -112,6 +112,8 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     if (!loaded) throw cli::InputError(loaded.error);
     const Scene& scene = *loaded.scene;
     if (scene.lights.size() > kMaxLights) throw cli::InputError(options.scene + ": more than 32 lights");
+    if (options.truth_first_samples > options.truth_samples)
+      throw cli::InputError("--truth-first-samples is above --truth-samples");
     const std::span<const SceneLight> lights = std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights));
     const uint32_t soft_lights = render::soft_light_mask(render::layout_for_lights(lights));
     PoseTrace trace = load_input_trace(options.trace);
@@ -159,6 +161,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     const auto tracer = std::make_unique<server::EmbreeTracer>(scene, tracer_options);
     const TruthScene truth_scene{&tracer->embree_scene(), lights, renderer.layout()};
     TruthSampling truth_sampling;
+    truth_sampling.first_samples = options.truth_first_samples;
     truth_sampling.samples = options.truth_samples;
     truth_sampling.threads = options.threads;
 
@@ -219,7 +222,9 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.value("render_path", options.shipped_path ? "shipped" : "deferred");
     meta.value("lights", renderer.light_count());
     meta.value("soft_lights", std::popcount(soft_lights));
-    meta.value("truth_samples", truth_sampling.samples);  // per light with an extent (a punctual light: one ray)
+    // Per pixel and light with an extent (a punctual light: one ray).
+    meta.value("truth_first_samples", truth_sampling.first_samples);
+    meta.value("truth_samples", truth_sampling.samples);
     meta.value("truth_salt", truth_sampling.salt);
     meta.value("jitter_ms", options.jitter_ms, 3);
     meta.value("loss", options.loss, 4);

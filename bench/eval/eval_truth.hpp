@@ -2,8 +2,8 @@
 // (the paper's warp at identity), for `dhr-eval run`'s metrics and `dhr-eval compare`'s pictures.
 //
 // Per pixel and light the exact share k of the light the surface point sees (trace/soft's trace_soft_image):
-// a punctual light's one ray (the hard tracer's bit), a light with an extent sampled uniformly with
-// TruthSampling::samples samples, scrambled independently of the server's sampling (another salt). The picture
+// a punctual light's one ray (the hard tracer's bit), a light with an extent sampled with TruthSampling's samples
+// (truth_sampling.hpp), scrambled independently of the server's sampling (another salt). The picture
 // shades that k unquantized (exact_shading.hpp); the masks hold the levels nearest to it.
 #pragma once
 #include "metrics/image_metrics.hpp"

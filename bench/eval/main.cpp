@@ -111,7 +111,13 @@ int main(int argc, char** argv) {
   run->add_option("--threads", options.threads, "Embree threads (0: all cores)")
       ->check(CLI::Range(0u, dhr::server::kMaxTracerThreads));
   run->add_option("--truth-samples", options.truth_samples,
-                  "ground truth: uniform samples per light with an extent (docs/evaluation.md, \"Soft shadows\")")
+                  "ground truth: samples per pixel and light with an extent where the first ones disagree "
+                  "(docs/evaluation.md, \"Soft shadows\")")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, dhr::server::kMaxSoftSamples));
+  run->add_option("--truth-first-samples", options.truth_first_samples,
+                  "ground truth: the first samples, which decide where a light is seen whole or not at all "
+                  "(at most --truth-samples; equal: uniform sampling)")
       ->capture_default_str()
       ->check(CLI::Range(1u, dhr::server::kMaxSoftSamples));
   bool no_progress = false;
