@@ -166,6 +166,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     truth_sampling.threads = options.threads;
 
     std::vector<FramePose> history;
+    double truth_s = 0.0;  // wall time of the ground truth (trace and pictures)
     const uint64_t total = warmup + frames;
     SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), soft_lights, &history, total};
 
@@ -189,8 +190,10 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
       if (measured) {
         for (const Setting& s : settings) {
           if (truths.contains(s.guard)) continue;
+          const auto truth_start = std::chrono::steady_clock::now();
           truths[s.guard] =
               ground_truth(truth_scene, truth_sampling, renderer, options.eye, s.guard_band, sample.views);
+          truth_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - truth_start).count();
         }
       }
       for (auto& session : sessions) {
@@ -226,6 +229,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.value("truth_first_samples", truth_sampling.first_samples);
     meta.value("truth_samples", truth_sampling.samples);
     meta.value("truth_salt", truth_sampling.salt);
+    meta.value("truth_s", truth_s, 1);
     meta.value("jitter_ms", options.jitter_ms, 3);
     meta.value("loss", options.loss, 4);
     meta.value("codec", options.codec_v2 ? "v2" : "v1");
