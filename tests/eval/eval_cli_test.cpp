@@ -246,7 +246,9 @@ TEST_F(EvalCliTest, ReportWritesMarkdownAndPlots) {
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     EXPECT_TRUE(fs::exists(*dir_ / "ssim_vs_frames.svg"));
     EXPECT_TRUE(fs::exists(*dir_ / "pareto.svg"));
+    EXPECT_TRUE(fs::exists(*dir_ / "rays_vs_visibility_error.svg"));
   }
+  EXPECT_NE(text.find("visibility error"), std::string::npos) << text;
 }
 
 // local (the client's shadow maps only) and full (every ingredient) with an ablation: the fill counts are
