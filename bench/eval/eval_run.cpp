@@ -114,6 +114,8 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     if (scene.lights.size() > kMaxLights) throw cli::InputError(options.scene + ": more than 32 lights");
     if (options.truth_first_samples > options.truth_samples)
       throw cli::InputError("--truth-first-samples is above --truth-samples");
+    if (options.server_soft.initial_samples > options.server_soft.max_samples)
+      throw cli::InputError("--soft-first-samples is above --soft-samples");
     const std::span<const SceneLight> lights = std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights));
     const uint32_t soft_lights = render::soft_light_mask(render::layout_for_lights(lights));
     PoseTrace trace = load_input_trace(options.trace);
@@ -158,6 +160,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     EyeRenderer renderer(*context, scene, options.eye, options.shadow_maps, options.shipped_path);
     server::TracerOptions tracer_options;
     tracer_options.threads = options.threads;
+    tracer_options.soft = options.server_soft;
     const auto tracer = std::make_unique<server::EmbreeTracer>(scene, tracer_options);
     const TruthScene truth_scene{&tracer->embree_scene(), lights, renderer.layout()};
     TruthSampling truth_sampling;
@@ -225,7 +228,9 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.value("render_path", options.shipped_path ? "shipped" : "deferred");
     meta.value("lights", renderer.light_count());
     meta.value("soft_lights", std::popcount(soft_lights));
-    // Per pixel and light with an extent (a punctual light: one ray).
+    // Per pixel and light with an extent (a punctual light: one ray): the server's, the truth's.
+    meta.value("server_soft_first_samples", options.server_soft.initial_samples);
+    meta.value("server_soft_samples", options.server_soft.max_samples);
     meta.value("truth_first_samples", truth_sampling.first_samples);
     meta.value("truth_samples", truth_sampling.samples);
     meta.value("truth_salt", truth_sampling.salt);

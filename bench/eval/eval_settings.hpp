@@ -3,6 +3,7 @@
 #include "math/projection.hpp"
 #include "render/shadow_maps.hpp"
 #include "render/warp_reference.hpp"
+#include "trace/soft/soft_options.hpp"
 #include "truth_sampling.hpp"
 
 #include <cstdint>
@@ -94,6 +95,8 @@ struct RunOptions {
   uint32_t threads = 0;          // Embree threads (0: all cores)
   // The ground truth's samples per pixel and light with an extent (truth_sampling.hpp): first, and where they
   // disagree, all.
+  // The server's sampling of lights with an extent (TracerOptions::soft): its default is what ships.
+  server::SoftOptions server_soft;
   uint32_t truth_first_samples = kTruthFirstSamples;
   uint32_t truth_samples = kTruthSamples;
   // --render-path: deferred (every method and the truth on the deferred passes: the images differ only by

@@ -110,6 +110,14 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"deferred", "shipped"}));
   run->add_option("--threads", options.threads, "Embree threads (0: all cores)")
       ->check(CLI::Range(0u, dhr::server::kMaxTracerThreads));
+  run->add_option("--soft-first-samples", options.server_soft.initial_samples,
+                  "server: first samples per pixel and light with an extent (dhr-server's default: what ships)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, dhr::server::kMaxSoftSamples));
+  run->add_option("--soft-samples", options.server_soft.max_samples,
+                  "server: samples per pixel and light with an extent where the first ones disagree")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, dhr::server::kMaxSoftSamples));
   run->add_option("--truth-samples", options.truth_samples,
                   "ground truth: samples per pixel and light with an extent where the first ones disagree "
                   "(docs/evaluation.md, \"Soft shadows\")")

@@ -377,6 +377,17 @@ TEST(EvalCliSoftTest, SoftLightsAreJudgedByTheirFractions) {
   const json meta = json::parse(run_json);
   EXPECT_EQ(meta["soft_lights"].get<int>(), 2);
   EXPECT_GT(meta["truth_samples"].get<int>(), 32);
+  // The server sampling more (TracerOptions::soft): more rays, an estimate nearer the truth at 0 ms.
+  const fs::path more = temp_dir("soft_more");
+  const CliRun m = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " +
+                           kTrace + " --out " + more.string() +
+                           " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0 --method stale"
+                           " --soft-first-samples 32 --soft-samples 256");
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  const json more_row = read_results(more).at(0);
+  EXPECT_GT(more_row["soft_rays_per_pair"].get<double>(), 4.0 * rows.at("stale@0")["soft_rays_per_pair"].get<double>());
+  EXPECT_LT(more_row["visibility_error"].get<double>(), k("stale@0"));
+  fs::remove_all(more);
   fs::remove_all(out);
 }
 
@@ -406,6 +417,10 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
                 " --frames 4 --eye-size 32x24 --rtt-ms 0 --method full --no-progress " + crop);
     EXPECT_EQ(r.exit_code, 2) << crop << "\n" << r.output;
   }
+  r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+              " --frames 4 --eye-size 32x24 --rtt-ms 0 --no-progress --soft-first-samples 8 --soft-samples 4");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--soft-first-samples is above --soft-samples"), std::string::npos) << r.output;
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --truth-samples 0");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--truth-samples"), std::string::npos) << r.output;

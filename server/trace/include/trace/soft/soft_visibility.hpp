@@ -15,6 +15,7 @@
 #pragma once
 #include "trace/embree/embree_scene.hpp"
 #include "trace/soft/light_sampler.hpp"
+#include "trace/soft/soft_options.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -23,19 +24,6 @@
 #include <vector>
 
 namespace dhr::server {
-
-struct SoftOptions {
-  // Powers of two keep every stage a stratified (0,m,2)-net of the sequence.
-  uint32_t initial_samples = 4;
-  uint32_t max_samples = 32;
-  uint32_t salt = 0;  // selects an independent scramble (soft_seed)
-  // Uniform (non-adaptive) sampling with n samples: initial_samples = max_samples = n.
-  static SoftOptions uniform(uint32_t n, uint32_t salt = 0) { return SoftOptions{n, n, salt}; }
-};
-
-inline constexpr uint32_t kMaxSoftSamples = 1u << 15;  // rays per pair fit 16 bits (SoftImage::rays)
-// Error message when the options are unusable (0 samples, initial > max, more than kMaxSoftSamples).
-std::optional<std::string> validate_soft_options(const SoftOptions& options);
 
 struct SoftSample {
   float fraction = 0.0f;       // visible samples / samples taken
