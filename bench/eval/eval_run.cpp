@@ -116,7 +116,8 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
       throw cli::InputError("--truth-first-samples is above --truth-samples");
     if (options.server_soft.initial_samples > options.server_soft.max_samples)
       throw cli::InputError("--soft-first-samples is above --soft-samples");
-    const std::span<const SceneLight> lights = std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights));
+    const std::span<const SceneLight> lights =
+        std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights));
     const uint32_t soft_lights = render::soft_light_mask(render::layout_for_lights(lights));
     PoseTrace trace = load_input_trace(options.trace);
     if (options.trace_start_s >= trace.duration()) {
