@@ -6,6 +6,7 @@
 #include "eval_render.hpp"
 #include "eval_truth.hpp"
 #include "image/png_writer.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "log/log.hpp"
 #include "metrics/image_metrics.hpp"
 #include "scene/scene.hpp"
@@ -15,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -82,7 +84,9 @@ class Comparer {
     context_ = vk::Context::create(vk_options);
     server::TracerOptions tracer_options;
     tracer_options.threads = options.threads;
-    tracer_ = server::create_tracer(server::TracerBackend::kEmbree, scene, tracer_options);
+    tracer_ = std::make_unique<server::EmbreeTracer>(scene, tracer_options);
+    lights_ = std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights));
+    sampling_.threads = options.threads;
     std::string font_error;
     face_ = TextFace::load(default_font_path(), &font_error);
     if (!face_) log::warn("dhr-eval compare: %s; the pictures carry no text (install fonts-dejavu-core)", font_error.c_str());
@@ -115,8 +119,9 @@ class Comparer {
     }
     const auto start = std::chrono::steady_clock::now();
     const GuardBand guard = f.traced ? f.traced->guard : GuardBand{};
-    const Truth truth = ground_truth(*tracer_, renderer(f.eye_size, f.render_path == "forward"), f.eye_size, guard,
-                                     {f.eyes[0].view, f.eyes[1].view});
+    EyeRenderer& eye_renderer = renderer(f.eye_size, f.render_path == "forward");
+    const Truth truth = ground_truth(TruthScene{&tracer_->embree_scene(), lights_, eye_renderer.layout()}, sampling_,
+                                     eye_renderer, f.eye_size, guard, {f.eyes[0].view, f.eyes[1].view});
     const double exact_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     std::array<RgbImage, 2> exact;
@@ -184,7 +189,9 @@ class Comparer {
   const Scene& scene_;
   uint64_t scene_hash_;
   std::unique_ptr<vk::Context> context_;
-  std::unique_ptr<server::VisibilityTracer> tracer_;
+  std::unique_ptr<server::EmbreeTracer> tracer_;
+  std::span<const SceneLight> lights_;  // the traced ones (at most kMaxLights)
+  TruthSampling sampling_;
   std::unique_ptr<TextFace> face_;
   std::map<std::tuple<uint32_t, uint32_t, bool>, std::unique_ptr<EyeRenderer>> renderers_;
 };

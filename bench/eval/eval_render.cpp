@@ -1,5 +1,6 @@
 #include "eval_render.hpp"
 
+#include "render/light_layout.hpp"
 #include "render/offscreen_sink.hpp"
 #include "vk/context.hpp"
 #include "vk/image.hpp"
@@ -26,7 +27,8 @@ render::EyePipelineOptions pipeline_options(bool forward) {
 EyeRenderer::EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye,
                          const render::ShadowMapSettings& shadow_maps, bool forward)
     : context_(&context), scene_(context, scene), stereo_(context, scene_, eye, pipeline_options(forward), shadow_maps),
-      light_count_(static_cast<uint32_t>(std::min<size_t>(scene.lights.size(), kMaxLights))) {}
+      light_count_(static_cast<uint32_t>(std::min<size_t>(scene.lights.size(), kMaxLights))),
+      layout_(render::layout_for_lights(std::span(scene.lights).first(light_count_))) {}
 
 std::array<EyeRender, 2> EyeRenderer::render(const std::array<View, 2>& views,
                                              const std::array<VisibilityInput, 2>& inputs) {
@@ -55,7 +57,7 @@ EyeRender EyeRenderer::read_back(uint32_t eye) {
   const Extent extent = pipeline.extent();
   std::vector<uint32_t> masks(static_cast<size_t>(extent.width) * extent.height);
   vk::read_image(*context_, pipeline.mask(), masks.data(), masks.size() * sizeof(uint32_t));
-  r.mask = VisibilityBuffer::create(extent.width, extent.height, light_count_);
+  r.mask = VisibilityBuffer::create(extent.width, extent.height, layout_.total_bits());
   const uint32_t bits = r.mask.light_bits();
   for (size_t p = 0; p < masks.size(); ++p) r.mask.set_mask_at(p, masks[p] & bits);
   return r;

@@ -6,6 +6,7 @@
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
 #include "visibility/visibility.hpp"
+#include "visibility/visibility_layout.hpp"
 #include "frame/stereo_pipeline.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
@@ -25,7 +26,7 @@ namespace dhr::eval {
 
 struct EyeRender {
   std::vector<uint8_t> rgba;  // display-sized, sRGB-encoded bytes
-  VisibilityBuffer mask;      // display-sized predicted masks (all light bits where unknown)
+  VisibilityBuffer mask;      // display-sized predicted masks in layout() (every light lit where unknown)
   render::EyeStats stats;
   double host_ms = 0.0;       // record + submit + wait, host wall time
 };
@@ -45,12 +46,15 @@ class EyeRenderer {
   client::StereoPipeline& pipeline() { return stereo_; }
   const vk::Context& context() const { return *context_; }
   uint32_t light_count() const { return light_count_; }
+  // The masks' layout (render::layout_for_lights of the scene's lights: a soft light's field holds its level).
+  const VisibilityLayout& layout() const { return layout_; }
 
  private:
   const vk::Context* context_;
   render::ClientScene scene_;
   client::StereoPipeline stereo_;
   uint32_t light_count_ = 0;
+  VisibilityLayout layout_;
 };
 
 }  // namespace dhr::eval

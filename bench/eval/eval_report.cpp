@@ -26,6 +26,7 @@ struct Row {
   std::string method;
   double rtt_ms = 0, bit_error = 0, ssim = 0, psnr = 0, unknown_frac = 0, client_ms = 0, server_ms = 0;
   double bytes_per_frame = 0, response_ms = 0, frames_behind = 0, frames_predicted = 0;
+  double visibility_error = 0, rays_per_pixel = 0;
   int x_max = -1, guard_px = 0;
   std::string guard;
   bool psnr_inf = false;
@@ -54,6 +55,8 @@ std::vector<Row> read_rows(const json& results) {
     r.guard = j.value("guard", "");
     r.guard_px = static_cast<int>(num(j, "guard_px_x"));
     r.bit_error = num(j, "bit_error");
+    r.visibility_error = num(j, "visibility_error");
+    r.rays_per_pixel = num(j, "server_rays_per_pixel");
     r.ssim = num(j, "ssim");
     r.psnr_inf = j.contains("psnr") && j["psnr"].is_null();
     r.psnr = num(j, "psnr");
@@ -177,7 +180,7 @@ int write_report(const std::string& dir_text) {
   };
   const auto frames_x = [&](const Row& r) { return several_x ? r.frames_predicted : r.frames_behind; };
 
-  SeriesSet ssim_s, flip_s, psnr_s, bits_s, resp_s, cost_s, points_s;
+  SeriesSet ssim_s, flip_s, psnr_s, bits_s, resp_s, cost_s, points_s, rays_s;
   for (const Row& r : rows) {
     if (r.guard == first_guard) {
       ssim_s.at(label(r)).points.emplace_back(frames_x(r), r.ssim);
@@ -192,6 +195,7 @@ int write_report(const std::string& dir_text) {
       cost_s.at("server (trace, per eye)").points.emplace_back(r.guard_px, r.server_ms);
     }
     points_s.at(r.method).points.emplace_back(r.frame_ms(), r.bit_error);
+    rays_s.at(r.method).points.emplace_back(r.rays_per_pixel, r.visibility_error);
   }
   points_s.list.push_back(Series{"Pareto front", pareto_front(rows)});
 
@@ -214,6 +218,9 @@ int write_report(const std::string& dir_text) {
         plot(dir, "cost_vs_guard", "server trace time vs guard band", "guard band, extra pixels per row at this eye size",
              "ms per eye", cost_s.list));
   }
+  add("Server rays per pixel vs visibility error (each point a setting; local traces none)",
+      plot(dir, "rays_vs_visibility_error", "server rays vs visibility error",
+           "server occlusion rays per surface pixel (all lights)", "mean |k shown - k exact|", rays_s.list, false));
   add("Run time vs error (Pareto front)",
       plot(dir, "pareto", "run time vs error", "client + server ms per frame (both eyes)", "bit error", points_s.list,
            false));
@@ -231,15 +238,17 @@ int write_report(const std::string& dir_text) {
        << ". Client: " << run.value("client_device", "") << "; tracer: " << run.value("tracer", "") << ". Wall time "
        << fmt(0, num(run, "wall_s")) << " s.\n\n";
   }
-  md << "| method | rtt ms | x_max | guard | p | bit error | SSIM | FLIP | PSNR dB | unknown | client ms | server ms | "
-        "bytes/frame | response ms |\n";
-  md << "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  md << "| method | rtt ms | x_max | guard | p | bit error | visibility error | SSIM | FLIP | PSNR dB | unknown | "
+        "client ms | server ms | server rays/px | bytes/frame | response ms |\n";
+  md << "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const Row& r : rows) {
     md << "| " << r.method << " | " << fmt(0, r.rtt_ms) << " | " << r.x_max_text() << " | " << r.guard << " | "
-       << fmt(2, r.frames_behind) << " | " << fmt(5, r.bit_error) << " | " << fmt(4, r.ssim) << " | "
+       << fmt(2, r.frames_behind) << " | " << fmt(5, r.bit_error) << " | " << fmt(5, r.visibility_error) << " | "
+       << fmt(4, r.ssim) << " | "
        << (r.has_flip ? fmt(4, r.flip) : std::string("-")) << " | "
        << (r.psnr_inf ? std::string("inf") : fmt(2, r.psnr)) << " | " << fmt(4, r.unknown_frac) << " | "
-       << fmt(2, r.client_ms) << " | " << fmt(2, r.server_ms) << " | " << fmt(0, r.bytes_per_frame)
+       << fmt(2, r.client_ms) << " | " << fmt(2, r.server_ms) << " | " << fmt(2, r.rays_per_pixel) << " | "
+       << fmt(0, r.bytes_per_frame)
        << " | " << fmt(1, r.response_ms) << " |\n";
   }
   md << "\n";

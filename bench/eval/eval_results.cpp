@@ -29,6 +29,13 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   r.frames = frames;
   r.bit_error = mean(t.bit_error, t.eye_frames);
   for (const double v : t.bit_error_per_light) r.bit_error_per_light.push_back(mean(v, t.eye_frames));
+  double visibility_sum = 0.0;
+  for (const double v : t.visibility_error_per_light) {
+    r.visibility_error_per_light.push_back(mean(v, t.surface_pixels));
+    visibility_sum += v;
+  }
+  r.visibility_error = mean(visibility_sum, t.surface_pixels * t.visibility_error_per_light.size());
+  r.surface_frac = mean(static_cast<double>(t.surface_pixels), t.display_pixels);
   r.ssim = mean(t.ssim, t.eye_frames);
   r.mse = mean(t.mse, t.eye_frames);
   if (t.flip_frames > 0) r.flip = mean(t.flip, t.flip_frames);
@@ -49,6 +56,9 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   r.client_gpu_timed = t.eye_frames > 0 && t.client_gpu_timed == t.eye_frames;
   r.client_path = t.client_forward == t.eye_frames ? "forward" : t.client_forward == 0 ? "deferred" : "mixed";
   r.server_ms = mean(t.server_ms, t.traces);
+  r.server_rays_per_pixel = mean(static_cast<double>(t.trace_stats.shadow_rays),
+                                 t.trace_stats.pixels - t.trace_stats.background_pixels);
+  r.soft_rays_per_pair = t.trace_stats.soft_rays_per_pair();
   r.encode_ms = mean(t.encode_ms, t.traces);
   r.decode_ms = mean(t.decode_ms, t.traces);
   r.bytes_per_frame = mean(static_cast<double>(t.bytes_down), t.traces) * 2.0;
@@ -83,6 +93,11 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.begin_array("bit_error_per_light");
     for (const double v : r.bit_error_per_light) w.value(nullptr, v, 8);
     w.end_array();
+    w.value("visibility_error", r.visibility_error, 8);
+    w.begin_array("visibility_error_per_light");
+    for (const double v : r.visibility_error_per_light) w.value(nullptr, v, 8);
+    w.end_array();
+    w.value("surface_frac", r.surface_frac, 8);
     w.value("ssim", r.ssim, 8);
     w.value("psnr", r.psnr, 4);
     w.value("mse", r.mse, 6);
@@ -103,6 +118,8 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("client_gpu_timed", r.client_gpu_timed);
     w.value("client_path", r.client_path);
     w.value("server_ms", r.server_ms, 4);
+    w.value("server_rays_per_pixel", r.server_rays_per_pixel, 4);
+    w.value("soft_rays_per_pair", r.soft_rays_per_pair, 4);
     w.value("encode_ms", r.encode_ms, 4);
     w.value("decode_ms", r.decode_ms, 4);
     w.value("bytes_per_frame", r.bytes_per_frame, 1);
@@ -126,12 +143,12 @@ std::string results_json(const std::vector<SettingResult>& results) {
 
 std::string results_csv(const std::vector<SettingResult>& results) {
   std::string out =
-      "method,rtt_ms,x_max,guard,frames,bit_error,ssim,psnr,flip,unknown_frac,client_ms,server_ms,encode_ms,decode_ms,"
+      "method,rtt_ms,x_max,guard,frames,bit_error,visibility_error,ssim,psnr,flip,unknown_frac,client_ms,server_ms,encode_ms,decode_ms,"
       "bytes_per_frame,response_ms,frames_behind,frames_predicted,prediction_fallback_frac,horizon_ms\n";
   for (const SettingResult& r : results) {
     out += std::string(method_name(r.setting.method)) + "," + number(r.setting.rtt_ms, 3) + "," +
            std::to_string(r.setting.x_max) + "," + r.setting.guard + "," + std::to_string(r.frames) + "," +
-           number(r.bit_error, 8) + "," + number(r.ssim, 8) + "," + number(r.psnr, 4) + "," +
+           number(r.bit_error, 8) + "," + number(r.visibility_error, 8) + "," + number(r.ssim, 8) + "," + number(r.psnr, 4) + "," +
            (r.flip ? number(*r.flip, 8) : std::string()) + "," + number(r.unknown_frac, 8) + "," + number(r.client_ms, 4) + "," + number(r.server_ms, 4) + "," +
            number(r.encode_ms, 4) + "," + number(r.decode_ms, 4) + "," + number(r.bytes_per_frame, 1) + "," +
            number(r.response_ms, 3) + "," + number(r.frames_behind, 4) + "," + number(r.frames_predicted, 4) + "," +
@@ -143,14 +160,14 @@ std::string results_csv(const std::vector<SettingResult>& results) {
 std::string results_table(const std::vector<SettingResult>& results) {
   std::string out;
   char line[256];
-  std::snprintf(line, sizeof line, "%-11s %7s %5s %7s %9s %7s %7s %7s %8s %9s %9s %9s %9s\n", "method", "rtt_ms",
-                "x_max", "guard", "bit_err", "ssim", "psnr", "flip", "unknown", "client_ms", "server_ms", "bytes/fr",
+  std::snprintf(line, sizeof line, "%-11s %7s %5s %7s %9s %9s %7s %7s %7s %8s %9s %9s %9s %9s\n", "method",
+                "rtt_ms", "x_max", "guard", "bit_err", "vis_err", "ssim", "psnr", "flip", "unknown", "client_ms", "server_ms", "bytes/fr",
                 "resp_ms");
   out += line;
   for (const SettingResult& r : results) {
-    std::snprintf(line, sizeof line, "%-11s %7.1f %5s %7s %9.5f %7.4f %7s %7s %8.5f %9.3f %9.3f %9.0f %9.1f\n",
+    std::snprintf(line, sizeof line, "%-11s %7.1f %5s %7s %9.5f %9.5f %7.4f %7s %7s %8.5f %9.3f %9.3f %9.0f %9.1f\n",
                   method_name(r.setting.method).c_str(), r.setting.rtt_ms, x_max_text(r.setting.x_max).c_str(),
-                  r.setting.guard.c_str(), r.bit_error, r.ssim, number(r.psnr, 2).c_str(),
+                  r.setting.guard.c_str(), r.bit_error, r.visibility_error, r.ssim, number(r.psnr, 2).c_str(),
                   r.flip ? number(*r.flip, 4).c_str() : "-", r.unknown_frac,
                   r.client_ms, r.server_ms, r.bytes_per_frame, r.response_ms);
     out += line;

@@ -14,6 +14,12 @@ struct SettingResult {
   uint64_t frames = 0;  // measured frames
   double bit_error = 0.0;
   std::vector<double> bit_error_per_light;
+  // Mean |k shown - k exact| over the surface pixels of every measured eye-frame and the lights
+  // (visibility_error.hpp); with hard lights only, the wrong bits' share of the surface pixels' bits, i.e.
+  // bit_error / surface_frac.
+  double visibility_error = 0.0;
+  std::vector<double> visibility_error_per_light;
+  double surface_frac = 0.0;  // surface pixels (the truth's primary rays hit) / display pixels
   double ssim = 0.0;
   double psnr = 0.0;  // from the mean MSE over frames and eyes; +inf when every frame matched exactly
   double mse = 0.0;
@@ -37,6 +43,8 @@ struct SettingResult {
   bool client_gpu_timed = false;
   std::string client_path;    // "forward", "deferred" or "mixed": the passes client_ms timed
   double server_ms = 0.0;     // per traced eye
+  double server_rays_per_pixel = 0.0;  // occlusion rays per surface pixel the server traced (all lights)
+  double soft_rays_per_pair = 0.0;     // of those, per surface pixel and soft light (TraceStats::soft_rays_per_pair)
   double encode_ms = 0.0;     // per traced eye
   double decode_ms = 0.0;     // per traced eye (all its shards)
   double bytes_per_frame = 0.0;  // visibility bytes on the wire per traced frame (both eyes)

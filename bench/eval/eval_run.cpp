@@ -8,6 +8,7 @@
 #include "eval_results.hpp"
 #include "eval_session.hpp"
 #include "eval_truth.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "snapshot_crops.hpp"
 #include "render/light_layout.hpp"
 #include "json_writer.hpp"
@@ -23,6 +24,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <span>
 #include <stdexcept>
 
 namespace dhr::eval {
@@ -110,15 +112,13 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     if (!loaded) throw cli::InputError(loaded.error);
     const Scene& scene = *loaded.scene;
     if (scene.lights.size() > kMaxLights) throw cli::InputError(options.scene + ": more than 32 lights");
-    const uint32_t soft_lights = render::soft_light_mask(render::layout_for_lights(
-        std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights))));
-    if (soft_lights != 0) {
-      // Its truth is a hard trace and its metrics compare masks bit by bit: for soft fields both are wrong, and
-      // numbers that look like results would mislead. Refused until the fractional truth exists.
-      throw cli::InputError(options.scene + ": " + std::to_string(std::popcount(soft_lights)) +
-                            " of its lights have an extent; dhr-eval does not evaluate soft shadows yet (its truth "
-                            "is traced to each light's centre: docs/soft-shadows.md)");
-    }
+    if (options.truth_first_samples > options.truth_samples)
+      throw cli::InputError("--truth-first-samples is above --truth-samples");
+    if (options.server_soft.initial_samples > options.server_soft.max_samples)
+      throw cli::InputError("--soft-first-samples is above --soft-samples");
+    const std::span<const SceneLight> lights =
+        std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights));
+    const uint32_t soft_lights = render::soft_light_mask(render::layout_for_lights(lights));
     PoseTrace trace = load_input_trace(options.trace);
     if (options.trace_start_s >= trace.duration()) {
       throw cli::InputError(options.trace + ": --trace-start is past the end of the trace");
@@ -161,10 +161,16 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     EyeRenderer renderer(*context, scene, options.eye, options.shadow_maps, options.shipped_path);
     server::TracerOptions tracer_options;
     tracer_options.threads = options.threads;
-    const std::unique_ptr<server::VisibilityTracer> tracer =
-        server::create_tracer(server::TracerBackend::kEmbree, scene, tracer_options);
+    tracer_options.soft = options.server_soft;
+    const auto tracer = std::make_unique<server::EmbreeTracer>(scene, tracer_options);
+    const TruthScene truth_scene{&tracer->embree_scene(), lights, renderer.layout()};
+    TruthSampling truth_sampling;
+    truth_sampling.first_samples = options.truth_first_samples;
+    truth_sampling.samples = options.truth_samples;
+    truth_sampling.threads = options.threads;
 
     std::vector<FramePose> history;
+    double truth_s = 0.0;  // wall time of the ground truth (trace and pictures)
     const uint64_t total = warmup + frames;
     SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), soft_lights, &history, total};
 
@@ -188,7 +194,10 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
       if (measured) {
         for (const Setting& s : settings) {
           if (truths.contains(s.guard)) continue;
-          truths[s.guard] = ground_truth(*tracer, renderer, options.eye, s.guard_band, sample.views);
+          const auto truth_start = std::chrono::steady_clock::now();
+          truths[s.guard] =
+              ground_truth(truth_scene, truth_sampling, renderer, options.eye, s.guard_band, sample.views);
+          truth_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - truth_start).count();
         }
       }
       for (auto& session : sessions) {
@@ -219,6 +228,14 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.value("frames", static_cast<unsigned long long>(frames));
     meta.value("render_path", options.shipped_path ? "shipped" : "deferred");
     meta.value("lights", renderer.light_count());
+    meta.value("soft_lights", std::popcount(soft_lights));
+    // Per pixel and light with an extent (a punctual light: one ray): the server's, the truth's.
+    meta.value("server_soft_first_samples", options.server_soft.initial_samples);
+    meta.value("server_soft_samples", options.server_soft.max_samples);
+    meta.value("truth_first_samples", truth_sampling.first_samples);
+    meta.value("truth_samples", truth_sampling.samples);
+    meta.value("truth_salt", truth_sampling.salt);
+    meta.value("truth_s", truth_s, 1);
     meta.value("jitter_ms", options.jitter_ms, 3);
     meta.value("loss", options.loss, 4);
     meta.value("codec", options.codec_v2 ? "v2" : "v1");

@@ -1,5 +1,7 @@
 #include "eval_session.hpp"
 
+#include "visibility_error.hpp"
+
 #include "plan/shipped_defaults.hpp"
 #include "image/png_writer.hpp"
 
@@ -122,21 +124,32 @@ int64_t ServerClock::take_busy_ns() {
   return busy;
 }
 
+void ModelledTimeTracer::traced(const server::TraceStats& stats) {
+  sums_.pixels += stats.pixels;
+  sums_.background_pixels += stats.background_pixels;
+  sums_.shadow_rays += stats.shadow_rays;
+  sums_.soft_pairs += stats.soft_pairs;
+  sums_.soft_contributing_pairs += stats.soft_contributing_pairs;
+  sums_.soft_refined_pairs += stats.soft_refined_pairs;
+  sums_.soft_shadow_rays += stats.soft_shadow_rays;
+  clock_.add_busy_ns(ns_per_eye_);
+}
+
 void ModelledTimeTracer::trace(const Camera& camera, VisibilityBuffer& out, server::TraceStats& out_stats) {
   inner_.trace(camera, out, out_stats);
-  clock_.add_busy_ns(ns_per_eye_);
+  traced(out_stats);
 }
 
 void ModelledTimeTracer::trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out,
                                       server::TraceStats& out_stats) {
   inner_.trace_lights(camera, lights, out, out_stats);
-  clock_.add_busy_ns(ns_per_eye_);
+  traced(out_stats);
 }
 
 void ModelledTimeTracer::trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                                       server::TraceStats& out_stats) {
   inner_.trace_layout(camera, layout, out, out_stats);
-  clock_.add_busy_ns(ns_per_eye_);
+  traced(out_stats);
 }
 
 bool CountingSender::send_to(std::span<const uint8_t> datagram, const net::PeerAddress& to) {
@@ -153,6 +166,7 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
       downlink_(link_params(setting, options, options.seed * 2 + 1), server_clock_), server_out_(downlink_),
       tracer_(*shared.tracer, server_clock_, server_ns_per_eye(options)) {
   totals_.bit_error_per_light.assign(shared.light_count, 0.0);
+  totals_.visibility_error_per_light.assign(shared.light_count, 0.0);
   cap_ms_ = options.predict_max_horizon_ms;
   warp_ = warp_settings(setting.method, options);
   snapshot_dir_ = options.out_dir;
@@ -353,6 +367,13 @@ void SettingSession::add_image_errors(const EyeRender& rendered, const Truth& tr
     totals_.bit_error += bits->fraction();
     for (uint32_t l = 0; l < shared_.light_count; ++l) totals_.bit_error_per_light[l] += bits->light_fraction(l);
   }
+  const std::optional<VisibilityError> k =
+      visibility_error(rendered.mask, shared_.renderer->layout(), truth.exact[eye]);
+  totals_.display_pixels += rendered.mask.pixel_count();
+  if (k) {
+    totals_.surface_pixels += k->surface_pixels;
+    for (uint32_t l = 0; l < shared_.light_count; ++l) totals_.visibility_error_per_light[l] += k->per_light[l];
+  }
   totals_.ssim += s.value_or(0.0);
   double mse = 0.0;
   for (size_t i = 0; i < luma.pixels.size(); ++i) {
@@ -371,6 +392,7 @@ SettingTotals SettingSession::totals() const {
   SettingTotals t = totals_;
   const server::ServiceStats s = service_->stats();
   t.traces = s.frames_traced * 2;
+  t.trace_stats = tracer_.sums();
   t.server_ms = s.trace_ms;
   t.encode_ms = s.encode_ms;
   t.bytes_down = server_out_.shard_bytes();

@@ -38,6 +38,10 @@ struct SettingTotals {
   uint64_t eye_frames_without_data = 0;  // nothing received yet: every surface pixel unknown
   double bit_error = 0.0;
   std::vector<double> bit_error_per_light;
+  // visibility_error.hpp: |k shown - k exact| summed over surface pixels, per light; the surface pixels.
+  std::vector<double> visibility_error_per_light;
+  uint64_t surface_pixels = 0;
+  uint64_t display_pixels = 0;  // of every measured eye-frame
   double ssim = 0.0;
   double mse = 0.0;
   double flip = 0.0;
@@ -62,6 +66,7 @@ struct SettingTotals {
   double response_ms = 0.0;
   // From the session layers, over the whole run (warm-up included).
   uint64_t traces = 0;          // eyes traced by the service
+  server::TraceStats trace_stats;  // their rays, summed (ModelledTimeTracer)
   double server_ms = 0.0;       // host wall time of the tracer
   double encode_ms = 0.0;       // host wall time: restricting lights, codec, datagram encoding and send
   double decode_ms = 0.0;       // host wall time of the client's on_datagram (decode + reassembly)
@@ -121,11 +126,15 @@ class ModelledTimeTracer final : public server::VisibilityTracer {
   void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, server::TraceStats& out_stats) override;
   void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                     server::TraceStats& out_stats) override;
+  // The rays and pixels of every trace so far, summed (the times are the host's, not summed).
+  const server::TraceStats& sums() const { return sums_; }
 
  private:
+  void traced(const server::TraceStats& stats);
   server::VisibilityTracer& inner_;
   ServerClock& clock_;
   int64_t ns_per_eye_;
+  server::TraceStats sums_;
 };
 
 // The service's DatagramSender: forwards to the downlink and counts the visibility bytes.

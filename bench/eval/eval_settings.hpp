@@ -3,6 +3,8 @@
 #include "math/projection.hpp"
 #include "render/shadow_maps.hpp"
 #include "render/warp_reference.hpp"
+#include "trace/soft/soft_options.hpp"
+#include "truth_sampling.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -91,6 +93,12 @@ struct RunOptions {
   std::optional<uint64_t> snapshot_frame;  // measured frame (0: the first) whose images go to <out>/snapshots
   std::optional<std::string> snapshot_crop;  // "X,Y,W,H": per round trip, one picture of that crop (snapshot_crops.hpp)
   uint32_t threads = 0;          // Embree threads (0: all cores)
+  // The ground truth's samples per pixel and light with an extent (truth_sampling.hpp): first, and where they
+  // disagree, all.
+  // The server's sampling of lights with an extent (TracerOptions::soft): its default is what ships.
+  server::SoftOptions server_soft;
+  uint32_t truth_first_samples = kTruthFirstSamples;
+  uint32_t truth_samples = kTruthSamples;
   // --render-path: deferred (every method and the truth on the deferred passes: the images differ only by
   // visibility) or shipped (each method on the path the client would take for it, the forward pass where it
   // applies, so client_ms is what ships; the truth on the forward pass, deferred-only methods then differ from it

@@ -9,6 +9,7 @@
 #include "eval_run.hpp"
 #include "eval_settings.hpp"
 #include "eval_trace_gen.hpp"
+#include "trace/soft/soft_visibility.hpp"
 #include "trace/visibility_tracer.hpp"
 
 #include <CLI/CLI.hpp>
@@ -109,6 +110,24 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"deferred", "shipped"}));
   run->add_option("--threads", options.threads, "Embree threads (0: all cores)")
       ->check(CLI::Range(0u, dhr::server::kMaxTracerThreads));
+  run->add_option("--soft-first-samples", options.server_soft.initial_samples,
+                  "server: first samples per pixel and light with an extent (dhr-server's default: what ships)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, dhr::server::kMaxSoftSamples));
+  run->add_option("--soft-samples", options.server_soft.max_samples,
+                  "server: samples per pixel and light with an extent where the first ones disagree")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, dhr::server::kMaxSoftSamples));
+  run->add_option("--truth-samples", options.truth_samples,
+                  "ground truth: samples per pixel and light with an extent where the first ones disagree "
+                  "(docs/evaluation.md, \"Soft shadows\")")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, dhr::server::kMaxSoftSamples));
+  run->add_option("--truth-first-samples", options.truth_first_samples,
+                  "ground truth: the first samples, which decide where a light is seen whole or not at all "
+                  "(at most --truth-samples; equal: uniform sampling)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, dhr::server::kMaxSoftSamples));
   bool no_progress = false;
   run->add_flag("--no-progress", no_progress, "no progress bar on stderr");
 

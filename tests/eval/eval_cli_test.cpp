@@ -89,8 +89,9 @@ TEST_F(EvalCliTest, WritesEverySettingWithTheContractKeys) {
   ASSERT_TRUE(results.is_array());
   EXPECT_EQ(results.size(), 9u);
   for (const json& r : results) {
-    for (const char* key : {"method", "rtt_ms", "x_max", "guard", "frames", "bit_error", "ssim", "psnr", "flip", "unknown_frac",
-                            "client_ms", "server_ms", "bytes_per_frame", "response_ms"}) {
+    for (const char* key : {"method", "rtt_ms", "x_max", "guard", "frames", "bit_error", "visibility_error", "ssim", "psnr",
+                            "flip", "unknown_frac", "client_ms", "server_ms", "server_rays_per_pixel", "bytes_per_frame",
+                            "response_ms"}) {
       EXPECT_TRUE(r.contains(key)) << key;
     }
     EXPECT_EQ(r["frames"].get<int>(), 8);
@@ -151,6 +152,28 @@ TEST_F(EvalCliTest, ErrorGrowsWithDelayAndTheWarpBeatsTheStaleBuffer) {
   EXPECT_LT(r.at("paper@100")["response_ms"].get<double>(), 100.0 + 2 * 11.2);
 }
 
+// With hard lights only, |k shown - k exact| is a wrong bit: visibility_error counts bit_error's wrong bits, over
+// the surface pixels instead of every display pixel (the room shows some background at these poses).
+TEST_F(EvalCliTest, VisibilityErrorIsTheBitErrorWithHardLights) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->output;
+  bool some_error = false;
+  for (const auto& [key, r] : by_setting(read_results(*dir_))) {
+    const double surface = r["surface_frac"].get<double>();
+    ASSERT_GT(surface, 0.5) << key;
+    ASSERT_LE(surface, 1.0) << key;
+    EXPECT_NEAR(r["visibility_error"].get<double>() * surface, r["bit_error"].get<double>(), 1e-7) << key;
+    ASSERT_EQ(r["visibility_error_per_light"].size(), r["bit_error_per_light"].size()) << key;
+    for (size_t l = 0; l < r["bit_error_per_light"].size(); ++l) {
+      EXPECT_NEAR(r["visibility_error_per_light"][l].get<double>() * surface, r["bit_error_per_light"][l].get<double>(),
+                  1e-7)
+          << key << " light " << l;
+    }
+    some_error |= r["bit_error"].get<double>() > 0.0;
+    EXPECT_EQ(r["soft_rays_per_pair"].get<double>(), 0.0) << key;
+  }
+  EXPECT_TRUE(some_error);
+}
+
 TEST_F(EvalCliTest, TwoRunsGiveIdenticalMetrics) {
   ASSERT_EQ(run_->exit_code, 0) << run_->output;
   const fs::path again = temp_dir("again");
@@ -159,8 +182,8 @@ TEST_F(EvalCliTest, TwoRunsGiveIdenticalMetrics) {
   const json a = read_results(*dir_), b = read_results(again);
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) {
-    for (const char* key : {"method", "rtt_ms", "bit_error", "bit_error_per_light", "ssim", "psnr", "flip", "unknown_frac",
-                            "bytes_per_frame", "response_ms", "frames_behind"}) {
+    for (const char* key : {"method", "rtt_ms", "bit_error", "bit_error_per_light", "visibility_error", "ssim", "psnr", "flip",
+                            "unknown_frac", "bytes_per_frame", "response_ms", "frames_behind"}) {
       EXPECT_EQ(a[i][key], b[i][key]) << i << " " << key;
     }
   }
@@ -223,7 +246,9 @@ TEST_F(EvalCliTest, ReportWritesMarkdownAndPlots) {
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     EXPECT_TRUE(fs::exists(*dir_ / "ssim_vs_frames.svg"));
     EXPECT_TRUE(fs::exists(*dir_ / "pareto.svg"));
+    EXPECT_TRUE(fs::exists(*dir_ / "rays_vs_visibility_error.svg"));
   }
+  EXPECT_NE(text.find("visibility error"), std::string::npos) << text;
 }
 
 // local (the client's shadow maps only) and full (every ingredient) with an ablation: the fill counts are
@@ -325,6 +350,47 @@ TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
   fs::remove_all(out);
 }
 
+// Lights with an extent: the truth is each light's fraction, converged; the client shows levels (k = level / 7).
+TEST(EvalCliSoftTest, SoftLightsAreJudgedByTheirFractions) {
+  const fs::path out = temp_dir("soft");
+  const CliRun r = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " +
+                           kTrace + " --out " + out.string() +
+                           " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,50,100"
+                           " --method stale,paper+pred,local");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, json> rows = by_setting(read_results(out));
+  ASSERT_EQ(rows.size(), 9u);
+  const auto k = [&](const std::string& key) { return rows.at(key)["visibility_error"].get<double>(); };
+  for (const char* key : {"stale@0", "paper+pred@0"}) {
+    // Exact up to the levels' quantization (at most 1/14 per soft pair) and the server's sampling noise.
+    EXPECT_GT(k(key), 0.0) << key;
+    EXPECT_LT(k(key), 1.0 / 14.0) << key;
+    EXPECT_GT(rows.at(key)["soft_rays_per_pair"].get<double>(), 1.0) << key << ": the server samples the extents";
+    EXPECT_GT(rows.at(key)["server_rays_per_pixel"].get<double>(), 1.0) << key;
+  }
+  EXPECT_LT(k("stale@0"), k("stale@50"));
+  EXPECT_LT(k("stale@50"), k("stale@100"));
+  EXPECT_LE(k("paper+pred@100"), k("stale@100"));
+  EXPECT_EQ(rows.at("local@100")["server_rays_per_pixel"].get<double>(), 0.0);
+  EXPECT_GT(k("local@100"), k("stale@0"));
+  std::ifstream run_json(out / "run.json");
+  const json meta = json::parse(run_json);
+  EXPECT_EQ(meta["soft_lights"].get<int>(), 2);
+  EXPECT_GT(meta["truth_samples"].get<int>(), 32);
+  // The server sampling more (TracerOptions::soft): more rays, an estimate nearer the truth at 0 ms.
+  const fs::path more = temp_dir("soft_more");
+  const CliRun m = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " +
+                           kTrace + " --out " + more.string() +
+                           " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0 --method stale"
+                           " --soft-first-samples 32 --soft-samples 256");
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  const json more_row = read_results(more).at(0);
+  EXPECT_GT(more_row["soft_rays_per_pair"].get<double>(), 4.0 * rows.at("stale@0")["soft_rays_per_pair"].get<double>());
+  EXPECT_LT(more_row["visibility_error"].get<double>(), k("stale@0"));
+  fs::remove_all(more);
+  fs::remove_all(out);
+}
+
 TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   const fs::path out = temp_dir("bad");
   CliRun r = run_cli("run --scene /nonexistent.gltf --trace " + kTrace + " --out " + out.string() + " --no-progress");
@@ -351,11 +417,13 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
                 " --frames 4 --eye-size 32x24 --rtt-ms 0 --method full --no-progress " + crop);
     EXPECT_EQ(r.exit_code, 2) << crop << "\n" << r.output;
   }
-  // A scene whose lights have an extent: refused (its truth would be traced to the lights' centres).
-  r = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " + kTrace +
-              " --out " + out.string() + " --frames 4 --eye-size 32x24 --rtt-ms 0 --no-progress");
+  r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+              " --frames 4 --eye-size 32x24 --rtt-ms 0 --no-progress --soft-first-samples 8 --soft-samples 4");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.output.find("does not evaluate soft shadows yet"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--soft-first-samples is above --soft-samples"), std::string::npos) << r.output;
+  r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --truth-samples 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--truth-samples"), std::string::npos) << r.output;
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --eye-size 0x0");
   EXPECT_EQ(r.exit_code, 2);
   r = run_cli("run --scene " + kScene + " --trace /nonexistent.csv --out " + out.string() + " --no-progress");

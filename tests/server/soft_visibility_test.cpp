@@ -11,6 +11,8 @@
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <glm/geometric.hpp>
 
 #include <bitset>
@@ -229,6 +231,12 @@ TEST(SoftVisibility, ImageIsDeterministicForAnyThreadCount) {
   EXPECT_GT(sa.refined_pairs, 0u);
   EXPECT_LT(sa.refined_share(), 0.1);  // measured 0.009 (4.26 rays per pair)
   EXPECT_EQ(sa.pairs, (sa.pixels - sa.background_pixels) * scene.lights.size());
+  // surface marks exactly the pixels whose primary ray hit.
+  ASSERT_EQ(a.surface.size(), sa.pixels);
+  EXPECT_EQ(a.surface, b.surface);
+  EXPECT_EQ(static_cast<uint64_t>(std::count(a.surface.begin(), a.surface.end(), uint8_t{1})),
+            sa.pixels - sa.background_pixels);
+  EXPECT_GT(sa.background_pixels, 0u) << "the camera sees some background";
   // Every pair is sampled or skipped for one counted reason.
   EXPECT_EQ(sa.pairs, sa.contributing_pairs + sa.skipped_backfacing + sa.skipped_out_of_range);
   for (size_t i = 0; i < a.fraction.size(); ++i) ASSERT_EQ(a.level[i], quantize(a.fraction[i], a.levels));

@@ -4,6 +4,7 @@
 // also the reference). Both produce identical bits except at silhouettes / shadow boundaries.
 #pragma once
 #include "math/projection.hpp"
+#include "trace/soft/soft_options.hpp"
 #include "scene/scene.hpp"
 #include "visibility/visibility.hpp"
 #include "visibility/visibility_layout.hpp"
@@ -39,6 +40,8 @@ struct TracerOptions {
   // Primary rays start at this depth along the view axis: the client's near plane, so nothing it clips is
   // traced in place of what it shows (a scene drawn at another scale would scale it too).
   double primary_near = kClipNearPlane;
+  // Lights with an extent in trace_layout's soft fields (Embree backend; the Vulkan backend traces their centres).
+  SoftOptions soft;
   // Vulkan backend: device preference "auto" | "gpu" | "lavapipe"; validation layer on/off.
   std::string vk_device = "auto";
   bool vk_validation = false;

@@ -20,7 +20,7 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, const TracerOptions& options, con
                              std::to_string(kMaxLights) + " supported");
   if (config_.tile_size == 0 || config_.tile_size % 4 != 0)
     throw std::runtime_error("embree tracer: tile size must be a positive multiple of 4");
-  if (auto err = validate_soft_options(config_.soft)) throw std::runtime_error("embree tracer: " + *err);
+  if (auto err = validate_soft_options(options_.soft)) throw std::runtime_error("embree tracer: " + *err);
   if (options.threads > kMaxTracerThreads)
     throw std::invalid_argument("embree tracer: " + std::to_string(options.threads) + " threads, at most " +
                                 std::to_string(kMaxTracerThreads));
@@ -82,7 +82,7 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
   detail::SoftTileSetup soft;
   soft.sampled = &sampled_;
   soft.layout = &layout;
-  soft.sampling = config_.soft;
+  soft.sampling = options_.soft;
   if (layout.any_soft()) {
     std::vector<uint32_t> hard;
     for (uint32_t li : frame.active_lights) (layout.is_soft(li) ? soft.active : hard).push_back(li);

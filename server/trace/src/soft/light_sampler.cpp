@@ -1,4 +1,5 @@
 #include "trace/soft/light_sampler.hpp"
+#include "trace/soft/soft_options.hpp"
 
 #include "trace/embree/embree_trace_tile.hpp"
 
@@ -78,6 +79,10 @@ uint32_t hash_u32(uint32_t x) {
 
 uint32_t soft_seed(uint32_t x, uint32_t y, uint32_t light, uint32_t salt) {
   return hash_u32(x ^ hash_u32(y ^ hash_u32(light ^ hash_u32(salt ^ 0x9e3779b9u))));
+}
+
+uint32_t SoftOptions::seed(uint32_t x, uint32_t y, uint32_t light) const {
+  return pattern == SoftPattern::kPerPixel ? soft_seed(x, y, light, salt) : soft_seed(0, 0, light, salt);
 }
 
 glm::vec2 sample_2d(uint32_t index, uint32_t seed) {

@@ -44,6 +44,7 @@ SoftStats trace_soft_image(const EmbreeScene& scene, std::span<const SceneLight>
   out.fraction.assign(size_t{width} * height * light_count, 0.0f);
   out.level.assign(out.fraction.size(), 0);
   out.rays.assign(out.fraction.size(), 0);
+  out.surface.assign(size_t{width} * height, 0);
 
   // The hard tracer's frame: eye, primary-ray tables, light culling. Only the cull skip matters here: the
   // other pairs that cannot contribute are skipped by soft_visibility's own light test (their k is 0 either way).
@@ -83,6 +84,7 @@ SoftStats trace_soft_image(const EmbreeScene& scene, std::span<const SceneLight>
             batch.push_back({&sampled[li], &s.hits[h],
                              options.sampling.seed(s.hit_pixels[h].x, s.hit_pixels[h].y, li), {}});
         soft_visibility_batch(scene, batch, options.sampling, soft_scratch[worker]);
+        for (const auto& pixel : s.hit_pixels) out.surface[size_t{pixel.y} * width + pixel.x] = 1;
         size_t k = 0;
         for (uint32_t li : frame.active_lights) {
           for (size_t h = 0; h < s.hits.size(); ++h, ++k) {

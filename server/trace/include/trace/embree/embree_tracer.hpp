@@ -22,7 +22,6 @@ struct EmbreeTracerConfig {
   bool primary_packets = true;                  // rtcIntersect16 per 4x4 block (false: rtcIntersect1 per pixel)
   ShadowQuery shadow_query = ShadowQuery::kStream;
   uint32_t tile_size = 16;                      // pixels per tile side (a multiple of 4)
-  SoftOptions soft;                             // soft lights' sampling in trace_layout (trace_soft_image's default)
 };
 
 class EmbreeTracer final : public VisibilityTracer {

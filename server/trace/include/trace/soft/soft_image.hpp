@@ -34,6 +34,7 @@ struct SoftImage {
   std::vector<float> fraction;
   std::vector<uint8_t> level;  // quantize(fraction, levels), plain binary (gray_encode for storage)
   std::vector<uint16_t> rays;  // occlusion rays traced for the pair (statistics, benchmarks)
+  std::vector<uint8_t> surface;  // per pixel (y * width + x): 1 where the primary ray hit a surface
   size_t index(uint32_t x, uint32_t y, uint32_t light) const { return (size_t{y} * width + x) * lights + light; }
 };
 
