@@ -68,7 +68,8 @@ std::vector<float> step_weights(const ExactVisibility& exact, uint32_t light) {
 Truth ground_truth(const TruthScene& scene, const TruthSampling& sampling, EyeRenderer& renderer, Extent eye_size,
                    GuardBand guard, const std::array<View, 2>& views) {
   server::SoftImageOptions options;
-  options.sampling = server::SoftOptions{sampling.first_samples, sampling.samples, sampling.salt};
+  options.sampling =
+      server::SoftOptions{sampling.first_samples, sampling.samples, sampling.salt, server::SoftPattern::kPerPixel};
   options.threads = sampling.threads;
   Truth truth;
   std::array<server::SoftImage, 2> images;

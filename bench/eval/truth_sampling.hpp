@@ -10,8 +10,8 @@ namespace dhr::eval {
 // than 1 % (docs/evaluation.md, "Soft shadows"). A punctual light takes one ray (the hard tracer's bit).
 inline constexpr uint32_t kTruthFirstSamples = 32;
 inline constexpr uint32_t kTruthSamples = 256;
-// The scramble's salt: independent of the server's (SoftOptions::salt 0), so the truth's noise does not agree
-// with what it judges.
+// The scramble: one per pixel (SoftPattern::kPerPixel, unbiased noise rather than the server's banding) with its
+// own salt, independent of the server's (salt 0), so the truth's noise does not agree with what it judges.
 inline constexpr uint32_t kTruthSalt = 0x74727574u;
 
 struct TruthSampling {
