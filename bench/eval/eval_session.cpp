@@ -125,13 +125,7 @@ int64_t ServerClock::take_busy_ns() {
 }
 
 void ModelledTimeTracer::traced(const server::TraceStats& stats) {
-  sums_.pixels += stats.pixels;
-  sums_.background_pixels += stats.background_pixels;
-  sums_.shadow_rays += stats.shadow_rays;
-  sums_.soft_pairs += stats.soft_pairs;
-  sums_.soft_contributing_pairs += stats.soft_contributing_pairs;
-  sums_.soft_refined_pairs += stats.soft_refined_pairs;
-  sums_.soft_shadow_rays += stats.soft_shadow_rays;
+  sums_.add_counts(stats);
   clock_.add_busy_ns(ns_per_eye_);
 }
 

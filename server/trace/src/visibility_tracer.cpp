@@ -8,6 +8,20 @@
 
 namespace dhr::server {
 
+void TraceStats::add_counts(const TraceStats& o) {
+  pixels += o.pixels;
+  background_pixels += o.background_pixels;
+  primary_rays += o.primary_rays;
+  shadow_rays += o.shadow_rays;
+  skipped_backfacing += o.skipped_backfacing;
+  skipped_out_of_range += o.skipped_out_of_range;
+  skipped_culled_light += o.skipped_culled_light;
+  soft_pairs += o.soft_pairs;
+  soft_contributing_pairs += o.soft_contributing_pairs;
+  soft_refined_pairs += o.soft_refined_pairs;
+  soft_shadow_rays += o.soft_shadow_rays;
+}
+
 double TraceStats::soft_rays_per_pair() const {
   return soft_pairs ? static_cast<double>(soft_shadow_rays) / static_cast<double>(soft_pairs) : 0.0;
 }

@@ -77,6 +77,10 @@ struct TraceStats {
   double soft_refined_share() const;
   double trace_ms = 0.0;               // wall time of the whole trace call (host)
   double gpu_ms = -1.0;                // GPU timestamp time (Vulkan), -1 when not measured
+
+  // Adds `other`'s per-pixel and per-ray counters (pixels through soft_shadow_rays, not the light counts or the
+  // times): a tracer's tiles into its trace, or traces into a run's totals.
+  void add_counts(const TraceStats& other);
 };
 
 class VisibilityTracer {

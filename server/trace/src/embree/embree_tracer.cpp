@@ -114,18 +114,7 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
   stats.pixels = static_cast<uint64_t>(width) * height;
   stats.lights_culled = frame.culled_lights;
   stats.lights_unrequested = light_count() - lights;
-  for (const TraceStats& p : partial) {
-    stats.background_pixels += p.background_pixels;
-    stats.primary_rays += p.primary_rays;
-    stats.shadow_rays += p.shadow_rays;
-    stats.skipped_backfacing += p.skipped_backfacing;
-    stats.skipped_out_of_range += p.skipped_out_of_range;
-    stats.skipped_culled_light += p.skipped_culled_light;
-    stats.soft_pairs += p.soft_pairs;
-    stats.soft_contributing_pairs += p.soft_contributing_pairs;
-    stats.soft_refined_pairs += p.soft_refined_pairs;
-    stats.soft_shadow_rays += p.soft_shadow_rays;
-  }
+  for (const TraceStats& p : partial) stats.add_counts(p);  // the tiles count no pixels: stats.pixels stays
   stats.trace_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   stats.gpu_ms = -1.0;
   out_stats = stats;
