@@ -148,6 +148,20 @@ std::vector<Seed> shard_payload_seeds() {
   return out;
 }
 
+// Seeds of the first `limit` v2 shards of `shards` (v1 fallbacks skipped), named prefix_i.
+void add_v2_shard_seeds(ShardPayloadV2Params p, const std::vector<EncodedShard>& shards, size_t limit,
+                        const std::string& prefix, std::vector<Seed>& out) {
+  for (size_t i = 0; i < shards.size() && i < limit; ++i) {
+    if (!is_v2_payload(shards[i].payload)) continue;
+    p.first_row = shards[i].first_pixel / p.width;
+    p.rows = shards[i].pixel_count / p.width;
+    Bytes b;
+    p.write(b);
+    put_bytes(b, shards[i].payload);
+    out.push_back({prefix + "_" + std::to_string(i), std::move(b)});
+  }
+}
+
 std::vector<Seed> shard_payload_v2_seeds() {
   std::vector<Seed> out;
   for (const uint8_t mode : {uint8_t{0}, uint8_t{4}, uint8_t{1}, uint8_t{5}}) {  // 3 / 9 lights, intra / inter
@@ -165,15 +179,7 @@ std::vector<Seed> shard_payload_v2_seeds() {
     options.max_payload = 120;
     std::vector<EncodedShard> shards;
     if (!encode_visibility_v2(cur, 2, (mode & 4) ? &r : nullptr, options, shards)) continue;
-    for (size_t i = 0; i < shards.size() && i < 3; ++i) {
-      if (!is_v2_payload(shards[i].payload)) continue;
-      p.first_row = shards[i].first_pixel / p.width;
-      p.rows = shards[i].pixel_count / p.width;
-      Bytes b;
-      p.write(b);
-      put_bytes(b, shards[i].payload);
-      out.push_back({"v2_mode" + std::to_string(mode) + "_" + std::to_string(i), std::move(b)});
-    }
+    add_v2_shard_seeds(p, shards, 3, "v2_mode" + std::to_string(mode), out);
   }
   // Soft levels: 3 soft lights (9 bits, mode 1), each field the Gray code of a level ramp across a penumbra.
   {
@@ -194,17 +200,7 @@ std::vector<Seed> shard_payload_v2_seeds() {
     EncodeOptions options;
     options.max_payload = 120;
     std::vector<EncodedShard> shards;
-    if (encode_visibility_v2(cur, 2, nullptr, options, shards)) {
-      for (size_t i = 0; i < shards.size() && i < 2; ++i) {
-        if (!is_v2_payload(shards[i].payload)) continue;
-        p.first_row = shards[i].first_pixel / p.width;
-        p.rows = shards[i].pixel_count / p.width;
-        Bytes b;
-        p.write(b);
-        put_bytes(b, shards[i].payload);
-        out.push_back({"v2_soft9_" + std::to_string(i), std::move(b)});
-      }
-    }
+    if (encode_visibility_v2(cur, 2, nullptr, options, shards)) add_v2_shard_seeds(p, shards, 2, "v2_soft9", out);
   }
   return out;
 }
