@@ -111,16 +111,16 @@ class AnimationLoader {
     if (!rotation && (a.type != TINYGLTF_TYPE_VEC3 || !is_float)) {
       return fail(where + ": translations and scales must be a VEC3 float accessor", out_error);
     }
+    // The count is checked before reading, so the key limit also bounds what is allocated here.
+    const std::size_t per_key = track->interpolation == AnimationInterpolation::kCubicSpline ? 3 : 1;
+    if (a.count != per_key * track->times.size()) {
+      return fail(where + format(": has %zu values for %zu keys (count must be %zu)", a.count, track->times.size(),
+                                 per_key * track->times.size()),
+                  out_error);
+    }
     std::string error;
     if (!read_accessor_floats(model_, s.output, track->components(), &track->values, &error)) {
       return fail(where + ": " + error, out_error);
-    }
-    const std::size_t per_key = track->interpolation == AnimationInterpolation::kCubicSpline ? 3 : 1;
-    const std::size_t elements = track->values.size() / static_cast<std::size_t>(track->components());
-    if (elements != per_key * track->times.size()) {
-      return fail(where + format(": has %zu values for %zu keys (count must be %zu)", elements, track->times.size(),
-                                 per_key * track->times.size()),
-                  out_error);
     }
     for (std::size_t i = 0; i < track->values.size(); ++i) {
       if (!std::isfinite(track->values[i])) {
