@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "scene_internal.hpp"
@@ -79,6 +80,9 @@ class Builder {
     punctual_extents_ = read_punctual_extents(model_, light_json_, warnings_);
     area_defs_ = read_area_lights(light_json_, warnings_);
     if (!walk(scene, scene_index, out_error)) return false;
+    if (!load_animations(model_, node_rest_, walk_order_, options_, warnings_, &out_->animation, out_error)) {
+      return false;
+    }
     finish();
     return true;
   }
@@ -190,10 +194,12 @@ class Builder {
 
   bool walk(const tinygltf::Scene& scene, int scene_index, std::string* out_error) {
     std::vector<std::uint8_t> visited(model_.nodes.size(), 0);
-    std::vector<std::pair<int, glm::dmat4>> stack;
-    for (auto it = scene.nodes.rbegin(); it != scene.nodes.rend(); ++it) stack.emplace_back(*it, glm::dmat4(1.0));
+    node_rest_.assign(model_.nodes.size(), NodeRest{});
+    // (node, parent node or -1, parent's world transform)
+    std::vector<std::tuple<int, int, glm::dmat4>> stack;
+    for (auto it = scene.nodes.rbegin(); it != scene.nodes.rend(); ++it) stack.emplace_back(*it, -1, glm::dmat4(1.0));
     while (!stack.empty()) {
-      const auto [index, parent] = stack.back();
+      const auto [index, parent_index, parent] = stack.back();
       stack.pop_back();
       if (index < 0 || static_cast<std::size_t>(index) >= model_.nodes.size()) {
         return fail(format("node %d does not exist", index), out_error);
@@ -205,26 +211,36 @@ class Builder {
       }
       visited[static_cast<std::size_t>(index)] = 1;
       const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(index)];
-      const glm::dmat4 world = parent * local_transform(node, warnings_, index);
+      const glm::dmat4 local = local_transform(node, warnings_, index);
+      const glm::dmat4 world = parent * local;
       for (int c = 0; c < 4; ++c) {
         for (int r = 0; r < 4; ++r) {
           if (!std::isfinite(world[c][r]))
             return fail(format("node %d has a non-finite world transform", index), out_error);
         }
       }
+      NodeRest& rest = node_rest_[static_cast<std::size_t>(index)];
+      rest.in_scene = true;
+      rest.parent = parent_index < 0 ? kNoSceneNode : static_cast<std::uint32_t>(parent_index);
+      rest.local = local;
+      rest.world = world;
+      walk_order_.push_back(static_cast<std::uint32_t>(index));
       if (node.mesh >= 0 && !add_mesh(node, index, world, out_error)) return false;
       if (auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end()) {
         const int light = static_cast<int>(number(ext->second.Get("light"), -1.0));
         if (light >= 0 && static_cast<std::size_t>(light) < model_.lights.size()) {
           lights_.push_back(light_from_gltf(model_, light, world, punctual_extents_[static_cast<std::size_t>(light)]));
+          lights_.back().node = static_cast<std::uint32_t>(index);
         }
       }
       if (auto ext = node.extensions.find("EXT_lights_area"); ext != node.extensions.end()) {
-        if (auto light = area_light_from_gltf(area_defs_, ext->second, index, world, warnings_))
+        if (auto light = area_light_from_gltf(area_defs_, ext->second, index, world, warnings_)) {
+          light->node = static_cast<std::uint32_t>(index);
           lights_.push_back(std::move(*light));
+        }
       }
       if (node.skin >= 0) ++skinned_nodes_;
-      for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, world);
+      for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, index, world);
     }
     return true;
   }
@@ -286,7 +302,6 @@ class Builder {
     if (morphed_primitives_ > 0) {
       warnings_.add(format("%u primitives have morph targets: morphing is ignored (base shape)", morphed_primitives_));
     }
-    if (!model_.animations.empty()) warnings_.add("animations are ignored (static scene)");
     warn_unimplemented_extensions();
     for (const SceneMesh& mesh : out_->meshes) {
       for (std::uint32_t i : mesh.indices) out_->bounds.extend(mesh.positions[i]);
@@ -331,6 +346,8 @@ class Builder {
   std::vector<SceneLight> lights_;  // in node walk order, punctual and area lights alike (kMaxSceneLights applies)
   std::vector<PunctualExtent> punctual_extents_;  // by KHR_lights_punctual index
   std::vector<AreaLightDef> area_defs_;           // by EXT_lights_area index
+  std::vector<NodeRest> node_rest_;         // by glTF node index (in_scene: reached by the walk)
+  std::vector<std::uint32_t> walk_order_;  // nodes in walk order (parents first)
   std::uint32_t skinned_nodes_ = 0;
   std::uint32_t morphed_primitives_ = 0;
 };

@@ -28,6 +28,16 @@ class Fnv1a {
     std::memcpy(&bits, &v, sizeof bits);
     u32(bits);
   }
+  void f64(double v) {
+    uint64_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    u64(bits);
+  }
+  void dmat4(const glm::dmat4& m) {
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 4; ++r) f64(m[c][r]);
+    }
+  }
   void vec3(const glm::vec3& v) {
     f32(v.x);
     f32(v.y);
@@ -38,6 +48,36 @@ class Fnv1a {
  private:
   uint64_t hash_ = 0xcbf29ce484222325ull;
 };
+
+// Everything sampling reads. Only called for a scene with animation tracks, so static scenes keep their hash.
+void hash_animation(Fnv1a& h, const SceneAnimation& animation) {
+  h.u64(animation.clips.size());
+  for (const AnimationClip& clip : animation.clips) h.f64(clip.duration);
+  h.u64(animation.nodes.size());
+  for (const AnimatedNode& n : animation.nodes) {
+    h.u32(n.node);
+    h.u32(n.parent);
+    h.dmat4(n.parent_rest_world);
+    for (int i = 0; i < 3; ++i) h.f64(n.translation[i]);
+    for (int i = 0; i < 4; ++i) h.f64(n.rotation[i]);
+    for (int i = 0; i < 3; ++i) h.f64(n.scale[i]);
+    h.dmat4(n.rest_local);
+    h.dmat4(n.rest_world);
+    h.u32(n.first_track);
+    h.u32(n.track_count);
+  }
+  h.u64(animation.tracks.size());
+  for (const AnimationTrack& t : animation.tracks) {
+    h.u32(t.animation);
+    h.u32(t.node);
+    h.u32(static_cast<uint32_t>(t.path));
+    h.u32(static_cast<uint32_t>(t.interpolation));
+    h.u64(t.times.size());
+    for (float v : t.times) h.f32(v);
+    h.u64(t.values.size());
+    for (float v : t.values) h.f32(v);
+  }
+}
 
 }  // namespace
 
@@ -70,6 +110,11 @@ uint64_t scene_content_hash(const Scene& scene) {
       h.vec3(light.tangent);
       h.vec3(light.bitangent);
     }
+  }
+  if (!scene.animation.empty()) {
+    // Which lights follow which node decides where they are at a time; static scenes hash neither.
+    for (const SceneLight& light : scene.lights) h.u32(light.node);
+    hash_animation(h, scene.animation);
   }
   return h.value();
 }

@@ -105,6 +105,21 @@ bool convert_primitive(const tinygltf::Model& model, const tinygltf::Primitive& 
 
 struct LightJson;  // below
 
+// The walk's record of one glTF node of the loaded scene (scene_build.cpp), for the animation loader.
+struct NodeRest {
+  bool in_scene = false;
+  std::uint32_t parent = kNoSceneNode;  // glTF index; kNoSceneNode for a scene root
+  glm::dmat4 local{1.0};                // as composed by the walk (matrix or T * R * S)
+  glm::dmat4 world{1.0};
+};
+
+// scene_animation_load.cpp: reads and checks model.animations into `out` (refusing bad data with an error naming
+// the animation, channel and problem). `nodes` is indexed by glTF node; `walk_order` lists the scene's nodes,
+// parents before children.
+bool load_animations(const tinygltf::Model& model, const std::vector<NodeRest>& nodes,
+                     const std::vector<std::uint32_t>& walk_order, const SceneLoadOptions& options,
+                     WarningSink& warnings, SceneAnimation* out, std::string* out_error);
+
 // Walks the chosen scene and fills `out` (meshes, materials, images, lights, bounds, counts).
 bool build_scene(const tinygltf::Model& model, const SceneLoadOptions& options, const ImageDecodeContext& images,
                  const LightJson& light_json, WarningSink& warnings, Scene* out, std::string* out_error);

@@ -50,7 +50,7 @@ std::optional<std::string> GltfValidator::run() {
   if (!root_.is_object()) return std::string("the top level is ") + kind_name(root_) + ", not a JSON object";
   check_asset() && check_extensions() && collect_arrays() && check_buffers() && check_buffer_views() &&
       check_accessors() && check_images_textures_samplers() && check_materials() && check_meshes() &&
-      check_lights() && check_nodes() && check_hierarchy() && check_scenes();
+      check_lights() && check_nodes() && check_hierarchy() && check_scenes() && check_animations();
   if (error_.empty()) return std::nullopt;
   return error_;
 }

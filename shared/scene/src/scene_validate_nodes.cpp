@@ -1,4 +1,4 @@
-// glTF JSON validation (see scene_validate.cpp): nodes, the node hierarchy and scenes.
+// glTF JSON validation (see scene_validate.cpp): nodes, the node hierarchy, scenes and animations.
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -108,6 +108,54 @@ bool GltfValidator::check_scenes() {
   const Json& chosen = *scenes_[static_cast<std::size_t>(scene)];
   if (!chosen.contains("nodes") || chosen["nodes"].empty()) {
     return fail(at("scenes", static_cast<std::size_t>(scene)), "the scene to show has no nodes");
+  }
+  return true;
+}
+
+// Animations: every channel needs a sampler, a target node and a known path; every sampler an input and an output
+// accessor and a known interpolation. Paths name the animation ("animations[0] ('walk').channels[1].target").
+bool GltfValidator::check_animations() {
+  for (std::size_t a = 0; a < animations_.size(); ++a) {
+    const Json& anim = *animations_[a];
+    std::string base = at("animations", a);
+    if (auto name = anim.find("name"); name != anim.end() && name->is_string()) {
+      base += " ('" + name->get<std::string>() + "')";
+    }
+    std::vector<const Json*> samplers, channels;
+    if (!array_of_objects(anim, "samplers", base, &samplers) || !array_of_objects(anim, "channels", base, &channels)) {
+      return false;
+    }
+    for (std::size_t s = 0; s < samplers.size(); ++s) {
+      const std::string path = at(key(base, "samplers"), s);
+      if (!index_member(*samplers[s], "input", path, accessors_.size(), "accessor", true) ||
+          !index_member(*samplers[s], "output", path, accessors_.size(), "accessor", true)) {
+        return false;
+      }
+      if (const Json* interp = member(*samplers[s], "interpolation", path, Json::value_t::string)) {
+        const std::string v = interp->get<std::string>();
+        if (v != "LINEAR" && v != "STEP" && v != "CUBICSPLINE") {
+          return fail(key(path, "interpolation"), "unknown interpolation \"" + v + "\" (LINEAR, STEP, CUBICSPLINE)");
+        }
+      }
+      if (!error_.empty()) return false;
+    }
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      const std::string path = at(key(base, "channels"), c);
+      if (!index_member(*channels[c], "sampler", path, samplers.size(), "sampler", true)) return false;
+      const Json* target = member(*channels[c], "target", path, Json::value_t::object, true);
+      if (!target) return false;
+      const std::string tpath = key(path, "target");
+      if (!target->contains("node")) {
+        return fail(tpath, "has no node (channels without a target node are not supported)");
+      }
+      if (!index_member(*target, "node", tpath, nodes_.size(), "node", true)) return false;
+      const Json* p = member(*target, "path", tpath, Json::value_t::string, true);
+      if (!p) return false;
+      const std::string v = p->get<std::string>();
+      if (v != "translation" && v != "rotation" && v != "scale" && v != "weights") {
+        return fail(key(tpath, "path"), "unknown path \"" + v + "\" (translation, rotation, scale, weights)");
+      }
+    }
   }
   return true;
 }

@@ -1,6 +1,6 @@
 // Internal to the glTF JSON validator (shared/scene/src/scene_validate*.cpp only): the validator class, whose
 // checks are split by what they look at: container, buffers and accessors (scene_validate.cpp); images,
-// materials, meshes and lights (scene_validate_materials.cpp); nodes, the hierarchy and scenes
+// materials, meshes and lights (scene_validate_materials.cpp); nodes, the hierarchy, scenes and animations
 // (scene_validate_nodes.cpp). The public entry point is scene_internal.hpp's validate_gltf_json.
 #pragma once
 #include <cstdint>
@@ -42,6 +42,7 @@ class GltfValidator : public JsonCheck {
   bool check_nodes();
   bool check_hierarchy();  // the hierarchy must be a forest
   bool check_scenes();
+  bool check_animations();  // structure and references only; the loader checks the data (scene_animation_load.cpp)
 
   const Json& root_;
   const ContainerInfo& info_;

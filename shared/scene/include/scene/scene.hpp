@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "scene/scene_animation.hpp"
+
 namespace dhr {
 
 // The shadow mask carries one bit per light; more lights than this cannot be traced.
@@ -109,6 +111,7 @@ struct SceneLight {
   float height = 0.0f;                     // rect: extent along `bitangent`; disk: diameter; metres
   glm::vec3 tangent{1.0f, 0.0f, 0.0f};     // rect, disk: world direction of the node's +X (unit)
   glm::vec3 bitangent{0.0f, 1.0f, 0.0f};   // rect, disk: world direction of the node's +Y (unit)
+  std::uint32_t node = kNoSceneNode;       // the glTF node that places it (kNoSceneNode: from a spec or the rig)
 
   bool has_extent() const { return radius > 0.0f || angle > 0.0f || width > 0.0f || height > 0.0f; }
   // Emitting area in m^2: width x height (rect), pi (width/2)^2 (disk), 0 otherwise.
@@ -138,6 +141,7 @@ struct Scene {
   std::uint64_t triangle_count = 0;
   std::uint64_t vertex_count = 0;
   SceneStats stats;
+  SceneAnimation animation;  // empty for a static scene (see scene/scene_animation.hpp)
   std::vector<std::string> warnings;  // human-readable; capped (the last entry says how many were cut)
 };
 
@@ -150,6 +154,7 @@ struct SceneLoadOptions {
   std::uint64_t max_image_bytes = 1ull << 30;  // all decoded RGBA8 images together
   bool decode_images = true;                   // false: materials keep only their colour factor
   bool default_lights_when_none = true;        // no lights in the file -> make_default_light_rig
+  std::uint64_t max_animation_keys = 10'000'000;  // input keys of all animation samplers together
 };
 
 struct SceneLoadResult {
