@@ -20,6 +20,7 @@ int run_serve_command(const ServerOptions& options) {
   }
   std::optional<Scene> scene = load_server_scene(options, &error);
   if (!scene) return fail_setup(error);
+  for (const std::string& w : scene->warnings) std::fprintf(stderr, "dhr-server: warning: scene: %s\n", w.c_str());
   std::unique_ptr<VisibilityTracer> tracer;
   try {
     tracer = create_tracer(options.backend, *scene, options.tracer);

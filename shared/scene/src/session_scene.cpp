@@ -1,5 +1,7 @@
 #include "scene/session_scene.hpp"
 
+#include <string>
+
 namespace dhr {
 namespace {
 
@@ -21,6 +23,12 @@ std::optional<Scene> load_session_scene(const std::string& path, std::string_vie
     return std::nullopt;
   }
   Scene scene = std::move(*loaded.scene);
+  if (!scene.animation.empty()) {
+    // The loader reads and samples them (scene_animation.hpp); sessions do not move anything yet (issue 27).
+    scene.warnings.push_back(std::to_string(scene.animation.clips.size()) + " animation(s), " +
+                             std::to_string(scene.animation.tracks.size()) +
+                             " track(s) loaded but not played: the session shows the scene at its rest pose");
+  }
   if (scene.triangle_count == 0) {
     *out_error = path + ": the scene has no triangles";
     return std::nullopt;

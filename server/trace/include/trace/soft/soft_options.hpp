@@ -18,7 +18,7 @@ enum class SoftPattern : uint8_t { kPerLight, kPerPixel };
 
 struct SoftOptions {
   // Powers of two keep every stage a stratified (0,m,2)-net of the sequence.
-  uint32_t initial_samples = 4;
+  uint32_t initial_samples = 8;
   uint32_t max_samples = 32;
   uint32_t salt = 0;  // selects an independent scramble (soft_seed)
   SoftPattern pattern = SoftPattern::kPerLight;
