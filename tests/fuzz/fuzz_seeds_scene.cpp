@@ -2,6 +2,7 @@
 // normals and texture coordinates, lights of every type, a strip without normals, a node hierarchy with
 // instancing and KHR_texture_transform), as .gltf text with data: URIs and as .glb with a BIN chunk.
 #include "fuzz_support.hpp"
+#include "test_base64.hpp"
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -47,19 +48,7 @@ Bytes tiny_image(bool jpeg) {
   return out;
 }
 
-std::string base64(const Bytes& in) {
-  static const char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < in.size(); i += 3) {
-    const uint32_t a = in[i], b = i + 1 < in.size() ? in[i + 1] : 0, c = i + 2 < in.size() ? in[i + 2] : 0;
-    const uint32_t v = a << 16 | b << 8 | c;
-    out.push_back(kAlphabet[(v >> 18) & 63]);
-    out.push_back(kAlphabet[(v >> 12) & 63]);
-    out.push_back(i + 1 < in.size() ? kAlphabet[(v >> 6) & 63] : '=');
-    out.push_back(i + 2 < in.size() ? kAlphabet[v & 63] : '=');
-  }
-  return out;
-}
+std::string base64(const Bytes& in) { return test::base64(std::vector<unsigned char>(in.begin(), in.end())); }
 
 // One triangle: positions (36 bytes), normals (36), texcoords (24), u16 indices (6 + 2 padding).
 Bytes triangle_buffer() {

@@ -13,59 +13,21 @@
 #include <vector>
 
 #include "scene/scene.hpp"
+#include "test_gltf.hpp"
 #include "scene/scene_hash.hpp"
 
 namespace {
 
 using nlohmann::json;
 
-std::string base64(const std::vector<unsigned char>& data) {
-  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < data.size(); i += 3) {
-    const std::uint32_t b0 = data[i];
-    const std::uint32_t b1 = i + 1 < data.size() ? data[i + 1] : 0;
-    const std::uint32_t b2 = i + 2 < data.size() ? data[i + 2] : 0;
-    const std::uint32_t v = (b0 << 16) | (b1 << 8) | b2;
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += i + 1 < data.size() ? kAlphabet[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? kAlphabet[v & 63] : '=';
-  }
-  return out;
-}
-
 // A glTF document with one embedded buffer and one animation ("anim"); tests add nodes and channels.
-class AnimGltf {
+class AnimGltf : public dhr::test::TestGltf {
  public:
-  AnimGltf() { doc = {{"asset", {{"version", "2.0"}}}}; }
-
-  int accessor(const void* data, std::size_t bytes, int component_type, std::size_t count, const char* type,
-               bool normalized = false) {
-    while (blob_.size() % 4) blob_.push_back(0);
-    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", blob_.size()}, {"byteLength", bytes}});
-    const auto* p = static_cast<const unsigned char*>(data);
-    blob_.insert(blob_.end(), p, p + bytes);
-    json a = {{"bufferView", doc["bufferViews"].size() - 1},
-              {"componentType", component_type},
-              {"count", count},
-              {"type", type}};
-    if (normalized) a["normalized"] = true;
-    doc["accessors"].push_back(a);
-    return static_cast<int>(doc["accessors"].size()) - 1;
-  }
-  int floats(const std::vector<float>& v, const char* type, std::size_t components) {
-    return accessor(v.data(), v.size() * 4, 5126, v.size() / components, type);
-  }
   // A one-triangle mesh (0,0,0) (1,0,0) (0,1,0).
   int triangle_mesh() {
     const int pos = floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
     doc["meshes"].push_back({{"primitives", json::array({{{"attributes", {{"POSITION", pos}}}}})}});
     return static_cast<int>(doc["meshes"].size()) - 1;
-  }
-  int node(json n) {
-    doc["nodes"].push_back(std::move(n));
-    return static_cast<int>(doc["nodes"].size()) - 1;
   }
   // Adds a sampler (times, values with `components` floats each) and a channel on `node`/`path` to "anim".
   void channel(int node, const char* path, const std::vector<float>& times, const std::vector<float>& values,
@@ -85,18 +47,6 @@ class AnimGltf {
     if (!doc.contains("animations")) doc["animations"] = json::array({{{"name", "anim"}}});
     return doc["animations"][0];
   }
-  std::string text(std::vector<int> roots = {0}) {
-    if (!doc.contains("scenes")) doc["scenes"] = json::array({{{"nodes", roots}}});
-    if (!blob_.empty()) {
-      doc["buffers"] = json::array(
-          {{{"byteLength", blob_.size()}, {"uri", "data:application/octet-stream;base64," + base64(blob_)}}});
-    }
-    return doc.dump();
-  }
-  json doc;
-
- private:
-  std::vector<unsigned char> blob_;
 };
 
 dhr::SceneLoadResult load(const std::string& text, const dhr::SceneLoadOptions& options = {}) {

@@ -11,52 +11,20 @@
 #include <vector>
 
 #include "scene/scene.hpp"
+#include "test_gltf.hpp"
 
 namespace {
 
 using nlohmann::json;
 
-std::string base64(const std::vector<unsigned char>& data) {
-  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < data.size(); i += 3) {
-    const std::uint32_t b0 = data[i];
-    const std::uint32_t b1 = i + 1 < data.size() ? data[i + 1] : 0;
-    const std::uint32_t b2 = i + 2 < data.size() ? data[i + 2] : 0;
-    const std::uint32_t v = (b0 << 16) | (b1 << 8) | b2;
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += i + 1 < data.size() ? kAlphabet[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? kAlphabet[v & 63] : '=';
-  }
-  return out;
-}
-
-// A glTF document with one embedded buffer; tests add meshes/nodes/scenes to `doc` directly.
-class TestGltf {
+// The shared builder (tests/common/test_gltf.hpp) with this file's mesh helpers.
+class TestGltf : public dhr::test::TestGltf {
  public:
-  TestGltf() { doc = {{"asset", {{"version", "2.0"}}}}; }
-
-  int view(const void* data, std::size_t bytes) {
-    while (blob_.size() % 4) blob_.push_back(0);
-    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", blob_.size()}, {"byteLength", bytes}});
-    const auto* p = static_cast<const unsigned char*>(data);
-    blob_.insert(blob_.end(), p, p + bytes);
-    return static_cast<int>(doc["bufferViews"].size()) - 1;
-  }
-  int accessor(int view_index, int component_type, std::size_t count, const char* type) {
-    doc["accessors"].push_back(
-        {{"bufferView", view_index}, {"componentType", component_type}, {"count", count}, {"type", type}});
-    return static_cast<int>(doc["accessors"].size()) - 1;
-  }
-  int floats(const std::vector<float>& v, const char* type, std::size_t components) {
-    return accessor(view(v.data(), v.size() * 4), 5126, v.size() / components, type);
-  }
+  using dhr::test::TestGltf::accessor;
   int vec3(const std::vector<float>& v) { return floats(v, "VEC3", 3); }
   int indices(const std::vector<std::uint32_t>& v) {
     return accessor(view(v.data(), v.size() * 4), 5125, v.size(), "SCALAR");
   }
-
   // A mesh with one primitive; returns the mesh index.
   int mesh(json attributes, int indices_accessor = -1, int mode = 4, int material = -1) {
     json prim = {{"attributes", attributes}, {"mode", mode}};
@@ -65,23 +33,6 @@ class TestGltf {
     doc["meshes"].push_back({{"primitives", json::array({prim})}});
     return static_cast<int>(doc["meshes"].size()) - 1;
   }
-  int node(json n) {
-    doc["nodes"].push_back(std::move(n));
-    return static_cast<int>(doc["nodes"].size()) - 1;
-  }
-  // Puts the given roots in scene 0 (unless the test already wrote scenes) and serializes.
-  std::string text(std::vector<int> roots = {0}) {
-    if (!doc.contains("scenes")) doc["scenes"] = json::array({{{"nodes", roots}}});
-    if (!blob_.empty()) {
-      doc["buffers"] = json::array(
-          {{{"byteLength", blob_.size()}, {"uri", "data:application/octet-stream;base64," + base64(blob_)}}});
-    }
-    return doc.dump();
-  }
-  json doc;
-
- private:
-  std::vector<unsigned char> blob_;
 };
 
 dhr::SceneLoadResult load(const std::string& text, const dhr::SceneLoadOptions& options = {}) {
