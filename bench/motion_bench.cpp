@@ -4,11 +4,11 @@
 // Defaults: ../shared/data/scenes/living_room_moving.glb, all cores, 5 builds, 41 updates at times spread over the
 // longest animation (each a different pose), 1280x1440 per eye for the trace times. Reports:
 //   full_build_ms       median create() of the flattened scene at t (what an update replaces)
-//   motion_build_ms     median create() of the animated scene (two-level; once per session)
+//   motion_build_ms     median create() of the animated scene (dynamic; once per session)
 //   update_ms           median (and max) set_scene_time over the updates; ratio = update_ms / full_build_ms
 //   moving_meshes / moving_vertices, moved_meshes / moved_vertices (last update)
-//   trace_ms_flat / trace_ms_motion   one eye of each bookmark (sum, median of 3), flattened vs two-level, at the
-//                                     same time: what instancing costs the tracer
+//   trace_ms_flat / trace_ms_motion   one eye of each bookmark (sum, median of 3), flattened vs dynamic, at the
+//                                     same time: what the dynamic (two-level) BVH costs the tracer
 // docs/server.md ("Motion") has the measured numbers and the command.
 #include "bench_timing.hpp"
 #include "bench_views.hpp"
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
   }
   const server::MotionStats& ms = es->motion_stats();
 
-  // Trace times at probe_t: the flattened scene at t against the two-level scene moved to t.
+  // Trace times at probe_t: the flattened scene at t against the dynamic scene moved to t.
   std::string note;
   std::vector<Camera> cameras;
   for (const CameraBookmark& b : bench_bookmarks(path, scene, note))
@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
   j["duration_s"] = duration;
   j["meshes"] = scene.meshes.size();
   j["triangles"] = scene.triangle_count;
-  j["instances"] = es->stats().instance_count;
+  j["dynamic"] = es->is_dynamic();
   j["moving_meshes"] = ms.moving_meshes;
   j["moving_vertices"] = ms.moving_vertices;
   j["moved_meshes"] = ms.moved_meshes;

@@ -4,7 +4,6 @@
 #include "scene/scene_at.hpp"
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -58,46 +57,6 @@ bool EmbreeScene::on_memory(void* user, ssize_t bytes, bool /*post*/) {
   return true;
 }
 
-namespace {
-
-// A triangle geometry over `buffers` (positions padded, indices shared with Embree; the filter's user data),
-// attached to `target` with ID `id`.
-void attach_triangles(RTCDevice device, RTCScene target, unsigned id, EmbreeMesh& buffers) {
-  const size_t vertex_count = buffers.positions.size() - 1;  // without the padding element
-  const size_t tri_count = buffers.indices.size() / 3;
-  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, buffers.positions.data(), 0,
-                             sizeof(glm::vec3), vertex_count);
-  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, buffers.indices.data(), 0,
-                             3 * sizeof(uint32_t), tri_count);
-  rtcSetGeometryUserData(geom, &buffers);
-  if (!buffers.double_sided) rtcSetGeometryIntersectFilterFunction(geom, reject_back_faces);
-  rtcCommitGeometry(geom);
-  rtcAttachGeometryByID(target, geom, id);
-  rtcReleaseGeometry(geom);
-}
-
-RTCScene new_scene(RTCDevice device, const EmbreeBuildOptions& options) {
-  RTCScene scene = rtcNewScene(device);
-  rtcSetSceneBuildQuality(scene, options.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
-  rtcSetSceneFlags(scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-  return scene;
-}
-
-// An instance of `child` with ID `id` in `top`, identity transform; returned retained.
-RTCGeometry attach_instance(RTCDevice device, RTCScene top, RTCScene child, unsigned id) {
-  RTCGeometry inst = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
-  rtcSetGeometryInstancedScene(inst, child);
-  rtcSetGeometryTimeStepCount(inst, 1);
-  const glm::mat4 identity(1.0f);
-  rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &identity[0][0]);
-  rtcCommitGeometry(inst);
-  rtcAttachGeometryByID(top, inst, id);
-  return inst;
-}
-
-}  // namespace
-
 std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const EmbreeBuildOptions& options) {
   std::unique_ptr<EmbreeScene> es(new EmbreeScene());
   const uint32_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
@@ -112,23 +71,17 @@ std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const Embre
   es->origin_ = scene.bounds.empty() ? glm::dvec3(0.0) : glm::dvec3(scene.bounds.min) * 0.5 +
                                                               glm::dvec3(scene.bounds.max) * 0.5;
   es->ray_offset_ = scaled_ray_offset(ray_offset_scale(scene.bounds));
-  // Meshes with triangles on moving nodes make the scene two-level; otherwise it is flattened as it always was.
+  // Meshes with triangles on moving nodes make the scene dynamic; otherwise it is built as it always was.
   const auto moves = [&](const SceneMesh& m) {
     return m.indices.size() >= 3 && !m.positions.empty() && scene.animation.find(m.node) != nullptr;
   };
-  const bool two_level = !scene.animation.empty() && std::any_of(scene.meshes.begin(), scene.meshes.end(), moves);
-  if (two_level) {
-    // The top scene holds only instances and is rebuilt at every update: a fast build over few primitives.
-    es->scene_ = rtcNewScene(es->device_);
-    rtcSetSceneBuildQuality(es->scene_, RTC_BUILD_QUALITY_LOW);
-    rtcSetSceneFlags(es->scene_, static_cast<RTCSceneFlags>(RTC_SCENE_FLAG_DYNAMIC |
-                                                            (options.robust ? RTC_SCENE_FLAG_ROBUST : 0)));
-    es->static_child_ = new_scene(es->device_, options);
-  } else {
-    es->scene_ = new_scene(es->device_, options);
-  }
-  RTCScene static_target = two_level ? es->static_child_ : es->scene_;
-  uint32_t static_geometries = 0;
+  const bool dynamic = !scene.animation.empty() && std::any_of(scene.meshes.begin(), scene.meshes.end(), moves);
+  es->scene_ = rtcNewScene(es->device_);
+  rtcSetSceneBuildQuality(es->scene_, options.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+  // DYNAMIC: Embree's two-level BVH (one BVH per geometry, a top level over them); a commit rebuilds only the
+  // committed geometries' BVHs and the top level.
+  rtcSetSceneFlags(es->scene_, static_cast<RTCSceneFlags>((options.robust ? RTC_SCENE_FLAG_ROBUST : 0) |
+                                                          (dynamic ? RTC_SCENE_FLAG_DYNAMIC : 0)));
 
   es->meshes_.resize(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -154,56 +107,50 @@ std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const Embre
     dst.normals = src.normals;
     if (dst.normals.size() != src.positions.size()) dst.normals.assign(src.positions.size(), glm::vec3(0.0f));
     dst.indices.assign(src.indices.begin(), src.indices.begin() + static_cast<std::ptrdiff_t>(tri_count * 3));
+
+    RTCGeometry geom = rtcNewGeometry(es->device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, dst.positions.data(), 0,
+                               sizeof(glm::vec3), src.positions.size());
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, dst.indices.data(), 0,
+                               3 * sizeof(uint32_t), tri_count);
+    rtcSetGeometryUserData(geom, &dst);
+    if (!dst.double_sided) rtcSetGeometryIntersectFilterFunction(geom, reject_back_faces);
+    const bool moving = dynamic && moves(src);
+    if (dynamic) {
+      // Static geometries are built once, moving ones refitted at each update (their topology never changes).
+      rtcSetGeometryBuildQuality(geom, moving ? RTC_BUILD_QUALITY_REFIT
+                                              : (options.high_quality ? RTC_BUILD_QUALITY_HIGH
+                                                                      : RTC_BUILD_QUALITY_MEDIUM));
+    }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(es->scene_, geom, static_cast<unsigned>(m));
+    if (moving) {
+      auto mm = std::make_unique<MovingMesh>();
+      mm->mesh = static_cast<uint32_t>(m);
+      mm->geometry = geom;  // keeps the reference rtcNewGeometry gave (released in the destructor)
+      mm->rest_positions = src.positions;
+      mm->rest_normals = dst.normals;
+      es->motion_stats_.moving_vertices += src.positions.size();
+      es->moving_.push_back(std::move(mm));
+    } else {
+      rtcReleaseGeometry(geom);
+    }
     es->stats_.triangles += tri_count;
     ++es->stats_.blas_count;
-
-    if (!two_level || !moves(src)) {
-      attach_triangles(es->device_, static_target, static_cast<unsigned>(m), dst);
-      ++static_geometries;
-      continue;
-    }
-    // A moving mesh: its own child scene over a copy of the rest buffers (the instance moves it; dst follows the
-    // scene time for surface points), instanced with the mesh index as ID.
-    auto mm = std::make_unique<MovingMesh>();
-    mm->mesh = static_cast<uint32_t>(m);
-    mm->local.positions = dst.positions;
-    mm->local.indices = dst.indices;
-    mm->local.double_sided = dst.double_sided;
-    mm->rest_positions = src.positions;
-    mm->rest_normals = dst.normals;
-    mm->child = new_scene(es->device_, options);
-    attach_triangles(es->device_, mm->child, 0, mm->local);
-    rtcCommitScene(mm->child);
-    mm->instance = attach_instance(es->device_, es->scene_, mm->child, static_cast<unsigned>(m));
-    es->motion_stats_.moving_vertices += src.positions.size();
-    es->moving_.push_back(std::move(mm));
   }
-  if (two_level) {
-    es->motion_stats_.moving_meshes = static_cast<uint32_t>(es->moving_.size());
-    rtcCommitScene(es->static_child_);
-    if (static_geometries > 0) {
-      es->static_instance_id_ = static_cast<unsigned>(scene.meshes.size());  // not a mesh index
-      rtcReleaseGeometry(attach_instance(es->device_, es->scene_, es->static_child_, es->static_instance_id_));
-    }
-  }
+  es->motion_stats_.moving_meshes = static_cast<uint32_t>(es->moving_.size());
   rtcCommitScene(es->scene_);
   if (rtcGetDeviceError(es->device_) != RTC_ERROR_NONE)
     throw std::runtime_error("embree: scene build failed: " + device_error_text(es->device_));
   es->stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   es->stats_.bytes = static_cast<uint64_t>(std::max<int64_t>(0, es->memory_bytes_.load()));
-  // Flattened: no instances; two-level: one per moving mesh and the static child's.
-  es->stats_.instance_count =
-      two_level ? static_cast<uint32_t>(es->moving_.size()) + (static_geometries > 0 ? 1u : 0u) : 0u;
+  es->stats_.instance_count = 0;  // one scene of triangle geometries: no instances
   return es;
 }
 
 EmbreeScene::~EmbreeScene() {
+  for (const auto& mm : moving_) rtcReleaseGeometry(mm->geometry);
   if (scene_) rtcReleaseScene(scene_);
-  for (const auto& mm : moving_) {
-    if (mm->instance) rtcReleaseGeometry(mm->instance);
-    if (mm->child) rtcReleaseScene(mm->child);
-  }
-  if (static_child_) rtcReleaseScene(static_child_);
   if (device_) rtcReleaseDevice(device_);
 }
 
@@ -215,24 +162,21 @@ void EmbreeScene::set_scene_time(const Scene& scene, double t) {
   scene_time_ = t;
   uint32_t moved = 0;
   uint64_t moved_vertices = 0;
-  // Relative frame: p_rel = p - origin, so a world motion M becomes T(-origin) M T(origin) (composed in double).
-  const glm::dmat4 to_world = glm::translate(glm::dmat4(1.0), origin_);
-  const glm::dmat4 to_relative = glm::translate(glm::dmat4(1.0), -origin_);
   for (const auto& mm : moving_) {
     const glm::dmat4 motion = mesh_motion_at(scene, scene.meshes[mm->mesh], t);
-    const glm::mat4 transform(to_relative * motion * to_world);
-    if (transform == mm->transform) continue;
-    mm->transform = transform;
-    rtcSetGeometryTransform(mm->instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transform[0][0]);
-    rtcCommitGeometry(mm->instance);
-    // The surface points' vertices at t: the world position as scene_at computes it, then made relative as
-    // create does (rounded as in a scene built from scene_at(scene, t), up to that scene's own origin).
+    if (motion == mm->motion) continue;
+    mm->motion = motion;
+    // The vertices at t: the world position as scene_at computes it, then made relative as create does (the same
+    // floats as a scene built from scene_at(scene, t), up to that scene's own origin). Embree reads the same
+    // buffer (shared): it refits this geometry's BVH at the commit below.
     EmbreeMesh& dst = meshes_[mm->mesh];
     const glm::dmat3 nm = normal_matrix(motion);
     for (size_t i = 0; i < mm->rest_positions.size(); ++i) {
       dst.positions[i] = glm::vec3(glm::dvec3(moved_position(motion, mm->rest_positions[i])) - origin_);
       dst.normals[i] = moved_normal(nm, mm->rest_normals[i]);
     }
+    rtcUpdateGeometryBuffer(mm->geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(mm->geometry);
     ++moved;
     moved_vertices += mm->rest_positions.size();
   }
@@ -305,7 +249,7 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const glm::vec3& origin, const 
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  return surface(mesh_of_hit(rh.hit.instID[0], rh.hit.geomID), rh.hit.primID, rh.hit.u, rh.hit.v, dir);
+  return surface(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, dir);
 }
 
 bool EmbreeScene::occluded(const glm::vec3& origin, const glm::vec3& dir, float tfar) const {

@@ -69,9 +69,8 @@ void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint
   for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
     if (!valid[lane] || rh.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
     const glm::vec3 dir(rh.ray.dir_x[lane], rh.ray.dir_y[lane], rh.ray.dir_z[lane]);
-    const uint32_t mesh = scene.mesh_of_hit(rh.hit.instID[0][lane], rh.hit.geomID[lane]);
-    add_hit(scratch, scene.surface(mesh, rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane], dir), slot0 + lane,
-            bx + lane % kBlock, by + lane / kBlock);
+    add_hit(scratch, scene.surface(rh.hit.geomID[lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane], dir),
+            slot0 + lane, bx + lane % kBlock, by + lane / kBlock);
   }
   stats.background_pixels += inside - (scratch.hits.size() - hits_before);
 }

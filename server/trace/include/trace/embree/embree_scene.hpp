@@ -1,13 +1,12 @@
-// The Embree side of a Scene: one Embree 3 device and one triangle scene (one Embree geometry per SceneMesh),
-// built in coordinates relative to the scene's bounding-box centre so that large world offsets keep float
-// precision. Also turns Embree hits into surface points.
+// The Embree side of a Scene: one Embree 3 device and one flattened triangle scene (one Embree geometry per
+// SceneMesh, geometry ID = mesh index), built in coordinates relative to the scene's bounding-box centre
+// so that large world offsets keep float precision. Also turns Embree hits into surface points.
 //
-// A static scene (no mesh on a moving node) is one flattened scene: geometry ID = mesh index, no instances.
-// A scene with meshes on moving nodes is two-level so that a scene-time update touches only what moves: every
-// static mesh goes into one child scene (geometry ID = mesh index there), instanced once in the top scene with
-// ID meshes.size(); every moving mesh gets its own child scene (built once, at rest, geometry ID 0), instanced in
-// the top scene with ID = its mesh index. set_scene_time sets the moving instances' transforms and rebuilds the
-// top scene's BVH over those few instances (docs/server.md, "Motion"). mesh_of_hit maps a hit to its mesh.
+// A scene with meshes on moving nodes is built with RTC_SCENE_FLAG_DYNAMIC (Embree's two-level BVH: one BVH per
+// geometry, a top level over them) so that a scene-time update touches only what moves: set_scene_time rewrites
+// the moving meshes' vertices, Embree refits their BVHs (RTC_BUILD_QUALITY_REFIT) and rebuilds the top level over
+// the geometries' bounds; static meshes' BVHs are never rebuilt (docs/server.md, "Motion"). A static scene is built
+// exactly as before. Geometry ID = mesh index in both: no instances.
 #pragma once
 #include "trace/ray_offset.hpp"
 #include "trace/visibility_tracer.hpp"
@@ -55,11 +54,11 @@ struct EmbreeMesh {
 
 // What the last scene-time update did (EmbreeScene::set_scene_time).
 struct MotionStats {
-  uint32_t moving_meshes = 0;     // meshes on moving nodes (each its own instance); 0 for a static scene
+  uint32_t moving_meshes = 0;     // meshes on moving nodes (refitted when they move); 0 for a static scene
   uint64_t moving_vertices = 0;   // their vertices
-  uint32_t moved_meshes = 0;      // last update: meshes whose transform changed (instance + vertices updated)
+  uint32_t moved_meshes = 0;      // last update: meshes whose motion changed (vertices updated, BVH refitted)
   uint64_t moved_vertices = 0;    // last update: their vertices
-  double last_update_ms = 0.0;    // last update: wall time (transforms, vertices, top-level rebuild)
+  double last_update_ms = 0.0;    // last update: wall time (vertices, refits, top-level rebuild)
   uint64_t updates = 0;           // set_scene_time calls so far
 };
 
@@ -82,25 +81,19 @@ class EmbreeScene {
   // "Embree 3.13.5 (<ISA>), N threads"-style text for the device field of reports.
   std::string description(uint32_t trace_threads) const;
 
-  // Moves the scene to scene time `t` (seconds): each moving mesh's instance transform becomes the relative-frame
-  // version of mesh_motion_at(scene, mesh, t) and its EmbreeMesh positions and normals are moved to t (O(moving
-  // vertices)); then the top scene is committed (a BVH over the instances only). Meshes whose transform did not
-  // change are not touched; nothing is committed when none changed. `scene` is the Scene this was created from
+  // Moves the scene to scene time `t` (seconds): each moving mesh's EmbreeMesh positions and normals are moved by
+  // mesh_motion_at(scene, mesh, t) from their rest positions (O(moving vertices); Embree shares the vertex buffer),
+  // its geometry is committed (a BVH refit), then the scene (the top level over the geometries). Meshes whose motion
+  // did not change are not touched; nothing is committed when none changed. `scene` is the Scene this was created from
   // (only its animation and its meshes' node and T_world_local are read: a copy without vertices will do).
   // A static scene only records t. Not concurrent with tracing. Throws std::runtime_error when Embree fails.
   void set_scene_time(const Scene& scene, double t);
   double scene_time() const { return scene_time_; }
   const MotionStats& motion_stats() const { return motion_stats_; }
-  // Whether the scene is two-level (some mesh is on a moving node).
-  bool has_instances() const { return !moving_.empty(); }
+  // Whether some mesh moves (the scene was built dynamic).
+  bool is_dynamic() const { return !moving_.empty(); }
 
-  // The mesh index of an Embree hit: geomID for a flattened scene and for the static child's instance, the
-  // instance ID for a moving mesh's instance.
-  uint32_t mesh_of_hit(unsigned inst_id, unsigned geom_id) const {
-    return inst_id == RTC_INVALID_GEOMETRY_ID || inst_id == static_instance_id_ ? geom_id : inst_id;
-  }
-
-  // Surface point of Embree hit (mesh index, primitive, u, v) seen along ray direction `dir`.
+  // Surface point of Embree hit (geometry = mesh index, primitive, u, v) seen along ray direction `dir`.
   SurfaceHit surface(uint32_t mesh, uint32_t triangle, float u, float v, const glm::vec3& dir) const;
 
   // Single primary ray (origin relative, any direction length): the closest front face, or a face of a
@@ -117,19 +110,15 @@ class EmbreeScene {
   RayOffset ray_offset_;
   AccelStats stats_;
   std::vector<EmbreeMesh> meshes_;
-  // A mesh on a moving node: its own child scene at rest, instanced in the top scene.
+  // A mesh on a moving node: its rest data and its Embree geometry (refitted at each update).
   struct MovingMesh {
-    uint32_t mesh = 0;                      // index into meshes_ (and the instance's ID)
-    RTCScene child = nullptr;
-    RTCGeometry instance = nullptr;         // retained until the destructor
-    EmbreeMesh local;                       // the child's buffers: rest positions (relative), indices; filter data
+    uint32_t mesh = 0;                      // index into meshes_ (and its geometry ID)
+    RTCGeometry geometry = nullptr;         // retained until the destructor
     std::vector<glm::vec3> rest_positions;  // world space, as the Scene stores them
     std::vector<glm::vec3> rest_normals;
-    glm::mat4 transform{1.0f};              // the instance's current transform (relative frame)
+    glm::dmat4 motion{1.0};                 // the motion its vertices are at (identity: at rest)
   };
   std::vector<std::unique_ptr<MovingMesh>> moving_;
-  RTCScene static_child_ = nullptr;  // two-level scenes: the static meshes
-  unsigned static_instance_id_ = RTC_INVALID_GEOMETRY_ID;
   double scene_time_ = 0.0;
   MotionStats motion_stats_;
   std::atomic<int64_t> memory_bytes_{0};
