@@ -77,9 +77,13 @@ std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const Embre
   };
   const bool dynamic = !scene.animation.empty() && std::any_of(scene.meshes.begin(), scene.meshes.end(), moves);
   es->scene_ = rtcNewScene(es->device_);
-  rtcSetSceneBuildQuality(es->scene_, options.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
-  // DYNAMIC: Embree's two-level BVH (one BVH per geometry, a top level over them); a commit rebuilds only the
-  // committed geometries' BVHs and the top level.
+  // A dynamic scene: DYNAMIC with LOW scene quality selects Embree's two-level BVH (one BVH per geometry, each at
+  // its own quality below, and a top level over them); a commit rebuilds only the committed geometries' BVHs and
+  // the top level. (With MEDIUM or HIGH scene quality Embree 3 rebuilds the whole scene at every commit: measured,
+  // an update then costs as much as a full build; docs/server.md, "Motion".)
+  rtcSetSceneBuildQuality(es->scene_, dynamic ? RTC_BUILD_QUALITY_LOW
+                                              : (options.high_quality ? RTC_BUILD_QUALITY_HIGH
+                                                                      : RTC_BUILD_QUALITY_MEDIUM));
   rtcSetSceneFlags(es->scene_, static_cast<RTCSceneFlags>((options.robust ? RTC_SCENE_FLAG_ROBUST : 0) |
                                                           (dynamic ? RTC_SCENE_FLAG_DYNAMIC : 0)));
 
