@@ -41,8 +41,8 @@ class EmbreeTracer final : public VisibilityTracer {
   void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                     TraceStats& out_stats) override;
 
-  // Moves geometry (EmbreeScene::set_scene_time) and lights (light_at) to scene time `t`; lights only when no mesh
-  // moves; nothing for a static scene.
+  // Moves geometry (EmbreeScene::set_scene_time) and lights (light_at) to scene time `t`; does nothing for a scene
+  // without animation. Not concurrent with tracing.
   void set_scene_time(double t) override;
   double scene_time() const { return scene_->scene_time(); }
 
