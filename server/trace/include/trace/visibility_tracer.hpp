@@ -103,6 +103,11 @@ class VisibilityTracer {
   // override this; the default, for wrappers that implement only trace(), traces all and drops the rest.
   virtual void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats);
 
+  // Moves the traced scene to scene time `t` (seconds; scene/scene_animation.hpp): geometry on moving nodes and
+  // lights (light_at) as they are at t. Not concurrent with tracing. The default does nothing: a backend without
+  // motion traces the scene at rest (the Vulkan backend warns once when asked for t != 0 in an animated scene).
+  virtual void set_scene_time(double t) { (void)t; }
+
   // Per scene light: it has an extent (SceneLight::has_extent(), a soft light). Empty for tracers that only
   // know hard bits (their layout is always the hard one).
   virtual std::vector<bool> light_extents() const { return {}; }

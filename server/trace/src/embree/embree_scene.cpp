@@ -1,9 +1,11 @@
 #include "trace/embree/embree_scene.hpp"
 
 #include "log/log.hpp"
+#include "scene/scene_at.hpp"
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -69,9 +71,21 @@ std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const Embre
   es->origin_ = scene.bounds.empty() ? glm::dvec3(0.0) : glm::dvec3(scene.bounds.min) * 0.5 +
                                                               glm::dvec3(scene.bounds.max) * 0.5;
   es->ray_offset_ = scaled_ray_offset(ray_offset_scale(scene.bounds));
+  // Meshes with triangles on moving nodes make the scene dynamic; otherwise it is built as it always was.
+  const auto moves = [&](const SceneMesh& m) {
+    return m.indices.size() >= 3 && !m.positions.empty() && scene.animation.find(m.node) != nullptr;
+  };
+  const bool dynamic = !scene.animation.empty() && std::any_of(scene.meshes.begin(), scene.meshes.end(), moves);
   es->scene_ = rtcNewScene(es->device_);
-  rtcSetSceneBuildQuality(es->scene_, options.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
-  rtcSetSceneFlags(es->scene_, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  // A dynamic scene: DYNAMIC with LOW scene quality selects Embree's two-level BVH (one BVH per geometry, each at
+  // its own quality below, and a top level over them); a commit rebuilds only the committed geometries' BVHs and
+  // the top level. (With MEDIUM or HIGH scene quality Embree 3 rebuilds the whole scene at every commit: measured,
+  // an update then costs as much as a full build; docs/server.md, "Motion".)
+  rtcSetSceneBuildQuality(es->scene_, dynamic ? RTC_BUILD_QUALITY_LOW
+                                              : (options.high_quality ? RTC_BUILD_QUALITY_HIGH
+                                                                      : RTC_BUILD_QUALITY_MEDIUM));
+  rtcSetSceneFlags(es->scene_, static_cast<RTCSceneFlags>((options.robust ? RTC_SCENE_FLAG_ROBUST : 0) |
+                                                          (dynamic ? RTC_SCENE_FLAG_DYNAMIC : 0)));
 
   es->meshes_.resize(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -105,24 +119,79 @@ std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const Embre
                                3 * sizeof(uint32_t), tri_count);
     rtcSetGeometryUserData(geom, &dst);
     if (!dst.double_sided) rtcSetGeometryIntersectFilterFunction(geom, reject_back_faces);
+    const bool moving = dynamic && moves(src);
+    if (dynamic) {
+      // Static geometries are built once, moving ones refitted at each update (their topology never changes).
+      rtcSetGeometryBuildQuality(geom, moving ? RTC_BUILD_QUALITY_REFIT
+                                              : (options.high_quality ? RTC_BUILD_QUALITY_HIGH
+                                                                      : RTC_BUILD_QUALITY_MEDIUM));
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(es->scene_, geom, static_cast<unsigned>(m));
-    rtcReleaseGeometry(geom);
+    if (moving) {
+      auto mm = std::make_unique<MovingMesh>();
+      mm->mesh = static_cast<uint32_t>(m);
+      mm->geometry = geom;  // keeps the reference rtcNewGeometry gave (released in the destructor)
+      mm->rest_positions = src.positions;
+      mm->rest_normals = dst.normals;
+      es->motion_stats_.moving_vertices += src.positions.size();
+      es->moving_.push_back(std::move(mm));
+    } else {
+      rtcReleaseGeometry(geom);
+    }
     es->stats_.triangles += tri_count;
     ++es->stats_.blas_count;
   }
+  es->motion_stats_.moving_meshes = static_cast<uint32_t>(es->moving_.size());
   rtcCommitScene(es->scene_);
   if (rtcGetDeviceError(es->device_) != RTC_ERROR_NONE)
     throw std::runtime_error("embree: scene build failed: " + device_error_text(es->device_));
   es->stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   es->stats_.bytes = static_cast<uint64_t>(std::max<int64_t>(0, es->memory_bytes_.load()));
-  es->stats_.instance_count = 0;  // flattened: no instances
+  es->stats_.instance_count = 0;  // one scene of triangle geometries: no instances
   return es;
 }
 
 EmbreeScene::~EmbreeScene() {
+  for (const auto& mm : moving_) rtcReleaseGeometry(mm->geometry);
   if (scene_) rtcReleaseScene(scene_);
   if (device_) rtcReleaseDevice(device_);
+}
+
+void EmbreeScene::set_scene_time(const Scene& scene, double t) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (scene.meshes.size() != meshes_.size())
+    throw std::runtime_error("embree: set_scene_time with another scene (" + std::to_string(scene.meshes.size()) +
+                             " meshes, built with " + std::to_string(meshes_.size()) + ")");
+  scene_time_ = t;
+  uint32_t moved = 0;
+  uint64_t moved_vertices = 0;
+  for (const auto& mm : moving_) {
+    const glm::dmat4 motion = mesh_motion_at(scene, scene.meshes[mm->mesh], t);
+    if (motion == mm->motion) continue;
+    mm->motion = motion;
+    // The vertices at t: the world position as scene_at computes it, then made relative as create does (the same
+    // floats as a scene built from scene_at(scene, t), up to that scene's own origin). Embree reads the same
+    // buffer (shared): it refits this geometry's BVH at the commit below.
+    EmbreeMesh& dst = meshes_[mm->mesh];
+    const glm::dmat3 nm = normal_matrix(motion);
+    for (size_t i = 0; i < mm->rest_positions.size(); ++i) {
+      dst.positions[i] = glm::vec3(glm::dvec3(moved_position(motion, mm->rest_positions[i])) - origin_);
+      dst.normals[i] = moved_normal(nm, mm->rest_normals[i]);
+    }
+    rtcUpdateGeometryBuffer(mm->geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(mm->geometry);
+    ++moved;
+    moved_vertices += mm->rest_positions.size();
+  }
+  if (moved > 0) rtcCommitScene(scene_);
+  if (rtcGetDeviceError(device_) != RTC_ERROR_NONE)
+    throw std::runtime_error("embree: scene update failed: " + device_error_text(device_));
+  motion_stats_.moved_meshes = moved;
+  motion_stats_.moved_vertices = moved_vertices;
+  motion_stats_.last_update_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ++motion_stats_.updates;
 }
 
 std::string EmbreeScene::description(uint32_t trace_threads) const {

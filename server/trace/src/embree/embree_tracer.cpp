@@ -30,6 +30,27 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, const TracerOptions& options, con
   if (build.threads == 0) build.threads = threads_;
   scene_ = EmbreeScene::create(scene, build);
   for (const SceneLight& l : lights_) sampled_.push_back(make_sampled_light(l, scene_->origin()));
+  rest_lights_ = lights_;
+  if (!scene.animation.empty()) {
+    motion_.animation = scene.animation;
+    motion_.lights = scene.lights;
+    motion_.meshes.reserve(scene.meshes.size());
+    for (const SceneMesh& m : scene.meshes) {
+      SceneMesh& meta = motion_.meshes.emplace_back();
+      meta.name = m.name;
+      meta.node = m.node;
+      meta.T_world_local = m.T_world_local;
+    }
+  }
+}
+
+void EmbreeTracer::set_scene_time(double t) {
+  if (motion_.animation.empty()) return;
+  scene_->set_scene_time(motion_, t);
+  for (size_t i = 0; i < lights_.size(); ++i) {
+    lights_[i] = light_at(motion_, rest_lights_[i], t);
+    sampled_[i] = make_sampled_light(lights_[i], scene_->origin());
+  }
 }
 
 EmbreeTracer::~EmbreeTracer() = default;

@@ -121,6 +121,8 @@ struct VulkanTracer::Impl {
   vk::Buffer counters;      // host-visible statistics counters
   size_t capacity_pixels = 0;
   std::string description;
+  bool animated = false;       // the scene has animations (this backend traces it at rest)
+  bool motion_warned = false;  // set_scene_time(t != 0) warned once
   std::mutex mutex;
 
   void ensure_frame_buffers(size_t pixels);
@@ -178,6 +180,7 @@ VulkanTracer::VulkanTracer(const Scene& scene, const TracerOptions& options, con
   im.options = options;
   im.config = config;
   im.lights = scene.lights;
+  im.animated = !scene.animation.empty();
   im.context = create_context(options);
   const vk::DeviceInfo& info = im.context->info();
   im.description = info.name + ", " + (info.driver_info.empty() ? info.driver_name : info.driver_info);
@@ -209,6 +212,13 @@ std::vector<bool> VulkanTracer::light_extents() const {
   for (const SceneLight& l : impl_->lights) out.push_back(l.has_extent());
   return out;
 }
+void VulkanTracer::set_scene_time(double t) {
+  // No motion in this backend yet: the scene stays at rest (docs/server.md, "Motion").
+  if (!impl_->animated || t == 0.0 || impl_->motion_warned) return;
+  impl_->motion_warned = true;
+  log::warn("vulkan tracer: the scene's animations are not traced (scene time %.3f s): tracing it at rest", t);
+}
+
 const VulkanTracerConfig& VulkanTracer::config() const { return impl_->config; }
 bool VulkanTracer::is_cpu_device() const { return impl_->context->info().is_cpu; }
 uint32_t VulkanTracer::validation_error_count() const { return impl_->context->validation_error_count(); }

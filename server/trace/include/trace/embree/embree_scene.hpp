@@ -1,6 +1,12 @@
 // The Embree side of a Scene: one Embree 3 device and one flattened triangle scene (one Embree geometry per
 // SceneMesh, geometry ID = mesh index), built in coordinates relative to the scene's bounding-box centre
 // so that large world offsets keep float precision. Also turns Embree hits into surface points.
+//
+// A scene with meshes on moving nodes is built with RTC_SCENE_FLAG_DYNAMIC (Embree's two-level BVH: one BVH per
+// geometry, a top level over them) so that a scene-time update touches only what moves: set_scene_time rewrites
+// the moving meshes' vertices, Embree refits their BVHs (RTC_BUILD_QUALITY_REFIT) and rebuilds the top level over
+// the geometries' bounds; static meshes' BVHs are never rebuilt (docs/server.md, "Motion"). A static scene is built
+// exactly as before. Geometry ID = mesh index in both: no instances.
 #pragma once
 #include "trace/ray_offset.hpp"
 #include "trace/visibility_tracer.hpp"
@@ -39,10 +45,21 @@ struct SurfaceHit {
 
 // Per-mesh data the tracer needs after the build (the Scene itself need not outlive the tracer).
 struct EmbreeMesh {
-  std::vector<glm::vec3> positions;  // relative to the origin; one padding element at the end (Embree)
-  std::vector<glm::vec3> normals;    // world space unit normals, one per vertex
+  // Relative to the origin; one padding element at the end (Embree). A moving mesh: at the scene time.
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;    // world space unit normals, one per vertex (a moving mesh: at the scene time)
   std::vector<uint32_t> indices;
   bool double_sided = false;
+};
+
+// What the last scene-time update did (EmbreeScene::set_scene_time).
+struct MotionStats {
+  uint32_t moving_meshes = 0;     // meshes on moving nodes (refitted when they move); 0 for a static scene
+  uint64_t moving_vertices = 0;   // their vertices
+  uint32_t moved_meshes = 0;      // last update: meshes whose motion changed (vertices updated, BVH refitted)
+  uint64_t moved_vertices = 0;    // last update: their vertices
+  double last_update_ms = 0.0;    // last update: wall time (vertices, refits, top-level rebuild)
+  uint64_t updates = 0;           // set_scene_time calls so far
 };
 
 class EmbreeScene {
@@ -64,6 +81,18 @@ class EmbreeScene {
   // "Embree 3.13.5 (<ISA>), N threads"-style text for the device field of reports.
   std::string description(uint32_t trace_threads) const;
 
+  // Moves the scene to scene time `t` (seconds): each moving mesh's EmbreeMesh positions and normals are moved by
+  // mesh_motion_at(scene, mesh, t) from their rest positions (O(moving vertices); Embree shares the vertex buffer),
+  // its geometry is committed (a BVH refit), then the scene (the top level over the geometries). Meshes whose motion
+  // did not change are not touched; nothing is committed when none changed. `scene` is the Scene this was created from
+  // (only its animation and its meshes' node and T_world_local are read: a copy without vertices will do).
+  // A static scene only records t. Not concurrent with tracing. Throws std::runtime_error when Embree fails.
+  void set_scene_time(const Scene& scene, double t);
+  double scene_time() const { return scene_time_; }
+  const MotionStats& motion_stats() const { return motion_stats_; }
+  // Whether some mesh moves (the scene was built dynamic).
+  bool is_dynamic() const { return !moving_.empty(); }
+
   // Surface point of Embree hit (geometry = mesh index, primitive, u, v) seen along ray direction `dir`.
   SurfaceHit surface(uint32_t mesh, uint32_t triangle, float u, float v, const glm::vec3& dir) const;
 
@@ -81,6 +110,17 @@ class EmbreeScene {
   RayOffset ray_offset_;
   AccelStats stats_;
   std::vector<EmbreeMesh> meshes_;
+  // A mesh on a moving node: its rest data and its Embree geometry (refitted at each update).
+  struct MovingMesh {
+    uint32_t mesh = 0;                      // index into meshes_ (and its geometry ID)
+    RTCGeometry geometry = nullptr;         // retained until the destructor
+    std::vector<glm::vec3> rest_positions;  // world space, as the Scene stores them
+    std::vector<glm::vec3> rest_normals;
+    glm::dmat4 motion{1.0};                 // the motion its vertices are at (identity: at rest)
+  };
+  std::vector<std::unique_ptr<MovingMesh>> moving_;
+  double scene_time_ = 0.0;
+  MotionStats motion_stats_;
   std::atomic<int64_t> memory_bytes_{0};
   static bool on_memory(void* user, ssize_t bytes, bool post);
 };

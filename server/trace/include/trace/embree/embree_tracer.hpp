@@ -41,6 +41,11 @@ class EmbreeTracer final : public VisibilityTracer {
   void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                     TraceStats& out_stats) override;
 
+  // Moves geometry (EmbreeScene::set_scene_time) and lights (light_at) to scene time `t`; does nothing for a scene
+  // without animation. Not concurrent with tracing.
+  void set_scene_time(double t) override;
+  double scene_time() const { return scene_->scene_time(); }
+
   // The Embree scene (e.g. to cast primary rays for a shaded preview with the same geometry).
   const EmbreeScene& embree_scene() const { return *scene_; }
   const EmbreeTracerConfig& config() const { return config_; }
@@ -50,7 +55,11 @@ class EmbreeTracer final : public VisibilityTracer {
   // Traces the first layout.light_count lights into their fields (hard layout: one bit per light).
   void trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out, TraceStats& out_stats);
 
-  std::vector<SceneLight> lights_;
+  std::vector<SceneLight> lights_;       // at the scene time
+  std::vector<SceneLight> rest_lights_;  // as the Scene gives them
+  // An animated scene: its animation, lights and meshes without vertices (node, T_world_local): what
+  // set_scene_time reads. Empty for a static scene.
+  Scene motion_;
   std::vector<SampledLight> sampled_;  // lights_ prepared for sampling (soft fields)
   TracerOptions options_;
   EmbreeTracerConfig config_;

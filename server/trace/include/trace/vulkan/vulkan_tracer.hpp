@@ -53,6 +53,9 @@ class VulkanTracer final : public VisibilityTracer {
   void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                     TraceStats& out_stats) override;
 
+  // Not implemented: the scene stays at rest; warns once when the scene has animations and t != 0.
+  void set_scene_time(double t) override;
+
   const VulkanTracerConfig& config() const;
   // True on a CPU implementation (lavapipe).
   bool is_cpu_device() const;
