@@ -37,12 +37,7 @@ TracerOptions two_threads() {
   return o;
 }
 
-uint64_t differing_pixels(const VisibilityBuffer& a, const VisibilityBuffer& b) {
-  if (a.width != b.width || a.height != b.height || a.light_count != b.light_count) return UINT64_MAX;
-  uint64_t n = 0;
-  for (size_t i = 0; i < a.pixel_count(); ++i) n += a.mask_at(i) != b.mask_at(i);
-  return n;
-}
+using test::differing_pixels;
 
 VisibilityBuffer trace(VisibilityTracer& tracer, const Camera& camera, bool soft = false) {
   VisibilityBuffer out;

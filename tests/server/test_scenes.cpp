@@ -162,4 +162,11 @@ Scene load_scene_or_fail(const std::string& path) {
   return loaded ? std::move(*loaded.scene) : Scene{};
 }
 
+uint64_t differing_pixels(const VisibilityBuffer& a, const VisibilityBuffer& b) {
+  if (a.width != b.width || a.height != b.height || a.light_count != b.light_count) return UINT64_MAX;
+  uint64_t n = 0;
+  for (size_t i = 0; i < a.pixel_count(); ++i) n += a.mask_at(i) != b.mask_at(i);
+  return n;
+}
+
 }  // namespace dhr::test

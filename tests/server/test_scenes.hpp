@@ -2,8 +2,11 @@
 #pragma once
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
+#include "visibility/visibility.hpp"
 
 #include <glm/vec3.hpp>
+
+#include <cstdint>
 
 #include <optional>
 #include <string>
@@ -50,5 +53,8 @@ Scene load_scene_or_fail(const std::string& path);
 std::string source_path(const std::string& relative);
 // "" when ../shared/data is absent (tests that need it skip).
 std::string shared_data_path(const std::string& relative);
+
+// Pixels whose masks differ (UINT64_MAX when the buffers' shapes differ).
+uint64_t differing_pixels(const VisibilityBuffer& a, const VisibilityBuffer& b);
 
 }  // namespace dhr::test
