@@ -3,13 +3,15 @@
 // allocate much. External files resolve against an empty directory.
 // Properties: no crash, hang or sanitizer report; a loaded scene keeps every promise of scene.hpp
 // (valid indices and material references, one unit normal per position, finite positions, image sizes,
-// counts that add up, limits respected, valid lights); a failure always carries an error message.
+// counts that add up, limits respected, valid lights; animations sampled at any time without trouble); a failure
+// always carries an error message.
 #include "scene/scene.hpp"
 #include "fuzz_support.hpp"
 
 #include <unistd.h>
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <string>
 
@@ -88,6 +90,21 @@ void check_scene(const dhr::Scene& scene, const dhr::SceneLoadOptions& o) {
   }
   DHR_FUZZ_CHECK(scene.warnings.size() <= 65);
   (void)dhr::scene_summary(scene);
+  // Animations: sampling at any time (ordinary, past the loop, negative, non-finite) is defined and keeps each
+  // light what it is; a clip's local time lies within its duration.
+  if (scene.animation.empty()) return;
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const double t : {0.0, 0.37, 1e9, -1.0, nan, inf}) {
+    for (const dhr::AnimationClip& clip : scene.animation.clips) {
+      const double local = dhr::animation_local_time(t, clip.duration);
+      DHR_FUZZ_CHECK(local >= 0.0 && local <= clip.duration);
+    }
+    for (const dhr::SceneMesh& mesh : scene.meshes) (void)dhr::mesh_motion_at(scene, mesh, t);
+    for (const dhr::SceneLight& light : scene.lights) {
+      const dhr::SceneLight moved = dhr::light_at(scene, light, t);
+      DHR_FUZZ_CHECK(moved.type == light.type && moved.node == light.node);
+    }
+  }
 }
 
 }  // namespace

@@ -151,6 +151,37 @@ std::string strip_json(const Bytes& buffer) {
 })";
 }
 
+// A triangle whose node drives (LINEAR translation) and turns (STEP rotation) over 2 s, with a point light
+// on a child node, so that the fuzzer starts from the animation reader's paths.
+std::string animated_json() {
+  Bytes b;
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) append_f32(b, f);                // positions
+  for (float f : {0.f, 1.f, 2.f}) append_f32(b, f);                                               // key times
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 0.f, 0.f}) append_f32(b, f);                // translations
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.7071068f, 0.f, 0.7071068f, 0.f, 1.f, 0.f, 0.f}) append_f32(b, f);
+  return R"({
+  "asset": {"version": "2.0", "generator": "dhr fuzz seeds"},
+  "extensionsUsed": ["KHR_lights_punctual"],
+  "scenes": [{"nodes": [0]}],
+  "nodes": [{"mesh": 0, "children": [1]},
+            {"translation": [0, 1, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "animations": [{"name": "drive", "samplers": [{"input": 1, "output": 2, "interpolation": "LINEAR"},
+                                               {"input": 1, "output": 3, "interpolation": "STEP"}],
+                  "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}},
+                               {"sampler": 1, "target": {"node": 0, "path": "rotation"}}]}],
+  "buffers": [{"byteLength": )" + std::to_string(b.size()) + R"(, "uri": "data:application/octet-stream;base64,)" +
+         base64(b) + R"("}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 12},
+                  {"buffer": 0, "byteOffset": 48, "byteLength": 36}, {"buffer": 0, "byteOffset": 84, "byteLength": 48}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "SCALAR", "min": [0], "max": [2]},
+                {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC3"},
+                {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC4"}],
+  "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 10}]}}
+})";
+}
+
 }  // namespace
 
 std::vector<Seed> scene_seeds() {
@@ -178,6 +209,7 @@ std::vector<Seed> scene_seeds() {
   out.push_back({"strip.gltf", text(strip_json(strip))});
   out.push_back({"minimal.gltf", text(R"({"asset": {"version": "2.0"}})")});
   out.push_back({"minimal.glb", glb(R"({"asset":{"version":"2.0"}})", {})});
+  out.push_back({"animated.gltf", text(animated_json())});
   return out;
 }
 
