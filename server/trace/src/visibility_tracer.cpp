@@ -41,6 +41,15 @@ void keep_first_lights(VisibilityBuffer& buffer, uint32_t lights) {
   buffer = std::move(kept);
 }
 
+void check_trace_request(const Camera& camera, const VisibilityLayout& layout, uint32_t scene_lights) {
+  if (layout.light_count > scene_lights)
+    throw std::invalid_argument("trace: a layout of " + std::to_string(layout.light_count) + " lights, the scene has " +
+                                std::to_string(scene_lights));
+  if (auto err = validate_camera(camera)) throw std::invalid_argument("trace: " + *err);
+  if (camera.extent.width > kMaxBufferDimension || camera.extent.height > kMaxBufferDimension)
+    throw std::invalid_argument("trace: image exceeds " + std::to_string(kMaxBufferDimension) + " pixels per axis");
+}
+
 void VisibilityTracer::trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out,
                                     TraceStats& out_stats) {
   trace(camera, out, out_stats);

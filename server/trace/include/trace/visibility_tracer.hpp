@@ -131,6 +131,11 @@ VisibilityLayout layout_for_lights(const std::vector<bool>& extents, uint32_t li
 // light's bit as level 0 or the top level (Gray-coded). `out` gets layout.total_bits() bits per mask.
 void widen_to_layout(const VisibilityBuffer& hard, const VisibilityLayout& layout, VisibilityBuffer& out);
 
+// The checks every backend makes before tracing `layout` for `camera` with a scene of `scene_lights` lights:
+// throws std::invalid_argument for an unusable camera (validate_camera), an image wider or taller than
+// kMaxBufferDimension, or a layout of more lights than the scene has.
+void check_trace_request(const Camera& camera, const VisibilityLayout& layout, uint32_t scene_lights);
+
 // Keeps lights [0, lights) of `buffer` (no-op when it has no more), narrowing its mask width to match.
 void keep_first_lights(VisibilityBuffer& buffer, uint32_t lights);
 

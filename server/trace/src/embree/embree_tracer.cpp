@@ -76,18 +76,13 @@ void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
 
 void EmbreeTracer::trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                                 TraceStats& out_stats) {
-  if (layout.light_count > light_count())
-    throw std::invalid_argument("trace: a layout of " + std::to_string(layout.light_count) + " lights, the scene has " +
-                                std::to_string(light_count()));
   trace_fields(camera, layout, out, out_stats);
 }
 
 void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                                 TraceStats& out_stats) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (auto err = validate_camera(camera)) throw std::invalid_argument("trace: " + *err);
-  if (camera.extent.width > kMaxBufferDimension || camera.extent.height > kMaxBufferDimension)
-    throw std::invalid_argument("trace: image exceeds " + std::to_string(kMaxBufferDimension) + " pixels per axis");
+  check_trace_request(camera, layout, light_count());
 
   const uint32_t width = camera.extent.width, height = camera.extent.height;
   const uint32_t lights = layout.light_count, bits = layout.total_bits();

@@ -234,18 +234,13 @@ void VulkanTracer::trace_lights(const Camera& camera, uint32_t lights, Visibilit
 
 void VulkanTracer::trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                                 TraceStats& out_stats) {
-  if (layout.light_count > light_count())
-    throw std::invalid_argument("trace: a layout of " + std::to_string(layout.light_count) + " lights, the scene has " +
-                                std::to_string(light_count()));
   trace_fields(camera, layout, out, out_stats);
 }
 
 void VulkanTracer::trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                                 TraceStats& out_stats) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (auto err = validate_camera(camera)) throw std::invalid_argument("trace: " + *err);
-  if (camera.extent.width > kMaxBufferDimension || camera.extent.height > kMaxBufferDimension)
-    throw std::invalid_argument("trace: image exceeds " + std::to_string(kMaxBufferDimension) + " pixels per axis");
+  check_trace_request(camera, layout, light_count());
   Impl& im = *impl_;
   std::lock_guard lock(im.mutex);
 
