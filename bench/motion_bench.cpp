@@ -12,6 +12,8 @@
 // docs/server.md ("Motion") has the measured numbers and the command.
 #include "bench_timing.hpp"
 #include "bench_views.hpp"
+#include "cli/exit_codes.hpp"
+#include "cli/help_flag.hpp"
 #include "scene/scene_at.hpp"
 #include "trace/embree/embree_tracer.hpp"
 
@@ -30,9 +32,12 @@ namespace {
 using namespace dhr;
 using namespace dhr::bench;
 
+constexpr const char* kUsageText =
+    "usage: motion_bench [--scene PATH] [--threads N] [--builds N] [--updates N] [--size WxH]\n";
+
 int usage() {
-  std::fprintf(stderr, "usage: motion_bench [--scene PATH] [--threads N] [--builds N] [--updates N] [--size WxH]\n");
-  return 2;
+  std::fputs(kUsageText, stderr);
+  return exit_code::kUsage;
 }
 
 double trace_ms(server::EmbreeTracer& tracer, const std::vector<Camera>& cameras) {
@@ -56,6 +61,10 @@ int main(int argc, char** argv) {
   std::string path = std::string(DHR_SHARED_DATA_DIR) + "/scenes/living_room_moving.glb";
   uint32_t threads = 0, builds = 5, updates = 41;
   Extent eye{1280, 1440};
+  if (cli::asks_for_help(argc, argv)) {
+    std::fputs(kUsageText, stdout);
+    return exit_code::kOk;
+  }
   for (int i = 1; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
     if (!std::strcmp(argv[i], "--scene") && has_value) path = argv[++i];

@@ -29,7 +29,8 @@ expect() {  # expected-code, name, command...
 exe() { [ -x "$build/$1" ] && echo "$build/$1"; }
 
 for e in server/dhr-server xrclient/dhr-xrclient bench/eval/dhr-eval tools/dhr-trace-convert tools/dhr-protocol-layout \
-         bench/codec_bench bench/trace_bench bench/skip_bench bench/client_bench bench/secure_bench; do
+         bench/codec_bench bench/trace_bench bench/skip_bench bench/client_bench bench/secure_bench \
+         bench/motion_bench bench/soft_bench tests/fuzz/dhr_fuzz_seeds; do
   path="$(exe "$e")" || { echo "skip: $e not built"; continue; }
   expect 0 "$e --help" "$path" --help
   expect 2 "$e --no-such-option" "$path" --no-such-option
