@@ -21,6 +21,7 @@ FramePose moving_pose(const Pose& head, const Fov& fov, uint32_t i, uint32_t tot
   FramePose pose;
   pose.frame = i;
   pose.display_time_ns = static_cast<int64_t>(i) * 11'111'111;  // 90 Hz
+  pose.scene_time_ns = pose.display_time_ns;
   for (uint32_t e = 0; e < 2; ++e) {
     // left_eye_pose moves by -ipd/2 along the head's x axis: a negative IPD gives the right eye.
     const double ipd = e == 0 ? kDefaultIpdMetres : -kDefaultIpdMetres;

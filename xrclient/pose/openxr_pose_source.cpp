@@ -1,5 +1,6 @@
 #include "pose/openxr_pose_source.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "log/log.hpp"
@@ -35,6 +36,8 @@ void OpenXrPoseSource::set_frame(const xr::FrameState& frame) {
   FramePose s;
   s.frame = frame.index;
   s.display_time_ns = frame.predicted_display_time;
+  if (!first_display_time_ns_) first_display_time_ns_ = frame.predicted_display_time;
+  s.scene_time_ns = std::max<int64_t>(0, frame.predicted_display_time - *first_display_time_ns_);
   for (uint32_t e = 0; e < 2; ++e) s.views[e] = xr::to_view(frame.views[e]);
   pending_ = s;
 }

@@ -29,6 +29,7 @@ class OpenXrPoseSource final : public PoseSource {
 
  private:
   std::optional<FramePose> pending_;
+  std::optional<int64_t> first_display_time_ns_;  // the scene clock starts at the first frame's display
   PoseTraceWriter writer_;
   std::optional<int64_t> first_time_ns_;
   uint64_t rows_skipped_ = 0;  // logged for the first few only

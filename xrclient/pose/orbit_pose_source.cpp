@@ -28,6 +28,7 @@ bool OrbitPoseSource::next(FramePose& out) {
   const int64_t t_ns = static_cast<int64_t>(next_frame_) * period_ns_;
   out.frame = next_frame_;
   out.display_time_ns = t_ns;
+  out.scene_time_ns = t_ns;
   out.views = eyes_.views(head_at(static_cast<double>(t_ns) * 1e-9));
   ++next_frame_;
   return true;

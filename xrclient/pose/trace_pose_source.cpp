@@ -33,6 +33,7 @@ bool TracePoseSource::next(FramePose& out) {
   const TraceSample sample = trace_.sample(trace_.start_time() + static_cast<double>(t_ns) * 1e-9);
   out.frame = next_frame_;
   out.display_time_ns = t_ns;
+  out.scene_time_ns = t_ns;
   out.views = trace_views(trace_, sample, eyes_, T_scene_trace_);
   ++next_frame_;
   return true;

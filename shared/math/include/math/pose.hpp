@@ -37,12 +37,15 @@ struct View {
   Fov fov;
 };
 
-// One client frame's pose: its number, its predicted display time and both eyes' views ([0] = left). Pose
-// sources produce it, the frame loop renders it, the planner keeps it in its history.
+// One client frame's pose: its number, its predicted display time, both eyes' views ([0] = left) and the scene
+// time of its display. Pose sources produce it, the frame loop renders it, the planner keeps it in its history.
 struct FramePose {
   uint64_t frame = 0;
   int64_t display_time_ns = 0;  // predicted display time (OpenXR XrTime, or virtual time from 0)
   std::array<View, 2> views{};
+  // The scene clock at that display (DESIGN 5b): nanoseconds since the session's start, >= 0; animations play on
+  // it. Virtual-clock sources use display_time_ns itself; OpenXR sources count from their first frame's display.
+  int64_t scene_time_ns = 0;
 };
 
 // Returns an error message when the pose is unusable (non-finite values, a zero quaternion or one too large to
