@@ -120,8 +120,12 @@ class Comparer {
     const auto start = std::chrono::steady_clock::now();
     const GuardBand guard = f.traced ? f.traced->guard : GuardBand{};
     EyeRenderer& eye_renderer = renderer(f.eye_size, f.render_path == "forward");
-    const Truth truth = ground_truth(TruthScene{&tracer_->embree_scene(), lights_, eye_renderer.layout()}, sampling_,
-                                     eye_renderer, f.eye_size, guard, {f.eyes[0].view, f.eyes[1].view});
+    FramePose pose;
+    pose.frame = f.frame;
+    pose.views = {f.eyes[0].view, f.eyes[1].view};
+    pose.scene_time_ns = f.scene_time_ns;
+    const Truth truth = ground_truth(TruthScene{tracer_.get(), &scene_, lights_, eye_renderer.layout()}, sampling_,
+                                     eye_renderer, f.eye_size, guard, pose);
     const double exact_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     std::array<RgbImage, 2> exact;

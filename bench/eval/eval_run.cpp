@@ -163,7 +163,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     tracer_options.threads = options.threads;
     tracer_options.soft = options.server_soft;
     const auto tracer = std::make_unique<server::EmbreeTracer>(scene, tracer_options);
-    const TruthScene truth_scene{&tracer->embree_scene(), lights, renderer.layout()};
+    const TruthScene truth_scene{tracer.get(), &scene, lights, renderer.layout()};
     TruthSampling truth_sampling;
     truth_sampling.first_samples = options.truth_first_samples;
     truth_sampling.samples = options.truth_samples;
@@ -196,7 +196,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
           if (truths.contains(s.guard)) continue;
           const auto truth_start = std::chrono::steady_clock::now();
           truths[s.guard] =
-              ground_truth(truth_scene, truth_sampling, renderer, options.eye, s.guard_band, sample.views);
+              ground_truth(truth_scene, truth_sampling, renderer, options.eye, s.guard_band, sample);
           truth_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - truth_start).count();
         }
       }

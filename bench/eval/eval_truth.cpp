@@ -66,7 +66,13 @@ std::vector<float> step_weights(const ExactVisibility& exact, uint32_t light) {
 }  // namespace
 
 Truth ground_truth(const TruthScene& scene, const TruthSampling& sampling, EyeRenderer& renderer, Extent eye_size,
-                   GuardBand guard, const std::array<View, 2>& views) {
+                   GuardBand guard, const FramePose& pose) {
+  const std::array<View, 2>& views = pose.views;
+  const double scene_time = static_cast<double>(pose.scene_time_ns) * 1e-9;
+  // The service traces its frames on the same tracer, each at its own scene time: move it to the display's.
+  scene.tracer->set_scene_time(scene_time);
+  std::vector<SceneLight> lights(scene.lights.begin(), scene.lights.end());
+  for (SceneLight& light : lights) light = light_at(*scene.scene, light, scene_time);
   server::SoftImageOptions options;
   options.sampling =
       server::SoftOptions{sampling.first_samples, sampling.samples, sampling.salt, server::SoftPattern::kPerPixel};
@@ -76,7 +82,7 @@ Truth ground_truth(const TruthScene& scene, const TruthSampling& sampling, EyeRe
   std::array<Camera, 2> cameras;
   for (int eye = 0; eye < 2; ++eye) {
     cameras[eye] = Camera::with_guard_band(views[eye], eye_size, guard);
-    server::trace_soft_image(*scene.scene, scene.lights, cameras[eye], options, images[eye]);
+    server::trace_soft_image(scene.tracer->embree_scene(), lights, cameras[eye], options, images[eye]);
     truth.exact[eye] = crop_display(images[eye], eye_size, guard);
   }
   std::array<VisibilityBuffer, 2> buffers;

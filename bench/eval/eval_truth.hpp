@@ -12,7 +12,7 @@
 #include "math/pose.hpp"
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
-#include "trace/embree/embree_scene.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "visibility/visibility.hpp"
 #include "visibility/visibility_layout.hpp"
 
@@ -37,16 +37,20 @@ struct Truth {
   std::array<ExactVisibility, 2> exact;
 };
 
-// What the truth traces: the run's Embree scene and its lights (at most kMaxLights, the layout's).
+// What the truth traces: the run's Embree tracer (its scene, moved to the display's scene time before each truth)
+// and the scene's lights at rest (at most kMaxLights, the layout's), moved with light_at.
 struct TruthScene {
-  const server::EmbreeScene* scene = nullptr;
+  server::EmbreeTracer* tracer = nullptr;
+  const Scene* scene = nullptr;  // the loaded scene (its animation moves the lights)
   std::span<const SceneLight> lights;
   VisibilityLayout layout;  // render::layout_for_lights of `lights`, as the client derives it
 };
 
+// The truth of the frame `pose` displays: traced at its views and at its scene time (the scene and its lights as
+// they are at pose.scene_time_ns; a static scene is the same at every time).
 // Traced with the guard band the compared frames were traced with (only the display region is used): a camera
 // with another guard band computes its ray directions with other rounding, which can flip a silhouette pixel.
 Truth ground_truth(const TruthScene& scene, const TruthSampling& sampling, EyeRenderer& renderer, Extent eye_size,
-                   GuardBand guard, const std::array<View, 2>& views);
+                   GuardBand guard, const FramePose& pose);
 
 }  // namespace dhr::eval

@@ -27,6 +27,7 @@ ShownFrame sample_frame() {
   f.render_path = "forward";
   f.warp = "paper";
   f.view = "shaded";
+  f.scene_time_ns = 2'345'678'901;
   for (int e = 0; e < 2; ++e) {
     dhr::ShownEye& eye = f.eyes[e];
     eye.view.pose.position = {0.1 + 0.063 * e, 1.6000000000000003, -2.0 / 3.0};
@@ -57,6 +58,7 @@ TEST(ShownFrame, RoundTripKeepsEveryBit) {
   EXPECT_EQ(back->render_path, "forward");
   EXPECT_EQ(back->warp, "paper");
   EXPECT_EQ(back->view, "shaded");
+  EXPECT_EQ(back->scene_time_ns, f.scene_time_ns);
   for (int e = 0; e < 2; ++e) {
     const dhr::ShownEye& a = f.eyes[e];
     const dhr::ShownEye& b = back->eyes[e];
@@ -135,6 +137,14 @@ TEST(ShownFrame, MalformedLinesAreRejectedWithTheReason) {
   expect_rejected(edited("\"age\":3", "\"age\":true"), "\"age\" is not a non-negative integer");
   expect_rejected(edited("\"complete\":true", "\"complete\":1"), "\"complete\" is not true or false");
   expect_rejected(edited(",\"visibility_frame\":197", ""), "left eye: no \"visibility_frame\"");
+  expect_rejected(edited("\"scene_time_ns\":2345678901", "\"scene_time_ns\":-1"), "\"scene_time_ns\"");
+  expect_rejected(edited("\"scene_time_ns\":2345678901", "\"scene_time_ns\":0.5"), "\"scene_time_ns\"");
+}
+
+TEST(ShownFrame, ALineWithoutASceneTimeShowsTheRestPose) {
+  const auto f = dhr::parse_shown_frame(edited(",\"scene_time_ns\":2345678901", ""), nullptr);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->scene_time_ns, 0);
 }
 
 TEST(ShownFrame, UnusableViewsAreRejected) {

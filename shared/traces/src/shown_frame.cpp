@@ -155,7 +155,8 @@ std::string shown_frame_json(const ShownFrame& f) {
            {"eye_size", {f.eye_size.width, f.eye_size.height}},
            {"render_path", f.render_path},
            {"warp", f.warp},
-           {"view", f.view}};
+           {"view", f.view},
+           {"scene_time_ns", f.scene_time_ns}};
   out["guard_per_side"] = f.traced ? Json{f.traced->guard.x, f.traced->guard.y} : Json(nullptr);
   if (f.scene_hash) {
     char hex[17];
@@ -192,6 +193,11 @@ std::optional<ShownFrame> parse_shown_frame(std::string_view line, std::string* 
   if (*warp != "paper" && *warp != "full" && *warp != "edges" && *warp != "edges-depth")
     return fail("frame: unknown \"warp\" \"" + *warp + "\"");
   if (view->empty() || view->size() > 64) return fail("frame: \"view\" must be a short name");
+  if (j.contains("scene_time_ns")) {  // absent in lines written before scenes moved: the rest pose
+    const Json& t = j["scene_time_ns"];
+    if (!t.is_number_integer() || t.get<int64_t>() < 0) return fail("frame: \"scene_time_ns\" is not an integer >= 0");
+    f.scene_time_ns = t.get<int64_t>();
+  }
   f.render_path = *path;
   f.warp = *warp;
   f.view = *view;

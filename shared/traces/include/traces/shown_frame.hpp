@@ -35,6 +35,7 @@ struct ShownFrame {
   std::string render_path;              // "forward" or "deferred"
   std::string warp;                     // "paper", "full", "edges" or "edges-depth" (dhr-xrclient --warp)
   std::string view = "shaded";          // what the pictures show (--view)
+  int64_t scene_time_ns = 0;            // the scene time displayed (animations; 0 when the line has none)
   std::array<ShownEye, 2> eyes{};       // [0] left, [1] right
 };
 
