@@ -1,0 +1,58 @@
+// What moved between two scene times, as the client's warp needs it (DESIGN 5b: visibility traced at one scene time
+// is trusted at another only where nothing that could change it moved). Visibility at t1 can differ from that at t0
+// only through geometry present at t0 or at t1: a moving mesh whose pose differs between them contributes its world
+// box at t0 and its world box at t1 (where it was is not where it is; the path between does not matter), and a light
+// whose placement differs moved. The boxes bound the rest vertices moved by mesh_motion_at, so they hold every
+// moved vertex. Pure CPU, double; the warp's shader and its CPU reference test points and shadow segments against
+// them (segment_hits_box).
+#pragma once
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace dhr {
+
+struct WorldBox {
+  glm::dvec3 min{0.0};
+  glm::dvec3 max{0.0};
+};
+
+class SceneMotion {
+ public:
+  SceneMotion() = default;
+  // Keeps a reference to `scene` (it must outlive this); indexes its moving meshes (their rest boxes) and lights.
+  explicit SceneMotion(const Scene& scene);
+
+  // The scene has a mesh or a light on a moving node.
+  bool moves() const { return !meshes_.empty() || moving_lights_ != 0; }
+  std::size_t moving_meshes() const { return meshes_.size(); }
+  // Bit l (l < 32): light l is on a moving node.
+  std::uint32_t moving_lights() const { return moving_lights_; }
+
+  // The boxes of the meshes whose pose differs between t0 and t1: for each, its world box at t0 and at t1 (two
+  // entries). Clears `out` first; keeps its storage.
+  void moved_boxes(double t0, double t1, std::vector<WorldBox>& out) const;
+  // Bit l: light l (of the first 32) is placed differently at t0 and t1 (position, direction or orientation).
+  std::uint32_t moved_lights(double t0, double t1) const;
+
+ private:
+  struct MovingMesh {
+    std::uint32_t mesh = 0;
+    WorldBox rest;  // of its rest world positions
+  };
+  const Scene* scene_ = nullptr;
+  std::vector<MovingMesh> meshes_;
+  std::uint32_t moving_lights_ = 0;
+};
+
+// The world box of `box`'s eight corners moved by `motion`.
+WorldBox moved_box(const WorldBox& box, const glm::dmat4& motion);
+// `box` grown by `margin` on every side.
+WorldBox grown(const WorldBox& box, double margin);
+bool box_contains(const WorldBox& box, const glm::dvec3& p);
+// The segment from a to b meets the box (slab test; a segment inside counts).
+bool segment_hits_box(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box);
+
+}  // namespace dhr

@@ -1,0 +1,100 @@
+#include "scene/scene_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dhr {
+
+namespace {
+
+bool same_light(const SceneLight& a, const SceneLight& b) {
+  return a.position == b.position && a.direction == b.direction && a.tangent == b.tangent &&
+         a.bitangent == b.bitangent;
+}
+
+}  // namespace
+
+SceneMotion::SceneMotion(const Scene& scene) : scene_(&scene) {
+  if (scene.animation.empty()) return;
+  for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) {
+    const SceneMesh& mesh = scene.meshes[m];
+    if (scene.animation.find(mesh.node) == nullptr || mesh.positions.empty()) continue;
+    MovingMesh moving;
+    moving.mesh = m;
+    moving.rest.min = glm::dvec3(std::numeric_limits<double>::max());
+    moving.rest.max = glm::dvec3(std::numeric_limits<double>::lowest());
+    for (const glm::vec3& p : mesh.positions) {
+      moving.rest.min = glm::min(moving.rest.min, glm::dvec3(p));
+      moving.rest.max = glm::max(moving.rest.max, glm::dvec3(p));
+    }
+    meshes_.push_back(moving);
+  }
+  for (std::size_t l = 0; l < std::min<std::size_t>(scene.lights.size(), 32); ++l) {
+    const std::uint32_t node = scene.lights[l].node;
+    if (node != kNoSceneNode && scene.animation.find(node) != nullptr) moving_lights_ |= 1u << l;
+  }
+}
+
+void SceneMotion::moved_boxes(double t0, double t1, std::vector<WorldBox>& out) const {
+  out.clear();
+  for (const MovingMesh& m : meshes_) {
+    const SceneMesh& mesh = scene_->meshes[m.mesh];
+    const glm::dmat4 a = mesh_motion_at(*scene_, mesh, t0);
+    const glm::dmat4 b = mesh_motion_at(*scene_, mesh, t1);
+    if (a == b) continue;
+    out.push_back(moved_box(m.rest, a));
+    out.push_back(moved_box(m.rest, b));
+  }
+}
+
+std::uint32_t SceneMotion::moved_lights(double t0, double t1) const {
+  std::uint32_t moved = 0;
+  for (std::uint32_t l = 0; l < 32; ++l) {
+    if ((moving_lights_ >> l & 1u) == 0) continue;
+    const SceneLight& light = scene_->lights[l];
+    if (!same_light(light_at(*scene_, light, t0), light_at(*scene_, light, t1))) moved |= 1u << l;
+  }
+  return moved;
+}
+
+WorldBox moved_box(const WorldBox& box, const glm::dmat4& motion) {
+  WorldBox out{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                            (c & 4) ? box.max.z : box.min.z);
+    const glm::dvec3 p(motion * glm::dvec4(corner, 1.0));
+    out.min = glm::min(out.min, p);
+    out.max = glm::max(out.max, p);
+  }
+  return out;
+}
+
+WorldBox grown(const WorldBox& box, double margin) {
+  return WorldBox{box.min - glm::dvec3(margin), box.max + glm::dvec3(margin)};
+}
+
+bool box_contains(const WorldBox& box, const glm::dvec3& p) {
+  return p.x >= box.min.x && p.y >= box.min.y && p.z >= box.min.z && p.x <= box.max.x && p.y <= box.max.y &&
+         p.z <= box.max.z;
+}
+
+bool segment_hits_box(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box) {
+  double lo = 0.0, hi = 1.0;
+  const glm::dvec3 d = b - a;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-300) {
+      if (a[i] < box.min[i] || a[i] > box.max[i]) return false;
+      continue;
+    }
+    double t0 = (box.min[i] - a[i]) / d[i];
+    double t1 = (box.max[i] - a[i]) / d[i];
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0);
+    hi = std::min(hi, t1);
+    if (lo > hi) return false;
+  }
+  return true;
+}
+
+}  // namespace dhr

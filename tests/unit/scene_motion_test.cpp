@@ -1,0 +1,73 @@
+// SceneMotion: what moved between two scene times (the boxes of moved meshes at both times, the lights that moved),
+// checked against scene_at (every moved vertex lies in the box of its time) and the segment/box tests the warp uses.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "scene/scene_at.hpp"
+#include "scene/scene_motion.hpp"
+#include "test_animated_scene.hpp"
+
+namespace dhr {
+namespace {
+
+TEST(SceneMotion, AStaticSceneNeverMoves) {
+  Scene s = test::animated_scene();
+  s.animation = SceneAnimation{};
+  const SceneMotion motion(s);
+  EXPECT_FALSE(motion.moves());
+  std::vector<WorldBox> boxes(3);
+  motion.moved_boxes(0.0, 1.0, boxes);
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_EQ(motion.moved_lights(0.0, 1.0), 0u);
+}
+
+TEST(SceneMotion, TheMovedMeshGivesItsBoxAtBothTimesAndHoldsEveryVertex) {
+  const Scene s = test::animated_scene();
+  const SceneMotion motion(s);
+  EXPECT_TRUE(motion.moves());
+  EXPECT_EQ(motion.moving_meshes(), 1u);
+  EXPECT_EQ(motion.moving_lights(), 1u);  // light 0 rides the moving node, light 1 is fixed
+  std::vector<WorldBox> boxes;
+  const double t0 = 0.25, t1 = 0.7;
+  motion.moved_boxes(t0, t1, boxes);
+  ASSERT_EQ(boxes.size(), 2u);
+  const double times[2] = {t0, t1};
+  for (int i = 0; i < 2; ++i) {
+    const Scene at = scene_at(s, times[i]);
+    for (const glm::vec3& p : at.meshes[1].positions) {
+      EXPECT_TRUE(box_contains(grown(boxes[i], 1e-6), glm::dvec3(p))) << "time " << times[i];
+    }
+  }
+  // The static triangle is in neither box (it is 2 m away along z).
+  EXPECT_FALSE(box_contains(boxes[0], glm::dvec3(0.2, 0.2, 0.0)));
+  EXPECT_EQ(motion.moved_lights(t0, t1), 1u);
+}
+
+TEST(SceneMotion, NothingMovedAtTheSameTimeOrAFullLoopLater) {
+  const Scene s = test::animated_scene();
+  const SceneMotion motion(s);
+  std::vector<WorldBox> boxes;
+  motion.moved_boxes(0.5, 0.5, boxes);
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_EQ(motion.moved_lights(0.5, 0.5), 0u);
+  motion.moved_boxes(0.5, 2.5, boxes);  // the animation loops every 2 s
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_EQ(motion.moved_lights(0.5, 2.5), 0u);
+}
+
+TEST(SceneMotion, SegmentAndBoxTests) {
+  const WorldBox box{glm::dvec3(0.0), glm::dvec3(1.0)};
+  EXPECT_TRUE(segment_hits_box({-1, 0.5, 0.5}, {2, 0.5, 0.5}, box));    // through
+  EXPECT_TRUE(segment_hits_box({0.5, 0.5, 0.5}, {0.6, 0.6, 0.6}, box));  // inside
+  EXPECT_TRUE(segment_hits_box({0.5, 0.5, -1}, {0.5, 0.5, 0.0}, box));   // ends on a face
+  EXPECT_FALSE(segment_hits_box({-1, 0.5, 0.5}, {-0.1, 0.5, 0.5}, box));  // stops short
+  EXPECT_FALSE(segment_hits_box({-1, 2, 0.5}, {2, 2, 0.5}, box));         // passes above
+  EXPECT_FALSE(segment_hits_box({-1, 1.5, 0.5}, {1.5, 3, 0.5}, box));     // diagonal miss
+  EXPECT_TRUE(segment_hits_box({0.5, 2, 0.5}, {0.5, 2, 0.5}, grown(box, 1.0)));  // a point in the grown box
+  EXPECT_TRUE(box_contains(box, {1, 1, 1}));
+  EXPECT_FALSE(box_contains(box, {1, 1, 1.001}));
+}
+
+}  // namespace
+}  // namespace dhr
