@@ -14,7 +14,7 @@ namespace dhr::eval {
 
 namespace {
 
-constexpr std::array<std::pair<Ingredient, const char*>, 10> kIngredients = {{
+constexpr std::array<std::pair<Ingredient, const char*>, 11> kIngredients = {{
     {kIngredientBilinear, "bilinear"},
     {kIngredientDepthTest, "depth"},
     {kIngredientOtherEye, "other-eye"},
@@ -25,6 +25,7 @@ constexpr std::array<std::pair<Ingredient, const char*>, 10> kIngredients = {{
     {kIngredientAdaptiveFov, "adaptive-fov"},
     {kIngredientOlderBuffer, "older"},
     {kIngredientNeighbour, "neighbour"},
+    {kIngredientMotion, "motion"},
 }};
 
 }  // namespace
@@ -141,6 +142,7 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
   s.shadow_first = (spec.without & kIngredientShadowFirst) == 0;
   s.older_buffer = (spec.without & kIngredientOlderBuffer) == 0;
   s.neighbour_fill = (spec.without & kIngredientNeighbour) == 0;
+  s.motion = (spec.without & kIngredientMotion) == 0;
   s.depth_scale = spec.depth_scale;
   return s;
 }

@@ -35,6 +35,7 @@ enum Ingredient : uint32_t {
   kIngredientAdaptiveFov = 128u, // "adaptive-fov": the server widens the traced FOV (server/session/include/session/fov_margin.hpp)
   kIngredientOlderBuffer = 256u, // "older": fill from this eye's previous buffer
   kIngredientNeighbour = 512u,   // "neighbour": fill from the nearest old pixel on the pixel's tangent plane
+  kIngredientMotion = 1024u,     // "motion": bits motion since the traced scene time may change are unknown
 };
 
 // A method and, for kFull, the ingredients switched off. `shipped`: the method "default", exactly what dhr-server

@@ -28,8 +28,11 @@ void main() {
     if ((value & kClientForwardStatusShadowEdge) != 0u) {
       words[kClientCountEdgeShadowMap / 3u] += 1u << (10u * (kClientCountEdgeShadowMap % 3u));
     }
+    if ((value & kClientForwardStatusMotion) != 0u) {
+      words[kClientCountMotion / 3u] += 1u << (10u * (kClientCountMotion % 3u));
+    }
   }
-  const uint used_words = pc.fills != 0u ? kClientCountEdgeShadowMap / 3u + 1u : 2u;  // dynamically uniform
+  const uint used_words = pc.fills != 0u ? kClientCountMotion / 3u + 1u : 2u;  // dynamically uniform
   uint sums[kClientCountWords];
   for (uint w = 0u; w < kClientCountWords; ++w) sums[w] = w < used_words ? subgroupAdd(words[w]) : 0u;
   if (subgroupElect()) {

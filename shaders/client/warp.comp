@@ -45,6 +45,7 @@ layout(set = 0, binding = kClientWarpBindingShadowMap) uniform sampler2D shadow_
 #include "client/shadow_lookup.h"
 #include "client/paper_warp.h"
 #include "client/bilinear_warp.h"
+#include "client/motion_rule.h"
 
 // Source s is dynamically uniform: these selections do not diverge.
 uint vis_word(uint s, uint index) { return s == 0u ? vis0[index] : s == 1u ? vis1[index] : vis2[index]; }
@@ -205,8 +206,9 @@ void main() {
   uint fill = kClientFillNone;
   bool edge_from_shadow = false;
   bool overridden = false;  // a confident shadow-map bit replaced a bit the samples agreed on
+  bool motion_unknown = false;  // motion made some of the chosen source's bits unknown
   const uint ingredients = kClientWarpBilinear | kClientWarpDepthTest | kClientWarpShadowFill | kClientWarpShadowEdges |
-                           kClientWarpShadowFirst | kClientWarpOlderBuffer | kClientWarpNeighbourFill;
+                           kClientWarpShadowFirst | kClientWarpOlderBuffer | kClientWarpNeighbourFill | kClientWarpMotion;
   const bool paper = (pc.flags & ingredients) == 0u && (pc.source[1].flags & kClientSourceHasVisibility) == 0u;
   if (in_image && paper) {  // dynamically uniform
     const vec2 centre = vec2(id) + 0.5;
@@ -234,10 +236,12 @@ void main() {
       Lookup own = look_up(0u, d, centre, n);
       status = own.status;
       Lookup chosen = own;
+      uint chosen_source = 0u;
       if (own.status != kClientStatusKnown && (pc.source[1].flags & kClientSourceHasVisibility) != 0u) {
         const Lookup other = look_up(1u, d, centre, n);
         if (other.status == kClientStatusKnown) {
           chosen = other;
+          chosen_source = 1u;
           fill = kClientFillOtherEye;
         }
       }
@@ -246,6 +250,7 @@ void main() {
         const Lookup older = look_up(2u, d, centre, n);
         if (older.status == kClientStatusKnown) {
           chosen = older;
+          chosen_source = 2u;
           fill = kClientFillOlder;
         }
       }
@@ -261,25 +266,31 @@ void main() {
       }
       const bool have = status == kClientStatusKnown || fill != kClientFillNone;
       const bool first = (pc.flags & kClientWarpShadowFirst) != 0u;
+      const vec3 p = (pc.near_plane / d) *
+                     (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
+      // Motion: the chosen source's bits that something moved since its scene time may have changed.
+      const uint moved = have && (pc.flags & kClientWarpMotion) != 0u ? motion_unknown_bits(chosen_source, p) : 0u;
+      const uint shadow_settings = kClientWarpShadowFill | kClientWarpShadowEdges | kClientWarpShadowFirst;
+      const uint to_shadow = (pc.flags & shadow_settings) != 0u ? moved : 0u;
+      motion_unknown = moved != 0u;
       const uint undecided = have ? ~chosen.agree & pc.unknown_mask : 0u;
-      const bool need_shadow = have ? (first && !chosen.exact) || ((pc.flags & kClientWarpShadowEdges) != 0u && undecided != 0u)
+      const bool need_shadow = have ? (first && !chosen.exact) || ((pc.flags & kClientWarpShadowEdges) != 0u && undecided != 0u) ||
+                                          to_shadow != 0u
                                     : (pc.flags & kClientWarpShadowFill) != 0u;
       ShadowLookup shadow;
       shadow.mask = 0u;
       shadow.confident = 0u;
       if (need_shadow) {
-        const vec3 p = (pc.near_plane / d) *
-                       (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
         shadow = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent);
       }
       if (have) {
         // Bits the samples agree on keep their value unless the shadow maps are confident (shadow-first);
         // the others take the shadow maps (shadow edges) or the vote.
         const bool edges = (pc.flags & kClientWarpShadowEdges) != 0u;
-        const uint from_shadow = (first && !chosen.exact ? shadow.confident : 0u) | (edges ? undecided : 0u);
+        const uint from_shadow = (first && !chosen.exact ? shadow.confident : 0u) | (edges ? undecided : 0u) | to_shadow;
         mask = (chosen.value & ~from_shadow) | (shadow.mask & from_shadow);
         edge_from_shadow = edges && undecided != 0u;
-        overridden = (from_shadow & ~undecided & (chosen.value ^ shadow.mask) & pc.unknown_mask) != 0u;
+        overridden = (from_shadow & ~undecided & ~to_shadow & (chosen.value ^ shadow.mask) & pc.unknown_mask) != 0u;
       } else if ((pc.flags & kClientWarpShadowFill) != 0u) {
         mask = shadow.mask;
         fill = kClientFillShadowMap;
@@ -314,6 +325,7 @@ void main() {
   if (fill == kClientFillNeighbour) words[kClientCountNeighbour / 3u] += 1u << (10u * (kClientCountNeighbour % 3u));
   if (edge_from_shadow) words[kClientCountEdgeShadowMap / 3u] += 1u << (10u * (kClientCountEdgeShadowMap % 3u));
   if (overridden) words[kClientCountShadowOverride / 3u] += 1u << (10u * (kClientCountShadowOverride % 3u));
+  if (motion_unknown) words[kClientCountMotion / 3u] += 1u << (10u * (kClientCountMotion % 3u));
   // The paper's rule yields statuses 0-5 only: the first two words (a subgroup sum each costs on lavapipe).
   const uint used_words = paper ? 2u : kClientCountWords;
   uint sums[kClientCountWords];

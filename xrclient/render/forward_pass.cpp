@@ -196,6 +196,10 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
       params.source[0].flags |= kClientSourceHasDepth;
       params.source[0].depth_scale = test.depth_scale;
     }
+    if (mode == ForwardMode::kServerEdges && frame.motion != nullptr) {
+      params.motion = *frame.motion;
+      params.flags |= kClientWarpMotion;
+    }
   }
   const vk::Image* atlas = &placeholder_atlas_;
   if (shadowed) {

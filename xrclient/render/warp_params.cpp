@@ -150,6 +150,7 @@ WarpCounts unpack_warp_counts(const vk::Buffer& counters, uint32_t words) {
   counts.shadow_overrides = fields[kClientCountShadowOverride];
   counts.filled_older = fields[kClientCountOlder];
   counts.filled_neighbour = fields[kClientCountNeighbour];
+  counts.motion_unknown = fields[kClientCountMotion];
   return counts;
 }
 

@@ -142,9 +142,11 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
                  (settings.shadow_edges ? kClientWarpShadowEdges : 0u) |
                  (settings.shadow_first ? kClientWarpShadowFirst : 0u) |
                  (settings.older_buffer ? kClientWarpOlderBuffer : 0u) |
-                 (settings.neighbour_fill ? kClientWarpNeighbourFill : 0u);
+                 (settings.neighbour_fill ? kClientWarpNeighbourFill : 0u) |
+                 (settings.motion ? kClientWarpMotion : 0u);
   params.plane_tolerance_rel = static_cast<float>(settings.plane_tolerance_rel);
   params.plane_tolerance_abs = static_cast<float>(settings.plane_tolerance_abs);
+  if (settings.motion && frame.motion != nullptr) params.motion = *frame.motion;
   std::array<vk::Image*, kClientWarpSourceCount> old_depth{&placeholder_depth_, &placeholder_depth_,
                                                            &placeholder_depth_};
   for (size_t s = 0; s < usable.size(); ++s) {

@@ -71,6 +71,7 @@ struct WarpFrame {
   const ShadowMaps* shadow_maps = nullptr;  // required by the shadow settings
   std::span<const SceneLight> lights;       // the scene's lights (shadow lookups)
   WarpSettings settings;
+  const shader::ClientWarpMotion* motion = nullptr;  // settings.motion: what moved (warp_motion.hpp); null: nothing
 };
 
 class WarpPass {

@@ -1,4 +1,5 @@
 #include "render/warp_reference.hpp"
+#include "render/warp_motion.hpp"
 
 #include "render/light_layout.hpp"
 
@@ -62,13 +63,13 @@ WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale) 
 WarpSettings WarpSettings::full() {
   WarpSettings s;
   s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = s.shadow_first = true;
-  s.older_buffer = s.neighbour_fill = true;
+  s.older_buffer = s.neighbour_fill = s.motion = true;
   return s;
 }
 
 WarpSettings WarpSettings::server_edges() {
   WarpSettings s;
-  s.bilinear = s.shadow_edges = s.shadow_fill = true;
+  s.bilinear = s.shadow_edges = s.shadow_fill = s.motion = true;
   return s;
 }
 
@@ -402,11 +403,13 @@ WarpResult warp_reference(const WarpInput& input) {
       out.status[i] = own.status;
       out.lookup[i] = own.pixel;
       SourceLookup chosen = own;
+      uint32_t chosen_source = 0;
       if (own.status != WarpStatus::kKnown && sources[1].visibility != nullptr) {
         const SourceLookup other = look_up(input, layout, sources[1], p, nrm);
         margin = std::min(margin, other.margin);
         if (other.status == WarpStatus::kKnown) {
           chosen = other;
+          chosen_source = 1;
           out.fill[i] = WarpFill::kOtherEye;
         }
       }
@@ -415,6 +418,7 @@ WarpResult warp_reference(const WarpInput& input) {
         margin = std::min(margin, older.margin);
         if (older.status == WarpStatus::kKnown) {
           chosen = older;
+          chosen_source = 2;
           out.fill[i] = WarpFill::kOlder;
         }
       }
@@ -430,9 +434,19 @@ WarpResult warp_reference(const WarpInput& input) {
         }
       }
       const bool have = own.status == WarpStatus::kKnown || out.fill[i] != WarpFill::kNone;
+      // Motion: the chosen source's bits that something moved since its scene time may have changed.
+      uint32_t moved = 0;
+      if (have && set.motion && input.motion != nullptr) {
+        double motion_margin = 0.0;
+        moved = motion_unknown_bits(*input.motion, chosen_source, p - input.display.T_world_eye.position,
+                                    layout.light_count, unknown, &motion_margin);
+        margin = std::min(margin, motion_margin);
+      }
       const uint32_t undecided = have ? ~chosen.agree & unknown : 0u;
-      const bool need_shadow =
-          have ? (set.shadow_first && !chosen.exact) || (set.shadow_edges && undecided != 0) : set.shadow_fill;
+      const uint32_t to_shadow = set.uses_shadow_maps() ? moved : 0u;
+      const bool need_shadow = have ? (set.shadow_first && !chosen.exact) || (set.shadow_edges && undecided != 0) ||
+                                          to_shadow != 0
+                                    : set.shadow_fill;
       ShadowDecision shadow;
       if (need_shadow) {
         const double depth = input.near_plane / d;
@@ -441,11 +455,13 @@ WarpResult warp_reference(const WarpInput& input) {
         margin = std::min(margin, shadow.margin);
       }
       if (have) {
-        const uint32_t from_shadow =
-            (set.shadow_first && !chosen.exact ? shadow.confident : 0u) | (set.shadow_edges ? undecided : 0u);
+        const uint32_t from_shadow = (set.shadow_first && !chosen.exact ? shadow.confident : 0u) |
+                                     (set.shadow_edges ? undecided : 0u) | to_shadow;
         out.masks[i] = (chosen.value & ~from_shadow) | (shadow.mask & from_shadow);
+        if (moved != 0) ++out.counts.motion_unknown;
         if (set.shadow_edges && undecided != 0) ++out.counts.edges_shadow_map;
-        if ((from_shadow & ~undecided & (chosen.value ^ shadow.mask) & unknown) != 0) ++out.counts.shadow_overrides;
+        if ((from_shadow & ~undecided & ~to_shadow & (chosen.value ^ shadow.mask) & unknown) != 0)
+          ++out.counts.shadow_overrides;
       } else if (set.shadow_fill) {
         out.masks[i] = shadow.mask;
         out.fill[i] = WarpFill::kShadowMap;

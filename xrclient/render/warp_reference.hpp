@@ -46,6 +46,7 @@
 #include "render/render_camera.hpp"
 #include "render/shadow_maps.hpp"
 #include "scene/scene.hpp"
+#include "shaders/shader_interface.h"
 
 namespace dhr::render {
 
@@ -75,6 +76,7 @@ struct WarpCounts {
   uint64_t filled_neighbour = 0;    // ... by the nearest old pixel of source 0 on the pixel's tangent plane
   uint64_t edges_shadow_map = 0;    // known pixels whose undecided bits took the shadow maps
   uint64_t shadow_overrides = 0;    // known pixels where a confident shadow-map bit replaced an agreed one
+  uint64_t motion_unknown = 0;      // pixels whose chosen source had bits motion made unknown (settings.motion)
   uint64_t operator[](WarpStatus s) const { return by_status[static_cast<size_t>(s)]; }
   // Surface pixels without a mask from their own eye's buffer (behind, outside, missing row, no data,
   // disoccluded), filled or not.
@@ -96,6 +98,9 @@ struct WarpSettings {
   bool shadow_fill = false;   // fill the rest from the client's shadow maps
   bool shadow_edges = false;  // bits the samples disagree on from the shadow maps
   bool shadow_first = false;  // bits the shadow maps are confident about from the shadow maps
+  // Bits that motion since the chosen source's scene time may have changed (WarpInput::motion, warp_motion.hpp)
+  // are unknown: they take the shadow maps where any shadow setting is on, else the vote.
+  bool motion = false;
   double plane_tolerance_rel = 0.02;  // metres per metre of depth
   double plane_tolerance_abs = 0.01;  // metres
   // depth_test: the traced depth is rendered at 1 / depth_scale of the traced camera's resolution per axis
@@ -155,6 +160,7 @@ struct WarpInput {
   WarpSettings settings;
   const ShadowReference* shadow = nullptr;  // needed when a shadow setting is on
   std::span<const SceneLight> lights;       // for the shadow lookups
+  const shader::ClientWarpMotion* motion = nullptr;  // settings.motion: what moved (warp_motion.hpp); null: nothing
 };
 
 struct WarpResult {

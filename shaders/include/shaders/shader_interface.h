@@ -220,7 +220,8 @@ DHR_CONST uint kClientCountEdgeShadowMap = 9u;
 DHR_CONST uint kClientCountShadowOverride = 10u;  // confident shadow-map bits that replaced agreed samples
 DHR_CONST uint kClientCountOlder = 11u;
 DHR_CONST uint kClientCountNeighbour = 12u;
-DHR_CONST uint kClientCountFields = 13u;
+DHR_CONST uint kClientCountMotion = 13u;  // surface pixels with bits motion made unknown (kClientWarpMotion)
+DHR_CONST uint kClientCountFields = 14u;
 DHR_CONST uint kClientCountWords = 5u;  // three 10-bit fields per word
 
 // ClientWarpParams::flags
@@ -233,6 +234,7 @@ DHR_CONST uint kClientWarpShadowEdges = 128u;    // bits the samples disagree on
 DHR_CONST uint kClientWarpShadowFirst = 256u;    // bits the shadow maps are confident about take them
 DHR_CONST uint kClientWarpOlderBuffer = 512u;    // pixels without a source so far try source 2
 DHR_CONST uint kClientWarpNeighbourFill = 1024u; // ... then the nearest source-0 pixel on their tangent plane
+DHR_CONST uint kClientWarpMotion = 2048u;        // bits that motion since a source's scene time may change: unknown
 // The neighbour fill searches the old pixels within this many pixels (Chebyshev) of the lookup's pixel.
 DHR_CONST int kClientWarpNeighbourRadius = 2;
 // Bilinear lookups within this many old pixels of an old pixel centre (in x and y) take that pixel's mask
@@ -277,6 +279,39 @@ struct ClientWarpSource {
   uint depth_scale;      // kClientSourceHasDepth: one traced-depth texel per depth_scale x depth_scale old pixels
 };
 
+// Motion (kClientWarpMotion; DESIGN 5b): visibility traced at a source's scene time is trusted at the display's only
+// where nothing that could change it moved (client/motion_rule.h; render/warp_motion.hpp fills these). Per source:
+// the field bits of the lights placed differently at the two times, and the world boxes of the moved meshes at both
+// times, relative to the display eye (world axes). A surface point inside a box (grown by receiver_margin) may lie
+// on a moving surface: every bit unknown. Else a light's bits are unknown when the segment from the point towards
+// the light meets a box grown by the light's growth (its extent: every shadow ray to it passes within that of the
+// centre's). Unknown bits take the shadow maps as undecided ones do.
+DHR_CONST uint kClientMaxMotionBoxes = 16u;
+struct ClientMotionSource {
+  uint moved_bits;  // fields of the lights that moved
+  uint box_count;   // > kClientMaxMotionBoxes: too many to list, every bit unknown
+  uint pad0;
+  uint pad1;
+  float box_min[3 * 16];  // box b: [3b, 3b + 3)
+  float box_max[3 * 16];
+};
+struct ClientMotionLight {
+  float to_light[3];  // point-like: the light's centre; directional: the unit direction towards the light
+  float growth;       // point-like: metres (the extent's radius); directional: tan of the angular radius
+  uint field;         // its bits in the mask
+  uint directional;   // 1: the segment runs far_distance towards the light
+  uint pad0;
+  uint pad1;
+};
+struct ClientWarpMotion {
+  ClientMotionSource source[3];
+  ClientMotionLight light[32];
+  float far_distance;     // directional lights' segment length: the scene's bounding diagonal
+  float receiver_margin;  // metres the boxes grow by for the receiver test
+  uint enabled;           // 0: nothing moves (no test at all)
+  uint pad;
+};
+
 // Shadow lookups: p_rel = (near_plane / d) * (world_ray0 + (i + 0.5) * world_ray_dx + (j + 0.5) * world_ray_dy)
 // is the surface point relative to the display eye in world axes; the lights (kClientWarpBindingShadowLights)
 // are relative to the same eye.
@@ -306,6 +341,7 @@ struct ClientWarpParams {
   uint unknown_mask;     // mask for unfilled pixels: all light bits
   uint flags;            // kClientWarp*
   uint soft_lights;      // bit i: light i has a soft field (visibility_field.h); the bilinear vote blends its levels
+  ClientWarpMotion motion;
 };
 
 // A light as the warp's shadow lookup sees it: position relative to the display eye (world axes) and the
@@ -404,6 +440,7 @@ DHR_CONST uint kClientForwardServerEdges = 3u;
 // flags; the count pass sums it); 2 (optional, tests): R32_UINT mask.
 DHR_CONST uint kClientForwardStatusShadowFill = 16u;  // an unknown pixel took the shadow maps (kClientFillShadowMap)
 DHR_CONST uint kClientForwardStatusShadowEdge = 32u;  // a known pixel's undecided bits took the shadow maps
+DHR_CONST uint kClientForwardStatusMotion = 64u;      // a known pixel's bits motion made unknown (kClientWarpMotion)
 DHR_CONST uint kClientForwardStatusMask = 15u;        // the kClientStatus* part
 struct ClientForwardShading {
   float exposure;
@@ -421,7 +458,12 @@ static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the G
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientWarpSource) == 136, "ClientWarpSource must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 30, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientMotionSource) == 16 + 2 * 4 * 48, "ClientMotionSource must match the std430 layout");
+static_assert(sizeof(ClientMotionLight) == 32, "ClientMotionLight must match the std430 array stride");
+static_assert(sizeof(ClientWarpMotion) == 3 * sizeof(ClientMotionSource) + 32 * 32 + 16,
+              "ClientWarpMotion must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 30 + sizeof(ClientWarpMotion),
+              "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 84, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");

@@ -97,4 +97,21 @@ bool segment_hits_box(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& 
   return true;
 }
 
+double segment_box_gap(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box) {
+  double lo = 0.0, hi = 1.0, parallel = std::numeric_limits<double>::infinity();
+  const glm::dvec3 d = b - a;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-300) {
+      parallel = std::min({parallel, std::abs(a[i] - box.min[i]), std::abs(box.max[i] - a[i])});
+      continue;
+    }
+    double t0 = (box.min[i] - a[i]) / d[i];
+    double t1 = (box.max[i] - a[i]) / d[i];
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0);
+    hi = std::min(hi, t1);
+  }
+  return std::min(parallel, std::abs(hi - lo) * glm::length(d));
+}
+
 }  // namespace dhr

@@ -54,5 +54,9 @@ WorldBox grown(const WorldBox& box, double margin);
 bool box_contains(const WorldBox& box, const glm::dvec3& p);
 // The segment from a to b meets the box (slab test; a segment inside counts).
 bool segment_hits_box(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box);
+// How far the slab test of segment_hits_box is from flipping, in metres along the segment: the gap between the
+// entry and exit parameters (or the distance outside a slab the segment runs parallel to). Small: a rounding of the
+// segment or the box may change the answer.
+double segment_box_gap(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box);
 
 }  // namespace dhr
