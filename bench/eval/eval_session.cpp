@@ -278,7 +278,8 @@ void SettingSession::advance(const FramePose& sample) {
   client_->tick();
   service_->tick();
   // Display time on the setting's clock. local asks the server for nothing (it stays connected, idle).
-  if (uses_server_visibility(setting_.method)) client_->send_pose(FramePose{sample.frame, t, sample.views});
+  if (uses_server_visibility(setting_.method))
+    client_->send_pose(FramePose{sample.frame, t, sample.views, sample.scene_time_ns});
   run_until(t, true);
 }
 

@@ -8,7 +8,17 @@
 namespace dhr::server::cli {
 
 std::optional<Scene> load_server_scene(const ServerOptions& options, std::string* out_error) {
-  return load_session_scene(options.scene_path, options.lights, out_error);
+  std::optional<Scene> scene =
+      load_session_scene(options.scene_path, options.lights, out_error, SessionSide::kServer);
+  // The Embree backend plays the animations on the scene clock; the Vulkan backend does not move anything yet.
+  if (scene && !scene->animation.empty() && options.backend == TracerBackend::kVulkan)
+    scene->warnings.push_back(animations_not_played(*scene, TracerBackend::kVulkan));
+  return scene;
+}
+
+std::string animations_not_played(const Scene& scene, TracerBackend backend) {
+  return describe_animations(scene) + " not played by the " + tracer_backend_name(backend) +
+         " backend: it traces the scene at its rest pose";
 }
 
 int fail_setup(const std::string& message) {

@@ -3,6 +3,7 @@
 #include "layout_report.hpp"
 #include "scene_setup.hpp"
 #include "scene/scene_hash.hpp"
+#include "scene/session_scene.hpp"
 #include "session/serve.hpp"
 
 #include <algorithm>
@@ -27,6 +28,12 @@ int run_serve_command(const ServerOptions& options) {
   } catch (const std::exception& e) {
     return fail_run(std::string("cannot create the tracer: ") + e.what());
   }
+  if (!scene->animation.empty() && tracer->moves())
+    std::fprintf(stderr, "scene: %s play on the scene clock: each frame is traced at its pose's scene time\n",
+                 describe_animations(*scene).c_str());
+  else if (!scene->animation.empty() && options.backend != TracerBackend::kVulkan)  // vulkan: warned above
+    std::fprintf(stderr, "dhr-server: warning: scene: %s\n",
+                 animations_not_played(*scene, tracer->backend()).c_str());
 
   ServeOptions serve;
   serve.bind_address = options.bind_address;

@@ -45,8 +45,14 @@ inline VisibilityBuffer buffer_for(uint64_t frame, Eye eye) {
   return make_random_visibility(kBufW, kBufH, kLights, frame * 2 + static_cast<uint64_t>(eye) + 1);
 }
 
+// The scene time the server traced `frame` for (every shard of the frame names it).
+inline int64_t scene_time_for(uint64_t frame) { return static_cast<int64_t>(frame) * 11'000'000 + 5'000'000; }
+
 inline std::vector<VisibilityShard> shards_for(uint64_t frame, Eye eye) {
-  return make_visibility_shards(buffer_for(frame, eye), frame, eye, view_for(frame, eye));
+  std::vector<VisibilityShard> shards =
+      make_visibility_shards(buffer_for(frame, eye), frame, eye, view_for(frame, eye));
+  for (VisibilityShard& s : shards) s.scene_time_ns = scene_time_for(frame);
+  return shards;
 }
 
 class Harness {

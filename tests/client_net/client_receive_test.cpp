@@ -42,9 +42,33 @@ TEST(ClientReceive, CompleteFrameIsPublishedWithItsViewAndExactContent) {
   EXPECT_EQ(v.rows_valid, kBufH);
   EXPECT_EQ(v.buffer, buffer_for(1, Eye::kLeft));
   EXPECT_EQ(v.view.pose.position, view_for(1, Eye::kLeft).pose.position);
+  EXPECT_EQ(v.scene_time_ns, scene_time_for(1));
   EXPECT_EQ(v.received_ns, sent);
   EXPECT_FALSE(h.client.take_newest(Eye::kLeft, v));  // nothing newer
   EXPECT_FALSE(h.client.take_newest(Eye::kRight, v));
+}
+
+// Every shard of a frame names the scene time it was traced for: one that names another is rejected (inconsistent
+// frame) and counted, and the frame still completes from the others at the first shard's scene time.
+TEST(ClientReceive, AShardAtAnotherSceneTimeThanItsFrameIsRejected) {
+  Harness h;
+  h.connect();
+  ASSERT_TRUE(h.client.send_pose(FramePose{1, 0, views_for(1)}));
+  const std::vector<VisibilityShard> shards = shards_for(1, Eye::kLeft);
+  ASSERT_GE(shards.size(), 2u);
+  h.send_shard(shards[0]);
+  VisibilityShard odd = shards[1];
+  odd.scene_time_ns += 1;
+  h.send_shard(odd);
+  h.run_for(kMs);
+  EXPECT_EQ(h.client.stats().shards_rejected, 1u);
+  EXPECT_EQ(h.client.stats().rejections[DecodeError::kInconsistentFrame], 1u);
+  for (size_t i = 1; i < shards.size(); ++i) h.send_shard(shards[i]);
+  h.run_for(kMs);
+  VisibilityFrame v;
+  ASSERT_TRUE(h.client.take_newest(Eye::kLeft, v));
+  EXPECT_TRUE(v.complete);
+  EXPECT_EQ(v.scene_time_ns, scene_time_for(1));
 }
 
 TEST(ClientReceive, NewestWinsPerEyeAndFrameNumbersNeverGoBack) {

@@ -127,11 +127,12 @@ TEST(ClientSession, AnotherProtocolVersionFailsWithBothVersions) {
   h.client.tick();
   h.run_for(kMs);
   std::vector<uint8_t> bye = encode_datagram(Datagram{0, 0, Bye{ByeReason::kVersionMismatch}});
-  bye[4] = 5;  // the server's version
+  bye[4] = kProtocolVersion + 1;  // the server's version
   h.server_send_raw(bye);
   h.run_for(kMs);
   EXPECT_TRUE(h.client.failed());
-  EXPECT_NE(h.client.failure().find("version 5"), std::string::npos) << h.client.failure();
+  EXPECT_NE(h.client.failure().find("version " + std::to_string(kProtocolVersion + 1)), std::string::npos)
+      << h.client.failure();
   EXPECT_EQ(h.client.stats().rejections[DecodeError::kWrongVersion], 1u);
 }
 
@@ -315,18 +316,21 @@ TEST(ClientSession, PosesOnlyWhenConnectedAndWithIncreasingFrameNumbers) {
   EXPECT_FALSE(h.client.send_pose(FramePose{5, 100, views_for(5)}));
   EXPECT_FALSE(h.client.send_pose(FramePose{4, 100, views_for(4)}));
   EXPECT_FALSE(h.client.send_pose(FramePose{6, -1, views_for(6)}));
-  EXPECT_TRUE(h.client.send_pose(FramePose{6, 200, views_for(6)}));
+  EXPECT_FALSE(h.client.send_pose(FramePose{6, 200, views_for(6), -1}));  // negative scene time
+  EXPECT_TRUE(h.client.send_pose(FramePose{6, 200, views_for(6), 150}));
   h.run_for(kMs);
   const auto poses = h.received<PoseUpdate>();
   ASSERT_EQ(poses.size(), 2u);
   EXPECT_EQ(poses[0].frame, 5u);
   EXPECT_EQ(poses[1].frame, 6u);
   EXPECT_EQ(poses[1].display_time_ns, 200);
+  EXPECT_EQ(poses[0].scene_time_ns, 0);
+  EXPECT_EQ(poses[1].scene_time_ns, 150);  // FramePose's scene time, as sent
   EXPECT_EQ(poses[1].views[1].pose.position, views_for(6)[1].pose.position);
   const ClientNetStats s = h.client.stats();
   EXPECT_EQ(s.poses_sent, 2u);
   EXPECT_EQ(s.poses_not_connected, 1u);
-  EXPECT_EQ(s.poses_refused, 3u);
+  EXPECT_EQ(s.poses_refused, 4u);
   // Datagram sequence numbers count up per datagram sent.
   std::set<uint32_t> sequences;
   for (const auto& r : h.from_client) sequences.insert(r.datagram.sequence);

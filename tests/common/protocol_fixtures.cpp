@@ -41,13 +41,16 @@ std::vector<Datagram> sample_datagrams() {
   PoseUpdate pose;
   pose.frame = 1234;
   pose.display_time_ns = 987654321;
+  pose.scene_time_ns = 123456789;  // the scene clock starts at the session's start, the display clock earlier
   pose.views = {sample_view(-0.032), sample_view(0.032)};
   out.push_back({kSampleToken, 3, pose});
   // A real shard from the codec.
   const auto buffer = make_blob_visibility(160, 120, 3, 5);
   const auto shards = make_visibility_shards(buffer, 1234, Eye::kLeft, sample_view(0.0));
   if (shards.empty()) throw std::logic_error("sample_datagrams: the codec produced no shard");
-  out.push_back({kSampleToken, 4, shards.front()});
+  VisibilityShard shard = shards.front();
+  shard.scene_time_ns = 123456789;  // traced at the pose's scene time
+  out.push_back({kSampleToken, 4, shard});
   Heartbeat hb;
   hb.send_time_ns = 5;
   hb.echo_time_ns = 3;

@@ -130,6 +130,8 @@ VisibilityShard forged_shard(fuzz::Reader& r, const ReassemblerParams& p, RealFr
     s.payload_size = static_cast<uint16_t>(bytes.size());
   }
   if (flags & 16) s.payload_size = r.u16();  // possibly above kMaxShardPayload: must be rejected, not read
+  // Another scene time than the frame's other shards (inconsistent), or a negative one (invalid).
+  if (flags & 32) s.scene_time_ns = static_cast<int8_t>(r.u8());
   return s;
 }
 
@@ -155,7 +157,9 @@ void check_frame(const ReassembledFrame& f, const ReassemblerParams& p, RealFram
     rows += full ? 1 : 0;
   }
   DHR_FUZZ_CHECK(f.visibility.rows_valid == rows);
+  DHR_FUZZ_CHECK_MSG(f.visibility.scene_time_ns >= 0, "a frame holds a negative scene time");
   if (f.visibility.view.pose.position.x != 0.0) return;  // forged frame: contents are whatever was sent
+  DHR_FUZZ_CHECK_MSG(f.visibility.scene_time_ns == 0, "a real frame holds another scene time than was sent");
   const VisibilityBuffer& truth = real.get(f.visibility.frame_number, f.visibility.eye).buffer;
   const size_t mb = truth.bytes_per_mask();
   for (const auto& [first, end] : f.received_ranges)

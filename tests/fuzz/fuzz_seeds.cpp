@@ -51,6 +51,15 @@ std::vector<Seed> datagram_seeds() {
   soft_welcome.soft_light_count = 2;
   soft_welcome.mask_bits = MaskWidth::k8;
   out.push_back({"welcome_soft_levels", datagram(77, soft_welcome)});
+  // Scene time (protocol version 5): a pose and a shard at a late scene time (an animation's later keys).
+  PoseUpdate late_pose = std::get<PoseUpdate>(samples[2].message);
+  late_pose.scene_time_ns = 3'600'000'000'000;
+  out.push_back({"pose_late_scene_time", datagram(77, late_pose)});
+  if (!shards.empty()) {
+    VisibilityShard late_shard = shards.front();
+    late_shard.scene_time_ns = 3'600'000'000'000;
+    out.push_back({"shard_late_scene_time", datagram(77, late_shard)});
+  }
   Bytes other_version = encode_datagram(samples.front());
   if (other_version.size() > 4) other_version[4] = kProtocolVersion + 1;
   out.push_back({"hello_version2", other_version});

@@ -228,6 +228,23 @@ TEST(ServeCli, SoftLevelsAreGrantedOnTheAreaLightScene) {
   }
 }
 
+// The moving living room: the Embree backend plays its animations on the scene clock and says so; the statistics
+// carry the scene-time fields.
+TEST(ServeCli, AMovingSceneIsPlayedOnTheSceneClock) {
+  const std::string path = dhr::test::shared_data_path("scenes/living_room_moving.glb");
+  if (path.empty()) GTEST_SKIP() << "../shared/data not present";
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "1", "--insecure", "--backend",
+                        "embree", "--scene", path});
+  ASSERT_TRUE(server.started());
+  ASSERT_EQ(server.wait_exit(std::chrono::seconds(120)), 0) << server.err();
+  EXPECT_NE(server.err().find("scene: 1 animation(s), 3 track(s) play on the scene clock"), std::string::npos)
+      << server.err();
+  EXPECT_EQ(server.err().find("not played"), std::string::npos) << server.err();
+  const auto stats = last_json_line(server.out());
+  EXPECT_EQ(stats.at("frames_at_scene_time").get<int>(), 0);
+  EXPECT_TRUE(stats.contains("scene_update_ms_per_frame"));
+}
+
 TEST(ServeCli, ImpairedSendsStillDeliverTheFinalBye) {
   // 40 ms delay on everything sent: the Welcome arrives late, and shutdown waits for the held Bye.
   ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "2", "--net-delay", "40", "--insecure"});

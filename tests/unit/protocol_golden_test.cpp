@@ -92,7 +92,7 @@ TEST(ProtocolGolden, Hello) {
   m.scene_id = "room";
   const Bytes expected = {
       'D', 'H', 'R', 'X',                              // magic
-      0x04,                                            // version
+      0x05,                                            // version
       0x01,                                            // type Hello
       0x00, 0x00,                                      // reserved
       0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 0
@@ -124,7 +124,7 @@ TEST(ProtocolGolden, Welcome) {
   m.heartbeat_interval_ms = 1000;
   m.session_timeout_ms = 5000;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x04, 0x02, 0x00, 0x00,  // magic, version, type Welcome, reserved
+      'D',  'H',  'R',  'X',  0x05, 0x02, 0x00, 0x00,  // magic, version, type Welcome, reserved
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token 0x0123456789ABCDEF
       0x07, 0x00, 0x00, 0x00,                          // sequence 7
       0x88, 0x77, 0x66, 0x55, 0x44, 0x33, 0x22, 0x11,  // client nonce echo
@@ -151,7 +151,7 @@ TEST(ProtocolGolden, HelloOffersSoftLevels) {
   m.eye_width = 320;
   m.eye_height = 240;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x04, 0x01, 0x00, 0x00,  // magic, version 4, type Hello, flags
+      'D',  'H',  'R',  'X',  0x05, 0x01, 0x00, 0x00,  // magic, version 5, type Hello, flags
       0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 0
       0x00, 0x00, 0x00, 0x00,                          // sequence 0
       0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // client nonce 1
@@ -181,7 +181,7 @@ TEST(ProtocolGolden, WelcomeGrantsSoftLevels) {
   m.session_timeout_ms = 5000;
   EXPECT_EQ(m.used_mask_bits(), 7u);
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x04, 0x02, 0x00, 0x00,  // magic, version 4, type Welcome, flags
+      'D',  'H',  'R',  'X',  0x05, 0x02, 0x00, 0x00,  // magic, version 5, type Welcome, flags
       0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 1
       0x00, 0x00, 0x00, 0x00,                          // sequence 0
       0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // client nonce echo
@@ -203,25 +203,28 @@ TEST(ProtocolGolden, PoseUpdate) {
   PoseUpdate m;
   m.frame = 42;
   m.display_time_ns = 1000000000;
+  m.scene_time_ns = 250000000;
   m.views = {left_view(), right_view()};
   m.held_distance = {5, 0x0102};  // left holds frame 37, right frame 42 - 258: none (older than frame 0)
   const Bytes expected = cat({
-      {'D', 'H', 'R', 'X', 0x04, 0x03, 0x00, 0x00},      // version 4, type PoseUpdate
+      {'D', 'H', 'R', 'X', 0x05, 0x03, 0x00, 0x00},      // version 5, type PoseUpdate
       {0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01},  // token
       {0x08, 0x00, 0x00, 0x00},                          // sequence 8
       {0x2A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // frame 42
       {0x00, 0xCA, 0x9A, 0x3B, 0x00, 0x00, 0x00, 0x00},  // display time 1e9 ns
+      {0x80, 0xB2, 0xE6, 0x0E, 0x00, 0x00, 0x00, 0x00},  // scene time 0.25 s
       kLeftViewBytes,
       kRightViewBytes,
       {0x05, 0x00, 0x02, 0x01},                          // held distances 5 and 258
   });
-  ASSERT_EQ(expected.size(), 152u);
+  ASSERT_EQ(expected.size(), 160u);
   expect_golden(Datagram{0x0123456789ABCDEFull, 8, m}, expected);
   Datagram back;
   ASSERT_EQ(decode_datagram(expected, back), DecodeError::kNone);
   const auto& p = std::get<PoseUpdate>(back.message);
   EXPECT_EQ(p.frame, 42u);
   EXPECT_EQ(p.display_time_ns, 1000000000);
+  EXPECT_EQ(p.scene_time_ns, 250000000);
   expect_views_near(p.views[0], left_view());
   expect_views_near(p.views[1], right_view());
   EXPECT_EQ(p.held_frame(0), std::optional<uint64_t>(37));
@@ -240,12 +243,13 @@ TEST(ProtocolGolden, VisibilityShard) {
   m.buffer_height = 5;
   m.first_pixel = 14;
   m.pixel_count = 7;
+  m.scene_time_ns = 1250000000;
   m.view = left_view();
   const uint8_t payload[] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x05};  // uniform chunk: 7 pixels of mask 0b101
   m.payload_size = sizeof(payload);
   std::copy(std::begin(payload), std::end(payload), m.payload.begin());
   const Bytes expected = cat({
-      {'D', 'H', 'R', 'X', 0x04, 0x04, 0x00, 0x00},      // type VisibilityShard
+      {'D', 'H', 'R', 'X', 0x05, 0x04, 0x00, 0x00},      // type VisibilityShard
       {0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01},  // token
       {0x09, 0x00, 0x00, 0x00},                          // sequence 9
       {0x2A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // frame 42
@@ -254,10 +258,13 @@ TEST(ProtocolGolden, VisibilityShard) {
       {0x07, 0x00, 0x05, 0x00},                          // buffer 7 x 5
       {0x06, 0x00},                                      // payload size 6
       {0x0E, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00},  // pixels [14, 21)
+      {0x80, 0x7C, 0x81, 0x4A, 0x00, 0x00, 0x00, 0x00},  // traced at scene time 1.25 s
       kLeftViewBytes,
       {0x00, 0x07, 0x00, 0x00, 0x00, 0x05},  // payload
   });
   ASSERT_EQ(expected.size(), kShardFixedSize + 6);
+  ASSERT_EQ(kShardFixedSize, 112u);
+  ASSERT_EQ(kMaxShardPayload, 1152u);  // 1280 - 16 (the seal's tag) - 112
   expect_golden(Datagram{0x0123456789ABCDEFull, 9, m}, expected);
   Datagram back;
   ASSERT_EQ(decode_datagram(expected, back), DecodeError::kNone);
@@ -268,9 +275,31 @@ TEST(ProtocolGolden, VisibilityShard) {
   EXPECT_EQ(s.shard_count, 5);
   EXPECT_EQ(s.first_pixel, 14u);
   EXPECT_EQ(s.pixel_count, 7u);
+  EXPECT_EQ(s.scene_time_ns, 1250000000);
   ASSERT_EQ(s.payload_size, 6);
   EXPECT_TRUE(std::equal(std::begin(payload), std::end(payload), s.payload.begin()));
   expect_views_near(s.view, left_view());
+}
+
+// A peer of version 4 (before the scene time) is recognised by bytes 0-4 and refused as another version, whatever
+// its message: the server answers its Hello with Bye(version mismatch) (VisibilityServiceTest.*Version4*).
+TEST(ProtocolGolden, Version4DatagramsAreRefusedAsAnotherVersion) {
+  Hello hello;
+  hello.eye_width = 320;
+  hello.eye_height = 240;
+  PoseUpdate pose;
+  pose.frame = 1;
+  pose.views = {left_view(), right_view()};
+  for (const Message& m : {Message{hello}, Message{pose}}) {
+    Bytes bytes = encode_datagram(Datagram{0, 0, m});
+    ASSERT_GT(bytes.size(), 4u);
+    bytes[4] = 4;
+    DatagramHeader header;
+    EXPECT_EQ(decode_header(bytes, header), DecodeError::kWrongVersion);
+    EXPECT_EQ(header.version, 4);
+    Datagram out;
+    EXPECT_EQ(decode_datagram(bytes, out), DecodeError::kWrongVersion);
+  }
 }
 
 TEST(ProtocolGolden, Heartbeat) {
@@ -285,7 +314,7 @@ TEST(ProtocolGolden, Heartbeat) {
   m.frames_done = 4;
   m.frames_dropped = 5;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x04, 0x05, 0x00, 0x00,  // type Heartbeat
+      'D',  'H',  'R',  'X',  0x05, 0x05, 0x00, 0x00,  // type Heartbeat
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0A, 0x00, 0x00, 0x00,                          // sequence 10
       0x00, 0xF2, 0x05, 0x2A, 0x01, 0x00, 0x00, 0x00,  // send time 5e9
@@ -303,7 +332,7 @@ TEST(ProtocolGolden, Heartbeat) {
 
 TEST(ProtocolGolden, Bye) {
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x04, 0x06, 0x00, 0x00,  // type Bye
+      'D',  'H',  'R',  'X',  0x05, 0x06, 0x00, 0x00,  // type Bye
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0B, 0x00, 0x00, 0x00,                          // sequence 11
       0x03,                                            // reason: shutdown

@@ -124,6 +124,11 @@ TEST(ProtocolRobustness, PoseValuesAreValidated) {
   p = base;
   p.display_time_ns = -1;
   EXPECT_EQ(decode_pose(p), DecodeError::kBadValue);
+  p = base;
+  p.scene_time_ns = -1;  // the scene clock starts at 0 (the session's start)
+  EXPECT_EQ(decode_pose(p), DecodeError::kBadValue);
+  p.scene_time_ns = INT64_MIN;
+  EXPECT_EQ(decode_pose(p), DecodeError::kBadValue);
 
   // A slightly denormalized quaternion (float rounding) is accepted and renormalized.
   p = base;
@@ -246,6 +251,9 @@ TEST(ProtocolRobustness, OtherFieldRangesAreValidated) {
     EXPECT_EQ(check([](VisibilityShard& s) { s.first_pixel = 160 * 120 - s.pixel_count + 1; }),
               DecodeError::kBadValue);
     EXPECT_EQ(check([](VisibilityShard& s) { s.first_pixel = UINT32_MAX; }), DecodeError::kBadValue);
+    EXPECT_EQ(check([](VisibilityShard& s) { s.scene_time_ns = -1; }), DecodeError::kBadValue);
+    EXPECT_EQ(check([](VisibilityShard& s) { s.scene_time_ns = INT64_MIN; }), DecodeError::kBadValue);
+    EXPECT_EQ(check([](VisibilityShard& s) { s.scene_time_ns = INT64_MAX; }), DecodeError::kNone);
     EXPECT_EQ(check([](VisibilityShard& s) { s.view.pose.orientation = glm::dquat(0, 0, 0, 0); }),
               DecodeError::kBadPose);
     VisibilityShard s = base;

@@ -33,6 +33,7 @@ Frame make_frame(uint64_t frame, Eye eye = Eye::kLeft, uint32_t w = kW, uint32_t
   EncodeOptions options;
   options.max_payload = 300;  // more shards per frame make loss patterns more interesting
   f.shards = make_visibility_shards(f.buffer, frame, eye, view_for(frame), options);
+  for (VisibilityShard& s : f.shards) s.scene_time_ns = static_cast<int64_t>(frame) * 11'000'000;  // as the server
   EXPECT_GT(f.shards.size(), 4u);
   return f;
 }
@@ -79,6 +80,7 @@ TEST(Reassembly, InOrderShardsCompleteTheFrame) {
   EXPECT_EQ(got->visibility.buffer, f.buffer);
   EXPECT_EQ(got->visibility.rows_valid, kH);
   EXPECT_EQ(got->visibility.view.pose.position, view_for(1).pose.position);
+  EXPECT_EQ(got->visibility.scene_time_ns, 11'000'000);
   EXPECT_EQ(got->shards_received, f.shards.size());
   EXPECT_EQ(r.latest(Eye::kRight), nullptr);
   EXPECT_EQ(r.stats().frames_completed, 1u);
@@ -224,6 +226,9 @@ TEST(Reassembly, InvalidShardsAreRejectedWithoutSideEffects) {
   s.first_pixel = kW * kH - 1;
   expect_reject(s, DecodeError::kBadValue);
   s = f.shards[0];
+  s.scene_time_ns = -1;  // built in-process: checked as the decoder would
+  expect_reject(s, DecodeError::kBadValue);
+  s = f.shards[0];
   s.payload[0] ^= 0x07;  // unknown chunk kind
   expect_reject(s, DecodeError::kBadPayload);
   EXPECT_EQ(r.latest(Eye::kLeft), nullptr);  // nothing was started by the rejected shards
@@ -234,6 +239,9 @@ TEST(Reassembly, InvalidShardsAreRejectedWithoutSideEffects) {
   expect_reject(s, DecodeError::kInconsistentFrame);
   s = f.shards[1];
   s.view.pose.position.x += 1e-9;
+  expect_reject(s, DecodeError::kInconsistentFrame);
+  s = f.shards[1];
+  s.scene_time_ns = f.shards[0].scene_time_ns + 1;  // traced at another scene time than the frame's first shard
   expect_reject(s, DecodeError::kInconsistentFrame);
   s = f.shards[0];
   s.shard_index = 1;  // same region as shard 0 under another index
@@ -249,8 +257,8 @@ TEST(Reassembly, InvalidShardsAreRejectedWithoutSideEffects) {
   s = f.shards[1];
   s.frame_number = 5;
   expect_reject(s, DecodeError::kFutureFrame);
-  EXPECT_EQ(r.stats().shards_rejected, 11u);
-  EXPECT_EQ(r.stats().rejections[DecodeError::kInconsistentFrame], 3u);
+  EXPECT_EQ(r.stats().shards_rejected, 13u);
+  EXPECT_EQ(r.stats().rejections[DecodeError::kInconsistentFrame], 4u);
   // The frame still completes from the genuine shards.
   for (size_t i = 1; i < f.shards.size(); ++i) r.insert(f.shards[i]);
   ASSERT_NE(r.latest_complete(Eye::kLeft), nullptr);

@@ -1,4 +1,4 @@
--- Wireshark / tshark dissector for the DHR-XR wire protocol, version 4 (docs/protocol.md).
+-- Wireshark / tshark dissector for the DHR-XR wire protocol, version 5 (docs/protocol.md).
 -- Load:  tshark -X lua_script:tools/wireshark/dhr.lua -r capture.pcapng -Y dhr
 --        (Wireshark: copy to ~/.local/lib/wireshark/plugins/ or pass -X lua_script:...)
 -- A heuristic dissector on UDP: every datagram that starts with "DHRX". Each message type and field is
@@ -10,7 +10,7 @@
 -- BEGIN LAYOUT: written by `dhr-protocol-layout --update-wireshark tools/wireshark/dhr.lua` from
 -- shared/protocol/include/protocol/wire_layout.hpp (ProtocolLayout.WiresharkLayoutIsCurrent checks it).
 -- Per field: { offset, wire type, name }; offsets from the datagram's start (the View's from its own).
-local VERSION = 4
+local VERSION = 5
 local MAX_DATAGRAM = 1280
 local SEAL_TAG = 16
 local HEADER = { size = 20, fields = {
@@ -38,12 +38,13 @@ local MESSAGES = {
     { 41, "u8", "scene_id_length" },
     { 42, "u8[n]", "scene_id" },
   } },
-  [3] = { name = "PoseUpdate", size = 152, fields = {
+  [3] = { name = "PoseUpdate", size = 160, fields = {
     { 20, "u64", "frame" },
     { 28, "i64", "display_time_ns" },
-    { 36, "View", "left_view" },
-    { 92, "View", "right_view" },
-    { 148, "u16 x2", "held_distance" },
+    { 36, "i64", "scene_time_ns" },
+    { 44, "View", "left_view" },
+    { 100, "View", "right_view" },
+    { 156, "u16 x2", "held_distance" },
   } },
   [2] = { name = "Welcome", size = 57, fields = {
     { 20, "u64", "client_nonce" },
@@ -59,7 +60,7 @@ local MESSAGES = {
     { 51, "u16", "heartbeat_interval_ms" },
     { 53, "u32", "session_timeout_ms" },
   } },
-  [4] = { name = "VisibilityShard", size = 104, tail_length = "payload_size", fields = {
+  [4] = { name = "VisibilityShard", size = 112, tail_length = "payload_size", fields = {
     { 20, "u64", "frame_number" },
     { 28, "u8", "eye" },
     { 29, "u8", "mask_bits" },
@@ -70,8 +71,9 @@ local MESSAGES = {
     { 38, "u16", "payload_size" },
     { 40, "u32", "first_pixel" },
     { 44, "u32", "pixel_count" },
-    { 48, "View", "view" },
-    { 104, "u8[p]", "payload" },
+    { 48, "i64", "scene_time_ns" },
+    { 56, "View", "view" },
+    { 112, "u8[p]", "payload" },
   } },
   [5] = { name = "Heartbeat", size = 72, fields = {
     { 20, "i64", "send_time_ns" },
@@ -128,6 +130,7 @@ local f = {
   session_timeout_ms = ProtoField.uint32("dhr.timeout_ms", "Session timeout (ms)"),
   frame = ProtoField.uint64("dhr.frame", "Frame"),
   display_time_ns = ProtoField.int64("dhr.display_time_ns", "Display time (ns)"),
+  scene_time_ns = ProtoField.int64("dhr.scene_time_ns", "Scene time (ns)"),
   view = ProtoField.none("dhr.view", "View"),
   position = ProtoField.string("dhr.view.position", "Position (m)"),
   orientation = ProtoField.string("dhr.view.orientation", "Orientation (x, y, z, w)"),

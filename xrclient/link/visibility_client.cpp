@@ -233,7 +233,7 @@ bool VisibilityClient::send_pose(const FramePose& pose) {
     ++stats_.poses_not_connected;
     return false;
   }
-  if ((newest_requested_ && pose.frame <= *newest_requested_) || pose.display_time_ns < 0) {
+  if ((newest_requested_ && pose.frame <= *newest_requested_) || pose.display_time_ns < 0 || pose.scene_time_ns < 0) {
     ++stats_.poses_refused;
     return false;
   }
@@ -241,7 +241,7 @@ bool VisibilityClient::send_pose(const FramePose& pose) {
   newest_requested_ = pose.frame;
   reassembler_->set_newest_requested_frame(pose.frame);
   PoseUpdate update;
-  static_cast<FramePose&>(update) = pose;
+  static_cast<FramePose&>(update) = pose;  // frame, display time, views and the display's scene time
   // Acknowledgements for codec v2: the newest complete frame kept as a reference, per eye.
   for (size_t e = 0; e < 2; ++e) {
     const std::optional<uint64_t> held = reassembler_->newest_reference(static_cast<Eye>(e));

@@ -116,7 +116,7 @@ struct ClientNetStats {
   // Poses.
   uint64_t poses_sent = 0;
   uint64_t poses_not_connected = 0;  // send_pose() before the handshake finished
-  uint64_t poses_refused = 0;        // frame number not increasing, or negative display time
+  uint64_t poses_refused = 0;        // frame number not increasing, or negative display or scene time
   // Shards (of the current session).
   uint64_t shards_received = 0;
   uint64_t shards_accepted = 0;

@@ -59,6 +59,14 @@ std::string prometheus_text(const ServiceStats& s) {
          static_cast<double>(s.sessions_rate_capped));
   metric(out, "dhr_frames_traced_total", "counter", "Session frames traced and sent (both eyes).",
          static_cast<double>(s.frames_traced));
+  metric(out, "dhr_frames_at_scene_time_total", "counter",
+         "Frames traced and sent after moving the scene to their scene time (a moving scene).",
+         static_cast<double>(s.frames_at_scene_time));
+  metric(out, "dhr_scene_update_ms_total", "counter",
+         "Acceleration-structure updates that moved the scene to those frames' scene times, milliseconds.",
+         s.scene_update_ms);
+  metric(out, "dhr_scene_update_ms_per_frame", "gauge", "Mean scene update per frame traced at its scene time, ms.",
+         s.frames_at_scene_time ? s.scene_update_ms / static_cast<double>(s.frames_at_scene_time) : 0.0);
   metric(out, "dhr_poses_received_total", "counter", "Pose updates received.", static_cast<double>(s.poses_received));
   metric(out, "dhr_poses_superseded_total", "counter", "Poses replaced by a newer one before being traced.",
          static_cast<double>(s.poses_superseded));

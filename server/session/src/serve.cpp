@@ -114,7 +114,8 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
 
   std::atomic<bool> stopping{false};
   // Sessions are traced in parallel by up to `workers` threads (one session each at a time); the Vulkan
-  // tracer takes one call at a time.
+  // tracer takes one call at a time. In a moving scene the workers take turns on the tracer (the service holds
+  // its tracer lock from set_scene_time through both eyes' traces).
   const uint32_t workers =
       tracer.backend() == TracerBackend::kEmbree ? std::max<uint32_t>(1, options.service.workers) : 1u;
   std::vector<std::thread> worker_threads;

@@ -58,6 +58,12 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
           {"soft_refined_share", s.soft_contributing_pairs
                                      ? static_cast<double>(s.soft_refined_pairs) / s.soft_contributing_pairs
                                      : 0.0},
+          // Scene time (a moving scene): frames traced at their scene time, the acceleration-structure updates
+          // that moved the tracer there (total, and per such frame).
+          {"frames_at_scene_time", s.frames_at_scene_time},
+          {"scene_update_ms", s.scene_update_ms},
+          {"scene_update_ms_per_frame",
+           s.frames_at_scene_time ? s.scene_update_ms / static_cast<double>(s.frames_at_scene_time) : 0.0},
           {"trace_ms", s.trace_ms},
           {"encode_ms", s.encode_ms}};
 }

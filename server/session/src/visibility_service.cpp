@@ -18,7 +18,8 @@ VisibilityService::VisibilityService(VisibilityTracer& tracer, const ServiceConf
       sender_(sender),
       clock_(clock),
       scene_light_count_(std::min(tracer.light_count(), kMaxLights)),
-      light_extents_(tracer.light_extents()) {
+      light_extents_(tracer.light_extents()),
+      scene_moves_(tracer.moves()) {
   if (config_.max_sessions == 0) throw std::invalid_argument("visibility service: max_sessions must be >= 1");
   if (config_.session_timeout_ns <= 0 || config_.heartbeat_interval_ns <= 0)
     throw std::invalid_argument("visibility service: session timeout and heartbeat interval must be > 0");

@@ -3,13 +3,29 @@
 
 #include "log/log.hpp"
 
+#include <limits>
+#include <mutex>
+
 namespace dhr::server {
 
 using namespace session_detail;
 
+namespace {
+
+// The scene time `horizon_ns` after `scene_time_ns` (saturating: both come from the wire or the clock).
+int64_t scene_time_after(int64_t scene_time_ns, int64_t horizon_ns) {
+  const int64_t h = std::max<int64_t>(horizon_ns, 0);
+  return scene_time_ns > std::numeric_limits<int64_t>::max() - h ? std::numeric_limits<int64_t>::max()
+                                                                  : scene_time_ns + h;
+}
+
+}  // namespace
+
 // Claims the next session to trace (under mutex_): due, pending, not being traced by another worker, and the
 // one traced least recently (never traced first), so sessions take turns whoever sends faster. A pose
-// identical to the last one traced is skipped (counted) and the search goes on. Marks the session busy.
+// identical to the last one traced (both views, and in a moving scene the scene time) is skipped (counted) and
+// the search goes on. Marks the session busy. The frame's scene time is the pose's, plus the horizon when
+// predicting: the scene as it will be at the display the views are predicted for.
 std::optional<VisibilityService::Work> VisibilityService::claim_work() {
   const int64_t now = clock_.now_ns();
   for (;;) {
@@ -23,7 +39,8 @@ std::optional<VisibilityService::Work> VisibilityService::claim_work() {
     PoseUpdate pose = *s->pending;
     s->pending.reset();
     const bool identical = s->have_traced && same_view(pose.views[0], s->traced_views[0]) &&
-                           same_view(pose.views[1], s->traced_views[1]);
+                           same_view(pose.views[1], s->traced_views[1]) &&
+                           (!scene_moves_ || pose.scene_time_ns == s->traced_scene_time_ns);
     const bool refresh_due = config_.identical_refresh_ns > 0 && now - s->last_trace_ns >= config_.identical_refresh_ns;
     if (config_.skip_identical_pose && identical && !refresh_due) {
       ++stats_.poses_skipped_identical;
@@ -32,6 +49,7 @@ std::optional<VisibilityService::Work> VisibilityService::claim_work() {
     }
     s->have_traced = true;
     s->traced_views = pose.views;
+    s->traced_scene_time_ns = pose.scene_time_ns;
     s->last_trace_ns = now;
     s->busy = true;
     Work w{next, pose, {s->codec[0].acked, s->codec[1].acked}, s->rate.pacing_dps().has_value(), s->pending_receive_ns};
@@ -44,6 +62,7 @@ std::optional<VisibilityService::Work> VisibilityService::claim_work() {
       if (config_.predict) {
         const PredictedViews predicted = s->predictor.predict(pose.display_time_ns + horizon);
         w.traced.views = predicted.views;
+        w.traced.scene_time_ns = scene_time_after(pose.scene_time_ns, horizon);
         ++stats_.frames_predicted;
         if (predicted.fell_back) ++stats_.prediction_fallbacks;
         stats_.prediction_horizon_ms += static_cast<double>(predicted.horizon_ns) / 1e6;
@@ -130,14 +149,17 @@ std::vector<VisibilityShard> VisibilityService::encode_v2(Session& s, Eye eye, c
 bool VisibilityService::trace_and_send(const Work& work) {
   Session& s = *work.session;
   const TracedFormat format = s.welcome.format();
-  double trace_ms = 0.0, encode_ms = 0.0;
+  double trace_ms = 0.0, encode_ms = 0.0, update_ms = 0.0;
   uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0, shed = 0, rays = 0;
   uint64_t soft_pairs = 0, soft_contributing = 0, soft_refined = 0, soft_rays = 0;
   std::array<double, 2> eye_trace_ms{};
-  bool ok = true;
+  bool ok = true, at_scene_time = false;
   const int64_t start_ns = clock_.now_ns();
   // Each worker thread its own scratch (the session's requested lights only): no allocation in steady state.
   thread_local VisibilityBuffer scratch;
+  // A moving scene: the tracer is moved to the frame's scene time and both eyes are traced there, under one lock
+  // (set_scene_time is not concurrent with tracing). The left eye is still sent before the right one is traced.
+  std::unique_lock<std::mutex> tracer_lock;
   for (int e = 0; e < 2 && ok; ++e) {
     // Traced for the view the client will decode from the shards, which carry `view`: with a predicted view
     // (f64 orientation) that is not `view` itself, and the client would check bits against another camera.
@@ -152,6 +174,12 @@ bool VisibilityService::trace_and_send(const Work& work) {
     const Camera camera = format.camera(*decoded);
     TraceStats trace_stats;
     try {
+      if (scene_moves_ && e == 0) {
+        tracer_lock = std::unique_lock(tracer_mutex_);
+        tracer_.set_scene_time(static_cast<double>(work.traced.scene_time_ns) * 1e-9);
+        update_ms = tracer_.last_motion_update_ms();
+        at_scene_time = true;
+      }
       // Only the lights the client asked for (the layout's, the first light_count): the others cost no ray.
       tracer_.trace_layout(camera, s.layout, scratch, trace_stats);
     } catch (const std::exception& ex) {
@@ -160,6 +188,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
       ok = false;
       break;
     }
+    if (e == 1 && tracer_lock.owns_lock()) tracer_lock.unlock();  // both eyes traced at the frame's scene time
     trace_ms += trace_stats.trace_ms;
     eye_trace_ms[static_cast<size_t>(e)] = trace_stats.trace_ms;
     rays += trace_stats.primary_rays + trace_stats.shadow_rays;
@@ -168,7 +197,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
     soft_refined += trace_stats.soft_refined_pairs;
     soft_rays += trace_stats.soft_shadow_rays;
     const int64_t encode_start = net::steady_now_ns();
-    const std::vector<VisibilityShard> encoded =
+    std::vector<VisibilityShard> encoded =
         (s.welcome.capabilities & kCapabilityCodecV2)
             ? encode_v2(s, static_cast<Eye>(e), work, camera, scratch, inter_eyes, intra_eyes)
             : make_visibility_shards(scratch, work.traced.frame, static_cast<Eye>(e), view, config_.encode);
@@ -176,6 +205,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
       ok = false;
       break;
     }
+    for (VisibilityShard& shard : encoded) shard.scene_time_ns = work.traced.scene_time_ns;
     if (!s.open.load(std::memory_order_acquire)) return false;  // closed while tracing: nothing to send
     if (work.paced) {  // into the pacing queue; what is left of an older frame is shed
       std::lock_guard pace_lock(s.pace_mutex);
@@ -191,6 +221,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
     }
     encode_ms += elapsed_ms(encode_start);
   }
+  if (tracer_lock.owns_lock()) tracer_lock.unlock();  // a failed frame: before the service's lock below
   shards_sent_.fetch_add(shards, std::memory_order_relaxed);
   std::lock_guard lock(mutex_);
   stats_.trace_ms += trace_ms;
@@ -208,6 +239,10 @@ bool VisibilityService::trace_and_send(const Work& work) {
     return false;
   }
   ++stats_.frames_traced;
+  if (at_scene_time) {  // both for frames sent only: their mean is the update cost per traced frame
+    ++stats_.frames_at_scene_time;
+    stats_.scene_update_ms += update_ms;
+  }
   for (const double ms : eye_trace_ms) stats_.trace_hist.add(ms);
   stats_.response_hist.add(static_cast<double>(std::max<int64_t>(clock_.now_ns() - work.received_ns, 0)) * 1e-6);
   s.last_process_ns = std::max<int64_t>(clock_.now_ns() - start_ns, 0);

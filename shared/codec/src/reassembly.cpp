@@ -89,6 +89,7 @@ void VisibilityReassembler::start_frame(Slot& slot, const VisibilityShard& shard
   slot.frame.visibility.frame_number = shard.frame_number;
   slot.frame.visibility.eye = shard.eye;
   slot.frame.visibility.view = shard.view;
+  slot.frame.visibility.scene_time_ns = shard.scene_time_ns;
   slot.frame.visibility.rows_valid = 0;
   slot.frame.visibility.complete = false;
   slot.frame.pixels_received = 0;
@@ -156,7 +157,8 @@ InsertResult VisibilityReassembler::insert(const VisibilityShard& shard) {
   // Session checks: a shard may come from the wire decoder or be built in-process, so check everything.
   const uint8_t eye_index = static_cast<uint8_t>(shard.eye);
   if (eye_index > 1 || shard.shard_count < 1 || shard.shard_index >= shard.shard_count ||
-      shard.payload_size < 1 || shard.payload_size > kMaxShardPayload || shard.pixel_count < 1)
+      shard.payload_size < 1 || shard.payload_size > kMaxShardPayload || shard.pixel_count < 1 ||
+      shard.scene_time_ns < 0)
     return reject(DecodeError::kBadValue);
   if (shard.buffer_width != config_.width || shard.buffer_height != config_.height ||
       shard.mask_bits != mask_bits_ || shard.shard_count > max_shards_)
@@ -177,7 +179,8 @@ InsertResult VisibilityReassembler::insert(const VisibilityShard& shard) {
 
   Slot* slot = find_slot(eye, shard.frame_number);
   if (slot) {
-    if (shard.shard_count != slot->frame.shard_count || !same_view(shard.view, slot->frame.visibility.view))
+    if (shard.shard_count != slot->frame.shard_count || !same_view(shard.view, slot->frame.visibility.view) ||
+        shard.scene_time_ns != slot->frame.visibility.scene_time_ns)
       return reject(DecodeError::kInconsistentFrame);
     if (slot->shard_received[shard.shard_index]) {
       ++stats_.shards_duplicate;

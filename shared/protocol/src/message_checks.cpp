@@ -57,7 +57,7 @@ DecodeError validate(const Welcome& m) {
 }
 
 DecodeError validate(const PoseUpdate& m) {
-  if (m.display_time_ns < 0) return DecodeError::kBadValue;
+  if (m.display_time_ns < 0 || m.scene_time_ns < 0) return DecodeError::kBadValue;
   return DecodeError::kNone;
 }
 
@@ -68,6 +68,7 @@ DecodeError validate(const VisibilityShard& m) {
   if (!valid_buffer_size(m.buffer_width, m.buffer_height)) return DecodeError::kBadValue;
   const uint64_t pixels = uint64_t{m.buffer_width} * m.buffer_height;
   if (m.pixel_count < 1 || uint64_t{m.first_pixel} + m.pixel_count > pixels) return DecodeError::kBadValue;
+  if (m.scene_time_ns < 0) return DecodeError::kBadValue;
   return DecodeError::kNone;
 }
 

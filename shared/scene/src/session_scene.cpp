@@ -15,19 +15,24 @@ std::string one_line(std::string text) {
 
 }  // namespace
 
+std::string describe_animations(const Scene& scene) {
+  return std::to_string(scene.animation.clips.size()) + " animation(s), " +
+         std::to_string(scene.animation.tracks.size()) + " track(s)";
+}
+
 std::optional<Scene> load_session_scene(const std::string& path, std::string_view lights_spec,
-                                        std::string* out_error) {
+                                        std::string* out_error, SessionSide side) {
   SceneLoadResult loaded = load_scene(path);
   if (!loaded) {
     *out_error = loaded.error.empty() ? path + ": cannot load the scene" : one_line(loaded.error);
     return std::nullopt;
   }
   Scene scene = std::move(*loaded.scene);
-  if (!scene.animation.empty()) {
-    // The loader reads and samples them (scene_animation.hpp); sessions do not move anything yet (issue 27).
-    scene.warnings.push_back(std::to_string(scene.animation.clips.size()) + " animation(s), " +
-                             std::to_string(scene.animation.tracks.size()) +
-                             " track(s) loaded but not played: the session shows the scene at its rest pose");
+  if (!scene.animation.empty() && side == SessionSide::kClient) {
+    // The server traces the scene at each frame's scene time (DESIGN 5b); this client draws it at rest.
+    scene.warnings.push_back(describe_animations(scene) +
+                             " loaded but not drawn by the client: it shows the scene at its rest pose (the server "
+                             "traces the animations on the scene clock)");
   }
   if (scene.triangle_count == 0) {
     *out_error = path + ": the scene has no triangles";

@@ -54,6 +54,7 @@ struct VisibilityService::Session {
   // The last pose handed to the tracer (identical-pose skip).
   bool have_traced = false;
   std::array<View, 2> traced_views{};
+  int64_t traced_scene_time_ns = 0;  // its scene time as sent (in a moving scene, another one is not identical)
   int64_t last_trace_ns = 0;
   uint64_t newest_frame_traced = 0;
   // Codec v2, per eye: the frames traced and sent (the newest kV2ReferenceFrames), the newest frame the client
@@ -91,7 +92,7 @@ struct VisibilityService::Session {
 };
 
 // One frame to trace: the client's frame number and display time with the views to trace (the pose's own, or
-// the predicted ones).
+// the predicted ones) and the scene time to trace it at (the pose's, plus the horizon when predicting).
 struct VisibilityService::Work {
   std::shared_ptr<Session> session;
   FramePose traced;

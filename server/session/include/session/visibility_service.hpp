@@ -6,6 +6,8 @@
 //
 // Threads: on_datagram() on the socket thread, process_pending() on one worker thread (it traces), tick()
 // on either. One mutex guards the session table; it is held briefly and never while tracing or encoding.
+// A moving scene (VisibilityTracer::moves()) is traced at each frame's scene time: another mutex is held from
+// the tracer's set_scene_time through both eyes' traces, so parallel workers take turns on the tracer.
 // Memory is bounded whatever arrives: at most max_sessions sessions, one pending pose each, no queues.
 #pragma once
 #include "codec/codec.hpp"
@@ -145,6 +147,10 @@ struct ServiceStats {
   uint64_t soft_contributing_pairs = 0;  // of those, samples taken
   uint64_t soft_refined_pairs = 0;       // of those, refined past the first samples
   uint64_t soft_shadow_rays = 0;
+  // Scene time (a moving scene only: VisibilityTracer::moves()). Each traced frame moves the tracer to its scene
+  // time (the pose's, plus the horizon when predicting) before both eyes are traced.
+  uint64_t frames_at_scene_time = 0;     // frames traced and sent after moving the tracer to their scene time
+  double scene_update_ms = 0.0;          // their acceleration-structure updates, summed (tracer wall time)
   LatencyHistogram trace_hist;           // trace time per eye
   LatencyHistogram response_hist;        // pose received -> its frame's last datagram handed to the socket
   double trace_ms = 0.0;                 // sums over all eyes traced (tracer wall time)
@@ -171,7 +177,8 @@ class VisibilityService {
   // recently and no other caller is tracing, traces both eyes of its newest pose, encodes and sends all shards
   // to its peer. Returns the number of (session, frame) pairs traced. Several threads may call it at once
   // (ServiceConfig::workers): each session is traced by one of them at a time; the tracer must then allow
-  // concurrent calls (Embree does). Never throws (tracer errors are counted).
+  // concurrent calls (Embree does). A moving scene's frames are traced one at a time (set_scene_time, then
+  // both eyes, under one lock). Never throws (tracer errors are counted).
   size_t process_pending();
 
   // Timeouts (Bye(timeout) once, session dropped) and a heartbeat to each session every interval.
@@ -252,6 +259,9 @@ class VisibilityService {
   const net::Clock& clock_;
   const uint32_t scene_light_count_;
   const std::vector<bool> light_extents_;  // tracer_.light_extents(): which lights may get level fields
+  const bool scene_moves_;                 // tracer_.moves(): frames are traced at their scene time
+  // A moving scene: held from set_scene_time through both eyes' traces (the tracer is then one scene at a time).
+  std::mutex tracer_mutex_;
 
   mutable std::mutex mutex_;  // sessions_, stats_, rng_, reply budget
   std::condition_variable work_ready_;

@@ -107,6 +107,12 @@ class VisibilityTracer {
   // lights (light_at) as they are at t. Not concurrent with tracing. The default does nothing: a backend without
   // motion traces the scene at rest (the Vulkan backend warns once when asked for t != 0 in an animated scene).
   virtual void set_scene_time(double t) { (void)t; }
+  // Whether set_scene_time changes what is traced (the scene has animation and this backend plays it). A caller
+  // that traces a moving tracer from several threads serializes set_scene_time and the traces at that time.
+  virtual bool moves() const { return false; }
+  // Wall time of the last set_scene_time's acceleration-structure update (vertices, refits, top level), ms; 0
+  // for a tracer that does not move.
+  virtual double last_motion_update_ms() const { return 0.0; }
 
   // Per scene light: it has an extent (SceneLight::has_extent(), a soft light). Empty for tracers that only
   // know hard bits (their layout is always the hard one).

@@ -84,8 +84,8 @@ class VisibilityReassembler {
 
   // Never throws (besides std::bad_alloc when a slot is first used). Validates the shard against the
   // session (size, mask width, shard-count bound) and against earlier shards of its frame (shard count,
-  // view, overlapping regions); the payload is decoded into scratch first, so a rejected shard changes
-  // nothing.
+  // view, scene time, overlapping regions); the payload is decoded into scratch first, so a rejected shard
+  // changes nothing.
   InsertResult insert(const VisibilityShard& shard);
 
   // Shards of frames newer than `frame` are rejected with kFutureFrame (the client knows which frames it

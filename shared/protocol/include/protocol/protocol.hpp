@@ -25,8 +25,10 @@ namespace dhr {
 inline constexpr std::array<uint8_t, 4> kProtocolMagic = {'D', 'H', 'R', 'X'};
 // 2: codec v2 capability, acknowledgements in PoseUpdate; 3: the header's flags (authentication,
 // secure/envelope.hpp), shard payloads leave room for the seal's tag, Bye reasons 8 and 9; 4: the soft-levels
-// capability and Welcome's soft light count (masks with Gray-coded level fields, visibility/visibility_layout.hpp).
-inline constexpr uint8_t kProtocolVersion = 4;
+// capability and Welcome's soft light count (masks with Gray-coded level fields, visibility/visibility_layout.hpp);
+// 5: scene time (DESIGN 5b) in PoseUpdate (the scene time of the pose's display) and VisibilityShard (the scene
+// time the eye was traced for).
+inline constexpr uint8_t kProtocolVersion = 5;
 
 static_assert(kMaxShardPayload <= 1200);
 // |q|^2 of a decoded quaternion must be within this of 1 (float rounding is ~1e-7); then renormalized.
@@ -94,8 +96,9 @@ struct Welcome {
   bool operator==(const Welcome&) const = default;
 };
 
-// A frame's pose on the wire (frame number, predicted display time on the client clock, XrTime, >= 0, and both
-// eyes' views, [Eye::kLeft], [Eye::kRight]: the FramePose the client's frame loop uses), plus the client's
+// A frame's pose on the wire (frame number, predicted display time on the client clock, XrTime, >= 0, the scene
+// time of that display, >= 0, and both eyes' views, [Eye::kLeft], [Eye::kRight]: the FramePose the client's frame
+// loop uses), plus the client's
 // acknowledgements for codec v2: per eye, the newest complete frame it holds as a reference.
 struct PoseUpdate : FramePose {
   // frame - held frame, per eye; 0: nothing held (or held frames more than 65535 frames old).
@@ -117,6 +120,7 @@ struct VisibilityShard {
   uint16_t buffer_height = 0;
   uint32_t first_pixel = 0;  // region: pixels [first_pixel, first_pixel + pixel_count), row-major
   uint32_t pixel_count = 0;
+  int64_t scene_time_ns = 0;  // the scene time this eye was traced for (ns since the session's start, >= 0)
   View view;                 // the view this eye was traced for (every shard carries it)
   uint16_t payload_size = 0;  // 1..kMaxShardPayload
   std::array<uint8_t, kMaxShardPayload> payload{};  // codec chunks (codec/codec.hpp)

@@ -98,6 +98,7 @@ inline constexpr auto kPoseUpdateLayout = message<PoseUpdate>(
     std::tuple{
         field<kU64>(DHR_WIRE_MEMBER(frame), "client frame number, increasing"),
         field<kI64>(DHR_WIRE_MEMBER(display_time_ns), "predicted display time, client clock (XrTime, >= 0)"),
+        field<kI64>(DHR_WIRE_MEMBER(scene_time_ns), "scene time of that display, ns since the session's start, >= 0"),
         view_field("left_view", [](auto& m) -> auto& { return m.views[0]; }, "left eye"),
         view_field("right_view", [](auto& m) -> auto& { return m.views[1]; }, "right eye"),
         field<kU16, 2>(DHR_WIRE_MEMBER(held_distance),
@@ -136,6 +137,7 @@ inline constexpr auto kVisibilityShardLayout = message<VisibilityShard>(
         tail_length<kU16>(DHR_WIRE_MEMBER(payload_size), "payload size p, 1..kMaxShardPayload"),
         field<kU32>(DHR_WIRE_MEMBER(first_pixel), "region start, row-major pixel index"),
         field<kU32>(DHR_WIRE_MEMBER(pixel_count), "region length, >= 1, within the buffer"),
+        field<kI64>(DHR_WIRE_MEMBER(scene_time_ns), "scene time the eye was traced for, ns, >= 0"),
         view_field(DHR_WIRE_MEMBER(view), "the view this eye was traced for"),
         bytes_tail(DHR_WIRE_MEMBER(payload), "p", 1, kRestOfDatagram, "codec chunks (codec/codec.hpp)"),
     });
