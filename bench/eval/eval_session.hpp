@@ -121,6 +121,11 @@ class ModelledTimeTracer final : public server::VisibilityTracer {
   const server::AccelStats& accel_stats() const override { return inner_.accel_stats(); }
   uint32_t light_count() const override { return inner_.light_count(); }
   std::vector<bool> light_extents() const override { return inner_.light_extents(); }
+  // Motion is the inner tracer's (shared with the truth, which moves it to each display's scene time: the service
+  // moves it back to its frame's before every trace).
+  void set_scene_time(double t) override { inner_.set_scene_time(t); }
+  bool moves() const override { return inner_.moves(); }
+  double last_motion_update_ms() const override { return inner_.last_motion_update_ms(); }
   void trace(const Camera& camera, VisibilityBuffer& out, server::TraceStats& out_stats) override;
   // The inner tracer's own subsets and layouts (soft levels sampled as it samples them), each one eye's time.
   void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, server::TraceStats& out_stats) override;

@@ -67,6 +67,7 @@ EyePlan FramePlanner::plan_eye(uint32_t eye, const FramePose& pose, const std::o
   if (!v.complete) p.visibility.row_valid = v.row_valid;
   // kStale: the old bits as if they had been traced for the displayed view (no reprojection at all).
   p.visibility.traced = format->camera(settings_.schedule == Schedule::kStale ? pose.views[eye] : v.view);
+  p.visibility.scene_time_ns = v.scene_time_ns;
   p.first_use = !last_used_[eye] || *last_used_[eye] != v.frame_number;
   last_used_[eye] = v.frame_number;
   if (const FramePose* traced = history_.find(v.frame_number)) {
@@ -80,6 +81,7 @@ EyePlan FramePlanner::plan_eye(uint32_t eye, const FramePose& pose, const std::o
     p.older.buffer = &prev->buffer;
     if (!prev->complete) p.older.row_valid = prev->row_valid;
     p.older.traced = older_camera;
+    p.older.scene_time_ns = prev->scene_time_ns;
     p.older_frame = prev->frame_number;
     p.older_complete = prev->complete;
   }

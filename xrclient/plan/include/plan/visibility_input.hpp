@@ -13,6 +13,7 @@ struct VisibilityInput {
   Camera traced;                             // the guard-banded camera it was traced for (extent = buffer size)
   std::span<const uint8_t> row_valid;        // empty: every row arrived; else one entry per row, 0 = missing
   uint64_t key = 0;  // non-zero: identifies the contents; a slot already holding this key skips the upload
+  int64_t scene_time_ns = 0;  // the scene time it was traced for (the warp's motion rule compares it to the display's)
 };
 
 }  // namespace dhr
