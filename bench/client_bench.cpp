@@ -37,6 +37,13 @@
 //                    filter taps per soft light and pixel
 //   shadowmap_hard_ms (scenes with soft lights) the same render with every light's lookup hard (extents dropped,
 //                    the same maps): shadowmap_ms - shadowmap_hard_ms is the soft shadows' cost
+// A scene that moves (glTF animations; scene_moves) is rendered at each frame's scene time (90 Hz from 0) by every
+// configuration. `local` then re-renders, per frame and before its eye's render, the shadow-map faces moving
+// casters or lights made stale (render::ShadowMaps::update, the rule in xrclient/render/shadow_refresh.hpp):
+// shadowmap_update_ms (GPU, per frame: both eyes share the maps), shadowmap_update_lights / _faces (medians per
+// frame), shadowmap_moving_ms = shadowmap_ms + shadowmap_update_ms / 2 (local per eye with its share of the
+// re-render); the frame loops report the same as dhr_shadow_update_ms / dhr_shadow_update_lights (their maps fill
+// the warp's undecided bits). All 0 for a static scene.
 // Against the cost goal: dhr_vs_forward (<= 1.3) and dhr_added_vs_shadowmap_added = (dhr_ms - forward_ms) /
 // (shadowmap_ms - forward_ms) (<= 0.5). The fixed view is the scene's first bookmark; the fixed visibility buffer
 // is the server's Embree trace for the pose one 90 Hz frame earlier (turning 60 deg/s). --lights N above the
@@ -206,7 +213,7 @@ int run(const Options& o) {
   const std::unique_ptr<vk::Context> context = vk::Context::create(vk_options);
   const render::ClientScene gpu_scene(*context, scene);
   const auto maps_start = std::chrono::steady_clock::now();
-  const render::ShadowMaps maps(*context, gpu_scene);
+  render::ShadowMaps maps(*context, gpu_scene);
   const double maps_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - maps_start).count();
   const Camera display = render::display_camera(view, *size);
@@ -225,6 +232,7 @@ int run(const Options& o) {
     out["shadowmap_pcss_taps"] = {{"search", taps.search}, {"filter", taps.filter}};
   }
   out["device"] = context->info().name;
+  out["scene_moves"] = gpu_scene.motion().animated();
   out["frames"] = o.frames;
 
   // The frame loops first: the shipped client, then `--warp full` and `--warp edges`.
@@ -295,12 +303,21 @@ int run(const Options& o) {
     const char* name;
     render::ForwardMode mode;
     const render::ForwardFrame* frame;
+    bool hard = false;         // the lights' extents dropped
+    bool updates_maps = false; // a moving scene: re-renders the stale shadow-map faces first (local)
   };
   std::vector<Baseline> baselines = {{"forward_ms", render::ForwardMode::kLambert, &frame},
-                                     {"shadowmap_ms", render::ForwardMode::kShadowMaps, &frame}};
+                                     {"shadowmap_ms", render::ForwardMode::kShadowMaps, &frame, false, true}};
   if (out["shadowmap_soft_lights"].get<uint32_t>() > 0) {
-    baselines.push_back({"shadowmap_hard_ms", render::ForwardMode::kShadowMaps, &hard_frame});
+    baselines.push_back({"shadowmap_hard_ms", render::ForwardMode::kShadowMaps, &hard_frame, true});
   }
+  // A moving scene: each baseline renders it at frame i's scene time; `local` re-renders its stale maps per frame.
+  const bool scene_moves = gpu_scene.motion().animated();
+  render::MovedScene moved;
+  std::vector<SceneLight> moved_hard_lights;
+  vk::TimestampQueries update_stamps(*context, 2);
+  render::ShadowUpdate last_update;
+  std::vector<double> update_ms, update_lights, update_faces;  // per frame, warm-up included
   for (const Baseline& b : baselines) {
     render::ForwardOptions fo;
     fo.mode = b.mode;
@@ -308,16 +325,38 @@ int run(const Options& o) {
     passes.push_back(std::make_unique<render::ForwardPass>(*context, gpu_scene, fo));
     targets.push_back(render::ForwardTargets::create(*context, *size, fo));
     stamps.push_back(std::make_unique<vk::TimestampQueries>(*context, 2));
-    const render::ForwardFrame* f = b.frame;
     configs.push_back(single_eye_config(
         *context, b.name,
-        [&, k, f](VkCommandBuffer cmd, uint32_t) {
+        [&, k, b](VkCommandBuffer cmd, uint32_t i) {
+          render::ForwardFrame f = *b.frame;
+          if (scene_moves) {
+            gpu_scene.motion().sample(render::scene_seconds(frame_time_ns(i)), gpu_scene.meshes(), moved);
+            f.moved = &moved;
+            f.lights = moved.lights;
+            if (b.hard) {
+              moved_hard_lights = moved.lights;
+              for (SceneLight& l : moved_hard_lights) l.radius = l.angle = l.width = l.height = 0.0f;
+              f.lights = moved_hard_lights;
+            }
+            if (b.updates_maps) {
+              update_stamps.reset(cmd);
+              update_stamps.write(cmd, 0);
+              last_update = maps.update(cmd, moved);
+              update_stamps.write(cmd, 1);
+            }
+          }
           stamps[k]->reset(cmd);
           stamps[k]->write(cmd, 0);
-          passes[k]->record(cmd, 0, *f, targets[k]);
+          passes[k]->record(cmd, 0, f, targets[k]);
           stamps[k]->write(cmd, 1);
         },
-        [&, k]() -> std::optional<double> {
+        [&, k, b]() -> std::optional<double> {
+          if (scene_moves && b.updates_maps) {
+            const std::vector<double> uns = update_stamps.read_ns();
+            update_ms.push_back(uns.size() == 2 && last_update.faces > 0 ? (uns[1] - uns[0]) * 1e-6 : 0.0);
+            update_lights.push_back(last_update.lights);
+            update_faces.push_back(last_update.faces);
+          }
           const std::vector<double> ns = stamps[k]->read_ns();
           if (ns.size() != 2) return std::nullopt;
           return (ns[1] - ns[0]) * 1e-6;
@@ -334,6 +373,15 @@ int run(const Options& o) {
   out["dhr_paper_static_path"] = paper_stats.forward ? "forward" : "deferred";
   out["shadow_map_render_ms"] = maps_ms;
   out["shadow_map_size"] = maps.face_size();
+  {
+    const auto kept = [&](const std::vector<double>& v) {
+      return median(std::vector<double>(v.begin() + std::min<size_t>(v.size(), o.warmup), v.end()), 0.0);
+    };
+    out["shadowmap_update_ms"] = kept(update_ms);
+    out["shadowmap_update_lights"] = kept(update_lights);
+    out["shadowmap_update_faces"] = kept(update_faces);
+    out["shadowmap_moving_ms"] = out["shadowmap_ms"].get<double>() + kept(update_ms) / 2.0;
+  }
   const double forward = out["forward_ms"].get<double>();
   const double shadowmap = out["shadowmap_ms"].get<double>();
   const double dhr = out["dhr_ms"].get<double>();

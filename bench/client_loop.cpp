@@ -20,7 +20,7 @@ FramePose moving_pose(const Pose& head, const Fov& fov, uint32_t i, uint32_t tot
   moved.position += moved.orientation * glm::dvec3(0.0005 * static_cast<double>(i), 0.0, 0.0);
   FramePose pose;
   pose.frame = i;
-  pose.display_time_ns = static_cast<int64_t>(i) * 11'111'111;  // 90 Hz
+  pose.display_time_ns = frame_time_ns(i);  // 90 Hz
   pose.scene_time_ns = pose.display_time_ns;
   for (uint32_t e = 0; e < 2; ++e) {
     // left_eye_pose moves by -ipd/2 along the head's x axis: a negative IPD gives the right eye.
@@ -67,6 +67,10 @@ std::vector<double> ClientLoop::run(uint32_t i, uint32_t first_kept) {
     payload_bytes_.push_back(source_.payload_bytes()[k]);
   }
   std::vector<double> gpu;
+  if (last_.eyes[0].stats.gpu.valid) {
+    shadow_update_ms_.push_back(last_.eyes[0].stats.gpu.shadow_update_ms);
+    shadow_update_lights_.push_back(last_.eyes[0].stats.shadow_update.lights);
+  }
   for (uint32_t e = 0; e < 2; ++e) {
     const render::EyeStats& stats = last_.eyes[e].stats;
     traced_depth_frames_ += stats.traced_depth_rendered ? 1 : 0;
@@ -99,6 +103,9 @@ void ClientLoop::report(nlohmann::ordered_json& out) const {
   out[name_ + "_record_ms"] = median(record_ms_, std::nan(""));
   out[name_ + "_record_wall_ms"] = median(record_wall_ms_, std::nan(""));
   out[name_ + "_known_frac"] = median(known_frac_, std::nan(""));
+  // Per frame (both eyes share it): the client's shadow maps re-rendered for moving casters and lights.
+  out[name_ + "_shadow_update_ms"] = median(shadow_update_ms_, std::nan(""));
+  out[name_ + "_shadow_update_lights"] = median(shadow_update_lights_, std::nan(""));
   // Where the maps are looked up only for those pixels (with shadow_first they are looked up nearly everywhere).
   if (warp_.is_server_edges()) out[name_ + "_shadow_frac"] = median(shadow_frac_, std::nan(""));
 }

@@ -20,6 +20,9 @@
 
 namespace dhr::bench {
 
+// Display and scene time of frame i (90 Hz from 0): a moving scene advances with the frames.
+inline int64_t frame_time_ns(uint32_t i) { return static_cast<int64_t>(i) * 11'111'111; }
+
 // Frame i of `total`: the head turns at 60 degrees/s about the vertical (centred on the bookmark's view over the
 // run) and drifts 0.5 mm per frame sideways, so no view (and no traced camera) repeats.
 FramePose moving_pose(const Pose& head, const Fov& fov, uint32_t i, uint32_t total);
@@ -59,6 +62,7 @@ class ClientLoop {
   std::array<vk::Buffer, 3> upload_;
   std::vector<double> traced_depth_ms_, decode_ms_, payload_bytes_, upload_ms_, known_frac_, shadow_frac_;
   std::vector<double> record_ms_, record_wall_ms_;
+  std::vector<double> shadow_update_ms_, shadow_update_lights_;  // per frame (eye 0 carries the re-render)
   uint64_t traced_depth_frames_ = 0;
   uint64_t older_frames_ = 0;
   uint64_t forward_frames_ = 0;

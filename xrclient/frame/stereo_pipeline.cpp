@@ -11,6 +11,10 @@ StereoPipeline::StereoPipeline(const vk::Context& context, const render::ClientS
                                const render::ShadowMapSettings& shadow_maps)
     : context_(&context), scene_(&scene), shadow_settings_(shadow_maps) {
   for (auto& eye : eyes_) eye = std::make_unique<render::EyePipeline>(context, scene, eye_extent, options);
+  if (scene.motion().animated()) {
+    shadow_slots_.resize(options.frames_in_flight);
+    for (ShadowSlot& s : shadow_slots_) s.timestamps = vk::TimestampQueries(context, 2);
+  }
   ensure_shadow_maps();
 }
 
@@ -29,6 +33,20 @@ void StereoPipeline::set_warp_settings(const render::WarpSettings& settings) {
 
 void StereoPipeline::record(VkCommandBuffer cmd, uint32_t slot, const StereoInputs& inputs) {
   ensure_shadow_maps();
+  const render::MovedScene* moved = nullptr;
+  if (scene_->motion().animated()) {
+    scene_->motion().sample(render::scene_seconds(inputs.scene_time_ns), scene_->meshes(), moved_);
+    moved = &moved_;
+    ShadowSlot& s = shadow_slots_.at(slot);
+    s.update = {};
+    if (shadow_maps_) {
+      s.timestamps.reset(cmd);
+      s.timestamps.write(cmd, 0);
+      s.update = shadow_maps_->update(cmd, moved_);
+      s.timestamps.write(cmd, 1);
+      s.stamped = s.timestamps.supported();
+    }
+  }
   // Both eyes' traced depths first: each eye's warp reads the other's as source 1.
   for (uint32_t e = 0; e < 2; ++e) eyes_[e]->prepare(cmd, slot, inputs.visibility[e], &inputs.older[e]);
   for (uint32_t e = 0; e < 2; ++e) {
@@ -37,12 +55,19 @@ void StereoPipeline::record(VkCommandBuffer cmd, uint32_t slot, const StereoInpu
     other_source.visibility = &other;
     if (other.buffer != nullptr) other_source.traced_depth = eyes_[1 - e]->traced_depth(other.traced);
     eyes_[e]->record(cmd, slot, inputs.views[e], inputs.visibility[e], other_source, shadow_maps_.get(),
-                     &inputs.older[e]);
+                     &inputs.older[e], moved);
   }
 }
 
 std::array<render::EyeStats, 2> StereoPipeline::read_stats(uint32_t slot) const {
-  return {eyes_[0]->read_stats(slot), eyes_[1]->read_stats(slot)};
+  std::array<render::EyeStats, 2> stats = {eyes_[0]->read_stats(slot), eyes_[1]->read_stats(slot)};
+  if (slot < shadow_slots_.size() && shadow_maps_ && stats[0].gpu.valid) {
+    const ShadowSlot& s = shadow_slots_[slot];
+    stats[0].shadow_update = s.update;
+    const std::vector<double> ns = s.stamped ? s.timestamps.read_ns() : std::vector<double>{};
+    if (ns.size() == 2 && s.update.faces > 0) stats[0].gpu.shadow_update_ms = (ns[1] - ns[0]) * 1e-6;
+  }
+  return stats;
 }
 
 }  // namespace dhr::client

@@ -4,17 +4,22 @@
 // The client's frame step (frame_step.hpp) records its frames with it; dhr-eval records its exact frames with
 // it too, and shares one between its settings (their frame steps then leave the upload keys 0: a key names a
 // frame of one client's stream; the traced depths held are found by their camera, so any owner may reuse them).
+// A scene that moves is drawn at the frame's scene time (StereoInputs::scene_time_ns) by every pass, its lights
+// moved too, and the shadow maps' stale faces are re-rendered first in the same command buffer (timed).
 #pragma once
 #include <vulkan/vulkan.h>
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "math/projection.hpp"
 #include "plan/visibility_input.hpp"
 #include "render/eye_pipeline.hpp"
+#include "render/scene_motion.hpp"
 #include "render/shadow_maps.hpp"
+#include "vk/timestamps.hpp"
 
 namespace dhr::vk {
 class Context;
@@ -30,6 +35,7 @@ struct StereoInputs {
   std::array<View, 2> views{};                // the display views
   std::array<VisibilityInput, 2> visibility;  // per eye, its newest (buffer null: none)
   std::array<VisibilityInput, 2> older;       // per eye, its previous one (buffer null: none)
+  int64_t scene_time_ns = 0;                  // the scene time of the frame's display (FramePose::scene_time_ns)
 };
 
 class StereoPipeline {
@@ -44,9 +50,11 @@ class StereoPipeline {
 
   // Uploads and prepares both eyes (EyePipeline::prepare), then records each eye's passes (EyePipeline::record).
   // The shadow maps, when the warp settings need them and none were rendered yet, are rendered first (their
-  // own submission, waited for; `cmd` may be recording meanwhile).
+  // own submission, waited for; `cmd` may be recording meanwhile). In a moving scene, the scene is sampled at
+  // inputs.scene_time_ns and the shadow maps' stale faces are re-rendered into `cmd` before the eyes.
   void record(VkCommandBuffer cmd, uint32_t slot, const StereoInputs& inputs);
-  // Stats of both eyes' frame last recorded with `slot`; call after its submission completed.
+  // Stats of both eyes' frame last recorded with `slot`; call after its submission completed. Eye 0 carries the
+  // frame's shadow-map re-render (EyeStats::shadow_update, EyePassTimes::shadow_update_ms).
   std::array<render::EyeStats, 2> read_stats(uint32_t slot) const;
 
   // The eyes share one set of warp settings; a change applies from the next record().
@@ -56,6 +64,8 @@ class StereoPipeline {
   Extent extent() const { return eyes_[0]->extent(); }
   uint32_t frames_in_flight() const { return eyes_[0]->frames_in_flight(); }
   const render::ShadowMaps* shadow_maps() const { return shadow_maps_.get(); }
+  // The scene as the last record() drew it (unsampled for a static scene).
+  const render::MovedScene& moved_scene() const { return moved_; }
 
  private:
   void ensure_shadow_maps();
@@ -65,6 +75,13 @@ class StereoPipeline {
   std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
   render::ShadowMapSettings shadow_settings_;
   std::unique_ptr<render::ShadowMaps> shadow_maps_;
+  render::MovedScene moved_;
+  struct ShadowSlot {
+    vk::TimestampQueries timestamps;  // around the frame's shadow-map re-render
+    render::ShadowUpdate update;
+    bool stamped = false;  // its timestamps were written (read_ns would wait for them otherwise)
+  };
+  std::vector<ShadowSlot> shadow_slots_;
 };
 
 }  // namespace dhr::client

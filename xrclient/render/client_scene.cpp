@@ -99,7 +99,8 @@ ClientScene::ClientScene(const vk::Context& context, const Scene& scene)
   std::vector<glm::vec3> normals;
   std::vector<glm::vec2> texcoords;
   std::vector<uint32_t> indices;
-  for (const SceneMesh& mesh : scene.meshes) {
+  for (uint32_t source = 0; source < scene.meshes.size(); ++source) {
+    const SceneMesh& mesh = scene.meshes[source];
     if (mesh.indices.empty()) continue;
     if (mesh.normals.size() != mesh.positions.size() ||
         (!mesh.texcoords.empty() && mesh.texcoords.size() != mesh.positions.size())) {
@@ -122,6 +123,7 @@ ClientScene::ClientScene(const vk::Context& context, const Scene& scene)
     out.index_count = static_cast<uint32_t>(mesh.indices.size());
     out.vertex_offset = static_cast<int32_t>(positions.size());
     out.material = mesh.material;
+    out.source = source;
     std::tie(out.origin, out.radius) = mesh_sphere(mesh);
     for (const glm::vec3& p : mesh.positions) positions.emplace_back(glm::dvec3(p) - out.origin);
     normals.insert(normals.end(), mesh.normals.begin(), mesh.normals.end());
@@ -134,6 +136,7 @@ ClientScene::ClientScene(const vk::Context& context, const Scene& scene)
     triangle_count_ += mesh.indices.size() / 3;
     meshes_.push_back(std::move(out));
   }
+  motion_ = SceneMotion(scene, meshes_);
   if (indices.empty()) return;
   positions_ = vk::create_buffer_with_data(context, std::span<const glm::vec3>(positions),
                                            VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);

@@ -2,6 +2,7 @@
 // per-mesh draw ranges, materials, base-colour textures (sRGB RGBA8 + samplers), all in dhr_vk RAII owners.
 // Positions are stored relative to their mesh's origin (the centre of its bounds, in double), so the
 // G-buffer pass can add a per-draw (origin - eye) offset and never handle world coordinates on the GPU.
+// motion() says what moves (scene_motion.hpp); the rest data here is the scene at rest.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "render/scene_motion.hpp"
 #include "scene/scene.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
@@ -31,6 +33,7 @@ struct ClientMesh {
   uint32_t material = 0;      // into ClientScene::materials()
   glm::dvec3 origin{0.0};     // world; the mesh's positions are uploaded relative to it
   double radius = 0.0;        // bounding sphere around origin (frustum culling)
+  uint32_t source = 0;        // index into the Scene's meshes (a mesh without triangles is not uploaded)
 };
 
 struct ClientMaterial {
@@ -66,7 +69,9 @@ class ClientScene {
   const std::vector<vk::Image>& textures() const { return textures_; }  // R8G8B8A8_SRGB, SHADER_READ_ONLY
   const std::vector<vk::Sampler>& samplers() const { return samplers_; }
   const std::vector<SceneLight>& lights() const { return lights_; }
-  const SceneBounds& bounds() const { return bounds_; }
+  const SceneBounds& bounds() const { return bounds_; }  // at rest
+  // Which meshes and lights move, their rest bounds, and sampling them at a scene time.
+  const SceneMotion& motion() const { return motion_; }
   uint64_t triangle_count() const { return triangle_count_; }
 
  private:
@@ -80,6 +85,7 @@ class ClientScene {
   std::vector<vk::Sampler> samplers_;
   std::vector<SceneLight> lights_;
   SceneBounds bounds_;
+  SceneMotion motion_;
   uint64_t triangle_count_ = 0;
 };
 

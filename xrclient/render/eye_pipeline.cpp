@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "render/client_scene.hpp"
+#include "render/scene_motion.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
 
@@ -154,11 +155,13 @@ vk::Image* EyePipeline::traced_depth(const Camera& traced) {
 
 void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& view,
                          const VisibilityInput& visibility, const WarpSourceInput& other,
-                         const ShadowMaps* shadow_maps, const VisibilityInput* older) {
+                         const ShadowMaps* shadow_maps, const VisibilityInput* older, const MovedScene* moved) {
   if (slot_index >= slots_.size()) throw std::invalid_argument("EyePipeline::record: slot out of range");
   Slot& slot = slots_[slot_index];
   const Camera camera = display_camera(view, extent_);
   const double near_plane = options_.near_plane;
+  const std::span<const SceneLight> lights =
+      moved != nullptr && moved->sampled ? std::span<const SceneLight>(moved->lights) : scene_->lights();
 
   slot.timestamps.reset(cmd);
   slot.timestamps.write(cmd, kStart);
@@ -170,7 +173,8 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
     frame.near_plane = near_plane;
     frame.visibility = &visibility;
     frame.shadow_maps = shadow_maps;
-    frame.lights = scene_->lights();
+    frame.lights = lights;
+    frame.moved = moved;
     frame.shading = options_.shading;
     const bool edges = options_.warp.is_server_edges();
     if (edges && options_.warp.depth_test && visibility.buffer != nullptr) {
@@ -189,7 +193,7 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
     return;
   }
   ensure_deferred_images();
-  slot.draws = gbuffer_pass_.record(cmd, gbuffer_, camera, near_plane);
+  slot.draws = gbuffer_pass_.record(cmd, gbuffer_, camera, near_plane, moved);
   slot.timestamps.write(cmd, kAfterGBuffer);
   WarpFrame frame;
   frame.depth = &gbuffer_.depth;
@@ -206,11 +210,11 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
         options_.warp.depth_test && older->buffer != nullptr ? traced_depth(older->traced) : nullptr;
   }
   frame.shadow_maps = shadow_maps;
-  frame.lights = scene_->lights();
+  frame.lights = lights;
   frame.settings = options_.warp;
   slot.visibility_used = warp_pass_.record(cmd, slot_index, frame, warp_) && visibility.buffer != nullptr;
   slot.timestamps.write(cmd, kAfterWarp);
-  shading_pass_.record(cmd, slot_index, gbuffer_, warp_, camera, near_plane, scene_->lights(),
+  shading_pass_.record(cmd, slot_index, gbuffer_, warp_, camera, near_plane, lights,
                        options_.shading, output_);
   slot.timestamps.write(cmd, kAfterShading);
   slot.recorded = true;

@@ -27,6 +27,7 @@
 #include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "render/shading_pass.hpp"
+#include "render/shadow_maps.hpp"
 #include "vk/image.hpp"
 #include "vk/timestamps.hpp"
 
@@ -60,6 +61,9 @@ struct EyePassTimes {
   double shading_ms = 0.0;
   double forward_ms = 0.0;  // the forward path's raster-and-shade pass and its count pass (0 on the deferred path)
   double total_ms = 0.0;
+  // The frame's shadow-map re-render (client::StereoPipeline records it once per frame, before both eyes; eye 0
+  // carries it, not in total_ms): 0 when nothing was re-rendered.
+  double shadow_update_ms = 0.0;
 };
 
 struct EyeStats {
@@ -70,6 +74,7 @@ struct EyeStats {
   bool visibility_used = false;  // a usable visibility buffer was given
   bool traced_depth_rendered = false;  // prepare() rendered a traced camera's depth this frame
   bool forward = false;                // the frame took the forward path
+  ShadowUpdate shadow_update;          // eye 0: the frame's re-rendered shadow maps (see shadow_update_ms)
   uint64_t unknown_pixels() const { return warp.unknown_surface(); }
 };
 
@@ -100,12 +105,13 @@ class EyePipeline {
   // and the newest visibility of this eye (source 0); `other` is the other eye's (source 1, used with
   // WarpSettings::other_eye), `shadow_maps` the client's (required by the shadow settings) and `older` this
   // eye's previous visibility (source 2, used with WarpSettings::older_buffer; its traced depth is this
-  // pipeline's, from prepare()). Afterwards
+  // pipeline's, from prepare()); `moved` the scene at the frame's scene time (null: at rest; its lights shade).
+  // Afterwards
   // output() is in GENERAL layout with its writes visible to later transfers and shaders (the frame sink
   // copies it from there).
   void record(VkCommandBuffer cmd, uint32_t slot, const View& view, const VisibilityInput& visibility,
               const WarpSourceInput& other = {}, const ShadowMaps* shadow_maps = nullptr,
-              const VisibilityInput* older = nullptr);
+              const VisibilityInput* older = nullptr, const MovedScene* moved = nullptr);
 
   // Stats of the frame last recorded with `slot`; call after its submission completed.
   EyeStats read_stats(uint32_t slot) const;

@@ -292,7 +292,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   const VkDescriptorSet frame_set = slot.set;
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 1, 1, &frame_set, 0, nullptr);
   out.draws = record_scene_draws(cmd, *scene_, materials_, {layout_.get(), cull_back_.get(), cull_none_.get()}, display,
-                                 frame.near_plane);
+                                 frame.near_plane, frame.moved);
   vkCmdEndRendering(cmd);
 
   targets.depth.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

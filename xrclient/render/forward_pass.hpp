@@ -79,7 +79,8 @@ struct ForwardFrame {
   double near_plane = kDefaultNearPlane;
   const VisibilityInput* visibility = nullptr;  // the warp modes: this eye's newest (null: none, all unknown)
   const ShadowMaps* shadow_maps = nullptr;      // kShadowMaps, kServerEdges (required)
-  std::span<const SceneLight> lights;           // the scene's lights (at most kMaxLights)
+  std::span<const SceneLight> lights;           // the scene's lights at the frame's time (at most kMaxLights)
+  const MovedScene* moved = nullptr;            // the scene at the frame's scene time (null: at rest)
   ShadingSettings shading;                      // exposure, background, swap_red_blue; view must be kShaded
   // kServerEdges: source 0's traced depth, rendered with depth_camera(traced, depth_test.depth_scale), in
   // SHADER_READ_ONLY_OPTIMAL; null: no depth test. depth_test: its depth_scale and plane tolerances.

@@ -59,7 +59,7 @@ GBufferPass::GBufferPass(const vk::Context& context, const ClientScene& scene) :
 }
 
 GBufferDrawStats GBufferPass::record(VkCommandBuffer cmd, GBuffer& targets, const Camera& camera,
-                                     double near_plane) const {
+                                     double near_plane, const MovedScene* moved) const {
   const Extent extent = targets.extent();
   if (!(camera.extent == extent)) {
     throw std::invalid_argument("G-buffer pass: camera is " + std::to_string(camera.extent.width) + "x" +
@@ -86,7 +86,7 @@ GBufferDrawStats GBufferPass::record(VkCommandBuffer cmd, GBuffer& targets, cons
 
   vk::set_viewport_and_scissor(cmd, {extent.width, extent.height});
   const GBufferDrawStats stats =
-      record_scene_draws(cmd, *scene_, materials_, {layout_.get(), cull_back_.get(), cull_none_.get()}, camera, near_plane);
+      record_scene_draws(cmd, *scene_, materials_, {layout_.get(), cull_back_.get(), cull_none_.get()}, camera, near_plane, moved);
   vkCmdEndRendering(cmd);
 
   targets.depth.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

@@ -45,7 +45,9 @@ class GBufferPass {
   // Records the pass for `camera` (the display camera; its extent must equal the targets', else
   // std::invalid_argument). Leaves the three images in SHADER_READ_ONLY_OPTIMAL, their writes visible to
   // later shader reads.
-  GBufferDrawStats record(VkCommandBuffer cmd, GBuffer& targets, const Camera& camera, double near_plane) const;
+  // `moved`: the scene at the frame's scene time (null: at rest).
+  GBufferDrawStats record(VkCommandBuffer cmd, GBuffer& targets, const Camera& camera, double near_plane,
+                          const MovedScene* moved = nullptr) const;
 
  private:
   const ClientScene* scene_;

@@ -5,6 +5,8 @@
 #include <span>
 
 #include "render/client_scene.hpp"
+#include "render/mesh_push.hpp"
+#include "render/scene_motion.hpp"
 #include "render/render_camera.hpp"
 #include "shaders/shader_interface.h"
 #include "vk/pipeline.hpp"
@@ -30,17 +32,26 @@ MaterialSets::MaterialSets(VkDevice device, const ClientScene& scene) {
   }
 }
 
+const glm::dmat4* moved_motion(const ClientScene& scene, const MovedScene* moved, uint32_t index) {
+  if (moved == nullptr || !moved->sampled || !scene.motion().mesh_moves(index)) return nullptr;
+  return &moved->motion[index];
+}
+
 GBufferDrawStats record_scene_draws(VkCommandBuffer cmd, const ClientScene& scene, const MaterialSets& materials,
-                                    const SceneDrawPipelines& pipelines, const Camera& camera, double near_plane) {
+                                    const SceneDrawPipelines& pipelines, const Camera& camera, double near_plane,
+                                    const MovedScene* moved) {
   GBufferDrawStats stats;
   if (!scene.indices()) return stats;
   scene.bind_geometry(cmd);
   ClientGBufferPush push{};
-  const std::array<float, 16> vp = matrix_floats(camera_relative_view_projection(camera, near_plane));
-  std::copy(vp.begin(), vp.end(), push.view_proj);
+  const MeshPush transform(camera_relative_view_projection_double(camera, near_plane), camera.T_world_eye.position);
   VkPipeline bound = VK_NULL_HANDLE;
-  for (const ClientMesh& mesh : scene.meshes()) {
-    if (!sphere_may_be_visible(camera, mesh.origin, mesh.radius)) {
+  for (uint32_t i = 0; i < scene.meshes().size(); ++i) {
+    const ClientMesh& mesh = scene.meshes()[i];
+    const glm::dmat4* motion = moved_motion(scene, moved, i);
+    const glm::dvec3 centre = motion ? moved->centre[i] : mesh.origin;
+    const double radius = motion ? moved->radius[i] : mesh.radius;
+    if (!sphere_may_be_visible(camera, centre, radius)) {
       ++stats.meshes_culled;
       continue;
     }
@@ -52,12 +63,9 @@ GBufferDrawStats record_scene_draws(VkCommandBuffer cmd, const ClientScene& scen
     }
     const VkDescriptorSet set = materials.set(mesh.material);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.layout, 0, 1, &set, 0, nullptr);
-    const glm::vec3 t = camera_relative_offset(mesh.origin, camera);
-    push.translation_x = t.x;
-    push.translation_y = t.y;
-    push.translation_z = t.z;
     push.flags = (material.double_sided ? kClientMaterialDoubleSided : 0u) |
                  (material.alpha_mask ? kClientMaterialAlphaMask : 0u);
+    transform.set(push, mesh, motion);
     push.base_color_r = material.base_color_factor.r;
     push.base_color_g = material.base_color_factor.g;
     push.base_color_b = material.base_color_factor.b;

@@ -1,11 +1,13 @@
 // Drawing a ClientScene for one camera, shared by the raster passes that shade its materials (G-buffer,
 // forward): the per-material descriptor sets (set 0: the base colour texture, kClientGBufferBindingBaseColor)
 // and the draw loop (bounding-sphere frustum culling, the back-face-culling pipeline for single-sided materials
-// and the no-culling one for double-sided ones, ClientGBufferPush with camera-relative mesh offsets).
+// and the no-culling one for double-sided ones, ClientGBufferPush with camera-relative mesh offsets; moving meshes
+// with their motion at the frame's scene time, mesh_push.hpp, culled with their moved bounding spheres).
 #pragma once
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <glm/mat4x4.hpp>
 #include <vector>
 
 #include "math/projection.hpp"
@@ -14,6 +16,7 @@
 namespace dhr::render {
 
 class ClientScene;
+struct MovedScene;
 
 struct GBufferDrawStats {
   uint32_t meshes_drawn = 0;
@@ -44,8 +47,13 @@ struct SceneDrawPipelines {
   VkPipeline cull_none = VK_NULL_HANDLE;
 };
 
-// Records the draws (inside a rendering scope the caller began, viewport and scissor included).
+// Records the draws (inside a rendering scope the caller began, viewport and scissor included). `moved`: the
+// scene at the frame's scene time (null or unsampled: at rest).
 GBufferDrawStats record_scene_draws(VkCommandBuffer cmd, const ClientScene& scene, const MaterialSets& materials,
-                                    const SceneDrawPipelines& pipelines, const Camera& camera, double near_plane);
+                                    const SceneDrawPipelines& pipelines, const Camera& camera, double near_plane,
+                                    const MovedScene* moved = nullptr);
+
+// The motion of mesh `index` in `moved` (null: static, or no sample).
+const glm::dmat4* moved_motion(const ClientScene& scene, const MovedScene* moved, uint32_t index);
 
 }  // namespace dhr::render

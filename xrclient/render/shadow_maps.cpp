@@ -11,11 +11,16 @@
 #include "dhr_shaders_client.hpp"
 #include "render/client_scene.hpp"
 #include "render/light_layout.hpp"
+#include "render/mesh_push.hpp"
 #include "render/pcss_reference.hpp"
 #include "render/pass_util.hpp"
 #include "render/render_camera.hpp"
+#include "render/scene_draw.hpp"
+#include "render/scene_motion.hpp"
+#include "render/shadow_refresh.hpp"
 #include "render/sun_map.hpp"
 #include "shaders/shader_interface.h"
+#include "vk/barriers.hpp"
 #include "vk/context.hpp"
 #include "vk/graphics_pipeline.hpp"
 #include "vk/pipeline.hpp"
@@ -114,22 +119,26 @@ ShadowMaps::ShadowMaps(const vk::Context& context, const ClientScene& scene, con
   render(scene.lights());
 }
 
+ShadowTile ShadowMaps::tile_for(const SceneLight& light, std::optional<uint32_t> row) const {
+  ShadowTile tile;
+  tile.position = glm::dvec3(light.position);
+  tile.row = row;
+  if (light.type == SceneLight::Type::kDirectional && row) {
+    tile.sun = fit_sun_map(scene_->bounds(), glm::dvec3(light.direction));
+    tile.position = tile.sun->position;
+  }
+  return tile;
+}
+
 void ShadowMaps::render(std::span<const SceneLight> lights) {
   const auto start = std::chrono::steady_clock::now();
   tiles_.clear();
   uint32_t rows = 0;
   for (const SceneLight& light : lights) {
-    ShadowTile tile;
-    tile.position = glm::dvec3(light.position);
-    // Point, spot, sphere, rect and disk lights: a cube map at the light's centre (where the hard-shadow ray goes).
-    if (light.type != SceneLight::Type::kDirectional) {
-      tile.row = rows++;
-    } else if (light.angle > 0.0f) {
-      tile.sun = fit_sun_map(scene_->bounds(), glm::dvec3(light.direction));
-      tile.position = tile.sun->position;
-      tile.row = rows++;
-    }
-    tiles_.push_back(tile);
+    // Point, spot, sphere, rect and disk lights: a cube map at the light's centre (where the hard-shadow ray goes);
+    // a sun: an orthographic tile; other directional lights: none.
+    const bool mapped = light.type != SceneLight::Type::kDirectional || light.angle > 0.0f;
+    tiles_.push_back(tile_for(light, mapped ? std::optional<uint32_t>(rows++) : std::nullopt));
   }
   const uint32_t max_dim = max_image_dimension(*context_);
   size_ = std::max<uint32_t>(1, std::min({settings_.size, max_dim / 6, rows > 0 ? max_dim / rows : max_dim}));
@@ -154,54 +163,119 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
       scene.bind_geometry(cmd);
       for (const ShadowTile& tile : tiles_) {
         if (!tile.row) continue;
-        if (tile.sun) {
-          render_sun(cmd, tile);
-          continue;
-        }
-        for (uint32_t face = 0; face < 6; ++face) {
-          const Camera camera = cube_face_camera(tile.position, face, size_);
-          const VkViewport viewport{static_cast<float>(face * size_), static_cast<float>(*tile.row * size_),
-                                    static_cast<float>(size_), static_cast<float>(size_), 0.0f, 1.0f};
-          const VkRect2D scissor{{static_cast<int32_t>(face * size_), static_cast<int32_t>(*tile.row * size_)},
-                                 {size_, size_}};
-          vkCmdSetViewport(cmd, 0, 1, &viewport);
-          vkCmdSetScissor(cmd, 0, 1, &scissor);
-          shader::ClientGBufferPush push{};
-          const std::array<float, 16> vp =
-              matrix_floats(camera_relative_view_projection(camera, settings_.near_plane));
-          std::copy(vp.begin(), vp.end(), push.view_proj);
-          for (const ClientMesh& mesh : scene.meshes()) {
-            if (!sphere_may_be_visible(camera, mesh.origin, mesh.radius)) continue;
-            const glm::vec3 t = camera_relative_offset(mesh.origin, camera);
-            push.translation_x = t.x;
-            push.translation_y = t.y;
-            push.translation_z = t.z;
-            vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
-            vkCmdDrawIndexed(cmd, mesh.index_count, 1, mesh.first_index, mesh.vertex_offset, 0);
-          }
-        }
+        for (uint32_t face = 0; face < (tile.sun ? 1u : 6u); ++face) draw_face(cmd, tile, face, nullptr);
       }
     }
     vkCmdEndRendering(cmd);
     atlas_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   });
+  // Which faces hold a moving mesh at rest (the first update re-renders those).
+  held_.assign(tiles_.size(), 0);
+  stale_.assign(tiles_.size(), 0);
+  if (scene.motion().animated() && lights.size() == scene.lights().size()) {
+    std::vector<glm::dvec3> centre;
+    std::vector<double> radius;
+    for (const ClientMesh& mesh : scene.meshes()) {
+      centre.push_back(mesh.origin);
+      radius.push_back(mesh.radius);
+    }
+    for (size_t l = 0; l < tiles_.size(); ++l) {
+      held_[l] = faces_seeing_motion(tiles_[l], lights[l], scene.motion(), MeshSpheres{centre, radius}, size_);
+    }
+  }
   render_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-void ShadowMaps::render_sun(VkCommandBuffer cmd, const ShadowTile& tile) const {
+ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved) {
+  ShadowUpdate out;
+  const ClientScene& scene = *scene_;
+  const SceneMotion& motion = scene.motion();
+  if (!motion.animated() || !moved.sampled || !scene.indices() || moved.lights.size() != tiles_.size()) return out;
+  const MeshSpheres spheres{moved.centre, moved.radius};
+  for (size_t l = 0; l < tiles_.size(); ++l) {
+    const bool light_moves = motion.light_moves(static_cast<uint32_t>(l));
+    if (light_moves) tiles_[l] = tile_for(moved.lights[l], tiles_[l].row);
+    const uint8_t seeing = faces_seeing_motion(tiles_[l], moved.lights[l], motion, spheres, size_);
+    stale_[l] = stale_faces(tiles_[l], light_moves, seeing, held_[l]);
+    held_[l] = seeing;
+    if (stale_[l] == 0) continue;
+    ++out.lights;
+    for (uint32_t face = 0; face < 6; ++face) out.faces += (stale_[l] >> face) & 1u;
+  }
+  if (out.faces == 0) return out;
+  // Keep the other faces: wait for earlier readers, load, clear only the stale faces.
+  vk::image_barrier(cmd, atlas_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, atlas_.layout(),
+                    VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
+                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+  atlas_.set_layout(VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+  VkRenderingAttachmentInfo depth{};
+  depth.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
+  depth.imageView = atlas_.view();
+  depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+  depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  begin_rendering(cmd, atlas_.width(), atlas_.height(), {}, &depth);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
+  scene.bind_geometry(cmd);
+  VkClearAttachment clear{};
+  clear.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
+  clear.clearValue.depthStencil = {0.0f, 0};  // reversed-Z: nothing
+  for (size_t l = 0; l < tiles_.size(); ++l) {
+    for (uint32_t face = 0; face < 6; ++face) {
+      if (((stale_[l] >> face) & 1u) == 0) continue;
+      const VkClearRect rect{{{static_cast<int32_t>(face * size_), static_cast<int32_t>(*tiles_[l].row * size_)},
+                              {size_, size_}},
+                             0, 1};
+      vkCmdClearAttachments(cmd, 1, &clear, 1, &rect);
+      draw_face(cmd, tiles_[l], face, &moved);
+    }
+  }
+  vkCmdEndRendering(cmd);
+  atlas_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  return out;
+}
+
+void ShadowMaps::draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t face, const MovedScene* moved) const {
+  if (tile.sun) {
+    render_sun(cmd, tile, moved);
+    return;
+  }
+  const Camera camera = cube_face_camera(tile.position, face, size_);
+  const VkViewport viewport{static_cast<float>(face * size_), static_cast<float>(*tile.row * size_),
+                            static_cast<float>(size_), static_cast<float>(size_), 0.0f, 1.0f};
+  const VkRect2D scissor{{static_cast<int32_t>(face * size_), static_cast<int32_t>(*tile.row * size_)},
+                         {size_, size_}};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  shader::ClientGBufferPush push{};
+  const MeshPush transform(camera_relative_view_projection_double(camera, settings_.near_plane), tile.position);
+  const ClientScene& scene = *scene_;
+  for (uint32_t i = 0; i < scene.meshes().size(); ++i) {
+    const ClientMesh& mesh = scene.meshes()[i];
+    const glm::dmat4* motion = moved_motion(scene, moved, i);
+    if (!sphere_may_be_visible(camera, motion ? moved->centre[i] : mesh.origin,
+                               motion ? moved->radius[i] : mesh.radius)) {
+      continue;
+    }
+    transform.set(push, mesh, motion);
+    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
+    vkCmdDrawIndexed(cmd, mesh.index_count, 1, mesh.first_index, mesh.vertex_offset, 0);
+  }
+}
+
+void ShadowMaps::render_sun(VkCommandBuffer cmd, const ShadowTile& tile, const MovedScene* moved) const {
   const VkViewport viewport{0.0f, static_cast<float>(*tile.row * size_), static_cast<float>(size_),
                             static_cast<float>(size_), 0.0f, 1.0f};
   const VkRect2D scissor{{0, static_cast<int32_t>(*tile.row * size_)}, {size_, size_}};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   shader::ClientGBufferPush push{};
-  const std::array<float, 16> vp = matrix_floats(glm::mat4(sun_view_projection(*tile.sun)));
-  std::copy(vp.begin(), vp.end(), push.view_proj);
-  for (const ClientMesh& mesh : scene_->meshes()) {  // the tile covers the whole scene: no culling
-    const glm::vec3 t(mesh.origin - tile.sun->position);
-    push.translation_x = t.x;
-    push.translation_y = t.y;
-    push.translation_z = t.z;
+  const MeshPush transform(sun_view_projection(*tile.sun), tile.sun->position);
+  const ClientScene& scene = *scene_;
+  for (uint32_t i = 0; i < scene.meshes().size(); ++i) {  // the tile covers the whole scene: no culling
+    const ClientMesh& mesh = scene.meshes()[i];
+    transform.set(push, mesh, moved_motion(scene, moved, i));
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
     vkCmdDrawIndexed(cmd, mesh.index_count, 1, mesh.first_index, mesh.vertex_offset, 0);
   }

@@ -1,8 +1,9 @@
 // The client's own shadow maps: one cube (six 90-degree depth faces) per point or spot light, rendered from
-// the ClientScene once (the scene is static; again when the lights change) into one depth atlas, row l for
+// the ClientScene once at rest (again when the lights change) into one depth atlas, row l for
 // light l, faces 0-5 in columns (face conventions: shaders/client/cube_face.h). A sun (a directional light with
 // an angle) gets an orthographic tile fitted to the scene's bounds in column 0 of its row (sun_map.hpp); other
-// directional lights get none.
+// directional lights get none. When the scene moves, update() re-renders, inside the frame's command buffer, the
+// faces that moving casters or a moving light made stale (the rule: shadow_refresh.hpp); the others stay.
 // The warp pass looks them up for pixels no visibility buffer fills (and, with kClientWarpShadowEdges, for
 // bits the buffer's samples disagree on); without any server they shade the whole frame (offline, `local`).
 //
@@ -29,6 +30,7 @@ class Context;
 namespace dhr::render {
 
 class ClientScene;
+struct MovedScene;
 
 struct ShadowMapSettings {
   uint32_t size = 1024;          // texels per face side (clamped so the atlas fits the device's limit)
@@ -69,13 +71,25 @@ struct ShadowTile {
   std::optional<SunMap> sun;  // a sun (directional with an angle): one orthographic tile in column 0
 };
 
+// What one update() re-rendered.
+struct ShadowUpdate {
+  uint32_t lights = 0;  // lights with at least one face re-rendered
+  uint32_t faces = 0;   // cube faces (a sun's tile counts as one)
+};
+
 class ShadowMaps {
  public:
   // Renders the maps (blocking). Throws std::invalid_argument for settings that cannot work (size 0, near <= 0).
   ShadowMaps(const vk::Context& context, const ClientScene& scene, const ShadowMapSettings& settings = {});
 
-  // Re-renders for new lights (blocking).
+  // Re-renders for new lights (blocking), the scene at rest.
   void render(std::span<const SceneLight> lights);
+  // Records into `cmd` (outside any rendering scope) the re-render at `moved`'s scene time of every stale face
+  // (shadow_refresh.hpp) and moves the moving lights' maps with them; records nothing when no face is stale (a
+  // static scene: never). The lights are moved.lights (the scene's, as the maps were rendered for). The atlas is
+  // SHADER_READ_ONLY_OPTIMAL again afterwards, its writes visible to later shader reads; earlier readers of the
+  // atlas (previous frames) are waited for.
+  ShadowUpdate update(VkCommandBuffer cmd, const MovedScene& moved);
 
   const ShadowMapSettings& settings() const { return settings_; }
   uint32_t face_size() const { return size_; }
@@ -83,9 +97,14 @@ class ShadowMaps {
   vk::Image& atlas() { return atlas_; }  // D32, (6 * size) x (rows * size), SHADER_READ_ONLY_OPTIMAL
   const vk::Image& atlas() const { return atlas_; }
   double render_ms() const { return render_ms_; }  // host time of the last render
+  // Per light: the faces (bit f; a sun: bit 0) the last update() re-rendered (0 after render()).
+  const std::vector<uint8_t>& updated_faces() const { return stale_; }
 
  private:
-  void render_sun(VkCommandBuffer cmd, const ShadowTile& tile) const;
+  ShadowTile tile_for(const SceneLight& light, std::optional<uint32_t> row) const;
+  // Draws face `face` of `tile` (a sun: its tile) with the meshes at `moved`'s time (null: at rest).
+  void draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t face, const MovedScene* moved) const;
+  void render_sun(VkCommandBuffer cmd, const ShadowTile& tile, const MovedScene* moved) const;
 
   const vk::Context* context_;
   const ClientScene* scene_;
@@ -95,6 +114,8 @@ class ShadowMaps {
   vk::Pipeline pipeline_;
   vk::Image atlas_;
   std::vector<ShadowTile> tiles_;
+  std::vector<uint8_t> held_;   // per light: faces that held a moving mesh when last rendered (shadow_refresh.hpp)
+  std::vector<uint8_t> stale_;  // per light: faces update() re-renders (kept: no allocation per frame)
   double render_ms_ = 0.0;
 };
 

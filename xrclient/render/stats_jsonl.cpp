@@ -39,6 +39,9 @@ std::string eye_stats_json(uint64_t frame, uint32_t eye, const EyeStats& stats) 
   j["forward"] = stats.forward;
   j["forward_ms"] = stats.gpu.forward_ms;
   j["total_ms"] = stats.gpu.total_ms;
+  j["shadow_update_lights"] = stats.shadow_update.lights;
+  j["shadow_update_faces"] = stats.shadow_update.faces;
+  j["shadow_update_ms"] = stats.gpu.shadow_update_ms;
   for (size_t s = 0; s < kWarpStatusCount; ++s) j[to_string(static_cast<WarpStatus>(s))] = stats.warp.by_status[s];
   j["unknown"] = stats.unknown_pixels();
   j["meshes_drawn"] = stats.draws.meshes_drawn;

@@ -30,7 +30,8 @@ class JsonLinesWriter {
 };
 
 // {"frame":N,"eye":E,"width":..,"height":..,"gpu_valid":..,"gbuffer_ms":..,"warp_ms":..,
-//  "shading_ms":..,"forward":..,"forward_ms":..,"total_ms":..,"known":..,"background":..,"behind":..,"outside":..,"missing_row":..,
+//  "shading_ms":..,"forward":..,"forward_ms":..,"total_ms":..,"shadow_update_lights":..,"shadow_update_faces":..,
+//  "shadow_update_ms":.. (eye 0: the frame's shadow-map re-render, StereoPipeline),"known":..,"background":..,"behind":..,"outside":..,"missing_row":..,
 //  "no_data":..,"unknown":..,"meshes_drawn":..,"meshes_culled":..,"triangles":..,"visibility_used":..}
 std::string eye_stats_json(uint64_t frame, uint32_t eye, const EyeStats& stats);
 

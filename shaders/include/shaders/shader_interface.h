@@ -157,20 +157,23 @@ DHR_CONST uint kClientGBufferBindingBaseColor = 0;
 DHR_CONST uint kClientMaterialDoubleSided = 1u;  // ClientGBufferPush::flags: no culling, back faces flip N
 DHR_CONST uint kClientMaterialAlphaMask = 2u;    // discard where alpha < alpha_cutoff
 
+DHR_CONST uint kClientMeshMoves = 4u;  // ClientGBufferPush::flags: view_proj is the model-view-projection
+
+// Static meshes (kClientMeshMoves clear): position = view_proj * (vertex + mesh[0..2]). Moving meshes: their motion
+// at the frame's scene time, composed on the CPU in double with the camera-relative translation, so the GPU never
+// sees world coordinates either way.
 struct ClientGBufferPush {
-  float view_proj[16];  // projection * rotation-only view (eye at the origin), column-major
-  float translation_x;  // mesh origin - eye position, computed in double on the CPU
-  float translation_y;
-  float translation_z;
-  uint flags;           // kClientMaterial*
+  float view_proj[16];  // static: projection * rotation-only view (eye at the origin); moving: that times the
+                        // mesh's camera-relative model matrix (motion with origin - eye); column-major
+  float mesh[9];        // static: mesh origin - eye in [0..2] (double on the CPU); moving: the normal matrix
+                        // (inverse-transpose of the motion's 3x3), column-major
+  uint flags;           // kClientMaterial*, kClientMeshMoves
   float base_color_r;   // linear base colour factor
   float base_color_g;
   float base_color_b;
   float base_color_a;
   float alpha_cutoff;
   uint pad0;
-  uint pad1;
-  uint pad2;
 };
 
 // Warp (compute, 8x8 groups): per display pixel, the light mask from the newest visibility of this eye
@@ -456,7 +459,7 @@ struct ClientForwardShading {
 #ifdef __cplusplus
 static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the GLSL layout");
 static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
-static_assert(sizeof(ClientGBufferPush) == 112, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientGBufferPush) == 128, "push constants must match the GLSL layout and fit the Vulkan minimum (128 bytes)");
 static_assert(sizeof(ClientWarpSource) == 136, "ClientWarpSource must match the std430 layout");
 static_assert(sizeof(ClientMotionSource) == 16 + 2 * 4 * 48, "ClientMotionSource must match the std430 layout");
 static_assert(sizeof(ClientMotionLight) == 32, "ClientMotionLight must match the std430 array stride");

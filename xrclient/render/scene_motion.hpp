@@ -1,0 +1,75 @@
+// What moves in a ClientScene (glTF node animations, DESIGN 5b) and where it is at a scene time. SceneMotion is
+// fixed at load: per client mesh whether it moves and its rest bounds in its node's local frame, per light whether
+// it moves, and the animation to sample. MovedScene is one frame's sample (scene time): every moving mesh's
+// motion (rest world -> world, mesh_motion_at) and bounding sphere, and the lights (light_at). The raster passes
+// draw a moving mesh with its motion (scene_draw.hpp, mesh_push.hpp); static meshes are drawn as before, so a
+// scene without animation renders the same bits with or without a MovedScene.
+#pragma once
+#include <cstdint>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace dhr::render {
+
+struct ClientMesh;
+
+// An axis-aligned box (empty: min > max).
+struct Aabb {
+  glm::dvec3 min{std::numeric_limits<double>::max()};
+  glm::dvec3 max{std::numeric_limits<double>::lowest()};
+  bool empty() const { return min.x > max.x; }
+  void extend(const glm::dvec3& p);
+};
+
+// One frame's sample of the scene (SceneMotion::sample). Sized once; sampling again does not allocate.
+struct MovedScene {
+  double time_s = 0.0;
+  bool sampled = false;                // false: never sampled (everything at rest)
+  std::vector<glm::dmat4> motion;      // per ClientMesh: rest world -> world at time_s (identity: static)
+  std::vector<glm::dvec3> centre;      // per ClientMesh: bounding-sphere centre at time_s (world)
+  std::vector<double> radius;          // per ClientMesh: bounding-sphere radius at time_s
+  std::vector<SceneLight> lights;      // the scene's lights at time_s
+};
+
+class SceneMotion {
+ public:
+  SceneMotion() = default;
+  // `meshes`: the ClientScene's meshes (ClientMesh::source names their Scene mesh).
+  SceneMotion(const Scene& scene, std::span<const ClientMesh> meshes);
+
+  bool animated() const { return !moving_meshes_.empty() || !moving_lights_.empty(); }
+  bool mesh_moves(uint32_t mesh) const { return mesh_moves_[mesh] != 0; }
+  bool light_moves(uint32_t light) const { return light_moves_[light] != 0; }
+  const std::vector<uint32_t>& moving_meshes() const { return moving_meshes_; }  // ClientMesh indices
+  const std::vector<uint32_t>& moving_lights() const { return moving_lights_; }  // light indices
+  // The mesh's rest positions' bounds in its node's local frame (inverse(SceneMesh::T_world_local) * rest world).
+  const Aabb& rest_local_bounds(uint32_t mesh) const { return rest_local_bounds_[mesh]; }
+  // World transform of the mesh's node at scene time t (rest: SceneMesh::T_world_local).
+  glm::dmat4 node_world(uint32_t mesh, double t) const;
+  // Rest world -> world at t (mesh_motion_at); identity for a static mesh.
+  glm::dmat4 motion_at(uint32_t mesh, double t) const;
+  // World bounds at t: the rest local box's corners through node_world (conservative for any affine motion).
+  Aabb world_bounds_at(uint32_t mesh, double t) const;
+
+  // Samples every mesh and light at scene time t into `out` (static ones at rest); `meshes` as constructed.
+  void sample(double t, std::span<const ClientMesh> meshes, MovedScene& out) const;
+
+ private:
+  Scene scene_;  // the animation, the lights, and each mesh's node and T_world_local (no vertices)
+  std::vector<uint32_t> source_;  // per ClientMesh: index into scene_.meshes
+  std::vector<uint8_t> mesh_moves_;
+  std::vector<uint8_t> light_moves_;
+  std::vector<uint32_t> moving_meshes_;
+  std::vector<uint32_t> moving_lights_;
+  std::vector<Aabb> rest_local_bounds_;
+};
+
+// Scene time of a FramePose (nanoseconds) in the seconds the animation functions take.
+inline double scene_seconds(int64_t scene_time_ns) { return static_cast<double>(scene_time_ns) * 1e-9; }
+
+}  // namespace dhr::render
