@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <glm/geometric.hpp>
@@ -16,6 +17,7 @@
 
 #include "client_test_helpers.hpp"
 #include "forward_test_frame.hpp"
+#include "frame/stereo_pipeline.hpp"
 #include "render/client_scene.hpp"
 #include "render/gbuffer_pass.hpp"
 #include "render/render_camera.hpp"
@@ -294,6 +296,39 @@ TEST_F(ClientMotionTest, ShadowLookupFollowsTheMovedOccluder) {
     if (t == 1.0) {
       EXPECT_FALSE(occluded(exact, points[0], glm::dvec3(0, 3, 0)));
       EXPECT_TRUE(occluded(exact, points[1], glm::dvec3(0, 3, 0)));
+    }
+  }
+}
+
+// The frame's pipeline samples the scene at StereoInputs::scene_time_ns, shades with the moved lights and reports
+// the shadow-map re-render it recorded into the frame's command buffer in eye 0's stats; a static scene none.
+TEST_F(ClientMotionTest, StereoPipelineReRendersAndReportsPerFrame) {
+  for (const bool animated : {true, false}) {
+    Scene scene = moving_scene();
+    if (!animated) scene.animation = SceneAnimation{};
+    const ClientScene gpu(ctx(), scene);
+    EyePipelineOptions options;
+    options.frames_in_flight = 1;
+    options.warp = WarpSettings::server_edges();  // looks the shadow maps up
+    client::StereoPipeline stereo(ctx(), gpu, kExtent, options);
+    client::StereoInputs inputs;
+    inputs.views = {camera_view(), camera_view()};
+    inputs.scene_time_ns = 1'000'000'000;
+    for (int frame = 0; frame < 2; ++frame) {
+      ctx().submit_and_wait([&](VkCommandBuffer cmd) { stereo.record(cmd, 0, inputs); });
+      const std::array<EyeStats, 2> stats = stereo.read_stats(0);
+      EXPECT_EQ(stats[1].shadow_update.faces, 0u);
+      if (!animated) {
+        EXPECT_EQ(stats[0].shadow_update.faces, 0u);
+        EXPECT_EQ(stats[0].gpu.shadow_update_ms, 0.0);
+        EXPECT_FALSE(stereo.moved_scene().sampled);
+        continue;
+      }
+      EXPECT_EQ(stats[0].shadow_update.lights, 2u) << "A (the occluder) and C (moving), frame " << frame;
+      if (stats[0].gpu.valid) {
+        EXPECT_GT(stats[0].gpu.shadow_update_ms, 0.0);
+      }
+      EXPECT_EQ(stereo.moved_scene().lights[2].position, light_at(scene, scene.lights[2], 1.0).position);
     }
   }
 }

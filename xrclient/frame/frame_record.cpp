@@ -29,6 +29,11 @@ std::string frame_record_json(const FrameRecord& record) {
     o["forward"] = e.stats.forward;
     o["forward_ms"] = e.stats.gpu.forward_ms;
     o["total_ms"] = e.stats.gpu.total_ms;
+    if (e.stats.shadow_update.faces > 0) {  // eye 0 of a moving scene's frame: its shadow-map re-render
+      o["shadow_update_lights"] = e.stats.shadow_update.lights;
+      o["shadow_update_faces"] = e.stats.shadow_update.faces;
+      o["shadow_update_ms"] = e.stats.gpu.shadow_update_ms;
+    }
     o["known"] = e.stats.warp[render::WarpStatus::kKnown];
     o["filled_other_eye"] = e.stats.warp.filled_other_eye;
     o["filled_shadow_map"] = e.stats.warp.filled_shadow_map;
