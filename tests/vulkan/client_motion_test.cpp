@@ -232,12 +232,20 @@ TEST_F(ClientMotionTest, StaticMeshesRenderTheSameBitsWithMotion) {
   EXPECT_EQ(a.albedo, b.albedo);
 }
 
+// moving_scene() uploaded, with its shadow maps (faces of `size` texels) rendered at rest.
+struct MovingMaps {
+  Scene scene;
+  ClientScene gpu;
+  ShadowMaps maps;
+  MovingMaps(const vk::Context& ctx, uint32_t size)
+      : scene(moving_scene()), gpu(ctx, scene), maps(ctx, gpu, ShadowMapSettings{.size = size}) {}
+};
+
 TEST_F(ClientMotionTest, ShadowMapsReRenderWhatMotionMadeStale) {
-  const Scene scene = moving_scene();
-  const ClientScene gpu(ctx(), scene);
-  ShadowMapSettings settings;
-  settings.size = 128;
-  ShadowMaps maps(ctx(), gpu, settings);
+  MovingMaps m(ctx(), 128);
+  const Scene& scene = m.scene;
+  const ClientScene& gpu = m.gpu;
+  ShadowMaps& maps = m.maps;
   MovedScene moved;
   gpu.motion().sample(1.0, gpu.meshes(), moved);
   ShadowUpdate update;
@@ -255,7 +263,7 @@ TEST_F(ClientMotionTest, ShadowMapsReRenderWhatMotionMadeStale) {
   Scene still = scene;
   still.animation = SceneAnimation{};
   const ClientScene gpu_still(ctx(), still);
-  ShadowMaps still_maps(ctx(), gpu_still, settings);
+  ShadowMaps still_maps(ctx(), gpu_still, ShadowMapSettings{.size = 128});
   MovedScene still_moved;
   gpu_still.motion().sample(1.0, gpu_still.meshes(), still_moved);
   ShadowUpdate none{7, 7};
@@ -268,11 +276,10 @@ TEST_F(ClientMotionTest, ShadowMapsReRenderWhatMotionMadeStale) {
 // (CPU reference on the read-back atlas) of light A flips as a CPU ray against scene_at says, at rest and after
 // update() at t = 1; and again once the occluder has left (t = 0 rest pose: back in place).
 TEST_F(ClientMotionTest, ShadowLookupFollowsTheMovedOccluder) {
-  const Scene scene = moving_scene();
-  const ClientScene gpu(ctx(), scene);
-  ShadowMapSettings settings;
-  settings.size = 256;
-  ShadowMaps maps(ctx(), gpu, settings);
+  MovingMaps m(ctx(), 256);
+  const Scene& scene = m.scene;
+  const ClientScene& gpu = m.gpu;
+  ShadowMaps& maps = m.maps;
   const std::vector<glm::dvec3> points = {{0.0, 0.0, 0.0}, {1.5, 0.0, 0.0}, {-1.0, 0.0, 0.5}};
   const glm::dvec3 up(0.0, 1.0, 0.0);
   auto check = [&](const Scene& exact, std::span<const SceneLight> lights, const char* when) {
