@@ -21,7 +21,7 @@
 #include "render/client_scene.hpp"
 #include "render/gbuffer_pass.hpp"
 #include "render/render_camera.hpp"
-#include "render/scene_motion.hpp"
+#include "render/client_motion.hpp"
 #include "render/shadow_maps.hpp"
 #include "scene/scene_at.hpp"
 #include "vulkan_test_fixture.hpp"
@@ -164,16 +164,16 @@ bool occluded(const Scene& scene, const glm::dvec3& p, const glm::dvec3& light) 
 TEST_F(ClientMotionTest, MotionIsExposedPerMeshAndLight) {
   const Scene scene = moving_scene();
   const ClientScene gpu(ctx(), scene);
-  const SceneMotion& motion = gpu.motion();
+  const ClientMotion& motion = gpu.motion();
   ASSERT_TRUE(motion.animated());
   EXPECT_FALSE(motion.mesh_moves(0));
   EXPECT_TRUE(motion.mesh_moves(1));
   EXPECT_EQ(motion.moving_meshes(), std::vector<uint32_t>{1});
   EXPECT_EQ(motion.moving_lights(), std::vector<uint32_t>{2});
-  const Aabb rest = motion.rest_local_bounds(1);  // local frame: the node sits at (0, 1, 0)
+  const WorldBox rest = motion.rest_local_bounds(1);  // local frame: the node sits at (0, 1, 0)
   EXPECT_NEAR(rest.min.x, -0.2, 1e-6);
   EXPECT_NEAR(rest.max.y, 0.0, 1e-6);
-  const Aabb at1 = motion.world_bounds_at(1, 1.0);  // x + 1, turned 30 degrees about +z
+  const WorldBox at1 = motion.world_bounds_at(1, 1.0);  // x + 1, turned 30 degrees about +z
   const Scene exact = scene_at(scene, 1.0);
   for (const glm::vec3& p : exact.meshes[1].positions) {
     for (int k = 0; k < 3; ++k) {

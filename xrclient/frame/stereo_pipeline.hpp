@@ -17,7 +17,7 @@
 #include "math/projection.hpp"
 #include "plan/visibility_input.hpp"
 #include "render/eye_pipeline.hpp"
-#include "render/scene_motion.hpp"
+#include "render/client_motion.hpp"
 #include "render/shadow_maps.hpp"
 #include "vk/timestamps.hpp"
 

@@ -136,7 +136,7 @@ ClientScene::ClientScene(const vk::Context& context, const Scene& scene)
     triangle_count_ += mesh.indices.size() / 3;
     meshes_.push_back(std::move(out));
   }
-  motion_ = SceneMotion(scene, meshes_);
+  motion_ = ClientMotion(scene, meshes_);
   if (indices.empty()) return;
   positions_ = vk::create_buffer_with_data(context, std::span<const glm::vec3>(positions),
                                            VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);

@@ -2,7 +2,7 @@
 // per-mesh draw ranges, materials, base-colour textures (sRGB RGBA8 + samplers), all in dhr_vk RAII owners.
 // Positions are stored relative to their mesh's origin (the centre of its bounds, in double), so the
 // G-buffer pass can add a per-draw (origin - eye) offset and never handle world coordinates on the GPU.
-// motion() says what moves (scene_motion.hpp); the rest data here is the scene at rest.
+// motion() says what moves (client_motion.hpp); the rest data here is the scene at rest.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "render/scene_motion.hpp"
+#include "render/client_motion.hpp"
 #include "scene/scene.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
@@ -71,7 +71,7 @@ class ClientScene {
   const std::vector<SceneLight>& lights() const { return lights_; }
   const SceneBounds& bounds() const { return bounds_; }  // at rest
   // Which meshes and lights move, their rest bounds, and sampling them at a scene time.
-  const SceneMotion& motion() const { return motion_; }
+  const ClientMotion& motion() const { return motion_; }
   uint64_t triangle_count() const { return triangle_count_; }
 
  private:
@@ -85,7 +85,7 @@ class ClientScene {
   std::vector<vk::Sampler> samplers_;
   std::vector<SceneLight> lights_;
   SceneBounds bounds_;
-  SceneMotion motion_;
+  ClientMotion motion_;
   uint64_t triangle_count_ = 0;
 };
 

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "render/client_scene.hpp"
-#include "render/scene_motion.hpp"
+#include "render/client_motion.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
 

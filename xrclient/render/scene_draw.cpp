@@ -6,7 +6,7 @@
 
 #include "render/client_scene.hpp"
 #include "render/mesh_push.hpp"
-#include "render/scene_motion.hpp"
+#include "render/client_motion.hpp"
 #include "render/render_camera.hpp"
 #include "shaders/shader_interface.h"
 #include "vk/pipeline.hpp"

@@ -16,7 +16,7 @@
 #include "render/pass_util.hpp"
 #include "render/render_camera.hpp"
 #include "render/scene_draw.hpp"
-#include "render/scene_motion.hpp"
+#include "render/client_motion.hpp"
 #include "render/shadow_refresh.hpp"
 #include "render/sun_map.hpp"
 #include "shaders/shader_interface.h"
@@ -189,7 +189,7 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
 ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved) {
   ShadowUpdate out;
   const ClientScene& scene = *scene_;
-  const SceneMotion& motion = scene.motion();
+  const ClientMotion& motion = scene.motion();
   if (!motion.animated() || !moved.sampled || !scene.indices() || moved.lights.size() != tiles_.size()) return out;
   const MeshSpheres spheres{moved.centre, moved.radius};
   for (size_t l = 0; l < tiles_.size(); ++l) {

@@ -3,7 +3,7 @@
 #include <glm/geometric.hpp>
 
 #include "render/render_camera.hpp"
-#include "render/scene_motion.hpp"
+#include "render/client_motion.hpp"
 
 namespace dhr::render {
 namespace {
@@ -17,7 +17,7 @@ bool in_range(const SceneLight& light, const glm::dvec3& centre, double radius) 
 
 }  // namespace
 
-uint8_t faces_seeing_motion(const ShadowTile& tile, const SceneLight& light, const SceneMotion& motion,
+uint8_t faces_seeing_motion(const ShadowTile& tile, const SceneLight& light, const ClientMotion& motion,
                             const MeshSpheres& spheres, uint32_t face_size) {
   if (!tile.row) return 0;
   uint8_t seen = 0;

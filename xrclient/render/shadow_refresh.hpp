@@ -16,7 +16,7 @@
 
 namespace dhr::render {
 
-class SceneMotion;
+class ClientMotion;
 
 // Bounding spheres of the scene's meshes at one scene time (world), one per ClientMesh.
 struct MeshSpheres {
@@ -26,7 +26,7 @@ struct MeshSpheres {
 
 // Bit f (0-5; a sun: bit 0): whether face f of `tile`'s map may hold a moving mesh of `motion` at the spheres'
 // time. 0 for a light without a map.
-uint8_t faces_seeing_motion(const ShadowTile& tile, const SceneLight& light, const SceneMotion& motion,
+uint8_t faces_seeing_motion(const ShadowTile& tile, const SceneLight& light, const ClientMotion& motion,
                             const MeshSpheres& spheres, uint32_t face_size);
 
 // The faces to re-render: every face of a moving light's map, else those that see a moving mesh now or held one.

@@ -1,4 +1,5 @@
-// What moves in a ClientScene (glTF node animations, DESIGN 5b) and where it is at a scene time. SceneMotion is
+// What moves in a ClientScene (glTF node animations, DESIGN 5b) and where it is at a scene time, per ClientMesh (the
+// client's draw list; scene/scene_motion.hpp's dhr::SceneMotion answers what moved between two times). ClientMotion is
 // fixed at load: per client mesh whether it moves and its rest bounds in its node's local frame, per light whether
 // it moves, and the animation to sample. MovedScene is one frame's sample (scene time): every moving mesh's
 // motion (rest world -> world, mesh_motion_at) and bounding sphere, and the lights (light_at). The raster passes
@@ -8,25 +9,17 @@
 #include <cstdint>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
-#include <limits>
 #include <span>
 #include <vector>
 
 #include "scene/scene.hpp"
+#include "scene/scene_motion.hpp"
 
 namespace dhr::render {
 
 struct ClientMesh;
 
-// An axis-aligned box (empty: min > max).
-struct Aabb {
-  glm::dvec3 min{std::numeric_limits<double>::max()};
-  glm::dvec3 max{std::numeric_limits<double>::lowest()};
-  bool empty() const { return min.x > max.x; }
-  void extend(const glm::dvec3& p);
-};
-
-// One frame's sample of the scene (SceneMotion::sample). Sized once; sampling again does not allocate.
+// One frame's sample of the scene (ClientMotion::sample). Sized once; sampling again does not allocate.
 struct MovedScene {
   double time_s = 0.0;
   bool sampled = false;                // false: never sampled (everything at rest)
@@ -36,11 +29,11 @@ struct MovedScene {
   std::vector<SceneLight> lights;      // the scene's lights at time_s
 };
 
-class SceneMotion {
+class ClientMotion {
  public:
-  SceneMotion() = default;
+  ClientMotion() = default;
   // `meshes`: the ClientScene's meshes (ClientMesh::source names their Scene mesh).
-  SceneMotion(const Scene& scene, std::span<const ClientMesh> meshes);
+  ClientMotion(const Scene& scene, std::span<const ClientMesh> meshes);
 
   bool animated() const { return !moving_meshes_.empty() || !moving_lights_.empty(); }
   bool mesh_moves(uint32_t mesh) const { return mesh_moves_[mesh] != 0; }
@@ -48,13 +41,13 @@ class SceneMotion {
   const std::vector<uint32_t>& moving_meshes() const { return moving_meshes_; }  // ClientMesh indices
   const std::vector<uint32_t>& moving_lights() const { return moving_lights_; }  // light indices
   // The mesh's rest positions' bounds in its node's local frame (inverse(SceneMesh::T_world_local) * rest world).
-  const Aabb& rest_local_bounds(uint32_t mesh) const { return rest_local_bounds_[mesh]; }
+  const WorldBox& rest_local_bounds(uint32_t mesh) const { return rest_local_bounds_[mesh]; }
   // World transform of the mesh's node at scene time t (rest: SceneMesh::T_world_local).
   glm::dmat4 node_world(uint32_t mesh, double t) const;
   // Rest world -> world at t (mesh_motion_at); identity for a static mesh.
   glm::dmat4 motion_at(uint32_t mesh, double t) const;
   // World bounds at t: the rest local box's corners through node_world (conservative for any affine motion).
-  Aabb world_bounds_at(uint32_t mesh, double t) const;
+  WorldBox world_bounds_at(uint32_t mesh, double t) const;
 
   // Samples every mesh and light at scene time t into `out` (static ones at rest); `meshes` as constructed.
   void sample(double t, std::span<const ClientMesh> meshes, MovedScene& out) const;
@@ -66,7 +59,7 @@ class SceneMotion {
   std::vector<uint8_t> light_moves_;
   std::vector<uint32_t> moving_meshes_;
   std::vector<uint32_t> moving_lights_;
-  std::vector<Aabb> rest_local_bounds_;
+  std::vector<WorldBox> rest_local_bounds_;
 };
 
 // Scene time of a FramePose (nanoseconds) in the seconds the animation functions take.

@@ -1,8 +1,9 @@
-#include "render/scene_motion.hpp"
+#include "render/client_motion.hpp"
 
 #include <algorithm>
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
+#include <limits>
 #include <stdexcept>
 
 #include "render/client_scene.hpp"
@@ -18,12 +19,7 @@ double max_scale(const glm::dmat4& m) {
 
 }  // namespace
 
-void Aabb::extend(const glm::dvec3& p) {
-  min = glm::min(min, p);
-  max = glm::max(max, p);
-}
-
-SceneMotion::SceneMotion(const Scene& scene, std::span<const ClientMesh> meshes) {
+ClientMotion::ClientMotion(const Scene& scene, std::span<const ClientMesh> meshes) {
   scene_.animation = scene.animation;
   scene_.lights = scene.lights;
   scene_.meshes.reserve(scene.meshes.size());
@@ -35,15 +31,19 @@ SceneMotion::SceneMotion(const Scene& scene, std::span<const ClientMesh> meshes)
   }
   for (uint32_t i = 0; i < meshes.size(); ++i) {
     const uint32_t source = meshes[i].source;
-    if (source >= scene.meshes.size()) throw std::invalid_argument("SceneMotion: a mesh without its scene mesh");
+    if (source >= scene.meshes.size()) throw std::invalid_argument("ClientMotion: a mesh without its scene mesh");
     const SceneMesh& m = scene.meshes[source];
     source_.push_back(source);
     const bool moves = scene.animation.find(m.node) != nullptr;
     mesh_moves_.push_back(moves ? 1 : 0);
     if (moves) moving_meshes_.push_back(i);
-    Aabb local;
+    WorldBox local{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
     const glm::dmat4 local_from_world = glm::inverse(m.T_world_local);
-    for (const glm::vec3& p : m.positions) local.extend(glm::dvec3(local_from_world * glm::dvec4(glm::dvec3(p), 1.0)));
+    for (const glm::vec3& p : m.positions) {
+      const glm::dvec3 q(local_from_world * glm::dvec4(glm::dvec3(p), 1.0));
+      local.min = glm::min(local.min, q);
+      local.max = glm::max(local.max, q);
+    }
     rest_local_bounds_.push_back(local);
   }
   for (uint32_t l = 0; l < scene.lights.size(); ++l) {
@@ -54,29 +54,20 @@ SceneMotion::SceneMotion(const Scene& scene, std::span<const ClientMesh> meshes)
   }
 }
 
-glm::dmat4 SceneMotion::node_world(uint32_t mesh, double t) const {
+glm::dmat4 ClientMotion::node_world(uint32_t mesh, double t) const {
   const SceneMesh& m = scene_.meshes[source_[mesh]];
   return mesh_moves(mesh) ? node_world_at(scene_, m.node, t) : m.T_world_local;
 }
 
-glm::dmat4 SceneMotion::motion_at(uint32_t mesh, double t) const {
+glm::dmat4 ClientMotion::motion_at(uint32_t mesh, double t) const {
   return mesh_moves(mesh) ? mesh_motion_at(scene_, scene_.meshes[source_[mesh]], t) : glm::dmat4(1.0);
 }
 
-Aabb SceneMotion::world_bounds_at(uint32_t mesh, double t) const {
-  const Aabb& local = rest_local_bounds_[mesh];
-  Aabb out;
-  if (local.empty()) return out;
-  const glm::dmat4 world = node_world(mesh, t);
-  for (int k = 0; k < 8; ++k) {
-    const glm::dvec3 corner((k & 1) ? local.max.x : local.min.x, (k & 2) ? local.max.y : local.min.y,
-                            (k & 4) ? local.max.z : local.min.z);
-    out.extend(glm::dvec3(world * glm::dvec4(corner, 1.0)));
-  }
-  return out;
+WorldBox ClientMotion::world_bounds_at(uint32_t mesh, double t) const {
+  return moved_box(rest_local_bounds_[mesh], node_world(mesh, t));
 }
 
-void SceneMotion::sample(double t, std::span<const ClientMesh> meshes, MovedScene& out) const {
+void ClientMotion::sample(double t, std::span<const ClientMesh> meshes, MovedScene& out) const {
   const size_t n = meshes.size();
   if (!out.sampled || out.motion.size() != n || out.lights.size() != scene_.lights.size()) {
     out.motion.assign(n, glm::dmat4(1.0));
