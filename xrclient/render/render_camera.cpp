@@ -9,17 +9,9 @@ Camera display_camera(const View& view, Extent extent) { return Camera::with_gua
 
 glm::dmat3 eye_to_world_rotation(const Camera& camera) { return glm::mat3_cast(camera.T_world_eye.orientation); }
 
-glm::dmat4 camera_relative_view_projection_double(const Camera& camera, double near_plane) {
+glm::dmat4 camera_relative_view_projection(const Camera& camera, double near_plane) {
   const glm::dmat4 eye_from_world_axes(glm::transpose(eye_to_world_rotation(camera)));
   return camera.projection(near_plane) * eye_from_world_axes;
-}
-
-glm::mat4 camera_relative_view_projection(const Camera& camera, double near_plane) {
-  return glm::mat4(camera_relative_view_projection_double(camera, near_plane));
-}
-
-glm::vec3 camera_relative_offset(const glm::dvec3& origin, const Camera& camera) {
-  return glm::vec3(origin - camera.T_world_eye.position);
 }
 
 glm::dvec3 eye_point_from_depth(const Camera& camera, double near_plane, double px, double py, double depth) {

@@ -26,12 +26,8 @@ inline constexpr double kWarpMinDepth = 1e-3;
 // The display camera: the view's FOV over `extent` pixels, no guard band.
 Camera display_camera(const View& view, Extent extent);
 
-// projection(near) * rotation-only view (the eye at the origin), in double and rounded to float.
-glm::dmat4 camera_relative_view_projection_double(const Camera& camera, double near_plane);
-glm::mat4 camera_relative_view_projection(const Camera& camera, double near_plane);
-
-// (origin - eye position), subtracted in double and rounded to float once.
-glm::vec3 camera_relative_offset(const glm::dvec3& origin, const Camera& camera);
+// projection(near) * rotation-only view (the eye at the origin), in double (MeshPush rounds it once).
+glm::dmat4 camera_relative_view_projection(const Camera& camera, double near_plane);
 
 // R_world_eye of the camera's pose (eye axes expressed in world axes).
 glm::dmat3 eye_to_world_rotation(const Camera& camera);

@@ -44,7 +44,7 @@ GBufferDrawStats record_scene_draws(VkCommandBuffer cmd, const ClientScene& scen
   if (!scene.indices()) return stats;
   scene.bind_geometry(cmd);
   ClientGBufferPush push{};
-  const MeshPush transform(camera_relative_view_projection_double(camera, near_plane), camera.T_world_eye.position);
+  const MeshPush transform(camera_relative_view_projection(camera, near_plane), camera.T_world_eye.position);
   VkPipeline bound = VK_NULL_HANDLE;
   for (uint32_t i = 0; i < scene.meshes().size(); ++i) {
     const ClientMesh& mesh = scene.meshes()[i];

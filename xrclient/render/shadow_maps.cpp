@@ -249,7 +249,7 @@ void ShadowMaps::draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   shader::ClientGBufferPush push{};
-  const MeshPush transform(camera_relative_view_projection_double(camera, settings_.near_plane), tile.position);
+  const MeshPush transform(camera_relative_view_projection(camera, settings_.near_plane), tile.position);
   const ClientScene& scene = *scene_;
   for (uint32_t i = 0; i < scene.meshes().size(); ++i) {
     const ClientMesh& mesh = scene.meshes()[i];
