@@ -31,11 +31,12 @@ EyeRenderer::EyeRenderer(const vk::Context& context, const Scene& scene, Extent 
       layout_(render::layout_for_lights(std::span(scene.lights).first(light_count_))) {}
 
 std::array<EyeRender, 2> EyeRenderer::render(const std::array<View, 2>& views,
-                                             const std::array<VisibilityInput, 2>& inputs) {
+                                             const std::array<VisibilityInput, 2>& inputs, int64_t scene_time_ns) {
   stereo_.set_warp_settings(render::WarpSettings{});
   client::StereoInputs frame;
   frame.views = views;
   frame.visibility = inputs;
+  frame.scene_time_ns = scene_time_ns;
   const auto start = std::chrono::steady_clock::now();
   context_->submit_and_wait([&](VkCommandBuffer cmd) { stereo_.record(cmd, 0, frame); });
   const double host_ms =

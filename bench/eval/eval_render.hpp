@@ -38,8 +38,10 @@ class EyeRenderer {
   // The pipelines have one GPU slot: every frame is submitted and waited for.
   EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye,
               const render::ShadowMapSettings& shadow_maps = {}, bool forward = false);
-  // Renders both eyes with the paper's warp of the given buffers (the exact ones: at identity) and reads them back.
-  std::array<EyeRender, 2> render(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs);
+  // Renders both eyes with the paper's warp of the given buffers (the exact ones: at identity) and reads them back;
+  // the scene as it is at scene_time_ns.
+  std::array<EyeRender, 2> render(const std::array<View, 2>& views, const std::array<VisibilityInput, 2>& inputs,
+                                  int64_t scene_time_ns);
   // What the last frame rendered with pipeline() wrote for `eye`: image and masks (stats and host_ms are left
   // for the caller, who submitted that frame).
   EyeRender read_back(uint32_t eye);

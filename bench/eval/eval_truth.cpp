@@ -92,8 +92,9 @@ Truth ground_truth(const TruthScene& scene, const TruthSampling& sampling, EyeRe
       buffers[eye] = level_masks(images[eye], scene.layout, step_light);
       inputs[eye].buffer = &buffers[eye];
       inputs[eye].traced = cameras[eye];
+      inputs[eye].scene_time_ns = pose.scene_time_ns;
     }
-    return renderer.render(views, inputs);  // the paper's warp at identity
+    return renderer.render(views, inputs, pose.scene_time_ns);  // the paper's warp at identity
   };
   std::array<EyeRender, 2> base = render(-1);
   std::array<RadianceSum, 2> sums{RadianceSum(base[0].rgba), RadianceSum(base[1].rgba)};

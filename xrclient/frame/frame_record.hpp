@@ -25,6 +25,7 @@ struct EyeFrameRecord {
 struct FrameRecord {
   uint64_t frame = 0;
   int64_t display_time_ns = 0;
+  int64_t scene_time_ns = 0;  // the scene time displayed (FramePose::scene_time_ns)
   bool pose_reused = false;  // the source's pose was invalid: the last valid one was shown
   std::array<EyeFrameRecord, 2> eyes{};
   // Response time of a visibility frame first used in this frame (pose sent -> visibility complete).

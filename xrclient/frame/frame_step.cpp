@@ -24,6 +24,7 @@ FrameRecord FrameStep::record(VkCommandBuffer cmd, uint32_t slot, const FrameInp
   FrameRecord record;
   record.frame = pose.frame;
   record.display_time_ns = pose.display_time_ns;
+  record.scene_time_ns = pose.scene_time_ns;
   record.pose_reused = input.pose_reused;
   record.response_ms = plan.response_ms;
   StereoInputs inputs;

@@ -19,16 +19,7 @@ double max_scale(const glm::dmat4& m) {
 
 }  // namespace
 
-ClientMotion::ClientMotion(const Scene& scene, std::span<const ClientMesh> meshes) {
-  scene_.animation = scene.animation;
-  scene_.lights = scene.lights;
-  scene_.meshes.reserve(scene.meshes.size());
-  for (const SceneMesh& m : scene.meshes) {
-    SceneMesh bare;
-    bare.node = m.node;
-    bare.T_world_local = m.T_world_local;
-    scene_.meshes.push_back(std::move(bare));
-  }
+ClientMotion::ClientMotion(const Scene& scene, std::span<const ClientMesh> meshes) : scene_motion_(scene) {
   for (uint32_t i = 0; i < meshes.size(); ++i) {
     const uint32_t source = meshes[i].source;
     if (source >= scene.meshes.size()) throw std::invalid_argument("ClientMotion: a mesh without its scene mesh");
@@ -55,12 +46,13 @@ ClientMotion::ClientMotion(const Scene& scene, std::span<const ClientMesh> meshe
 }
 
 glm::dmat4 ClientMotion::node_world(uint32_t mesh, double t) const {
-  const SceneMesh& m = scene_.meshes[source_[mesh]];
-  return mesh_moves(mesh) ? node_world_at(scene_, m.node, t) : m.T_world_local;
+  const SceneMesh& m = scene_motion_.scene().meshes[source_[mesh]];
+  return mesh_moves(mesh) ? node_world_at(scene_motion_.scene(), m.node, t) : m.T_world_local;
 }
 
 glm::dmat4 ClientMotion::motion_at(uint32_t mesh, double t) const {
-  return mesh_moves(mesh) ? mesh_motion_at(scene_, scene_.meshes[source_[mesh]], t) : glm::dmat4(1.0);
+  const Scene& scene = scene_motion_.scene();
+  return mesh_moves(mesh) ? mesh_motion_at(scene, scene.meshes[source_[mesh]], t) : glm::dmat4(1.0);
 }
 
 WorldBox ClientMotion::world_bounds_at(uint32_t mesh, double t) const {
@@ -69,7 +61,7 @@ WorldBox ClientMotion::world_bounds_at(uint32_t mesh, double t) const {
 
 void ClientMotion::sample(double t, std::span<const ClientMesh> meshes, MovedScene& out) const {
   const size_t n = meshes.size();
-  if (!out.sampled || out.motion.size() != n || out.lights.size() != scene_.lights.size()) {
+  if (!out.sampled || out.motion.size() != n || out.lights.size() != scene_motion_.scene().lights.size()) {
     out.motion.assign(n, glm::dmat4(1.0));
     out.centre.resize(n);
     out.radius.resize(n);
@@ -77,7 +69,7 @@ void ClientMotion::sample(double t, std::span<const ClientMesh> meshes, MovedSce
       out.centre[i] = meshes[i].origin;
       out.radius[i] = meshes[i].radius;
     }
-    out.lights = scene_.lights;
+    out.lights = scene_motion_.scene().lights;
   }
   out.time_s = t;
   out.sampled = true;
@@ -87,7 +79,7 @@ void ClientMotion::sample(double t, std::span<const ClientMesh> meshes, MovedSce
     out.centre[i] = glm::dvec3(m * glm::dvec4(meshes[i].origin, 1.0));
     out.radius[i] = meshes[i].radius * max_scale(m);
   }
-  for (uint32_t l : moving_lights_) out.lights[l] = light_at(scene_, scene_.lights[l], t);
+  for (uint32_t l : moving_lights_) out.lights[l] = light_at(scene_motion_.scene(), scene_motion_.scene().lights[l], t);
 }
 
 }  // namespace dhr::render

@@ -36,6 +36,8 @@ class ClientMotion {
   ClientMotion(const Scene& scene, std::span<const ClientMesh> meshes);
 
   bool animated() const { return !moving_meshes_.empty() || !moving_lights_.empty(); }
+  // What moved between two scene times (the warp's motion rule, warp_motion.hpp).
+  const SceneMotion& scene_motion() const { return scene_motion_; }
   bool mesh_moves(uint32_t mesh) const { return mesh_moves_[mesh] != 0; }
   bool light_moves(uint32_t light) const { return light_moves_[light] != 0; }
   const std::vector<uint32_t>& moving_meshes() const { return moving_meshes_; }  // ClientMesh indices
@@ -53,7 +55,7 @@ class ClientMotion {
   void sample(double t, std::span<const ClientMesh> meshes, MovedScene& out) const;
 
  private:
-  Scene scene_;  // the animation, the lights, and each mesh's node and T_world_local (no vertices)
+  SceneMotion scene_motion_;  // what moved between two times; its scene(): the animation, lights, nodes (no vertices)
   std::vector<uint32_t> source_;  // per ClientMesh: index into scene_.meshes
   std::vector<uint8_t> mesh_moves_;
   std::vector<uint8_t> light_moves_;

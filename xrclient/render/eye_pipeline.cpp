@@ -1,11 +1,14 @@
 #include "render/eye_pipeline.hpp"
 
+#include <algorithm>
+#include <glm/geometric.hpp>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 
 #include "render/client_scene.hpp"
 #include "render/client_motion.hpp"
+#include "render/light_layout.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
 
@@ -153,6 +156,29 @@ vk::Image* EyePipeline::traced_depth(const Camera& traced) {
   return nullptr;
 }
 
+const shader::ClientWarpMotion* EyePipeline::warp_motion(const Camera& display, std::span<const SceneLight> lights,
+                                                         const VisibilityInput& visibility,
+                                                         const WarpSourceInput& other, const VisibilityInput* older,
+                                                         const MovedScene* moved) {
+  const ClientMotion& motion = scene_->motion();
+  if (!options_.warp.motion || moved == nullptr || !moved->sampled || !motion.animated()) return nullptr;
+  const auto time_of = [](const VisibilityInput* in) -> std::optional<double> {
+    if (in == nullptr || in->buffer == nullptr) return std::nullopt;
+    return scene_seconds(in->scene_time_ns);
+  };
+  WarpMotionInput in;
+  in.motion = &motion.scene_motion();
+  in.display_time = moved->time_s;
+  in.source_times = {time_of(&visibility), time_of(other.visibility), time_of(older)};
+  in.lights = lights;
+  in.layout = layout_for_lights(lights.first(std::min<size_t>(lights.size(), kMaxLights)));
+  in.eye = display.T_world_eye.position;
+  // Past every surface: twice the scene's diagonal (moving meshes stay near their rest bounds).
+  in.far_distance = 2.0 * glm::length(glm::dvec3(scene_->bounds().size())) + 1.0;
+  make_warp_motion(in, motion_boxes_, warp_motion_);
+  return &warp_motion_;
+}
+
 void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& view,
                          const VisibilityInput& visibility, const WarpSourceInput& other,
                          const ShadowMaps* shadow_maps, const VisibilityInput* older, const MovedScene* moved) {
@@ -162,6 +188,8 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
   const double near_plane = options_.near_plane;
   const std::span<const SceneLight> lights =
       moved != nullptr && moved->sampled ? std::span<const SceneLight>(moved->lights) : scene_->lights();
+
+  const shader::ClientWarpMotion* motion = warp_motion(camera, lights, visibility, other, older, moved);
 
   slot.timestamps.reset(cmd);
   slot.timestamps.write(cmd, kStart);
@@ -175,6 +203,7 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
     frame.shadow_maps = shadow_maps;
     frame.lights = lights;
     frame.moved = moved;
+    frame.motion = motion;
     frame.shading = options_.shading;
     const bool edges = options_.warp.is_server_edges();
     if (edges && options_.warp.depth_test && visibility.buffer != nullptr) {
@@ -212,6 +241,7 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
   frame.shadow_maps = shadow_maps;
   frame.lights = lights;
   frame.settings = options_.warp;
+  frame.motion = motion;
   slot.visibility_used = warp_pass_.record(cmd, slot_index, frame, warp_) && visibility.buffer != nullptr;
   slot.timestamps.write(cmd, kAfterWarp);
   shading_pass_.record(cmd, slot_index, gbuffer_, warp_, camera, near_plane, lights,

@@ -24,6 +24,7 @@
 #include "math/projection.hpp"
 #include "render/forward_pass.hpp"
 #include "render/gbuffer_pass.hpp"
+#include "render/warp_motion.hpp"
 #include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "render/shading_pass.hpp"
@@ -109,6 +110,8 @@ class EyePipeline {
   // Afterwards
   // output() is in GENERAL layout with its writes visible to later transfers and shaders (the frame sink
   // copies it from there).
+  // With WarpSettings::motion and a moving scene, each source's bits that something moved since its scene time
+  // (VisibilityInput::scene_time_ns) may have changed are unknown (warp_motion.hpp).
   void record(VkCommandBuffer cmd, uint32_t slot, const View& view, const VisibilityInput& visibility,
               const WarpSourceInput& other = {}, const ShadowMaps* shadow_maps = nullptr,
               const VisibilityInput* older = nullptr, const MovedScene* moved = nullptr);
@@ -132,6 +135,10 @@ class EyePipeline {
   WarpTargets& warp() { return warp_; }
 
  private:
+  // The motion rule's parameters for this frame's sources, or null (rule off, or nothing moves).
+  const shader::ClientWarpMotion* warp_motion(const Camera& display, std::span<const SceneLight> lights,
+                                              const VisibilityInput& visibility, const WarpSourceInput& other,
+                                              const VisibilityInput* older, const MovedScene* moved);
   struct Slot {
     vk::TimestampQueries timestamps;
     vk::TimestampQueries prepare_timestamps;
@@ -163,6 +170,9 @@ class EyePipeline {
   WarpTargets warp_;
   vk::Image output_;
   std::vector<Slot> slots_;
+  // The warp's motion rule for the frame being recorded (copied into the slot's parameters while recording).
+  shader::ClientWarpMotion warp_motion_{};
+  std::vector<WorldBox> motion_boxes_;
 };
 
 }  // namespace dhr::render

@@ -28,6 +28,7 @@ void PngSink::after_submit(uint64_t frame, const EyeImages& eyes) {
   // The coordinator calls after_submit right after submitting this frame: its views and plan are this frame's.
   const FrameRecord& record = coordinator_->last_submitted();
   shown.frame = frame;
+  shown.scene_time_ns = record.scene_time_ns;
   shown.eye_size = coordinator_->eye_extent();
   if (const std::optional<VisibilityFormat> format = coordinator_->visibility_format()) {
     shown.traced = format->traced;

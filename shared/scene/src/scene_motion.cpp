@@ -15,7 +15,16 @@ bool same_light(const SceneLight& a, const SceneLight& b) {
 
 }  // namespace
 
-SceneMotion::SceneMotion(const Scene& scene) : scene_(&scene) {
+SceneMotion::SceneMotion(const Scene& scene) {
+  scene_.animation = scene.animation;
+  scene_.lights = scene.lights;
+  scene_.meshes.reserve(scene.meshes.size());
+  for (const SceneMesh& m : scene.meshes) {
+    SceneMesh bare;
+    bare.node = m.node;
+    bare.T_world_local = m.T_world_local;
+    scene_.meshes.push_back(std::move(bare));
+  }
   if (scene.animation.empty()) return;
   for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) {
     const SceneMesh& mesh = scene.meshes[m];
@@ -39,9 +48,9 @@ SceneMotion::SceneMotion(const Scene& scene) : scene_(&scene) {
 void SceneMotion::moved_boxes(double t0, double t1, std::vector<WorldBox>& out) const {
   out.clear();
   for (const MovingMesh& m : meshes_) {
-    const SceneMesh& mesh = scene_->meshes[m.mesh];
-    const glm::dmat4 a = mesh_motion_at(*scene_, mesh, t0);
-    const glm::dmat4 b = mesh_motion_at(*scene_, mesh, t1);
+    const SceneMesh& mesh = scene_.meshes[m.mesh];
+    const glm::dmat4 a = mesh_motion_at(scene_, mesh, t0);
+    const glm::dmat4 b = mesh_motion_at(scene_, mesh, t1);
     if (a == b) continue;
     out.push_back(moved_box(m.rest, a));
     out.push_back(moved_box(m.rest, b));
@@ -52,8 +61,8 @@ std::uint32_t SceneMotion::moved_lights(double t0, double t1) const {
   std::uint32_t moved = 0;
   for (std::uint32_t l = 0; l < 32; ++l) {
     if ((moving_lights_ >> l & 1u) == 0) continue;
-    const SceneLight& light = scene_->lights[l];
-    if (!same_light(light_at(*scene_, light, t0), light_at(*scene_, light, t1))) moved |= 1u << l;
+    const SceneLight& light = scene_.lights[l];
+    if (!same_light(light_at(scene_, light, t0), light_at(scene_, light, t1))) moved |= 1u << l;
   }
   return moved;
 }

@@ -21,19 +21,13 @@ std::string describe_animations(const Scene& scene) {
 }
 
 std::optional<Scene> load_session_scene(const std::string& path, std::string_view lights_spec,
-                                        std::string* out_error, SessionSide side) {
+                                        std::string* out_error) {
   SceneLoadResult loaded = load_scene(path);
   if (!loaded) {
     *out_error = loaded.error.empty() ? path + ": cannot load the scene" : one_line(loaded.error);
     return std::nullopt;
   }
   Scene scene = std::move(*loaded.scene);
-  if (!scene.animation.empty() && side == SessionSide::kClient) {
-    // The server traces the scene at each frame's scene time (DESIGN 5b); this client draws it at rest.
-    scene.warnings.push_back(describe_animations(scene) +
-                             " loaded but not drawn by the client: it shows the scene at its rest pose (the server "
-                             "traces the animations on the scene clock)");
-  }
   if (scene.triangle_count == 0) {
     *out_error = path + ": the scene has no triangles";
     return std::nullopt;

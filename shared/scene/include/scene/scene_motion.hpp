@@ -22,8 +22,12 @@ struct WorldBox {
 class SceneMotion {
  public:
   SceneMotion() = default;
-  // Keeps a reference to `scene` (it must outlive this); indexes its moving meshes (their rest boxes) and lights.
+  // Indexes the scene's moving meshes (their rest boxes) and lights, and keeps what sampling needs: the animation,
+  // the lights and each mesh's node and T_world_local (no vertices).
   explicit SceneMotion(const Scene& scene);
+
+  // The scene without vertices: node_world_at, mesh_motion_at and light_at work on it as on the full scene.
+  const Scene& scene() const { return scene_; }
 
   // The scene has a mesh or a light on a moving node.
   bool moves() const { return !meshes_.empty() || moving_lights_ != 0; }
@@ -42,7 +46,7 @@ class SceneMotion {
     std::uint32_t mesh = 0;
     WorldBox rest;  // of its rest world positions
   };
-  const Scene* scene_ = nullptr;
+  Scene scene_;
   std::vector<MovingMesh> meshes_;
   std::uint32_t moving_lights_ = 0;
 };
