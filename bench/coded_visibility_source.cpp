@@ -31,6 +31,7 @@ std::optional<client::VisibilityFormat> CodedVisibilitySource::format() const {
 void CodedVisibilitySource::send_pose(const FramePose& pose) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = thread_cpu_ms();
+  if (tracer_->moves()) tracer_->set_scene_time(static_cast<double>(pose.scene_time_ns) * 1e-9);
   for (uint32_t e = 0; e < 2; ++e) {
     EyeState& eye = eyes_[e];
     eye.deliverable = std::move(eye.sent);
@@ -48,6 +49,7 @@ void CodedVisibilitySource::send_pose(const FramePose& pose) {
     Coded coded;
     coded.frame_number = pose.frame;
     coded.view = pose.views[e];
+    coded.scene_time_ns = pose.scene_time_ns;
     if (!encode_visibility_v2(buffer, pose.frame, inter ? &reference : nullptr, EncodeOptions{}, coded.shards)) {
       throw std::runtime_error("codec v2 could not code frame " + std::to_string(pose.frame));
     }
@@ -90,6 +92,7 @@ bool CodedVisibilitySource::take_newest(uint32_t e, VisibilityFrame& out) {
   frame.frame_number = coded.frame_number;
   frame.eye = e == 0 ? Eye::kLeft : Eye::kRight;
   frame.view = coded.view;
+  frame.scene_time_ns = coded.scene_time_ns;
   frame.row_valid.assign(size.height, 1);
   frame.rows_valid = size.height;
   frame.complete = true;

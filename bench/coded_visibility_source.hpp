@@ -4,7 +4,8 @@
 // frame, as the server codes against an acknowledged one; the frame loop takes it one frame later (p = 1), when
 // it is decoded with the client's decoder (decode_shard_payload_v2, shard by shard, against the eye's previous
 // decoded frame, as the reassembler does). Tracing and encoding are not the client's work and are not timed;
-// decoding is (decode_ms()).
+// decoding is (decode_ms()). A moving scene is traced at each pose's scene time, which the frame names, as a
+// server without prediction does: shown one frame later, its bits are one frame old (the warp's motion rule).
 #pragma once
 #include "codec/codec.hpp"
 #include "frame/visibility_source.hpp"
@@ -44,6 +45,7 @@ class CodedVisibilitySource final : public client::VisibilitySource {
   struct Coded {
     uint64_t frame_number = 0;
     View view;
+    int64_t scene_time_ns = 0;
     std::vector<EncodedShard> shards;
   };
   struct EyeState {

@@ -22,7 +22,7 @@ TEST(SceneMotion, AStaticSceneNeverMoves) {
   EXPECT_EQ(motion.moved_lights(0.0, 1.0), 0u);
 }
 
-TEST(SceneMotion, TheMovedMeshGivesItsBoxAtBothTimesAndHoldsEveryVertex) {
+TEST(SceneMotion, TheMovedNodeGivesOneBoxHoldingItsMeshesAtBothTimes) {
   const Scene s = test::animated_scene();
   const SceneMotion motion(s);
   EXPECT_TRUE(motion.moves());
@@ -31,17 +31,36 @@ TEST(SceneMotion, TheMovedMeshGivesItsBoxAtBothTimesAndHoldsEveryVertex) {
   std::vector<WorldBox> boxes;
   const double t0 = 0.25, t1 = 0.7;
   motion.moved_boxes(t0, t1, boxes);
-  ASSERT_EQ(boxes.size(), 2u);
-  const double times[2] = {t0, t1};
-  for (int i = 0; i < 2; ++i) {
-    const Scene at = scene_at(s, times[i]);
+  ASSERT_EQ(boxes.size(), 1u);
+  for (const double t : {t0, t1}) {
+    const Scene at = scene_at(s, t);
     for (const glm::vec3& p : at.meshes[1].positions) {
-      EXPECT_TRUE(box_contains(grown(boxes[i], 1e-6), glm::dvec3(p))) << "time " << times[i];
+      EXPECT_TRUE(box_contains(grown(boxes[0], 1e-6), glm::dvec3(p))) << "time " << t;
     }
   }
   // The static triangle is in neither box (it is 2 m away along z).
   EXPECT_FALSE(box_contains(boxes[0], glm::dvec3(0.2, 0.2, 0.0)));
   EXPECT_EQ(motion.moved_lights(t0, t1), 1u);
+}
+
+TEST(SceneMotion, MeshesOfOneNodeShareItsBox) {
+  Scene s = test::animated_scene();
+  SceneMesh second = s.meshes[1];
+  for (glm::vec3& p : second.positions) p += glm::vec3(0.0f, 3.0f, 0.0f);  // 3 m above, on the same node
+  s.meshes.push_back(second);
+  const SceneMotion motion(s);
+  EXPECT_EQ(motion.moving_meshes(), 2u);
+  std::vector<WorldBox> boxes;
+  motion.moved_boxes(0.1, 0.2, boxes);
+  ASSERT_EQ(boxes.size(), 1u);
+  for (const std::size_t m : {std::size_t{1}, std::size_t{2}}) {
+    for (const double t : {0.1, 0.2}) {
+      const Scene at = scene_at(s, t);
+      for (const glm::vec3& p : at.meshes[m].positions) {
+        EXPECT_TRUE(box_contains(grown(boxes[0], 1e-6), glm::dvec3(p))) << "mesh " << m << " time " << t;
+      }
+    }
+  }
 }
 
 TEST(SceneMotion, NothingMovedAtTheSameTimeOrAFullLoopLater) {

@@ -39,6 +39,14 @@ SceneMotion::SceneMotion(const Scene& scene) {
     }
     meshes_.push_back(moving);
   }
+  std::stable_sort(meshes_.begin(), meshes_.end(), [&](const MovingMesh& a, const MovingMesh& b) {
+    return scene.meshes[a.mesh].node < scene.meshes[b.mesh].node;
+  });
+  for (std::uint32_t i = 0; i < meshes_.size(); ++i) {
+    const std::uint32_t node = scene.meshes[meshes_[i].mesh].node;
+    if (nodes_.empty() || nodes_.back().node != node) nodes_.push_back(MovingNode{node, i, i});
+    nodes_.back().end = i + 1;
+  }
   for (std::size_t l = 0; l < std::min<std::size_t>(scene.lights.size(), 32); ++l) {
     const std::uint32_t node = scene.lights[l].node;
     if (node != kNoSceneNode && scene.animation.find(node) != nullptr) moving_lights_ |= 1u << l;
@@ -47,13 +55,18 @@ SceneMotion::SceneMotion(const Scene& scene) {
 
 void SceneMotion::moved_boxes(double t0, double t1, std::vector<WorldBox>& out) const {
   out.clear();
-  for (const MovingMesh& m : meshes_) {
-    const SceneMesh& mesh = scene_.meshes[m.mesh];
-    const glm::dmat4 a = mesh_motion_at(scene_, mesh, t0);
-    const glm::dmat4 b = mesh_motion_at(scene_, mesh, t1);
-    if (a == b) continue;
-    out.push_back(moved_box(m.rest, a));
-    out.push_back(moved_box(m.rest, b));
+  for (const MovingNode& n : nodes_) {
+    if (node_world_at(scene_, n.node, t0) == node_world_at(scene_, n.node, t1)) continue;
+    WorldBox box{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
+    for (std::uint32_t i = n.first; i < n.end; ++i) {
+      const SceneMesh& mesh = scene_.meshes[meshes_[i].mesh];
+      for (const double t : {t0, t1}) {
+        const WorldBox at = moved_box(meshes_[i].rest, mesh_motion_at(scene_, mesh, t));
+        box.min = glm::min(box.min, at.min);
+        box.max = glm::max(box.max, at.max);
+      }
+    }
+    out.push_back(box);
   }
 }
 

@@ -1,8 +1,9 @@
 // What moved between two scene times, as the client's warp needs it (DESIGN 5b: visibility traced at one scene time
 // is trusted at another only where nothing that could change it moved). Visibility at t1 can differ from that at t0
-// only through geometry present at t0 or at t1: a moving mesh whose pose differs between them contributes its world
-// box at t0 and its world box at t1 (where it was is not where it is; the path between does not matter), and a light
-// whose placement differs moved. The boxes bound the rest vertices moved by mesh_motion_at, so they hold every
+// only through geometry present at t0 or at t1 (where it was, where it is; the path between does not matter): a
+// moving node whose pose differs between them contributes one world box holding its meshes at both times, and a
+// light whose placement differs moved. One box per node, not two per mesh: the warp tests every pixel against each
+// box, and a frame's motion is small beside the box. The boxes bound the rest vertices moved by mesh_motion_at, so they hold every
 // moved vertex. Pure CPU, double; the warp's shader and its CPU reference test points and shadow segments against
 // them (segment_hits_box).
 #pragma once
@@ -35,8 +36,8 @@ class SceneMotion {
   // Bit l (l < 32): light l is on a moving node.
   std::uint32_t moving_lights() const { return moving_lights_; }
 
-  // The boxes of the meshes whose pose differs between t0 and t1: for each, its world box at t0 and at t1 (two
-  // entries). Clears `out` first; keeps its storage.
+  // One box per moving node whose pose differs between t0 and t1: around its meshes at t0 and at t1. Clears `out`
+  // first; keeps its storage.
   void moved_boxes(double t0, double t1, std::vector<WorldBox>& out) const;
   // Bit l: light l (of the first 32) is placed differently at t0 and t1 (position, direction or orientation).
   std::uint32_t moved_lights(double t0, double t1) const;
@@ -46,6 +47,13 @@ class SceneMotion {
     std::uint32_t mesh = 0;
     WorldBox rest;  // of its rest world positions
   };
+  // meshes_ is sorted by node: a node's meshes are meshes_[first, end).
+  struct MovingNode {
+    std::uint32_t node = 0;
+    std::uint32_t first = 0;
+    std::uint32_t end = 0;
+  };
+  std::vector<MovingNode> nodes_;
   Scene scene_;
   std::vector<MovingMesh> meshes_;
   std::uint32_t moving_lights_ = 0;
