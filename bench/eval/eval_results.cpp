@@ -50,6 +50,7 @@ SettingResult summarize(const Setting& setting, const SettingTotals& t, uint64_t
   r.disoccluded_frac = mean(t.disoccluded, t.eye_frames);
   r.edges_shadow_map_frac = mean(t.edges_shadow_map, t.eye_frames);
   r.shadow_overrides_frac = mean(t.shadow_overrides, t.eye_frames);
+  r.motion_unknown_frac = mean(t.motion_unknown, t.eye_frames);
   r.traced_depth_ms = mean(t.traced_depth_ms, t.eye_frames);
   r.warp_ms = mean(t.warp_ms, t.eye_frames);
   r.client_ms = mean(t.client_ms, t.eye_frames);
@@ -112,6 +113,7 @@ std::string results_json(const std::vector<SettingResult>& results) {
     w.value("disoccluded_frac", r.disoccluded_frac, 8);
     w.value("edges_shadow_map_frac", r.edges_shadow_map_frac, 8);
     w.value("shadow_overrides_frac", r.shadow_overrides_frac, 8);
+    w.value("motion_unknown_frac", r.motion_unknown_frac, 8);
     w.value("traced_depth_ms", r.traced_depth_ms, 4);
     w.value("warp_ms", r.warp_ms, 4);
     w.value("client_ms", r.client_ms, 4);

@@ -37,6 +37,7 @@ struct SettingResult {
   double disoccluded_frac = 0.0;
   double edges_shadow_map_frac = 0.0;
   double shadow_overrides_frac = 0.0;
+  double motion_unknown_frac = 0.0;  // pixels with bits motion since the traced scene time made unknown
   double traced_depth_ms = 0.0;  // per eye-frame: GPU time of the traced camera's depth (0 when timestamps are off)
   double warp_ms = 0.0;          // per eye-frame: GPU time of the warp pass
   double client_ms = 0.0;     // per eye

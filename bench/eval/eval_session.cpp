@@ -311,6 +311,7 @@ void SettingSession::measure(const Truth& truth) {
     totals_.filled_neighbour += static_cast<double>(rendered.stats.warp.filled_neighbour) / pixels_per_eye();
     totals_.edges_shadow_map += static_cast<double>(rendered.stats.warp.edges_shadow_map) / pixels_per_eye();
     totals_.shadow_overrides += static_cast<double>(rendered.stats.warp.shadow_overrides) / pixels_per_eye();
+    totals_.motion_unknown += static_cast<double>(rendered.stats.warp.motion_unknown) / pixels_per_eye();
     totals_.unfilled += static_cast<double>(rendered.stats.warp.unfilled()) / pixels_per_eye();
     totals_.disoccluded +=
         static_cast<double>(rendered.stats.warp[render::WarpStatus::kDisoccluded]) / pixels_per_eye();

@@ -53,6 +53,7 @@ struct SettingTotals {
   double filled_neighbour = 0.0;  // the nearest old pixel on the pixel's tangent plane
   double edges_shadow_map = 0.0;  // known pixels whose undecided bits took the shadow maps
   double shadow_overrides = 0.0;  // known pixels where a confident shadow-map bit replaced an agreed one
+  double motion_unknown = 0.0;    // pixels with bits motion made unknown (the warp's motion rule)
   double unfilled = 0.0;          // shaded lit
   double disoccluded = 0.0;       // the depth test's share (part of unknown_frac)
   double traced_depth_ms = 0.0;   // GPU time of the traced cameras' depth (full's depth test)

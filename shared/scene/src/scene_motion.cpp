@@ -101,39 +101,45 @@ bool box_contains(const WorldBox& box, const glm::dvec3& p) {
          p.z <= box.max.z;
 }
 
-bool segment_hits_box(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box) {
-  double lo = 0.0, hi = 1.0;
+namespace {
+
+// The slab test of the segment a -> b against a box: the parameter interval [lo, hi] inside every slab the segment
+// crosses, and for the axes it runs parallel to whether it lies outside their slab and how far from its faces.
+struct Slabs {
+  double lo = 0.0;
+  double hi = 1.0;
+  bool parallel_outside = false;
+  double parallel_gap = std::numeric_limits<double>::infinity();
+};
+
+Slabs slabs(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box) {
+  Slabs s;
   const glm::dvec3 d = b - a;
   for (int i = 0; i < 3; ++i) {
     if (std::abs(d[i]) < 1e-300) {
-      if (a[i] < box.min[i] || a[i] > box.max[i]) return false;
+      s.parallel_outside = s.parallel_outside || a[i] < box.min[i] || a[i] > box.max[i];
+      s.parallel_gap = std::min({s.parallel_gap, std::abs(a[i] - box.min[i]), std::abs(box.max[i] - a[i])});
       continue;
     }
     double t0 = (box.min[i] - a[i]) / d[i];
     double t1 = (box.max[i] - a[i]) / d[i];
     if (t0 > t1) std::swap(t0, t1);
-    lo = std::max(lo, t0);
-    hi = std::min(hi, t1);
-    if (lo > hi) return false;
+    s.lo = std::max(s.lo, t0);
+    s.hi = std::min(s.hi, t1);
   }
-  return true;
+  return s;
+}
+
+}  // namespace
+
+bool segment_hits_box(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box) {
+  const Slabs s = slabs(a, b, box);
+  return !s.parallel_outside && s.lo <= s.hi;
 }
 
 double segment_box_gap(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box) {
-  double lo = 0.0, hi = 1.0, parallel = std::numeric_limits<double>::infinity();
-  const glm::dvec3 d = b - a;
-  for (int i = 0; i < 3; ++i) {
-    if (std::abs(d[i]) < 1e-300) {
-      parallel = std::min({parallel, std::abs(a[i] - box.min[i]), std::abs(box.max[i] - a[i])});
-      continue;
-    }
-    double t0 = (box.min[i] - a[i]) / d[i];
-    double t1 = (box.max[i] - a[i]) / d[i];
-    if (t0 > t1) std::swap(t0, t1);
-    lo = std::max(lo, t0);
-    hi = std::min(hi, t1);
-  }
-  return std::min(parallel, std::abs(hi - lo) * glm::length(d));
+  const Slabs s = slabs(a, b, box);
+  return std::min(s.parallel_gap, std::abs(s.hi - s.lo) * glm::length(b - a));
 }
 
 }  // namespace dhr
