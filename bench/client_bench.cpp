@@ -97,6 +97,7 @@ struct Options {
   uint32_t frames = 30;
   uint32_t warmup = 5;
   bool skip_full = false;
+  uint32_t scene_lag = 0;  // frames of scene motion between a buffer's traced scene time and its display
   std::vector<uint32_t> depth_scales{client::shipped::kDepthScale};  // --warp edges-depth at these (dhr_edges_depthN_ms)
 };
 
@@ -234,14 +235,17 @@ int run(const Options& o) {
   out["device"] = context->info().name;
   out["scene_moves"] = gpu_scene.motion().animated();
   out["frames"] = o.frames;
+  out["scene_lag"] = o.scene_lag;
 
   // The frame loops first: the shipped client, then `--warp full` and `--warp edges`.
   std::vector<Config> configs;
   std::vector<std::unique_ptr<ClientLoop>> loops;
   const auto add_loop = [&](const char* name, const client::CoordinatorOptions& options) {
     const TracedFormat format{*size, client::shipped::guard_band(*size)};
+    // Visibility is shown one frame after its pose: traced for the scene time it is shown at, unless --scene-lag.
+    const int64_t lead_ns = (1 - static_cast<int64_t>(o.scene_lag)) * frame_time_ns(1);
     loops.push_back(std::make_unique<ClientLoop>(name, *context, gpu_scene, *size, tracer, format, options, *head,
-                                                 view.fov, o.warmup + o.frames));
+                                                 view.fov, o.warmup + o.frames, lead_ns));
     ClientLoop* loop = loops.back().get();
     configs.push_back(Config{std::string(name) + "_ms", [loop, &o](uint32_t i) { return loop->run(i, o.warmup); }, {}});
   };
@@ -424,6 +428,11 @@ int main(int argc, char** argv) {
       ->check(dhr::cli::FiniteRange(1u, 100000u));
   app.add_option("--warmup", o.warmup, "unmeasured frames first")->capture_default_str();
   app.add_flag("--skip-full", o.skip_full, "do not measure --warp full (dhr_full_ms)");
+  app.add_option("--scene-lag", o.scene_lag,
+                 "a moving scene: frames between the scene time visibility is traced for and the one it is shown at "
+                 "(0: a server that predicted the display exactly; 1: one frame of motion for the warp's motion rule)")
+      ->check(CLI::Range(0u, 1u))
+      ->capture_default_str();
   app.add_option("--depth-scales", o.depth_scales,
                  "also measure --warp edges-depth with the traced depth at each of these scales (dhr_edges_depthN_ms)")
       ->capture_default_str()

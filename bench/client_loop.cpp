@@ -42,8 +42,8 @@ client::CoordinatorOptions shipped_options() {
 
 ClientLoop::ClientLoop(std::string name, const vk::Context& context, const render::ClientScene& scene, Extent size,
            server::VisibilityTracer& tracer, const TracedFormat& format, const client::CoordinatorOptions& options,
-           const Pose& head, const Fov& fov, uint32_t total)
-    : name_(std::move(name)), context_(context), warp_(options.eye.warp), source_(tracer, format),
+           const Pose& head, const Fov& fov, uint32_t total, int64_t scene_lead_ns)
+    : name_(std::move(name)), context_(context), warp_(options.eye.warp), source_(tracer, format, scene_lead_ns),
       coordinator_(context, scene, size, source_, options), head_(head), fov_(fov), total_(total) {
   coordinator_.set_on_frame([this](const client::FrameRecord& r) { last_ = r; });
 }

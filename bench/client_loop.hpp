@@ -36,7 +36,7 @@ class ClientLoop {
  public:
   ClientLoop(std::string name, const vk::Context& context, const render::ClientScene& scene, Extent size,
              server::VisibilityTracer& tracer, const TracedFormat& format, const client::CoordinatorOptions& options,
-             const Pose& head, const Fov& fov, uint32_t total);
+             const Pose& head, const Fov& fov, uint32_t total, int64_t scene_lead_ns = 0);
 
   const std::string& name() const { return name_; }
   // Frame i: returns each eye's GPU ms; keeps the host times of frames from `first_kept` on. Throws when the frame

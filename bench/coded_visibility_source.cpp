@@ -18,11 +18,13 @@ double thread_cpu_ms() {
   return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
 }
 
-CodedVisibilitySource::CodedVisibilitySource(server::VisibilityTracer& tracer, const TracedFormat& format)
+CodedVisibilitySource::CodedVisibilitySource(server::VisibilityTracer& tracer, const TracedFormat& format,
+                                             int64_t scene_lead_ns)
     : tracer_(&tracer),
       format_(format),
       light_count_(tracer.light_count()),
-      layout_(server::layout_for_lights(tracer.light_extents(), tracer.light_count())) {}
+      layout_(server::layout_for_lights(tracer.light_extents(), tracer.light_count())),
+      scene_lead_ns_(scene_lead_ns) {}
 
 std::optional<client::VisibilityFormat> CodedVisibilitySource::format() const {
   return client::VisibilityFormat{format_, light_count_, 0};
@@ -31,7 +33,8 @@ std::optional<client::VisibilityFormat> CodedVisibilitySource::format() const {
 void CodedVisibilitySource::send_pose(const FramePose& pose) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = thread_cpu_ms();
-  if (tracer_->moves()) tracer_->set_scene_time(static_cast<double>(pose.scene_time_ns) * 1e-9);
+  const int64_t scene_time_ns = pose.scene_time_ns + scene_lead_ns_;
+  if (tracer_->moves()) tracer_->set_scene_time(static_cast<double>(scene_time_ns) * 1e-9);
   for (uint32_t e = 0; e < 2; ++e) {
     EyeState& eye = eyes_[e];
     eye.deliverable = std::move(eye.sent);
@@ -49,7 +52,7 @@ void CodedVisibilitySource::send_pose(const FramePose& pose) {
     Coded coded;
     coded.frame_number = pose.frame;
     coded.view = pose.views[e];
-    coded.scene_time_ns = pose.scene_time_ns;
+    coded.scene_time_ns = scene_time_ns;
     if (!encode_visibility_v2(buffer, pose.frame, inter ? &reference : nullptr, EncodeOptions{}, coded.shards)) {
       throw std::runtime_error("codec v2 could not code frame " + std::to_string(pose.frame));
     }

@@ -4,8 +4,10 @@
 // frame, as the server codes against an acknowledged one; the frame loop takes it one frame later (p = 1), when
 // it is decoded with the client's decoder (decode_shard_payload_v2, shard by shard, against the eye's previous
 // decoded frame, as the reassembler does). Tracing and encoding are not the client's work and are not timed;
-// decoding is (decode_ms()). A moving scene is traced at each pose's scene time, which the frame names, as a
-// server without prediction does: shown one frame later, its bits are one frame old (the warp's motion rule).
+// decoding is (decode_ms()). A moving scene is traced at each pose's scene time plus `scene_lead_ns`, which the
+// frame names: shown one frame later, a lead of one frame period is a server that predicted the display exactly
+// (nothing moved since), a lead of 0 one that traced the pose's own time (the warp's motion rule sees one frame
+// of motion).
 #pragma once
 #include "codec/codec.hpp"
 #include "frame/visibility_source.hpp"
@@ -22,7 +24,7 @@ namespace dhr::bench {
 class CodedVisibilitySource final : public client::VisibilitySource {
  public:
   // Keeps a reference to the tracer.
-  CodedVisibilitySource(server::VisibilityTracer& tracer, const TracedFormat& format);
+  CodedVisibilitySource(server::VisibilityTracer& tracer, const TracedFormat& format, int64_t scene_lead_ns = 0);
 
   void tick() override {}
   std::optional<client::VisibilityFormat> format() const override;
@@ -61,6 +63,7 @@ class CodedVisibilitySource final : public client::VisibilitySource {
   TracedFormat format_;
   uint32_t light_count_;
   VisibilityLayout layout_;  // the scene's, soft levels included: what a client offering them receives
+  int64_t scene_lead_ns_ = 0;
   std::array<EyeState, 2> eyes_;
   client::VisibilitySourceStats stats_;
   std::vector<double> decode_ms_;

@@ -49,6 +49,8 @@ layout(location = 2) out uint out_mask;
 #include "client/shadow_lookup.h"
 #include "client/paper_warp.h"
 #include "client/bilinear_warp.h"
+#define DHR_MOTION_BUFFER_SET 1
+#define DHR_MOTION_BUFFER_BINDING kClientForwardBindingMoved
 #include "client/motion_rule.h"
 #include "client/shade.h"
 
@@ -152,14 +154,14 @@ void main() {
     }
     const bool known = status == kClientStatusKnown;
     // Motion (warp.comp's rule): bits something moved since the traced scene time may have changed.
-    const uint moved = known && (pc.flags & kClientWarpMotion) != 0u ? motion_unknown_bits(0u, p) : 0u;
+    const uint moved_bits = known && (pc.flags & kClientWarpMotion) != 0u ? motion_unknown_bits(0u, p) : 0u;
     mask = value;
-    if (!known || (undecided | moved) != 0u) {  // the cost this mode saves: most pixels skip the shadow maps
+    if (!known || (undecided | moved_bits) != 0u) {  // the cost this mode saves: most pixels skip the shadow maps
       const uint shadow = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent).mask;
-      const uint from_shadow = undecided | moved;
+      const uint from_shadow = undecided | moved_bits;
       mask = known ? (value & ~from_shadow) | (shadow & from_shadow) : shadow;
       status |= !known ? kClientForwardStatusShadowFill : undecided != 0u ? kClientForwardStatusShadowEdge : 0u;
-      if (moved != 0u) status |= kClientForwardStatusMotion;
+      if (moved_bits != 0u) status |= kClientForwardStatusMotion;
     }
   } else if (shading.mode == kClientForwardShadowMaps) {
     radiance = shade_local(p, n, albedo, (pc.near_plane / d) * pc.pixel_tangent, mask);

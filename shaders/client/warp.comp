@@ -45,6 +45,8 @@ layout(set = 0, binding = kClientWarpBindingShadowMap) uniform sampler2D shadow_
 #include "client/shadow_lookup.h"
 #include "client/paper_warp.h"
 #include "client/bilinear_warp.h"
+#define DHR_MOTION_BUFFER_SET 0
+#define DHR_MOTION_BUFFER_BINDING kClientWarpBindingMoved
 #include "client/motion_rule.h"
 
 // Source s is dynamically uniform: these selections do not diverge.
@@ -269,10 +271,10 @@ void main() {
       const vec3 p = (pc.near_plane / d) *
                      (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
       // Motion: the chosen source's bits that something moved since its scene time may have changed.
-      const uint moved = have && (pc.flags & kClientWarpMotion) != 0u ? motion_unknown_bits(chosen_source, p) : 0u;
+      const uint moved_bits = have && (pc.flags & kClientWarpMotion) != 0u ? motion_unknown_bits(chosen_source, p) : 0u;
       const uint shadow_settings = kClientWarpShadowFill | kClientWarpShadowEdges | kClientWarpShadowFirst;
-      const uint to_shadow = (pc.flags & shadow_settings) != 0u ? moved : 0u;
-      motion_unknown = moved != 0u;
+      const uint to_shadow = (pc.flags & shadow_settings) != 0u ? moved_bits : 0u;
+      motion_unknown = moved_bits != 0u;
       const uint undecided = have ? ~chosen.agree & pc.unknown_mask : 0u;
       const bool need_shadow = have ? (first && !chosen.exact) || ((pc.flags & kClientWarpShadowEdges) != 0u && undecided != 0u) ||
                                           to_shadow != 0u

@@ -80,6 +80,7 @@ ForwardTargets ForwardTargets::create(const vk::Context& context, Extent extent,
 ForwardPass::Slot::Slot(const vk::Context& context)
     : source(context),
       params(context, sizeof(ClientWarpParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
+      moved(context, sizeof(ClientWarpMotion), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
       shadow_lights(context, kMaxLights * sizeof(ClientShadowLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
       lights(context, kMaxLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
       shading(context, sizeof(ClientForwardShading), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
@@ -93,7 +94,7 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
   materials_ = MaterialSets(device, scene);
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  const std::array<std::pair<uint32_t, VkDescriptorType>, 8> frame_bindings = {{
+  const std::array<std::pair<uint32_t, VkDescriptorType>, 9> frame_bindings = {{
       {kClientForwardBindingParams, kStorage},
       {kClientForwardBindingVisibility0, kStorage},
       {kClientForwardBindingRowValid0, kStorage},
@@ -102,6 +103,7 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
       {kClientForwardBindingLights, kStorage},
       {kClientForwardBindingShading, kStorage},
       {kClientForwardBindingTracedDepth0, kSampled},
+      {kClientForwardBindingMoved, kStorage},
   }};
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   for (const auto& [binding, type] : frame_bindings) {
@@ -196,10 +198,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
       params.source[0].flags |= kClientSourceHasDepth;
       params.source[0].depth_scale = test.depth_scale;
     }
-    if (mode == ForwardMode::kServerEdges && frame.motion != nullptr) {
-      params.motion = *frame.motion;
-      params.flags |= kClientWarpMotion;
-    }
+    if (mode == ForwardMode::kServerEdges && frame.motion != nullptr) params.flags |= kClientWarpMotion;
   }
   const vk::Image* atlas = &placeholder_atlas_;
   if (shadowed) {
@@ -217,6 +216,8 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   params.light_count = static_cast<uint32_t>(packed.size());
   params.soft_lights = soft_light_mask(layout_for_lights(frame.lights));  // the fields the bilinear vote blends
   slot.params.write(&params, sizeof(params));
+  const ClientWarpMotion no_motion{};
+  slot.moved.write((params.flags & kClientWarpMotion) != 0u ? frame.motion : &no_motion, sizeof(ClientWarpMotion));
   ClientForwardShading shading{};
   shading.exposure = frame.shading.exposure;
   shading.mode = static_cast<uint32_t>(mode);
@@ -237,6 +238,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
                               slot.shadow_lights.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingLights, kStorage, slot.lights.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingShading, kStorage, slot.shading.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingMoved, kStorage, slot.moved.handle());
   vk::write_image_descriptor(device, slot.set, kClientForwardBindingTracedDepth0,
                              VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, traced_depth->view(),
                              VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, sampler_.get());

@@ -117,6 +117,7 @@ class ForwardPass {
   struct Slot {
     WarpSourceBuffers source;
     vk::Buffer params;         // ClientWarpParams
+    vk::Buffer moved;          // ClientWarpMotion
     vk::Buffer shadow_lights;  // ClientShadowLight[kMaxLights]
     vk::Buffer lights;         // PackedLight[kMaxLights]
     vk::Buffer shading;        // ClientForwardShading

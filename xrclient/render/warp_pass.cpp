@@ -55,7 +55,7 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-  const std::array<ComputeBinding, 19> bindings = {{
+  const std::array<ComputeBinding, 20> bindings = {{
       {kClientWarpBindingDepth, kSampled},
       {kClientWarpBindingVisibility0, kStorage},
       {kClientWarpBindingRowValid0, kStorage},
@@ -75,6 +75,7 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
       {kClientWarpBindingVisibility2, kStorage},
       {kClientWarpBindingRowValid2, kStorage},
       {kClientWarpBindingOldDepth2, kSampled},
+      {kClientWarpBindingMoved, kStorage},
   }};
   // The shader reads everything from the parameter buffer; the push range carries nothing it uses.
   core_ = ComputePassCore::create(device, bindings, 4, "warp.comp", slots);
@@ -82,6 +83,7 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
   for (Slot& s : slots_) {
     for (uint32_t i = 0; i < kClientWarpSourceCount; ++i) s.sources.emplace_back(context);
     s.params = vk::Buffer(context, sizeof(ClientWarpParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    s.moved = vk::Buffer(context, sizeof(ClientWarpMotion), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.shadow_lights = vk::Buffer(context, kMaxLights * sizeof(ClientShadowLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.lights = vk::Buffer(context, kMaxLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.counters = vk::Buffer(context, 4, kCounterUsage, kHost);
@@ -146,7 +148,6 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
                  (settings.motion ? kClientWarpMotion : 0u);
   params.plane_tolerance_rel = static_cast<float>(settings.plane_tolerance_rel);
   params.plane_tolerance_abs = static_cast<float>(settings.plane_tolerance_abs);
-  if (settings.motion && frame.motion != nullptr) params.motion = *frame.motion;
   std::array<vk::Image*, kClientWarpSourceCount> old_depth{&placeholder_depth_, &placeholder_depth_,
                                                            &placeholder_depth_};
   for (size_t s = 0; s < usable.size(); ++s) {
@@ -185,6 +186,10 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     atlas = &maps.atlas();
   }
   slot.params.write(&params, sizeof(params));
+  // The motion rule's data (kClientWarpMotion); disabled (all zero) without it.
+  const ClientWarpMotion no_motion{};
+  const ClientWarpMotion& moved = settings.motion && frame.motion != nullptr ? *frame.motion : no_motion;
+  slot.moved.write(&moved, sizeof(moved));
 
   const VkDevice device = context_->device();
   const VkSampler sampler = core_.sampler.get();
@@ -210,6 +215,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingVisibility2, kStorage,
                               slot.sources[2].visibility.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingRowValid2, kStorage, slot.sources[2].rows.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingMoved, kStorage, slot.moved.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingParams, kStorage, slot.params.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingShadowLights, kStorage,
                               slot.shadow_lights.handle());

@@ -94,6 +94,7 @@ class WarpPass {
   struct Slot {
     std::vector<WarpSourceBuffers> sources;  // kClientWarpSourceCount
     vk::Buffer params;         // ClientWarpParams
+    vk::Buffer moved;          // ClientWarpMotion
     vk::Buffer shadow_lights;  // ClientShadowLight[32]
     vk::Buffer lights;         // PackedLight[32]
     vk::Buffer counters;       // host-visible packed per-bucket counts, grown on demand

@@ -199,6 +199,7 @@ DHR_CONST uint kClientWarpBindingLights = 15;      // storage buffer PackedLight
 DHR_CONST uint kClientWarpBindingVisibility2 = 16;  // source 2 (this eye's previous buffer)
 DHR_CONST uint kClientWarpBindingRowValid2 = 17;
 DHR_CONST uint kClientWarpBindingOldDepth2 = 18;
+DHR_CONST uint kClientWarpBindingMoved = 19;       // storage buffer ClientWarpMotion (kClientWarpMotion)
 DHR_CONST uint kClientWarpSourceCount = 3u;
 
 // Per-pixel outcome for source 0; every status but kKnown means this eye's buffer gave no mask.
@@ -288,7 +289,10 @@ struct ClientWarpSource {
 // times, relative to the display eye (world axes). A surface point inside a box (grown by receiver_margin) may lie
 // on a moving surface: every bit unknown. Else a light's bits are unknown when the segment from the point towards
 // the light meets a box grown by the light's growth (its extent: every shadow ray to it passes within that of the
-// centre's). Unknown bits take the shadow maps as undecided ones do.
+// centre's). Unknown bits take the shadow maps as undecided ones do. Its own buffer (kClientWarpBindingMoved,
+// kClientForwardBindingMoved), not a part of ClientWarpParams: the shader helpers take ClientWarpParams by value,
+// and a 2.8 KB struct made every shadow lookup slower (client_bench, living_room_moving, 1832x1920, one frame of
+// motion: dhr_ms 657 ms with it inside, 435 with a 0.3 KB stand-in).
 DHR_CONST uint kClientMaxMotionBoxes = 16u;
 struct ClientMotionSource {
   uint moved_bits;  // fields of the lights that moved
@@ -344,7 +348,6 @@ struct ClientWarpParams {
   uint unknown_mask;     // mask for unfilled pixels: all light bits
   uint flags;            // kClientWarp*
   uint soft_lights;      // bit i: light i has a soft field (visibility_field.h); the bilinear vote blends its levels
-  ClientWarpMotion motion;
 };
 
 // A light as the warp's shadow lookup sees it: position relative to the display eye (world axes) and the
@@ -431,7 +434,8 @@ DHR_CONST uint kClientForwardBindingShadowMap = 3;     // sampler2D: shadow map 
 DHR_CONST uint kClientForwardBindingShadowLights = 4;  // storage buffer ClientShadowLight[]
 DHR_CONST uint kClientForwardBindingLights = 5;        // storage buffer PackedLight[] (display-eye-relative)
 DHR_CONST uint kClientForwardBindingShading = 6;       // storage buffer ClientForwardShading
-DHR_CONST uint kClientForwardBindingTracedDepth0 = 7;  // sampler2D: source 0's traced depth (kServerEdges, depth test)
+DHR_CONST uint kClientForwardBindingTracedDepth0 = 7;
+DHR_CONST uint kClientForwardBindingMoved = 8;         // storage buffer ClientWarpMotion (kServerEdges, motion rule)  // sampler2D: source 0's traced depth (kServerEdges, depth test)
 DHR_CONST uint kClientForwardLambert = 0u;     // every light bit set: Lambert without shadows
 DHR_CONST uint kClientForwardShadowMaps = 1u;  // the mask of the client's shadow maps (shadow_lookup.h)
 DHR_CONST uint kClientForwardPaperWarp = 2u;   // the paper's warp of source 0 (paper_warp.h); writes the status
@@ -465,8 +469,7 @@ static_assert(sizeof(ClientMotionSource) == 16 + 2 * 4 * 48, "ClientMotionSource
 static_assert(sizeof(ClientMotionLight) == 32, "ClientMotionLight must match the std430 array stride");
 static_assert(sizeof(ClientWarpMotion) == 3 * sizeof(ClientMotionSource) + 32 * 32 + 16,
               "ClientWarpMotion must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 30 + sizeof(ClientWarpMotion),
-              "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 30, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 84, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
