@@ -290,10 +290,8 @@ struct ClientWarpSource {
 // on a moving surface: every bit unknown. Else a light's bits are unknown when the segment from the point towards
 // the light meets a box grown by the light's growth (its extent: every shadow ray to it passes within that of the
 // centre's). Unknown bits take the shadow maps as undecided ones do. Its own buffer (kClientWarpBindingMoved,
-// kClientForwardBindingMoved), apart from ClientWarpParams, which the shader helpers take by value. Measured on
-// client_bench (living_room_moving, 1832x1920, one frame of motion), one run each: dhr_ms 657 ms with it inside
-// ClientWarpParams, 675 in its own buffer, 435 with a 0.3 KB stand-in (2 boxes, 4 lights): the arrays' size costs,
-// its place does not; why is not understood (docs/motion.md).
+// kClientForwardBindingMoved), apart from ClientWarpParams, which the shader helpers take by value (its place did
+// not change the cost measured in docs/motion.md: the per-pixel box tests are the cost).
 DHR_CONST uint kClientMaxMotionBoxes = 16u;
 struct ClientMotionSource {
   uint moved_bits;  // fields of the lights that moved
