@@ -63,6 +63,53 @@ TEST(SceneMotion, MeshesOfOneNodeShareItsBox) {
   }
 }
 
+TEST(SceneMotion, OverlappingBoxesOfTwoNodesAreMerged) {
+  Scene s = test::animated_scene();
+  // A second moving node (2) with a triangle 0.5 m beside the first one's: their boxes overlap; a third (3) far away.
+  for (const std::uint32_t node : {2u, 3u}) {
+    SceneMesh m = s.meshes[1];
+    m.node = node;
+    const glm::vec3 offset = node == 2 ? glm::vec3(0.5f, 0.0f, 0.0f) : glm::vec3(0.0f, 50.0f, 0.0f);
+    for (glm::vec3& p : m.positions) p += offset;
+    m.T_world_local = glm::translate(m.T_world_local, glm::dvec3(offset));
+    s.meshes.push_back(m);
+    AnimatedNode n = s.animation.nodes[0];
+    n.node = node;
+    n.translation += glm::dvec3(offset);
+    n.rest_local = glm::translate(glm::dmat4(1.0), n.translation);
+    n.rest_world = n.rest_local;
+    n.first_track = static_cast<std::uint32_t>(s.animation.tracks.size());
+    for (std::uint32_t k = 0; k < 2; ++k) {
+      AnimationTrack t = s.animation.tracks[k];
+      t.node = node;
+      if (t.path == AnimationPath::kTranslation) {
+        for (std::size_t v = 0; v < t.values.size(); v += 3) {
+          t.values[v] += offset.x;
+          t.values[v + 1] += offset.y;
+        }
+      }
+      s.animation.tracks.push_back(t);
+    }
+    s.animation.nodes.push_back(n);
+    s.animation.moving_nodes.push_back(node);
+  }
+  const SceneMotion motion(s);
+  std::vector<WorldBox> boxes;
+  motion.moved_boxes(0.1, 0.2, boxes);
+  ASSERT_EQ(boxes.size(), 2u);  // nodes 1 and 2 merged, node 3 alone
+  for (const double t : {0.1, 0.2}) {
+    const Scene at = scene_at(s, t);
+    for (std::size_t m = 1; m < at.meshes.size(); ++m) {
+      for (const glm::vec3& p : at.meshes[m].positions) {
+        EXPECT_TRUE(box_contains(grown(boxes[0], 1e-6), glm::dvec3(p)) || box_contains(grown(boxes[1], 1e-6), glm::dvec3(p)))
+            << "mesh " << m << " time " << t;
+      }
+    }
+  }
+  EXPECT_TRUE(boxes_overlap(WorldBox{glm::dvec3(0.0), glm::dvec3(1.0)}, WorldBox{glm::dvec3(1.0), glm::dvec3(2.0)}));
+  EXPECT_FALSE(boxes_overlap(WorldBox{glm::dvec3(0.0), glm::dvec3(1.0)}, WorldBox{glm::dvec3(1.1), glm::dvec3(2.0)}));
+}
+
 TEST(SceneMotion, NothingMovedAtTheSameTimeOrAFullLoopLater) {
   const Scene s = test::animated_scene();
   const SceneMotion motion(s);

@@ -36,8 +36,8 @@ class SceneMotion {
   // Bit l (l < 32): light l is on a moving node.
   std::uint32_t moving_lights() const { return moving_lights_; }
 
-  // One box per moving node whose pose differs between t0 and t1: around its meshes at t0 and at t1. Clears `out`
-  // first; keeps its storage.
+  // One box per moving node whose pose differs between t0 and t1: around its meshes at t0 and at t1; boxes that
+  // overlap are merged into their union. Clears `out` first; keeps its storage.
   void moved_boxes(double t0, double t1, std::vector<WorldBox>& out) const;
   // Bit l: light l (of the first 32) is placed differently at t0 and t1 (position, direction or orientation).
   std::uint32_t moved_lights(double t0, double t1) const;
@@ -64,6 +64,8 @@ WorldBox moved_box(const WorldBox& box, const glm::dmat4& motion);
 // `box` grown by `margin` on every side.
 WorldBox grown(const WorldBox& box, double margin);
 bool box_contains(const WorldBox& box, const glm::dvec3& p);
+// The boxes share a point (faces touching count).
+bool boxes_overlap(const WorldBox& a, const WorldBox& b);
 // The segment from a to b meets the box (slab test; a segment inside counts).
 bool segment_hits_box(const glm::dvec3& a, const glm::dvec3& b, const WorldBox& box);
 // How far the slab test of segment_hits_box is from flipping, in metres along the segment: the gap between the
