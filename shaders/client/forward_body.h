@@ -157,8 +157,10 @@ void main() {
     const uint moved_bits = known && (pc.flags & kClientWarpMotion) != 0u ? motion_unknown_bits(0u, p) : 0u;
     mask = value;
     if (!known || (undecided | moved_bits) != 0u) {  // the cost this mode saves: most pixels skip the shadow maps
-      const uint shadow = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent).mask;
       const uint from_shadow = undecided | moved_bits;
+      // A known pixel takes only these bits from the maps: only their lights are looked up.
+      const uint shadow = shadow_lookup_fields(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent,
+                                               known ? from_shadow : 0xFFFFFFFFu).mask;
       mask = known ? (value & ~from_shadow) | (shadow & from_shadow) : shadow;
       status |= !known ? kClientForwardStatusShadowFill : undecided != 0u ? kClientForwardStatusShadowEdge : 0u;
       if (moved_bits != 0u) status |= kClientForwardStatusMotion;

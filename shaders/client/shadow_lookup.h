@@ -88,16 +88,19 @@ ShadowLight shadow_light_lookup(ClientWarpParams params, sampler2D atlas, Client
   return r;
 }
 
-// The mask over every light, each in its field (ClientShadowLight::mask_offset, mask_bits): a hard light's bit,
-// a soft light's level (Gray-coded); `confident` has all bits of a light's field set where the maps are
-// confident of it (or the light cannot contribute).
-ShadowLookup shadow_lookup(ClientWarpParams params, sampler2D atlas, vec3 p, vec3 n, float pixel_world) {
+// The mask of the lights whose field meets `wanted`, each in its field (ClientShadowLight::mask_offset, mask_bits):
+// a hard light's bit, a soft light's level (Gray-coded); `confident` has all bits of a light's field set where the
+// maps are confident of it (or the light cannot contribute). The other lights' fields are 0 and not looked up (the
+// caller takes only `wanted` bits from the maps).
+ShadowLookup shadow_lookup_fields(ClientWarpParams params, sampler2D atlas, vec3 p, vec3 n, float pixel_world,
+                                  uint wanted) {
   ShadowLookup r;
   r.mask = 0u;
   r.confident = 0u;
   for (uint i = 0u; i < params.light_count; ++i) {
     const ClientShadowLight sl = shadow_lights[i];
     const uint field = ((1u << sl.mask_bits) - 1u) << sl.mask_offset;
+    if ((field & wanted) == 0u) continue;
     vec3 l;
     float dist;
     if (light_test(lights[i], p, n, l, dist) != kLightContributes) {
@@ -109,6 +112,11 @@ ShadowLookup shadow_lookup(ClientWarpParams params, sampler2D atlas, vec3 p, vec
     if (s.confident) r.confident |= field;
   }
   return r;
+}
+
+// Every light's field (shadow_lookup_fields of all bits).
+ShadowLookup shadow_lookup(ClientWarpParams params, sampler2D atlas, vec3 p, vec3 n, float pixel_world) {
+  return shadow_lookup_fields(params, atlas, p, n, pixel_world, 0xFFFFFFFFu);
 }
 
 #endif  // DHR_SHADOW_LOOKUP_H

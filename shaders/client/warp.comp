@@ -283,7 +283,11 @@ void main() {
       shadow.mask = 0u;
       shadow.confident = 0u;
       if (need_shadow) {
-        shadow = shadow_lookup(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent);
+        // Without shadow-first a known pixel takes only its undecided and motion bits from the maps: only their
+        // lights are looked up.
+        const uint wanted = have && !first ? ((pc.flags & kClientWarpShadowEdges) != 0u ? undecided : 0u) | to_shadow
+                                           : 0xFFFFFFFFu;
+        shadow = shadow_lookup_fields(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent, wanted);
       }
       if (have) {
         // Bits the samples agree on keep their value unless the shadow maps are confident (shadow-first);
