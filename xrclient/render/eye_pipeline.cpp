@@ -169,9 +169,14 @@ const shader::ClientWarpMotion* EyePipeline::warp_motion(const Camera& display, 
   WarpMotionInput in;
   in.motion = &motion.scene_motion();
   in.display_time = moved->time_s;
-  in.source_times = {time_of(&visibility), time_of(other.visibility), time_of(older)};
+  // The forward pass reads source 0 only: the others' motion is not sampled.
+  const bool forward = uses_forward();
+  in.source_times = {time_of(&visibility), forward ? std::nullopt : time_of(other.visibility),
+                     forward ? std::nullopt : time_of(older)};
   in.lights = lights;
-  in.layout = layout_for_lights(lights.first(std::min<size_t>(lights.size(), kMaxLights)));
+  // Moving lights keep their extents: the rest lights' layout is the layout at any time (made once).
+  if (!motion_layout_) motion_layout_ = layout_for_lights(lights.first(std::min<size_t>(lights.size(), kMaxLights)));
+  in.layout = *motion_layout_;
   in.eye = display.T_world_eye.position;
   // Past every surface: twice the scene's diagonal (moving meshes stay near their rest bounds).
   in.far_distance = 2.0 * glm::length(glm::dvec3(scene_->bounds().size())) + 1.0;

@@ -173,6 +173,7 @@ class EyePipeline {
   // The warp's motion rule for the frame being recorded (copied into the slot's parameters while recording).
   shader::ClientWarpMotion warp_motion_{};
   std::vector<WorldBox> motion_boxes_;
+  std::optional<VisibilityLayout> motion_layout_;  // the lights' fields for the motion rule
 };
 
 }  // namespace dhr::render
