@@ -4,7 +4,8 @@
 Reads the client's JSON summary (docs/client.md) and, when there, the lines `dhr-eval compare` printed
 (docs/evaluation.md, "Comparing saved frames"). Prints nothing on stdout.
 
-Usage: demo_summary.py --client FILE [--compare FILE] --out DIR [--server ADDR] [--frames-dir DIR]
+Usage: demo_summary.py --client FILE [--compare FILE] --out DIR [--server ADDR] [--frames-dir DIR] [--scene FILE]
+                       [--start NAME] [--video FILE]
 """
 import argparse
 import json
@@ -50,6 +51,24 @@ def pct(fraction):
     return f"{value:.3f} %" if 0 < value < 0.1 else f"{value:.2f} %"
 
 
+# The headset's rate the demo aims for (Monado's null compositor paces at 90 Hz).
+TARGET_FPS = 85.0
+
+
+def below_target(s):
+    """Why the run stayed below TARGET_FPS, from the client's own per-eye GPU time, or None."""
+    fps = s.get("fps", 0.0)
+    if s.get("mode") != "openxr" or fps >= TARGET_FPS:
+        return None
+    eye_ms = s.get("eye_gpu_ms_median") or 0.0
+    cores = os.cpu_count() or 1
+    because = (f"the client's passes took {eye_ms:.1f} ms per eye (median) on the Vulkan device it used"
+               if eye_ms > 0 else "the client's frames took longer than the headset's period")
+    return (f"Rate:     {fps:.1f} fps, below the headset's {TARGET_FPS:g}: {because}, two eyes a frame, with "
+            f"dhr-server and Monado on the same {cores} cores; on lavapipe (CPU) the scene's geometry bounds it "
+            f"(--render-scale 0.5 or the default room run faster; a GPU headset renders this at its full rate)")
+
+
 def describe_run(s, server):
     lines = []
     size = "x".join(str(n) for n in s.get("eye_size", []))
@@ -61,6 +80,9 @@ def describe_run(s, server):
     else:
         where = f"offscreen, {s.get('pose_source', 'a pose source')}, eyes {size}"
     lines.append(f"Headset:  {s.get('frames', 0)} frames at {s.get('fps', 0.0):.1f} fps, {where}; exit {s.get('exit')}")
+    reason = below_target(s)
+    if reason:
+        lines.append(reason)
     if server:
         lights = s.get("lights")
         extra = f", {lights} light{'s' if lights != 1 else ''}" if lights is not None else ""
@@ -80,6 +102,13 @@ def describe_run(s, server):
     return lines
 
 
+def frame_list(frames):
+    """'3, 6, 9' for a few frames, '3 to 90 (30 frames)' for many."""
+    if len(frames) <= 6:
+        return ", ".join(str(f) for f in frames)
+    return f"{frames[0]} to {frames[-1]} ({len(frames)} frames)"
+
+
 def describe_pictures(compared, out, frames_dir):
     lines = []
     done = [c for c in compared if "differing_frac" in c]
@@ -91,7 +120,7 @@ def describe_pictures(compared, out, frames_dir):
         if with_data:
             worst = max(c["differing_frac"] for c in with_data)
             mean = sum(c["differing_frac"] for c in with_data) / len(with_data)
-            frames = ", ".join(str(c["frame"]) for c in with_data)
+            frames = frame_list([c["frame"] for c in with_data])
             lines.append(f"Accuracy: shown vs exact shading for the same pose: {pct(mean)} of pixels differ "
                          f"(mean of frames {frames}; worst {pct(worst)})")
         for c in without:
@@ -102,9 +131,9 @@ def describe_pictures(compared, out, frames_dir):
         lines.append(f"          {os.path.basename(newest['eyes_picture'])}  both eyes as shown (frame {newest['frame']})")
         lines.append(f"          {os.path.basename(newest['comparison_picture'])}  shown, exact and where they differ "
                      f"(red: shown lit but in shadow; blue: the reverse)")
-        others = [str(c["frame"]) for c in done if c is not newest]
+        others = [c["frame"] for c in done if c is not newest]
         if others:
-            lines.append(f"          the same for frame{'s' if len(others) > 1 else ''} {', '.join(others)}")
+            lines.append(f"          the same for frame{'s' if len(others) > 1 else ''} {frame_list(others)}")
     for c in failed:
         lines.append(f"Pictures: frame {c['frame']} could not be compared: {c['error']}")
     for c in skipped:
@@ -123,6 +152,9 @@ def main():
     parser.add_argument("--out", required=True, help="the demo's output directory")
     parser.add_argument("--server", help="the server's address")
     parser.add_argument("--frames-dir", help="where the client saved its PNGs")
+    parser.add_argument("--scene", help="the scene shown")
+    parser.add_argument("--start", help="the camera bookmark the head started at")
+    parser.add_argument("--video", help="the video scripts/demo made")
     args = parser.parse_args()
 
     summary = last_json_line(args.client)
@@ -130,10 +162,16 @@ def main():
     if summary is None:
         lines.append(f"The client printed no summary (its log: {os.path.join(args.out, 'client.log')}).")
     else:
+        if args.scene:
+            start = f", the head starting at bookmark '{args.start}'" if args.start else ""
+            lines.append(f"Scene:    {args.scene}{start}")
         lines += describe_run(summary, args.server)
     if args.compare:
         compared = [c for c in json_lines(args.compare) if "frame" in c]
         lines += describe_pictures(compared, args.out, args.frames_dir)
+    if args.video:
+        strips = sum(1 for f in os.listdir(args.out) if f.startswith("strip_") and f.endswith(".png"))
+        lines.append(f"Video:    {args.video}  left eye as shown | exact | difference, {strips} saved frames at 15 fps")
     lines.append(f"Logs:     {args.out} (server.log, client.log, compare.log)")
     lines.append("The client's JSON summary (docs/client.md) is the last line on stdout.")
     print("\n".join("  " + l if i > 1 else l for i, l in enumerate(lines)), file=sys.stderr)

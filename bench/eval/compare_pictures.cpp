@@ -119,4 +119,25 @@ RgbImage comparison_picture(const std::array<RgbImage, 2>& shown, const std::arr
   return canvas.image();
 }
 
+RgbImage strip_picture(const RgbImage& shown, const RgbImage& exact, const EyeDifference& difference, const TextFace* face,
+                       const std::string& caption) {
+  const uint32_t s = picture_scale(shown.width);
+  const int w = static_cast<int>(shown.width * s), h = static_cast<int>(shown.height * s);
+  const int label_h = face != nullptr ? line_height(kLabelPixels) : 0;
+  const std::array<std::string, 3> labels{"shown (warped)", "exact (ray-traced for this pose)",
+                                          "difference: red too lit, blue too dark"};
+  // Even sizes: video encoders want them.
+  const int width = (2 * kMargin + 3 * w + 2 * kGap + 1) / 2 * 2;
+  const int height = (2 * kMargin + 2 * label_h + h + 1) / 2 * 2;
+  Canvas canvas(static_cast<uint32_t>(width), static_cast<uint32_t>(height), kBackground);
+  text(canvas, face, kMargin, kMargin, caption, kLabelPixels, kText);
+  const std::array<const RgbImage*, 3> images{&shown, &exact, &difference.picture};
+  for (int i = 0; i < 3; ++i) {
+    const int x = kMargin + i * (w + kGap);
+    text(canvas, face, x, kMargin + label_h, labels[static_cast<size_t>(i)], kLabelPixels, kDimText);
+    canvas.blit(*images[static_cast<size_t>(i)], x, kMargin + 2 * label_h, s);
+  }
+  return canvas.image();
+}
+
 }  // namespace dhr::eval

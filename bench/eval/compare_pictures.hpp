@@ -46,4 +46,9 @@ RgbImage comparison_picture(const std::array<RgbImage, 2>& shown, const std::arr
                             const std::array<EyeDifference, 2>& difference, const TextFace* face,
                             const ComparisonText& text);
 
+// One eye in a row: shown | exact | difference, each labelled, with a caption above (a video frame: scripts/demo
+// makes its video of these). face may be null.
+RgbImage strip_picture(const RgbImage& shown, const RgbImage& exact, const EyeDifference& difference, const TextFace* face,
+                       const std::string& caption);
+
 }  // namespace dhr::eval

@@ -165,6 +165,12 @@ class Comparer {
                        ", right " +
                        percent(static_cast<double>(diff[1].differing()) / static_cast<double>(diff[1].pixels)) + ")";
     write(compare_path, comparison_picture(shown, exact, diff, face_.get(), words));
+    const std::string strip_path = (fs::path(options_.out_dir) / frame_name("strip", f.frame)).string();
+    write(strip_path, strip_picture(shown[0], exact[0], diff[0], face_.get(),
+                                    "Frame " + std::to_string(f.frame) + ", left eye: " + visibility_words(f) + "; " +
+                                        percent(static_cast<double>(diff[0].differing()) /
+                                                static_cast<double>(diff[0].pixels)) +
+                                        " of pixels differ from the exact shading"));
 
     Json line{{"frame", f.frame},
               {"eye_size", {f.eye_size.width, f.eye_size.height}},
@@ -174,7 +180,8 @@ class Comparer {
               {"eyes", std::move(eyes)},
               {"exact_ms", exact_ms},
               {"eyes_picture", eyes_path},
-              {"comparison_picture", compare_path}};
+              {"comparison_picture", compare_path},
+              {"strip_picture", strip_path}};
     return line;
   }
 

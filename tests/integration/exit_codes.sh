@@ -54,7 +54,15 @@ if [ -n "$client" ]; then
   expect 2 "dhr-xrclient missing trace" "$client" --scene "$scene" --server 127.0.0.1:9 --trace "$missing" \
     --offscreen "$tmp/frames" --png-every 0
   expect 2 "dhr-xrclient unreadable key file" "$client" --scene "$scene" --server 127.0.0.1:9 --key-file "$missing" "${play[@]}"
+  expect 2 "dhr-xrclient --start-at offscreen" "$client" --scene "$scene" --server 127.0.0.1:9 --start-at bookmark "${play[@]}"
 fi
+# The project's scripts that take options: --help 0, an unknown option 2 (nothing is built or installed then).
+for s in scripts/container scripts/gpu-bundle scripts/gpu-run scripts/setup; do
+  expect 0 "$s --help" "$src/$s" --help
+  expect 2 "$s unknown option" "$src/$s" --no-such-option
+done
+expect 2 "scripts/gpu-run missing bundle" "$src/scripts/gpu-run" --bundle "$missing" --out "$tmp/gpu"
+expect 2 "dhr-install-key unreadable key" "$src/deploy/container/dhr-install-key" "$missing" "$tmp/key"
 if ev="$(exe bench/eval/dhr-eval)"; then
   expect 2 "dhr-eval run bad scene" "$ev" run --scene "$bad_scene" --trace "$trace" --out "$tmp/eval" --no-progress
   expect 2 "dhr-eval run missing trace" "$ev" run --scene "$scene" --trace "$missing" --out "$tmp/eval" --no-progress

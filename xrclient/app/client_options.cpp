@@ -118,6 +118,10 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "per axis (1: full resolution)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 16u));
+  app.add_option("--start-at", out.start_at,
+                 "OpenXR: start the head here (the world space offset by poseInReferenceSpace, heading only): "
+                 "bookmark (the scene's first camera bookmark), bookmark:N (its N-th or the one named N) or "
+                 "x,y,z:tx,ty,tz");
   app.add_option("--render-scale", out.render_scale,
                  "OpenXR: render (and have the server trace) each eye at this fraction of the runtime's eye size per "
                  "axis; the compositor scales the image up (the projection layer's imageRect)")
@@ -189,6 +193,9 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   if (out.scene.empty()) return usage("--scene FILE is required (or --smoke)");
   if (out.server.empty()) return usage("--server HOST:PORT is required");
   if (!out.trace.empty() && out.offscreen.empty()) return usage("--trace plays offscreen: add --offscreen DIR");
+  if (!out.start_at.empty() && !out.offscreen.empty()) {
+    return usage("--start-at places the OpenXR head: offscreen, the poses come from --trace or the orbit");
+  }
   if (!out.record_trace.empty() && !out.offscreen.empty()) {
     return usage("--record-trace records OpenXR views: it cannot be combined with --offscreen");
   }

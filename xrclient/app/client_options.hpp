@@ -39,6 +39,7 @@ struct ClientOptions {
   double connect_timeout_s = 5.0;
   std::string vk_device = "auto";
   std::string swapchain_format = "srgb";
+  std::string start_at;        // --start-at SPEC (OpenXR: where the head starts; app/start_pose.hpp)
   double render_scale = 1.0;  // OpenXR: eyes rendered (and traced) at this fraction of the swapchain size per axis
   std::string view = "shaded";  // --view: shaded | light | unknown | motion | albedo | normal
   uint32_t view_light = 0;      // --view light:N

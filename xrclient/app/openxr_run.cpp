@@ -7,6 +7,7 @@
 #include "app/client_setup.hpp"
 #include "render/light_layout.hpp"
 #include "app/run_modes.hpp"
+#include "app/start_pose.hpp"
 #include "traces/eye_model.hpp"
 #include "frame/frame_coordinator.hpp"
 #include "log/log.hpp"
@@ -45,6 +46,15 @@ int run_openxr(const ClientOptions& options) {
   headset_options.vulkan.device = vk::parse_device_preference(options.vk_device);
   headset_options.color_encoding =
       options.swapchain_format == "unorm" ? xr::ColorEncoding::kUnorm : xr::ColorEncoding::kSrgb;
+  if (!options.start_at.empty()) {
+    const Pose start = resolve_start_pose(options.start_at, options.scene);
+    XrPosef pose{};
+    pose.position = {static_cast<float>(start.position.x), static_cast<float>(start.position.y),
+                     static_cast<float>(start.position.z)};
+    pose.orientation = {static_cast<float>(start.orientation.x), static_cast<float>(start.orientation.y),
+                        static_cast<float>(start.orientation.z), static_cast<float>(start.orientation.w)};
+    headset_options.frame_loop.start_head = pose;
+  }
   const std::unique_ptr<xr::Headset> headset = xr::Headset::open(headset_options);
   const vk::Context& vulkan = headset->vulkan();
   const xr::SwapchainDesc& desc = headset->swapchain(0).desc();

@@ -4,15 +4,17 @@
 #include "xr/session.hpp"
 #include "xr/spaces.hpp"
 #include "xr/swapchain.hpp"
+#include "xr/world_origin.hpp"
 #include "xr/xr_check.hpp"
 #include "xr/xr_struct.hpp"
 
 namespace dhr::xr {
 
-FrameLoop::FrameLoop(const Session& session, const ReferenceSpaces& spaces,
+FrameLoop::FrameLoop(const Session& session, ReferenceSpaces& spaces,
                      std::array<Swapchain*, kEyeCount> swapchains,
                      XrEnvironmentBlendMode blend_mode, const FrameLoopOptions& options)
     : session_(session.handle()),
+      spaces_(spaces),
       world_(spaces.world()),
       swapchains_(swapchains),
       blend_mode_(blend_mode),
@@ -22,7 +24,7 @@ std::array<XrView, kEyeCount> submitted_views(const FrameState& frame, const Ren
   return rendered ? *rendered : frame.views;
 }
 
-XrResult FrameLoop::locate_views(FrameState& frame) const {
+XrResult FrameLoop::locate_views(FrameState& frame) {
   auto locate_info = make_xr<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
   locate_info.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
   locate_info.displayTime = frame.predicted_display_time;
@@ -36,6 +38,13 @@ XrResult FrameLoop::locate_views(FrameState& frame) const {
       XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT;
   frame.view_state_flags = view_state.viewStateFlags;
   frame.views_valid = count == kEyeCount && (view_state.viewStateFlags & kValid) == kValid;
+  if (frame.views_valid && options_.start_head) {
+    // The first valid views: move the world so that the head starts where asked, and locate again in it.
+    spaces_.offset_world(world_offset_for_start(head_of_views(frame.views[0].pose, frame.views[1].pose), *options_.start_head));
+    world_ = spaces_.world();
+    options_.start_head.reset();
+    return locate_views(frame);
+  }
   return XR_SUCCESS;
 }
 

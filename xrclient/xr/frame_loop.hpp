@@ -41,6 +41,9 @@ struct FrameLoopOptions {
   // is normally ready at once; the limit keeps a stuck runtime from hanging the client.
   XrDuration image_wait_timeout = 500'000'000;  // 0.5 s
   uint32_t image_wait_attempts = 4;
+  // Where the head starts (xr/world_origin.hpp): at the first frame whose views are valid, the world space is
+  // offset so that the head is located at this position and heading; later frames move from there with the head.
+  std::optional<XrPosef> start_head;
 };
 
 // The views eye images were rendered with, when they are not the views located for this frame (a schedule
@@ -60,7 +63,7 @@ class FrameLoop {
  public:
   using Clock = std::chrono::steady_clock;
 
-  FrameLoop(const Session& session, const ReferenceSpaces& spaces,
+  FrameLoop(const Session& session, ReferenceSpaces& spaces,
             std::array<Swapchain*, kEyeCount> swapchains, XrEnvironmentBlendMode blend_mode,
             const FrameLoopOptions& options = {});
 
@@ -79,10 +82,11 @@ class FrameLoop {
   Clock::time_point last_end_time() const { return last_end_; }
 
  private:
-  XrResult locate_views(FrameState& frame) const;
+  XrResult locate_views(FrameState& frame);
   XrResult acquire_images(std::array<EyeTarget, kEyeCount>& out_eyes);
 
   XrSession session_ = XR_NULL_HANDLE;
+  ReferenceSpaces& spaces_;
   XrSpace world_ = XR_NULL_HANDLE;
   std::array<Swapchain*, kEyeCount> swapchains_{};
   XrEnvironmentBlendMode blend_mode_ = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;

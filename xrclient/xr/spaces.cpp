@@ -11,10 +11,16 @@ namespace dhr::xr {
 
 namespace {
 
-XrSpace create_space(XrSession session, XrReferenceSpaceType type) {
+XrPosef identity_pose() {
+  XrPosef pose{};
+  pose.orientation.w = 1.0f;
+  return pose;
+}
+
+XrSpace create_space(XrSession session, XrReferenceSpaceType type, const XrPosef& pose = identity_pose()) {
   auto create_info = make_xr<XrReferenceSpaceCreateInfo>(XR_TYPE_REFERENCE_SPACE_CREATE_INFO);
   create_info.referenceSpaceType = type;
-  create_info.poseInReferenceSpace.orientation.w = 1.0f;  // identity
+  create_info.poseInReferenceSpace = pose;
   XrSpace space = XR_NULL_HANDLE;
   DHR_XR_CHECK(xrCreateReferenceSpace(session, &create_info, &space));
   return space;
@@ -31,7 +37,7 @@ const char* reference_space_name(XrReferenceSpaceType type) {
   }
 }
 
-ReferenceSpaces::ReferenceSpaces(XrSession session) {
+ReferenceSpaces::ReferenceSpaces(XrSession session) : session_(session) {
   uint32_t count = 0;
   DHR_XR_CHECK(xrEnumerateReferenceSpaces(session, 0, &count, nullptr));
   std::vector<XrReferenceSpaceType> types(count);
@@ -47,6 +53,15 @@ ReferenceSpaces::ReferenceSpaces(XrSession session) {
     throw;
   }
   dhr::log::info("openxr: world space %s", reference_space_name(world_type_));
+}
+
+void ReferenceSpaces::offset_world(const XrPosef& pose_in_reference) {
+  const XrSpace replacement = create_space(session_, world_type_, pose_in_reference);
+  xrDestroySpace(world_);
+  world_ = replacement;
+  dhr::log::info("openxr: world space %s offset to (%.3f, %.3f, %.3f)", reference_space_name(world_type_),
+                 static_cast<double>(pose_in_reference.position.x), static_cast<double>(pose_in_reference.position.y),
+                 static_cast<double>(pose_in_reference.position.z));
 }
 
 ReferenceSpaces::~ReferenceSpaces() {

@@ -13,10 +13,14 @@ class ReferenceSpaces {
   ReferenceSpaces& operator=(const ReferenceSpaces&) = delete;
 
   XrSpace world() const { return world_; }
+  // Replaces the world space by one of the same type whose origin is `pose_in_reference` in the runtime's
+  // reference space (poseInReferenceSpace; xr/world_origin.hpp computes it). Throws XrError.
+  void offset_world(const XrPosef& pose_in_reference);
   XrReferenceSpaceType world_type() const { return world_type_; }
   XrSpace view() const { return view_; }
 
  private:
+  XrSession session_ = XR_NULL_HANDLE;
   XrSpace world_ = XR_NULL_HANDLE;
   XrSpace view_ = XR_NULL_HANDLE;
   XrReferenceSpaceType world_type_ = XR_REFERENCE_SPACE_TYPE_LOCAL;
