@@ -1,6 +1,6 @@
 // motion_bench: what moving the Embree scene to a scene time costs (EmbreeScene::set_scene_time) against a full
 // rebuild (EmbreeScene::create of scene_at(scene, t), the flattened scene at t); one JSON line, never asserts.
-//   motion_bench [--scene PATH] [--threads N] [--builds N] [--updates N] [--size WxH]
+//   motion_bench [--scene PATH] [--threads N] [--builds N] [--updates N] [--size WxH] [--vulkan]
 // Defaults: ../shared/data/scenes/living_room_moving.glb, all cores, 5 builds, 41 updates at times spread over the
 // longest animation (each a different pose), 1280x1440 per eye for the trace times. Reports:
 //   full_build_ms       median create() of the flattened scene at t (what an update replaces)
@@ -9,6 +9,9 @@
 //   moving_meshes / moving_vertices, moved_meshes_mean / moved_vertices_mean (per update: meshes whose pose changed)
 //   trace_ms_flat / trace_ms_motion   one eye of each bookmark (sum, median of 3), flattened vs dynamic, at the
 //                                     same time: what the dynamic (two-level) BVH costs the tracer
+//   vulkan (with --vulkan)  the Vulkan backend on its device (lavapipe here): full_build_ms (a VulkanTracer of the
+//                           flattened scene at t: every BLAS and the TLAS), update_ms (set_scene_time: moved
+//                           instances' transforms, one TLAS update, their shading vertices), ratio
 // docs/server.md ("Motion") has the measured numbers and the command.
 #include "bench_timing.hpp"
 #include "bench_views.hpp"
@@ -16,6 +19,7 @@
 #include "cli/help_flag.hpp"
 #include "scene/scene_at.hpp"
 #include "trace/embree/embree_tracer.hpp"
+#include "trace/vulkan/vulkan_tracer.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -33,7 +37,7 @@ using namespace dhr;
 using namespace dhr::bench;
 
 constexpr const char* kUsageText =
-    "usage: motion_bench [--scene PATH] [--threads N] [--builds N] [--updates N] [--size WxH]\n";
+    "usage: motion_bench [--scene PATH] [--threads N] [--builds N] [--updates N] [--size WxH] [--vulkan]\n";
 
 int usage() {
   std::fputs(kUsageText, stderr);
@@ -55,12 +59,33 @@ double trace_ms(server::EmbreeTracer& tracer, const std::vector<Camera>& cameras
   return median(runs, 0.0);
 }
 
+// The Vulkan backend's full build of the flattened scene against its scene-time update.
+nlohmann::json vulkan_motion(const Scene& scene, const std::vector<double>& times, uint32_t builds) {
+  server::TracerOptions options;
+  std::vector<double> full;
+  for (uint32_t b = 0; b < builds; ++b)
+    full.push_back(server::VulkanTracer(scene_at(scene, times[b % times.size()]), options).accel_stats().build_ms);
+  server::VulkanTracer tracer(scene, options);
+  std::vector<double> update_ms;
+  for (double t : times) {
+    tracer.set_scene_time(t);
+    update_ms.push_back(tracer.last_motion_update_ms());
+  }
+  const double full_ms = median(full, 0.0), update = median(update_ms, 0.0);
+  return {{"device", tracer.device_description()},
+          {"full_build_ms", full_ms},
+          {"update_ms", update},
+          {"update_ms_max", *std::max_element(update_ms.begin(), update_ms.end())},
+          {"ratio", full_ms > 0.0 ? update / full_ms : 0.0}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string path = std::string(DHR_SHARED_DATA_DIR) + "/scenes/living_room_moving.glb";
   uint32_t threads = 0, builds = 5, updates = 41;
   Extent eye{1280, 1440};
+  bool vulkan = false;
   if (cli::asks_for_help(argc, argv)) {
     std::fputs(kUsageText, stdout);
     return exit_code::kOk;
@@ -71,6 +96,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--threads") && has_value) threads = static_cast<uint32_t>(std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--builds") && has_value) builds = static_cast<uint32_t>(std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--updates") && has_value) updates = static_cast<uint32_t>(std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--vulkan")) vulkan = true;
     else if (!std::strcmp(argv[i], "--size") && has_value) {
       if (std::sscanf(argv[++i], "%ux%u", &eye.width, &eye.height) != 2) return usage();
     } else return usage();
@@ -146,6 +172,13 @@ int main(int argc, char** argv) {
   j["eye"] = std::to_string(eye.width) + "x" + std::to_string(eye.height);
   j["trace_ms_flat"] = trace_ms(flat, cameras);
   j["trace_ms_motion"] = trace_ms(moving, cameras);
+  if (vulkan) {
+    try {
+      j["vulkan"] = vulkan_motion(scene, times, builds);
+    } catch (const std::exception& e) {
+      j["vulkan"] = {{"error", e.what()}};
+    }
+  }
   std::printf("%s\n", j.dump().c_str());
   return 0;
 }

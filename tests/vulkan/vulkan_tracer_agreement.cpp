@@ -123,10 +123,18 @@ std::vector<uint8_t> near_silhouette(const EmbreeTracer& embree, const Camera& c
 }
 
 void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,
-                      const TracerOptions& embree_options, const VulkanTracerConfig& config) {
+                      const TracerOptions& embree_options, const VulkanTracerConfig& config,
+                      const std::vector<double>& scene_times) {
   EmbreeTracer embree(scene, embree_options);
   VulkanTracer vulkan(scene, vk_options, config);
   uint64_t bits = 0, differing = 0;
+  const std::vector<double> times = scene_times.empty() ? std::vector<double>{-1.0} : scene_times;
+  for (const double t : times) {
+  if (t >= 0.0) {
+    embree.set_scene_time(t);
+    vulkan.set_scene_time(t);
+    std::printf("[ agreement ] scene time %.3f s\n", t);
+  }
   for (size_t c = 0; c < cameras.size(); ++c) {
     VisibilityBuffer ref, got;
     TraceStats ref_stats, got_stats;
@@ -158,6 +166,7 @@ void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, co
     EXPECT_GT(got_stats.trace_ms, 0.0);
     bits += a.bits;
     differing += a.differing;
+  }
   }
   EXPECT_EQ(vulkan.validation_error_count(), 0u);
   if (bits) std::printf("[ agreement ] all cameras: %.4f%% of bits differ\n", 100.0 * double(differing) / double(bits));

@@ -47,8 +47,10 @@ using test::load_scene_or_fail;
 // surfaces.
 std::vector<uint8_t> near_silhouette(const EmbreeTracer& embree, const Camera& camera);
 
-// Traces every camera with both backends; expects < 0.1% differing bits and none unexplained.
+// Traces every camera with both backends; expects < 0.1% differing bits and none unexplained. With scene_times,
+// both tracers are moved to each time in turn (set_scene_time) and every camera is traced at each.
 void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,
-                      const TracerOptions& embree_options, const VulkanTracerConfig& config = {});
+                      const TracerOptions& embree_options, const VulkanTracerConfig& config = {},
+                      const std::vector<double>& scene_times = {});
 
 }  // namespace dhr::server::tracer_test

@@ -50,6 +50,7 @@ AccelerationStructure build(const Context& context, VkAccelerationStructureTypeK
   build_info.flags = options.prefer_fast_trace ? VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR
                                                : VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_BUILD_BIT_KHR;
   if (options.compact) build_info.flags |= VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR;
+  if (options.allow_update) build_info.flags |= VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR;
   build_info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
   build_info.geometryCount = static_cast<uint32_t>(geometries.size());
   build_info.pGeometries = geometries.data();
@@ -233,9 +234,10 @@ AccelerationStructure build_blas(const Context& context, std::span<const float> 
   return build_blas(context, std::span<const TriangleGeometry>(&geometry, 1), options, out_stats);
 }
 
-AccelerationStructure build_tlas(const Context& context, std::span<const AsInstance> instances,
-                                 const AsBuildOptions& options, AsBuildStats* out_stats) {
-  require_ray_tracing(context);
+namespace {
+
+// The instances as Vulkan records, in a buffer the build reads.
+Buffer instance_buffer(const Context& context, std::span<const AsInstance> instances) {
   if (instances.empty()) throw std::invalid_argument("build_tlas: no instances");
   std::vector<VkAccelerationStructureInstanceKHR> records(instances.size());
   for (size_t i = 0; i < instances.size(); ++i) {
@@ -253,18 +255,83 @@ AccelerationStructure build_tlas(const Context& context, std::span<const AsInsta
     out.flags = in.flags & 0xFFu;
     out.accelerationStructureReference = in.blas->address();
   }
-  const Buffer instance_buffer = create_buffer_with_data(
+  return create_buffer_with_data(
       context, std::span<const VkAccelerationStructureInstanceKHR>(records),
       VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+}
 
+VkAccelerationStructureGeometryKHR instances_geometry(const Buffer& instances) {
   VkAccelerationStructureGeometryKHR geom{};
   geom.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR;
   geom.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
   geom.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
   geom.geometry.instances.arrayOfPointers = VK_FALSE;
-  geom.geometry.instances.data.deviceAddress = instance_buffer.address();
-  return build(context, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, {geom},
-               {static_cast<uint32_t>(records.size())}, options, out_stats);
+  geom.geometry.instances.data.deviceAddress = instances.address();
+  return geom;
+}
+
+}  // namespace
+
+AccelerationStructure build_tlas(const Context& context, std::span<const AsInstance> instances,
+                                 const AsBuildOptions& options, AsBuildStats* out_stats) {
+  require_ray_tracing(context);
+  const Buffer records = instance_buffer(context, instances);
+  return build(context, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, {instances_geometry(records)},
+               {static_cast<uint32_t>(instances.size())}, options, out_stats);
+}
+
+void update_tlas(const Context& context, AccelerationStructure& tlas, std::span<const AsInstance> instances,
+                 const AsBuildOptions& options, AsBuildStats* out_stats) {
+  require_ray_tracing(context);
+  if (!options.allow_update) throw std::logic_error("update_tlas: the TLAS was not built with allow_update");
+  if (!tlas) throw std::logic_error("update_tlas: no TLAS");
+  const RayTracingDispatch& rt = context.rt();
+  const Buffer records = instance_buffer(context, instances);
+  const VkAccelerationStructureGeometryKHR geom = instances_geometry(records);
+  VkAccelerationStructureBuildGeometryInfoKHR info{};
+  info.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR;
+  info.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
+  info.flags = (options.prefer_fast_trace ? VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR
+                                          : VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_BUILD_BIT_KHR) |
+               VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR |
+               (options.compact ? VkBuildAccelerationStructureFlagsKHR{VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR}
+                                : VkBuildAccelerationStructureFlagsKHR{0});
+  info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
+  info.geometryCount = 1;
+  info.pGeometries = &geom;
+  info.srcAccelerationStructure = tlas.handle();
+  info.dstAccelerationStructure = tlas.handle();
+  const uint32_t count = static_cast<uint32_t>(instances.size());
+  VkAccelerationStructureBuildSizesInfoKHR sizes{};
+  sizes.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR;
+  rt.get_acceleration_structure_build_sizes(context.device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info,
+                                            &count, &sizes);
+  const VkDeviceSize align =
+      std::max<VkDeviceSize>(1, context.info().ray_tracing.min_acceleration_structure_scratch_offset_alignment);
+  Buffer scratch(context, std::max<VkDeviceSize>(sizes.updateScratchSize, 1) + align,
+                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                 VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  info.scratchData.deviceAddress = (scratch.address() + align - 1) / align * align;
+  VkAccelerationStructureBuildRangeInfoKHR range{};
+  range.primitiveCount = count;
+  const VkAccelerationStructureBuildRangeInfoKHR* range_ptr = &range;
+  const auto start = std::chrono::steady_clock::now();
+  context.submit_and_wait([&](VkCommandBuffer cmd) {
+    // The instance records were just uploaded; earlier traces may still read the structure.
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
+                   VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                   VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
+    rt.cmd_build_acceleration_structures(cmd, 1, &info, &range_ptr);
+    after_build_barrier(cmd);
+  });
+  if (out_stats != nullptr) {
+    AsBuildStats stats;
+    stats.build_ms = elapsed_ms(start);
+    stats.build_size = stats.final_size = tlas.size();
+    stats.scratch_size = sizes.updateScratchSize;
+    stats.primitive_count = count;
+    *out_stats = stats;
+  }
 }
 
 }  // namespace dhr::vk

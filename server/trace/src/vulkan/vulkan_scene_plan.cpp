@@ -88,14 +88,14 @@ uint32_t add_blas(ScenePlan& plan, std::vector<float> positions, const SceneMesh
   return static_cast<uint32_t>(plan.blases.size() - 1);
 }
 
-void set_transform(InstancePlan& instance, const glm::dmat4& T_world_blas, const glm::dvec3& origin) {
+}  // namespace
+
+void set_instance_transform(InstancePlan& instance, const glm::dmat4& T_world_blas, const glm::dvec3& origin) {
   glm::dmat4 T = T_world_blas;
   T[3] -= glm::dvec4(origin, 0.0);  // into the scene-relative frame, in double
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) instance.transform[r][c] = static_cast<float>(T[c][r]);
 }
-
-}  // namespace
 
 std::vector<uint32_t> morton_triangle_order(std::span<const float> positions_xyz, std::span<const uint32_t> indices) {
   const size_t tri_count = indices.size() / 3;
@@ -194,13 +194,15 @@ ScenePlan plan_gpu_scene(const Scene& scene, const VulkanTracerConfig& config) {
         if (it == shared.end()) shared.emplace(key, std::make_pair(blas, &mesh));
       }
       instance.mirrored = mirrored;
-      const glm::dmat4 T_world_blas = glm::translate(mesh.T_world_local, plan.blases[blas].local_centre);
-      set_transform(instance, T_world_blas, plan.origin);
+      instance.T_world_blas = glm::translate(mesh.T_world_local, plan.blases[blas].local_centre);
+      set_instance_transform(instance, instance.T_world_blas, plan.origin);
     } else {
       // World-space BLAS (the scene-relative positions above), identity instance.
       const auto first = plan.positions.end() - static_cast<std::ptrdiff_t>(mesh.positions.size() * 3);
       blas = add_blas(plan, std::vector<float>(first, plan.positions.end()), mesh, false, config.morton_sort);
+      instance.T_world_blas = glm::translate(glm::dmat4(1.0), plan.origin);
     }
+    if (scene.animation.find(mesh.node) != nullptr) plan.moving.push_back(static_cast<uint32_t>(plan.instances.size()));
     instance.blas = blas;
     record.index_offset = plan.blases[blas].index_offset;
     record.permutation_offset = plan.blases[blas].permutation_offset;

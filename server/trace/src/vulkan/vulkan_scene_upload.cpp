@@ -66,7 +66,8 @@ GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std
     uncompacted += stats.build_size;
   }
   if (!plan.instances.empty()) {
-    std::vector<vk::AsInstance> instances(plan.instances.size());
+    std::vector<vk::AsInstance>& instances = gpu.instances;
+    instances.resize(plan.instances.size());
     for (size_t i = 0; i < instances.size(); ++i) {
       const InstancePlan& in = plan.instances[i];
       vk::AsInstance& out = instances[i];
@@ -85,7 +86,9 @@ GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std
       }
     }
     vk::AsBuildStats stats;
-    gpu.tlas = vk::build_tlas(context, instances, options, &stats);
+    gpu.tlas_options = options;
+    gpu.tlas_options.allow_update = !plan.moving.empty();  // moving instances: updated in place per scene time
+    gpu.tlas = vk::build_tlas(context, instances, gpu.tlas_options, &stats);
     blas_ms += stats.build_ms;
     compact_ms += stats.compact_ms;
     bytes += stats.final_size;

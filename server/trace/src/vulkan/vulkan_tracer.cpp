@@ -121,8 +121,8 @@ struct VulkanTracer::Impl {
   vk::Buffer counters;      // host-visible statistics counters
   size_t capacity_pixels = 0;
   std::string description;
-  bool animated = false;       // the scene has animations (this backend traces it at rest)
-  bool motion_warned = false;  // set_scene_time(t != 0) warned once
+  detail::GpuMotion motion;  // what moves (empty for a static scene)
+  double last_motion_update_ms = 0.0;
   std::mutex mutex;
 
   void ensure_frame_buffers(size_t pixels);
@@ -180,7 +180,6 @@ VulkanTracer::VulkanTracer(const Scene& scene, const TracerOptions& options, con
   im.options = options;
   im.config = config;
   im.lights = scene.lights;
-  im.animated = !scene.animation.empty();
   im.context = create_context(options);
   const vk::DeviceInfo& info = im.context->info();
   im.description = info.name + ", " + (info.driver_info.empty() ? info.driver_name : info.driver_info);
@@ -194,6 +193,7 @@ VulkanTracer::VulkanTracer(const Scene& scene, const TracerOptions& options, con
   const std::vector<shader::VisSoftLight> extents = detail::soft_light_records(im.lights, im.origin, im.soft.salt);
   im.scene = detail::upload_gpu_scene(*im.context, plan, packed, extents, config);
   im.scene.stats.build_ms += plan_ms;  // the spatial sort is part of building
+  im.motion = detail::plan_gpu_motion(scene, plan);
   log::debug("vulkan tracer: scene plan (validation, instancing, Morton sort) %.1f ms", plan_ms);
 
   im.pipeline = detail::create_tracer_pipeline(*im.context);
@@ -213,11 +213,17 @@ std::vector<bool> VulkanTracer::light_extents() const {
   return out;
 }
 void VulkanTracer::set_scene_time(double t) {
-  // No motion in this backend yet: the scene stays at rest (docs/server.md, "Motion").
-  if (!impl_->animated || t == 0.0 || impl_->motion_warned) return;
-  impl_->motion_warned = true;
-  log::warn("vulkan tracer: the scene's animations are not traced (scene time %.3f s): tracing it at rest", t);
+  Impl& im = *impl_;
+  if (im.motion.meta.animation.empty()) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::lock_guard lock(im.mutex);
+  const detail::GpuMotionUpdate update = detail::move_gpu_scene(*im.context, im.scene, im.motion, im.origin, t, im.soft.salt);
+  if (update.moved_lights > 0) im.lights = im.motion.lights;  // light culling sees them where they are
+  im.last_motion_update_ms = ms_since(t0);
 }
+
+bool VulkanTracer::moves() const { return !impl_->motion.meta.animation.empty(); }
+double VulkanTracer::last_motion_update_ms() const { return impl_->last_motion_update_ms; }
 
 const VulkanTracerConfig& VulkanTracer::config() const { return impl_->config; }
 bool VulkanTracer::is_cpu_device() const { return impl_->context->info().is_cpu; }

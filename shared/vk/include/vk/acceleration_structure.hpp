@@ -43,6 +43,7 @@ class AccelerationStructure {
 struct AsBuildOptions {
   bool compact = true;            // copy into a right-sized structure after the build
   bool prefer_fast_trace = true;  // else PREFER_FAST_BUILD
+  bool allow_update = false;      // ALLOW_UPDATE: update_tlas may later move its instances in place
 };
 
 struct AsBuildStats {
@@ -86,5 +87,12 @@ struct AsInstance {
 
 AccelerationStructure build_tlas(const Context& context, std::span<const AsInstance> instances,
                                  const AsBuildOptions& options = {}, AsBuildStats* out_stats = nullptr);
+
+// Updates `tlas` in place (VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR) for new instance transforms: the same
+// instances, in the same order, over the same BLASes, only transforms (or flags, masks, indices) changed. `tlas` was
+// built by build_tlas with these `options` and allow_update set (the flags must match the build's; std::logic_error
+// otherwise). Blocks until the update is done; out_stats->build_ms is its host wall time.
+void update_tlas(const Context& context, AccelerationStructure& tlas, std::span<const AsInstance> instances,
+                 const AsBuildOptions& options, AsBuildStats* out_stats = nullptr);
 
 }  // namespace dhr::vk

@@ -41,6 +41,7 @@ struct InstancePlan {
   uint32_t mesh = 0;  // Scene::meshes index, the instance's custom index
   uint32_t blas = 0;  // ScenePlan::blases index
   float transform[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  // BLAS space -> scene-relative world
+  glm::dmat4 T_world_blas{1.0};  // BLAS space -> world (transform is this relative to ScenePlan::origin, in float)
   bool double_sided = false;
   bool mirrored = false;
 };
@@ -56,7 +57,11 @@ struct ScenePlan {
   std::vector<uint32_t> indices;        // per BLAS, original triangle order, mesh-local vertex indices
   std::vector<uint32_t> permutation;    // per BLAS
   uint64_t triangles = 0;               // over all instances
+  std::vector<uint32_t> moving;         // instances whose mesh is on a moving node (SceneAnimation::find)
 };
+
+// instance.transform from T_world_blas relative to `origin` (subtracted in double, then rounded).
+void set_instance_transform(InstancePlan& instance, const glm::dmat4& T_world_blas, const glm::dvec3& origin);
 
 // Each light prepared for sampling over its extent (make_sampled_light, as the Embree backend's soft fields), in the
 // scene-relative frame whose world position is `origin`, with its scramble seed soft_seed(0, 0, light, salt)
@@ -79,12 +84,49 @@ struct GpuScene {
   vk::Buffer soft_lights;  // VisSoftLight[] (at least one element)
   std::vector<vk::AccelerationStructure> blases;
   vk::AccelerationStructure tlas;
+  std::vector<vk::AsInstance> instances;  // what the TLAS was built from (kept when it can be updated)
+  vk::AsBuildOptions tlas_options;        // allow_update when the plan has moving instances
   AccelStats stats;  // build_ms covers the device work only (upload_gpu_scene's caller adds planning)
 };
 
 // Throws std::runtime_error when a buffer exceeds the device's maxStorageBufferRange.
 GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std::span<const PackedLight> lights,
                           std::span<const shader::VisSoftLight> soft_lights, const VulkanTracerConfig& config);
+
+// A mesh on a moving node, as the GPU scene holds it.
+struct MovingMesh {
+  uint32_t mesh = 0;             // Scene::meshes index
+  uint32_t instance = 0;         // ScenePlan::instances / GpuScene::instances index
+  glm::dmat4 T_world_blas{1.0};  // at rest
+  glm::dmat4 motion{1.0};        // the motion last applied (mesh_motion_at)
+  uint32_t vertex_offset = 0;    // its vertices in the positions and normals buffers
+  std::vector<glm::vec3> rest_positions;  // world, at rest
+  std::vector<glm::vec3> rest_normals;    // zero where the mesh has none
+};
+
+// What moves in the GPU scene and what mesh_motion_at and light_at read.
+struct GpuMotion {
+  Scene meta;                    // animation, lights at rest, meshes' node and T_world_local (no vertices)
+  std::vector<MovingMesh> meshes;
+  std::vector<SceneLight> lights;  // the lights at the scene time last applied
+};
+
+// Empty (no meshes, meta without animation) for a scene without animation.
+GpuMotion plan_gpu_motion(const Scene& scene, const ScenePlan& plan);
+
+struct GpuMotionUpdate {
+  uint32_t moved_meshes = 0;
+  uint64_t moved_vertices = 0;
+  uint32_t moved_lights = 0;
+  bool tlas_updated = false;
+};
+
+// Moves the GPU scene to scene time t: each moving mesh whose motion changed gets its instance transform
+// (motion * T_world_blas) and its shading vertices (moved_position, moved_normal: the floats the Embree backend
+// traces), then one TLAS update over all instances; lights that moved are re-uploaded (packed and as soft records
+// with `soft_salt`). Not concurrent with tracing.
+GpuMotionUpdate move_gpu_scene(const vk::Context& context, GpuScene& gpu, GpuMotion& motion, const glm::dvec3& origin,
+                               double t, uint32_t soft_salt);
 
 // The visibility pipeline with its single descriptor set.
 struct TracerPipeline {
