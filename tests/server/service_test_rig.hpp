@@ -43,6 +43,29 @@ inline SharedScene& shared_scene(const std::string& path = kDefaultScenePath) {
   return *slot;
 }
 
+// A scene a test wrote as glTF text (`name` stands for its file) and its tracer, made on first use and kept.
+inline SharedScene& shared_scene_from_text(const std::string& name, const std::string& gltf_text) {
+  static auto* scenes = new std::map<std::string, std::unique_ptr<SharedScene>>;
+  std::unique_ptr<SharedScene>& slot = (*scenes)[name];
+  if (!slot) {
+    slot = std::make_unique<SharedScene>();
+    SceneLoadResult loaded = load_scene_from_memory(gltf_text.data(), gltf_text.size(), ".", name);
+    if (!loaded) throw std::runtime_error(loaded.error);
+    slot->scene = std::move(*loaded.scene);
+    TracerOptions options;
+    options.threads = 2;
+    slot->tracer = std::make_unique<EmbreeTracer>(slot->scene, options);
+  }
+  return *slot;
+}
+
+// Both eyes from above and in front of a floor around the origin (y = 0), looking at its centre.
+inline std::array<View, 2> floor_views() {
+  const Pose head = look_at_pose(CameraBookmark{"floor", {0.0, 3.0, 4.0}, {0.0, 0.0, 0.0}}).value();
+  const Fov fov = symmetric_fov(90.0, Extent{kEyeW, kEyeH});
+  return {View{left_eye_pose(head), fov}, View{left_eye_pose(head, -kDefaultIpdMetres), fov}};
+}
+
 inline std::array<View, 2> bookmark_views(size_t index, double shift_x = 0.0) {
   std::string error;
   const auto bookmarks =

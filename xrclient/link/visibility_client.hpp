@@ -117,6 +117,10 @@ struct ClientNetStats {
   uint64_t poses_sent = 0;
   uint64_t poses_not_connected = 0;  // send_pose() before the handshake finished
   uint64_t poses_refused = 0;        // frame number not increasing, or negative display or scene time
+  // App-moved nodes (send_node_transform).
+  uint64_t node_transforms_sent = 0;
+  uint64_t node_transforms_not_connected = 0;  // before the handshake finished
+  uint64_t node_transforms_refused = 0;        // no receiver would accept it (non-finite, scale <= 0, ...)
   // Shards (of the current session).
   uint64_t shards_received = 0;
   uint64_t shards_accepted = 0;
@@ -173,6 +177,13 @@ class VisibilityClient {
   // Render thread: sends a PoseUpdate (when connected; frame numbers strictly increasing) and remembers
   // its send time. False when not sent (not connected, frame not newer, negative time, send refused).
   bool send_pose(const FramePose& pose);
+
+  // Render thread: an application moved glTF node `node`: from `scene_time_ns` on its local transform is `trs`
+  // (docs/motion.md, "App-moved nodes"). Sends a NodeTransform when connected and returns the transform exactly as
+  // the server decodes it (rotation and scale rounded to the wire's f32): the caller records that one in its own
+  // NodeOverrides (rendering, the warp's motion rule) so that both ends hold the same bits. std::nullopt when not
+  // sent (not connected, not a valid transform, send refused). Which nodes may move is the server's to check.
+  std::optional<NodeTransform> send_node_transform(uint32_t node, int64_t scene_time_ns, const Trs& trs);
 
   // Render thread: the newest visibility of that eye published since the last call, swapped into `out`
   // (no copy; out's old storage is recycled). False, leaving `out` untouched, when nothing newer arrived.

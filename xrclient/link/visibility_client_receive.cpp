@@ -90,7 +90,8 @@ void VisibilityClient::on_datagram(std::span<const uint8_t> bytes, int64_t now) 
     case MessageType::kHeartbeat:
     case MessageType::kVisibilityShard: break;
     case MessageType::kHello:
-    case MessageType::kPoseUpdate: ++stats_.datagrams_unexpected; return;
+    case MessageType::kPoseUpdate:
+    case MessageType::kNodeTransform: ++stats_.datagrams_unexpected; return;
   }
   if (state_ != State::kConnected || rx_.session_token != token_) {
     ++stats_.datagrams_foreign;

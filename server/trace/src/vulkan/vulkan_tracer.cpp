@@ -3,6 +3,7 @@
 #include "trace/ray_offset.hpp"
 #include "trace/soft/soft_visibility.hpp"
 #include "trace/vulkan/vulkan_tracer_internal.hpp"
+#include "scene/node_overrides.hpp"
 
 #include "log/log.hpp"
 #include "vk/barriers.hpp"
@@ -212,9 +213,9 @@ std::vector<bool> VulkanTracer::light_extents() const {
   for (const SceneLight& l : impl_->lights) out.push_back(l.has_extent());
   return out;
 }
-void VulkanTracer::set_scene_time(double t) {
-  // No motion in this backend yet: the scene stays at rest (docs/server.md, "Motion").
-  if (!impl_->animated || t == 0.0 || impl_->motion_warned) return;
+void VulkanTracer::set_scene_time(double t, const NodeOverrides* overrides) {
+  // No motion in this backend yet: the scene stays at rest (docs/server.md, "Motion"), app-moved nodes too.
+  if (!impl_->animated || (t == 0.0 && (!overrides || overrides->empty())) || impl_->motion_warned) return;
   impl_->motion_warned = true;
   log::warn("vulkan tracer: the scene's animations are not traced (scene time %.3f s): tracing it at rest", t);
 }

@@ -54,7 +54,7 @@ class VulkanTracer final : public VisibilityTracer {
                     TraceStats& out_stats) override;
 
   // Not implemented: the scene stays at rest; warns once when the scene has animations and t != 0.
-  void set_scene_time(double t) override;
+  void set_scene_time(double t, const NodeOverrides* overrides = nullptr) override;
 
   const VulkanTracerConfig& config() const;
   // True on a CPU implementation (lavapipe).
