@@ -33,12 +33,7 @@ class NodeTransformServiceTest : public VisibilityServiceTest {
   void TearDown() override { scene_->tracer->set_scene_time(0.0); }
 
   void send_pose_at(uint64_t frame, int64_t scene_time_ns) {
-    PoseUpdate p;
-    p.frame = frame;
-    p.display_time_ns = static_cast<int64_t>(frame) * 11'000'000;
-    p.scene_time_ns = scene_time_ns;
-    p.views = floor_views();
-    send(Datagram{token_, static_cast<uint32_t>(frame), p}, peer(1));
+    send_pose(token_, peer(1), frame, floor_views(), scene_time_ns);
   }
   // Sends it and returns it as the server decodes it (what the client records).
   NodeTransform move(uint32_t node, int64_t scene_time_ns, const Trs& trs) {

@@ -50,12 +50,7 @@ class SceneTimeServiceTest : public VisibilityServiceTest {
   }
 
   void send_pose_at(uint64_t token, uint64_t frame, int64_t scene_time_ns) {
-    PoseUpdate p;
-    p.frame = frame;
-    p.display_time_ns = static_cast<int64_t>(frame) * 11'000'000;
-    p.scene_time_ns = scene_time_ns;
-    p.views = floor_views();
-    send(Datagram{token, static_cast<uint32_t>(frame), p}, peer(1));
+    send_pose(token, peer(1), frame, floor_views(), scene_time_ns);
   }
 
   // Traces what is pending and returns the frame's shards (every one checked to name `frame`).
