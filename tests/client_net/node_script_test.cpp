@@ -1,6 +1,8 @@
 // dhr-xrclient --node-script's format (link/node_script.hpp): what a good script gives, and that every bad line is
 // refused with its line number and why (the executable exits 2 before the run). The scene:
-// tests/common/test_movable_scene.hpp (node 1 "Occluder" is movable, node 0 the static floor).
+// tests/common/test_movable_scene.hpp (node 1 "Occluder" is movable, node 0 the static floor). And what the link
+// layer does with the transforms (VisibilityClient::send_node_transform).
+#include "client_harness.hpp"
 #include "link/node_script.hpp"
 #include "test_movable_scene.hpp"
 
@@ -14,7 +16,7 @@ namespace {
 
 const Scene& movable_scene() {
   static const Scene* scene = [] {
-    const std::string text = test::movable_occluder_gltf();
+    const std::string text = dhr::test::movable_occluder_gltf();
     SceneLoadResult loaded = load_scene_from_memory(text.data(), text.size(), ".", "movable.gltf");
     if (!loaded) throw std::runtime_error(loaded.error);
     return new Scene(std::move(*loaded.scene));
@@ -45,7 +47,7 @@ TEST(NodeScript, ParsesNamesIndicesAndKeepsRestValuesNotGiven) {
   ASSERT_EQ(good->size(), 2u);
   const NodeScriptStep& a = (*good)[0];
   EXPECT_EQ(a.line, 3u);
-  EXPECT_EQ(a.node, test::kOccluderNode);
+  EXPECT_EQ(a.node, dhr::test::kOccluderNode);
   EXPECT_EQ(a.scene_time_ns, 500'000'000);
   EXPECT_EQ(a.trs.translation, glm::dvec3(1.0, 2.0, 3.0));
   EXPECT_EQ(a.trs.rotation, glm::dquat(1.0, 0.0, 0.0, 0.0));  // rest
@@ -93,6 +95,40 @@ TEST(NodeScript, AFileNamesItselfAndTheLine) {
   std::remove(path.c_str());
   EXPECT_FALSE(load_node_script(path, movable_scene(), &error).has_value());
   EXPECT_EQ(error, path + ": cannot read the file");
+}
+
+// send_node_transform: sent only within a session, as the server will decode it; the newest two per node go again
+// to a new session's server (its copy went with the old session).
+TEST(NodeTransformLink, TheNewestTwoPerNodeAreResentToANewSession) {
+  test::Harness h;
+  EXPECT_FALSE(h.client.send_node_transform(1, 0, dhr::test::occluder_at(0.0)).has_value());  // no session yet
+  h.connect();
+  for (int i = 0; i < 3; ++i)
+    ASSERT_TRUE(h.client.send_node_transform(1, (i + 1) * 100 * test::kMs, dhr::test::occluder_at(i)).has_value());
+  ASSERT_TRUE(h.client.send_node_transform(4, 50 * test::kMs, dhr::test::occluder_at(7.0)).has_value());
+  Trs bad = dhr::test::occluder_at(0.0);
+  bad.scale.x = 0.0;
+  EXPECT_FALSE(h.client.send_node_transform(1, 400 * test::kMs, bad).has_value());
+  h.run_for(test::kMs);
+  EXPECT_EQ(h.received<NodeTransform>().size(), 4u);
+  h.run_for(5'100 * test::kMs);  // the scripted server stays silent: the session times out
+  ASSERT_FALSE(h.client.connected());
+  h.server_send(h.welcome_for(h.received<Hello>().back().client_nonce));
+  h.run_for(test::kMs);
+  ASSERT_TRUE(h.client.connected());
+  h.run_for(test::kMs);  // the resent transforms reach the server
+  const std::vector<NodeTransform> all = h.received<NodeTransform>();
+  ASSERT_EQ(all.size(), 7u);
+  const std::vector<NodeTransform> resent(all.begin() + 4, all.end());  // by node, the older first
+  EXPECT_EQ(resent[0].node, 1u);
+  EXPECT_EQ(resent[0].scene_time_ns, 200 * test::kMs);
+  EXPECT_EQ(resent[1].scene_time_ns, 300 * test::kMs);
+  EXPECT_EQ(resent[2].node, 4u);
+  const ClientNetStats s = h.client.stats();
+  EXPECT_EQ(s.node_transforms_sent, 4u);
+  EXPECT_EQ(s.node_transforms_not_connected, 1u);
+  EXPECT_EQ(s.node_transforms_refused, 1u);
+  EXPECT_EQ(s.node_transforms_resent, 3u);
 }
 
 }  // namespace

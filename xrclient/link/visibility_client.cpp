@@ -269,6 +269,12 @@ std::optional<NodeTransform> VisibilityClient::send_node_transform(uint32_t node
   }
   if (!send(*decoded, token_)) return std::nullopt;
   ++stats_.node_transforms_sent;
+  const auto remembered = sent_transforms_.find(node);
+  if (remembered != sent_transforms_.end()) {
+    remembered->second = {remembered->second[1], decoded};
+  } else if (sent_transforms_.size() < kMaxRememberedNodes) {
+    sent_transforms_.emplace(node, std::array<std::optional<NodeTransform>, 2>{std::nullopt, decoded});
+  }
   return decoded;
 }
 
