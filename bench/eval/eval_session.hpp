@@ -124,7 +124,10 @@ class ModelledTimeTracer final : public server::VisibilityTracer {
   std::vector<bool> light_extents() const override { return inner_.light_extents(); }
   // Motion is the inner tracer's (shared with the truth, which moves it to each display's scene time: the service
   // moves it back to its frame's before every trace).
-  void set_scene_time(double t) override { inner_.set_scene_time(t); }
+  const SceneAnimation* scene_animation() const override { return inner_.scene_animation(); }
+  void set_scene_time(double t, const NodeOverrides* overrides = nullptr) override {
+    inner_.set_scene_time(t, overrides);
+  }
   bool moves() const override { return inner_.moves(); }
   double last_motion_update_ms() const override { return inner_.last_motion_update_ms(); }
   void trace(const Camera& camera, VisibilityBuffer& out, server::TraceStats& out_stats) override;

@@ -8,12 +8,8 @@
 namespace dhr::server::cli {
 
 std::optional<Scene> load_server_scene(const ServerOptions& options, std::string* out_error) {
-  std::optional<Scene> scene =
-      load_session_scene(options.scene_path, options.lights, out_error);
-  // The Embree backend plays the animations on the scene clock; the Vulkan backend does not move anything yet.
-  if (scene && !scene->animation.empty() && options.backend == TracerBackend::kVulkan)
-    scene->warnings.push_back(animations_not_played(*scene, TracerBackend::kVulkan));
-  return scene;
+  // Both backends play the animations on the scene clock (a tracer that does not is named at start: serve_command).
+  return load_session_scene(options.scene_path, options.lights, out_error);
 }
 
 std::string animations_not_played(const Scene& scene, TracerBackend backend) {

@@ -9,8 +9,7 @@
 namespace dhr::server::cli {
 
 // Loads options.scene_path, applies --lights, and rejects scenes nothing can be traced in (no
-// triangles). std::nullopt with a one-line message otherwise. An animated scene gets a warning when --backend
-// vulkan is asked for (that backend traces it at rest; Embree plays the animations on the scene clock).
+// triangles). std::nullopt with a one-line message otherwise.
 std::optional<Scene> load_server_scene(const ServerOptions& options, std::string* out_error);
 
 // The warning for a backend that traces an animated scene at its rest pose.

@@ -31,7 +31,7 @@ int run_serve_command(const ServerOptions& options) {
   if (!scene->animation.empty() && tracer->moves())
     std::fprintf(stderr, "scene: %s play on the scene clock: each frame is traced at its pose's scene time\n",
                  describe_animations(*scene).c_str());
-  else if (!scene->animation.empty() && options.backend != TracerBackend::kVulkan)  // vulkan: warned above
+  else if (!scene->animation.empty())
     std::fprintf(stderr, "dhr-server: warning: scene: %s\n",
                  animations_not_played(*scene, tracer->backend()).c_str());
 

@@ -57,6 +57,11 @@ std::vector<Datagram> sample_datagrams() {
   hb.echo_delay_ns = 1;
   out.push_back({kSampleToken, 5, hb});
   out.push_back({kSampleToken, 6, Bye{ByeReason::kTimeout}});
+  NodeTransform moved;  // an app moved node 3 from 1.5 s on: 0.6 / 0.8 are a unit quaternion in f32 too
+  moved.node = 3;
+  moved.scene_time_ns = 1'500'000'000;
+  moved.trs = Trs{glm::dvec3(0.25, -1.5, 2.0), glm::dquat(0.8, 0.0, 0.6, 0.0), glm::dvec3(1.0, 2.0, 0.5)};
+  out.push_back({kSampleToken, 7, moved});
   return out;
 }
 

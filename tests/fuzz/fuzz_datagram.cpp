@@ -19,17 +19,21 @@ namespace {
 
 using dhr::DecodeError;
 
-// Offsets of the 16 quaternion bytes of every view in an encoded message of this type (from the layout).
+// Offsets of the 16 quaternion bytes of every view (and a NodeTransform's rotation) in an encoded message of this
+// type (from the layout): the decoder renormalizes them.
 std::vector<size_t> quaternion_offsets(dhr::MessageType type) {
   const dhr::ProtocolLayout& layout = dhr::protocol_layout();
   size_t in_view = 0;
   for (const dhr::LayoutField& f : layout.view.fields)
     if (f.name == "orientation") in_view = f.offset;
   std::vector<size_t> offsets;
-  for (const dhr::LayoutBlock& m : layout.messages)
-    if (m.type == static_cast<uint8_t>(type))
-      for (const dhr::LayoutField& f : m.fields)
-        if (f.type == "View") offsets.push_back(f.offset + in_view);
+  for (const dhr::LayoutBlock& m : layout.messages) {
+    if (m.type != static_cast<uint8_t>(type)) continue;
+    for (const dhr::LayoutField& f : m.fields) {
+      if (f.type == "View") offsets.push_back(f.offset + in_view);
+      if (f.name == "rotation") offsets.push_back(f.offset);
+    }
+  }
   return offsets;
 }
 

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 
 namespace dhr::fuzz {
 
@@ -60,6 +61,10 @@ std::vector<Seed> datagram_seeds() {
     late_shard.scene_time_ns = 3'600'000'000'000;
     out.push_back({"shard_late_scene_time", datagram(77, late_shard)});
   }
+  // App-moved nodes (protocol version 6; the samples hold one "NodeTransform"): one at the largest stamp.
+  NodeTransform far = std::get<NodeTransform>(samples[6].message);
+  far.scene_time_ns = std::numeric_limits<int64_t>::max();
+  out.push_back({"node_transform_far_scene_time", datagram(77, far)});
   Bytes other_version = encode_datagram(samples.front());
   if (other_version.size() > 4) other_version[4] = kProtocolVersion + 1;
   out.push_back({"hello_version2", other_version});

@@ -54,10 +54,10 @@ python3 - "$port" <<'PY'
 import socket, struct, sys
 port = int(sys.argv[1])
 s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-def header(kind, flags=0, version=5, token=0, seq=0):  # version: kProtocolVersion
+def header(kind, flags=0, version=6, token=0, seq=0):  # version: kProtocolVersion
     return b"DHRX" + struct.pack("<BBHQI", version, kind, flags, token, seq)
 bad = [
-    b"DHRX\x05\x01",                                              # shorter than the header
+    b"DHRX\x06\x01",                                              # shorter than the header
     header(9) + b"\x00" * 8,                                      # unknown type
     header(6, flags=4, token=5) + b"\x00",                        # unknown flags
     header(6, token=5) + b"\xc8",                                 # Bye with an unknown reason
@@ -67,6 +67,9 @@ bad = [
 ]
 for b in bad:
     s.sendto(b, ("127.0.0.1", port))
+# A well-formed NodeTransform (type 7; the server drops it: no such session): node 1 from 1.5 s on.
+s.sendto(header(7, token=5) + struct.pack("<Iq3d4f3f", 1, 1500000000, 0.25, -1.5, 2.0, 0, 0.6, 0, 0.8, 1, 2, 0.5),
+         ("127.0.0.1", port))
 print(len(bad))
 PY
 sleep 0.3
@@ -84,7 +87,8 @@ tshark -r "$tmp/cap.pcapng" -X lua_script:"$src/tools/wireshark/dhr.lua" \
   -Y "dhr && (udp.port == $port1 || udp.port == $port2)" -T fields -E separator=/t \
   -E occurrence=f -e dhr.type -e dhr.flags -e dhr.eye_width -e dhr.buffer_width -e dhr.guard_x -e dhr.frame \
   -e dhr.shard_count -e dhr.payload_size -e dhr.send_time_ns -e dhr.reason -e dhr.ciphertext -e dhr.handshake_tag \
-  -e dhr.view.position -e _ws.expert.message -e udp.length -e dhr.scene_time_ns >"$tmp/fields.tsv" 2>"$tmp/tshark_read.err" \
+  -e dhr.view.position -e _ws.expert.message -e udp.length -e dhr.scene_time_ns -e dhr.node -e dhr.node.rotation \
+  >"$tmp/fields.tsv" 2>"$tmp/tshark_read.err" \
   || { cat "$tmp/tshark_read.err"; echo "FAIL: tshark could not read the capture with the dissector"; exit 1; }
 if grep -v "Running as user" "$tmp/tshark_read.err" | grep -q .; then
   cat "$tmp/tshark_read.err"; echo "FAIL: the dissector reported errors"; exit 1
@@ -94,7 +98,8 @@ python3 - "$tmp/fields.tsv" <<'PY'
 import sys
 rows = [line.rstrip("\n").split("\t") for line in open(sys.argv[1]) if line.strip()]
 names = ["type", "flags", "eye_width", "buffer_width", "guard_x", "frame", "shard_count", "payload_size",
-         "send_time", "reason", "ciphertext", "hs_tag", "position", "expert", "udp_length", "scene_time"]
+         "send_time", "reason", "ciphertext", "hs_tag", "position", "expert", "udp_length", "scene_time", "node",
+         "rotation"]
 recs = [dict(zip(names, r + [""] * (len(names) - len(r)))) for r in rows]
 malformed = [r for r in recs if r["expert"] != "" and not r["expert"].startswith("version ")]
 plain = [r for r in recs if r["flags"] in ("0x0000", "0") and r not in malformed]
@@ -103,7 +108,7 @@ for r in plain:
     by_type.setdefault(r["type"], []).append(r)
 print("datagrams:", len(recs), "plain:", len(plain), "malformed:", len(malformed),
       "types in the clear:", sorted(by_type))
-for t in ("1", "2", "3", "4", "5", "6"):
+for t in ("1", "2", "3", "4", "5", "6", "7"):
     assert t in by_type, f"message type {t} not decoded in the clear"
 assert all(r["eye_width"] == "64" for r in by_type["1"]), by_type["1"][:2]
 assert all(int(r["buffer_width"]) > 64 and r["guard_x"] != "" for r in by_type["2"]), by_type["2"][:2]
@@ -112,6 +117,8 @@ assert all(int(r["shard_count"]) >= 1 and int(r["payload_size"]) >= 1 and int(r[
            for r in by_type["4"]), by_type["4"][:2]
 assert all(r["send_time"] != "" for r in by_type["5"]), by_type["5"][:2]
 assert all(r["reason"] != "" for r in by_type["6"]), by_type["6"][:2]
+assert all(r["node"] == "1" and r["scene_time"] == "1500000000" and r["rotation"].startswith("0.000000, 0.600000")
+           for r in by_type["7"]), by_type["7"][:2]
 sealed = [r for r in recs if r["flags"] == "0x0001" and r not in malformed]
 tagged = [r for r in recs if r["flags"] == "0x0002"]
 assert sealed and all(r["ciphertext"] != "" for r in sealed), "a sealed datagram without its ciphertext"

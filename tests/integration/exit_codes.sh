@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every executable against the one exit-code table (docs/exit-codes.md, shared/cli/include/cli/exit_codes.hpp):
 # --help is 0, an unknown option 2, an unusable input file 2; the client's bad address and unreadable key file 2,
-# a server that traces another scene 5 (and the same --lights on both ends 0), a wrong key 4.
+# a server that traces another scene 5 (and the same --lights on both ends 0), a wrong key 4; a bad --node-script 2.
 # Usage: exit_codes.sh BUILD_DIR SOURCE_DIR   (executables that were not built are skipped, named)
 set -uo pipefail
 build="$1" src="$2"
@@ -55,6 +55,14 @@ if [ -n "$client" ]; then
     --offscreen "$tmp/frames" --png-every 0
   expect 2 "dhr-xrclient unreadable key file" "$client" --scene "$scene" --server 127.0.0.1:9 --key-file "$missing" "${play[@]}"
   expect 2 "dhr-xrclient --start-at offscreen" "$client" --scene "$scene" --server 127.0.0.1:9 --start-at bookmark "${play[@]}"
+  # The default room moves nothing: any node in a --node-script is refused, naming the line.
+  printf '# moves\n{"t": 0.5, "node": 0, "translation": [0, 1, 0]}\n' >"$tmp/nodes.jsonl"
+  expect 2 "dhr-xrclient --node-script naming a node that cannot move" "$client" --scene "$scene" \
+    --server 127.0.0.1:9 --node-script "$tmp/nodes.jsonl" "${play[@]}"
+  grep -q "nodes.jsonl:2: node 0 is not a node the scene lets move" "$tmp/err" \
+    || { echo "FAIL: --node-script error names the file and line"; cat "$tmp/err"; failures=$((failures + 1)); }
+  expect 2 "dhr-xrclient missing --node-script" "$client" --scene "$scene" --server 127.0.0.1:9 \
+    --node-script "$missing" "${play[@]}"
 fi
 # The project's scripts that take options: --help 0, an unknown option 2 (nothing is built or installed then).
 for s in scripts/container scripts/gpu-bundle scripts/gpu-run scripts/setup; do

@@ -34,6 +34,8 @@ TEST(MetricsText, CountersGaugesDropsAndCumulativeHistograms) {
   s.wrong_version = 1;
   s.frames_at_scene_time = 4;
   s.scene_update_ms = 10.0;
+  s.node_transforms_applied = 6;
+  s.node_transforms_dropped_late = 2;
   for (const double ms : {0.5, 1.0, 3.0, 3.0, 700.0, 5000.0}) s.trace_hist.add(ms);
   const std::string text = prometheus_text(s);
   EXPECT_TRUE(has_line(text, "# TYPE dhr_sessions_active gauge"));
@@ -49,6 +51,9 @@ TEST(MetricsText, CountersGaugesDropsAndCumulativeHistograms) {
   EXPECT_TRUE(has_line(text, "dhr_frames_at_scene_time_total 4"));
   EXPECT_TRUE(has_line(text, "dhr_scene_update_ms_total 10"));
   EXPECT_TRUE(has_line(text, "dhr_scene_update_ms_per_frame 2.5"));
+  EXPECT_TRUE(has_line(text, "dhr_node_transforms_applied_total 6"));
+  EXPECT_TRUE(has_line(text, "dhr_node_transforms_dropped_total{reason=\"late\"} 2"));
+  EXPECT_TRUE(has_line(text, "dhr_node_transforms_dropped_total{reason=\"unknown_node\"} 0"));
   EXPECT_TRUE(has_line(text, "# TYPE dhr_trace_ms histogram"));
   EXPECT_TRUE(has_line(text, "dhr_trace_ms_bucket{le=\"1\"} 2"));
   EXPECT_TRUE(has_line(text, "dhr_trace_ms_bucket{le=\"2\"} 2"));

@@ -40,27 +40,7 @@ std::string sliding_occluder_gltf() {
   return g.text({0, 1, 2});
 }
 
-SharedScene& sliding_occluder_scene() {
-  static SharedScene* scene = [] {
-    auto* s = new SharedScene;
-    const std::string text = sliding_occluder_gltf();
-    SceneLoadResult loaded = load_scene_from_memory(text.data(), text.size(), ".", "sliding.gltf");
-    if (!loaded) throw std::runtime_error(loaded.error);
-    s->scene = std::move(*loaded.scene);
-    TracerOptions options;
-    options.threads = 2;
-    s->tracer = std::make_unique<EmbreeTracer>(s->scene, options);
-    return s;
-  }();
-  return *scene;
-}
-
-// Both eyes from above and in front of the floor, looking at its centre.
-std::array<View, 2> floor_views() {
-  const Pose head = look_at_pose(CameraBookmark{"floor", {0.0, 3.0, 4.0}, {0.0, 0.0, 0.0}}).value();
-  const Fov fov = symmetric_fov(90.0, Extent{kEyeW, kEyeH});
-  return {View{left_eye_pose(head), fov}, View{left_eye_pose(head, -kDefaultIpdMetres), fov}};
-}
+SharedScene& sliding_occluder_scene() { return shared_scene_from_text("sliding.gltf", sliding_occluder_gltf()); }
 
 class SceneTimeServiceTest : public VisibilityServiceTest {
  protected:
@@ -70,12 +50,7 @@ class SceneTimeServiceTest : public VisibilityServiceTest {
   }
 
   void send_pose_at(uint64_t token, uint64_t frame, int64_t scene_time_ns) {
-    PoseUpdate p;
-    p.frame = frame;
-    p.display_time_ns = static_cast<int64_t>(frame) * 11'000'000;
-    p.scene_time_ns = scene_time_ns;
-    p.views = floor_views();
-    send(Datagram{token, static_cast<uint32_t>(frame), p}, peer(1));
+    send_pose(token, peer(1), frame, floor_views(), scene_time_ns);
   }
 
   // Traces what is pending and returns the frame's shards (every one checked to name `frame`).
@@ -179,11 +154,12 @@ TEST_F(VisibilityServiceTest, AStaticSceneIsNotMovedAndShardsNameThePosesSceneTi
   EXPECT_EQ(service_->stats().scene_update_ms, 0.0);
 }
 
-// A client of protocol version 4 (no scene time) gets the version mismatch answer, as any other version does.
-TEST_F(VisibilityServiceTest, AVersion4HelloGetsByeVersionMismatch) {
+// A client of protocol version 4 (no scene time) or 5 (no NodeTransform) gets the version mismatch answer, as any
+// other version does.
+TEST_F(VisibilityServiceTest, AVersion5HelloGetsByeVersionMismatch) {
   std::vector<uint8_t> old = encode_datagram(Datagram{0, 0, make_hello(5)});
-  ASSERT_EQ(kProtocolVersion, 5);
-  old[4] = 4;
+  ASSERT_EQ(kProtocolVersion, 6);
+  old[4] = 5;
   send_raw(old, peer(3));
   const auto byes = byes_of(drain()[peer(3)]);
   ASSERT_EQ(byes.size(), 1u);

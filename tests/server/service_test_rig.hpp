@@ -27,20 +27,40 @@ struct SharedScene {
   std::unique_ptr<EmbreeTracer> tracer;
 };
 
-// One loaded scene and its tracer per scene file (relative to the source tree), made on first use and kept.
-inline SharedScene& shared_scene(const std::string& path = kDefaultScenePath) {
+// The loaded scene and an Embree tracer (2 threads) over it, kept under `key` from the first call on; `load` runs
+// on the first call only. Throws with the loader's message.
+template <class Load>
+SharedScene& kept_scene(const std::string& key, Load load) {
   static auto* scenes = new std::map<std::string, std::unique_ptr<SharedScene>>;
-  std::unique_ptr<SharedScene>& slot = (*scenes)[path];
+  std::unique_ptr<SharedScene>& slot = (*scenes)[key];
   if (!slot) {
-    slot = std::make_unique<SharedScene>();
-    SceneLoadResult loaded = load_scene(test::source_path(path));
+    SceneLoadResult loaded = load();
     if (!loaded) throw std::runtime_error(loaded.error);
+    slot = std::make_unique<SharedScene>();
     slot->scene = std::move(*loaded.scene);
     TracerOptions options;
     options.threads = 2;
     slot->tracer = std::make_unique<EmbreeTracer>(slot->scene, options);
   }
   return *slot;
+}
+
+// One loaded scene and its tracer per scene file (relative to the source tree), made on first use and kept.
+inline SharedScene& shared_scene(const std::string& path = kDefaultScenePath) {
+  return kept_scene(path, [&] { return load_scene(test::source_path(path)); });
+}
+
+// A scene a test wrote as glTF text (`name` stands for its file) and its tracer, made on first use and kept.
+inline SharedScene& shared_scene_from_text(const std::string& name, const std::string& gltf_text) {
+  return kept_scene("text:" + name,
+                    [&] { return load_scene_from_memory(gltf_text.data(), gltf_text.size(), ".", name); });
+}
+
+// Both eyes from above and in front of a floor around the origin (y = 0), looking at its centre.
+inline std::array<View, 2> floor_views() {
+  const Pose head = look_at_pose(CameraBookmark{"floor", {0.0, 3.0, 4.0}, {0.0, 0.0, 0.0}}).value();
+  const Fov fov = symmetric_fov(90.0, Extent{kEyeW, kEyeH});
+  return {View{left_eye_pose(head), fov}, View{left_eye_pose(head, -kDefaultIpdMetres), fov}};
 }
 
 inline std::array<View, 2> bookmark_views(size_t index, double shift_x = 0.0) {
@@ -122,12 +142,13 @@ class VisibilityServiceTest : public ::testing::Test {
     return sent[from][0].session_token;
   }
 
-  // Sends a pose; returns the views as the server decodes them (renormalized).
+  // Sends a pose (displayed at `scene_time_ns`); returns the views as the server decodes them (renormalized).
   std::array<View, 2> send_pose(uint64_t token, const net::PeerAddress& from, uint64_t frame,
-                                const std::array<View, 2>& views) {
+                                const std::array<View, 2>& views, int64_t scene_time_ns = 0) {
     PoseUpdate p;
     p.frame = frame;
     p.display_time_ns = static_cast<int64_t>(frame) * 11'000'000;
+    p.scene_time_ns = scene_time_ns;
     p.views = views;
     const std::vector<uint8_t> bytes = encode_datagram(Datagram{token, static_cast<uint32_t>(frame), p});
     Datagram decoded;

@@ -76,7 +76,7 @@ TEST(ProtocolRobustness, HeaderFieldsAreChecked) {
   b = good;
   b[5] = 0;
   EXPECT_EQ(decode_datagram(b, out), DecodeError::kUnknownType);
-  b[5] = 7;
+  b[5] = 8;  // one past NodeTransform
   EXPECT_EQ(decode_datagram(b, out), DecodeError::kUnknownType);
   b = good;
   b[7] = 1;
@@ -271,6 +271,44 @@ TEST(ProtocolRobustness, OtherFieldRangesAreValidated) {
   }
 }
 
+// NodeTransform (app-moved nodes): finite, stamp >= 0, unit rotation (renormalized), scale > 0, translation in range;
+// in that order.
+TEST(ProtocolRobustness, NodeTransformValuesAreValidated) {
+  const NodeTransform base = std::get<NodeTransform>(sample_datagrams()[6].message);
+  const auto check = [&](auto edit) {
+    NodeTransform m = base;
+    edit(m);
+    Datagram out;
+    return decode_datagram(encode_datagram({kToken, 0, m}), out);
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(check([](NodeTransform&) {}), DecodeError::kNone);
+  EXPECT_EQ(check([&](NodeTransform& m) { m.trs.translation.y = nan; }), DecodeError::kNonFinite);
+  EXPECT_EQ(check([&](NodeTransform& m) { m.trs.rotation.w = nan; }), DecodeError::kNonFinite);
+  EXPECT_EQ(check([&](NodeTransform& m) { m.trs.scale.z = inf; }), DecodeError::kNonFinite);
+  EXPECT_EQ(check([](NodeTransform& m) { m.scene_time_ns = -1; }), DecodeError::kBadValue);
+  EXPECT_EQ(check([](NodeTransform& m) { m.scene_time_ns = 0; }), DecodeError::kNone);
+  EXPECT_EQ(check([](NodeTransform& m) { m.trs.rotation = glm::dquat(0.9, 0.0, 0.0, 0.0); }), DecodeError::kBadPose);
+  EXPECT_EQ(check([](NodeTransform& m) { m.trs.rotation = glm::dquat(0.0, 0.0, 0.0, 0.0); }), DecodeError::kBadPose);
+  EXPECT_EQ(check([](NodeTransform& m) { m.trs.scale.x = 0.0; }), DecodeError::kBadValue);
+  EXPECT_EQ(check([](NodeTransform& m) { m.trs.scale.y = -1.0; }), DecodeError::kBadValue);
+  EXPECT_EQ(check([](NodeTransform& m) { m.trs.translation.x = 2.0e6; }), DecodeError::kBadPose);
+  // NaN first: a NaN stamp cannot exist, but a NaN rotation with a negative stamp is non-finite.
+  EXPECT_EQ(check([&](NodeTransform& m) {
+              m.scene_time_ns = -5;
+              m.trs.rotation.x = nan;
+            }),
+            DecodeError::kNonFinite);
+  // A rotation off unit within the tolerance is accepted and renormalized.
+  NodeTransform m = base;
+  m.trs.rotation = glm::dquat(0.8002, 0.0, 0.6, 0.0);
+  Datagram out;
+  ASSERT_EQ(decode_datagram(encode_datagram({kToken, 0, m}), out), DecodeError::kNone);
+  EXPECT_NEAR(glm::length(std::get<NodeTransform>(out.message).trs.rotation), 1.0, 1e-12);
+  EXPECT_FALSE(node_transform_as_decoded(NodeTransform{1, -1, base.trs}).has_value());
+}
+
 TEST(ProtocolRobustness, RandomCorruptionNeverCrashes) {
   uint64_t state = 12345;
   auto next = [&state] {
@@ -299,7 +337,7 @@ TEST(ProtocolRobustness, RandomCorruptionNeverCrashes) {
     }
   }
   EXPECT_GT(rejected, 0u);
-  EXPECT_EQ(accepted + rejected, 6u * 4000u);
+  EXPECT_EQ(accepted + rejected, sample_datagrams().size() * 4000u);
   EXPECT_EQ(counts.total_errors(), rejected);
 }
 

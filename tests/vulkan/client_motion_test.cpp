@@ -23,6 +23,7 @@
 #include "render/render_camera.hpp"
 #include "render/client_motion.hpp"
 #include "render/shadow_maps.hpp"
+#include "scene/node_overrides.hpp"
 #include "scene/scene_at.hpp"
 #include "moving_scene.hpp"
 #include "vulkan_test_fixture.hpp"
@@ -103,6 +104,39 @@ TEST_F(ClientMotionTest, MovingSceneAtTimeEqualsSceneAtRenderedStatically) {
     EXPECT_LE(coverage, 4u);
     EXPECT_GT(occluder_pixels, 50u) << "the occluder is on screen at t = " << t;
   }
+}
+
+// An app-moved node (docs/motion.md, "App-moved nodes"): sampled with the app's transforms, the occluder is drawn
+// where scene_at puts it with the same transforms (overriding its animation), not where the animation has it.
+TEST_F(ClientMotionTest, AnAppMovedNodeIsDrawnWhereTheAppPutIt) {
+  const Scene scene = moving_scene();
+  const ClientScene gpu(ctx(), scene);
+  NodeOverrides overrides;
+  const Trs app{glm::dvec3(-0.6, 1.0, 0.2), glm::angleAxis(0.4, glm::dvec3(1.0, 0.0, 0.0)), glm::dvec3(1.5)};
+  ASSERT_EQ(overrides.add(scene.animation, kOccluderNode, 250'000'000, app), NodeTransformVerdict::kAccepted);
+  const double t = 0.5;
+  MovedScene moved;
+  gpu.motion().sample(t, gpu.meshes(), moved, &overrides);
+  EXPECT_EQ(moved.overrides, &overrides);  // the warp's motion rule reads them from the frame's sample
+  const Readback a = render_gbuffer(ctx(), gpu, &moved);
+  const ClientScene gpu_exact(ctx(), scene_at(scene, t, &overrides));
+  const Readback b = render_gbuffer(ctx(), gpu_exact, nullptr);
+  MovedScene animated;
+  gpu.motion().sample(t, gpu.meshes(), animated);
+  const Readback c = render_gbuffer(ctx(), gpu, &animated);
+  size_t coverage = 0, differs_from_animation = 0;
+  for (size_t i = 0; i < a.depth.size(); ++i) {
+    if ((a.depth[i] > 0.0f) != (b.depth[i] > 0.0f)) {
+      ++coverage;
+      continue;
+    }
+    if (a.depth[i] != 0.0f) {
+      EXPECT_NEAR(a.depth[i], b.depth[i], 1e-5 * static_cast<double>(b.depth[i])) << "pixel " << i;
+    }
+    differs_from_animation += a.depth[i] != c.depth[i] ? 1 : 0;
+  }
+  EXPECT_LE(coverage, 4u);
+  EXPECT_GT(differs_from_animation, 50u);
 }
 
 // Static meshes keep their bits whether or not the frame carries a MovedScene (only an off-screen mesh moves).

@@ -1,4 +1,4 @@
--- Wireshark / tshark dissector for the DHR-XR wire protocol, version 5 (docs/protocol.md).
+-- Wireshark / tshark dissector for the DHR-XR wire protocol, version 6 (docs/protocol.md).
 -- Load:  tshark -X lua_script:tools/wireshark/dhr.lua -r capture.pcapng -Y dhr
 --        (Wireshark: copy to ~/.local/lib/wireshark/plugins/ or pass -X lua_script:...)
 -- A heuristic dissector on UDP: every datagram that starts with "DHRX". Each message type and field is
@@ -10,7 +10,7 @@
 -- BEGIN LAYOUT: written by `dhr-protocol-layout --update-wireshark tools/wireshark/dhr.lua` from
 -- shared/protocol/include/protocol/wire_layout.hpp (ProtocolLayout.WiresharkLayoutIsCurrent checks it).
 -- Per field: { offset, wire type, name }; offsets from the datagram's start (the View's from its own).
-local VERSION = 5
+local VERSION = 6
 local MAX_DATAGRAM = 1280
 local SEAL_TAG = 16
 local HEADER = { size = 20, fields = {
@@ -45,6 +45,13 @@ local MESSAGES = {
     { 44, "View", "left_view" },
     { 100, "View", "right_view" },
     { 156, "u16 x2", "held_distance" },
+  } },
+  [7] = { name = "NodeTransform", size = 84, fields = {
+    { 20, "u32", "node" },
+    { 24, "i64", "scene_time_ns" },
+    { 32, "f64 x3", "translation" },
+    { 56, "f32 x4", "rotation" },
+    { 72, "f32 x3", "scale" },
   } },
   [2] = { name = "Welcome", size = 57, fields = {
     { 20, "u64", "client_nonce" },
@@ -153,6 +160,10 @@ local f = {
   frames_done = ProtoField.uint32("dhr.frames_done", "Frames done"),
   frames_dropped = ProtoField.uint32("dhr.frames_dropped", "Frames dropped"),
   reason = ProtoField.uint8("dhr.reason", "Reason", base.DEC, reasons),
+  node = ProtoField.uint32("dhr.node", "Node (glTF index)"),
+  translation = ProtoField.string("dhr.node.translation", "Translation (m)"),
+  rotation = ProtoField.string("dhr.node.rotation", "Rotation (x, y, z, w)"),
+  scale = ProtoField.string("dhr.node.scale", "Scale"),
   ciphertext = ProtoField.bytes("dhr.ciphertext", "Sealed body"),
   seal_tag = ProtoField.bytes("dhr.seal_tag", "Seal tag (Poly1305)"),
   random = ProtoField.bytes("dhr.random", "Handshake random"),

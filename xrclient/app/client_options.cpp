@@ -100,6 +100,10 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   app.add_option("--snapshot-dir", out.snapshot_dir,
                  "OpenXR: also write the presented eyes as PNG every --png-every frames");
   app.add_option("--stats-jsonl", out.stats_jsonl, "Per-frame statistics as JSON lines into FILE");
+  app.add_option("--node-script", out.node_script,
+                 "Move nodes at run time: JSON lines {\"t\": s, \"node\": name or index, \"translation\": [x,y,z], "
+                 "\"rotation\": [x,y,z,w], \"scale\": [x,y,z]}, each sent when the scene clock reaches t "
+                 "(docs/motion.md)");
   app.add_option("--schedule", schedule,
                  "paper: show frame n-p+x; newest: always the newest pose; stale: no warp (reference)")
       ->capture_default_str()

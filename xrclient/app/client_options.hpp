@@ -36,6 +36,7 @@ struct ClientOptions {
   WarpChoice warp = shipped::kWarp;  // --warp
   uint32_t depth_scale = shipped::kDepthScale;  // --depth-scale
   std::string record_trace;  // --record-trace FILE (OpenXR path)
+  std::string node_script;   // --node-script FILE: app-moved nodes (link/node_script.hpp)
   double connect_timeout_s = 5.0;
   std::string vk_device = "auto";
   std::string swapchain_format = "srgb";

@@ -22,6 +22,15 @@ Scene load_client_scene(const ClientOptions& options) {
   return std::move(*scene);
 }
 
+std::unique_ptr<NodeScriptPlayer> load_node_script_player(const ClientOptions& options, const Scene& scene) {
+  if (options.node_script.empty()) return nullptr;
+  std::string error;
+  std::optional<std::vector<NodeScriptStep>> steps = load_node_script(options.node_script, scene, &error);
+  if (!steps) throw InputError("--node-script " + error);
+  log::info("node script: %zu transforms from %s", steps->size(), options.node_script.c_str());
+  return std::make_unique<NodeScriptPlayer>(std::move(*steps), scene);
+}
+
 std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard,
                                                        uint64_t scene_hash, uint32_t soft_lights) {
   std::string host;

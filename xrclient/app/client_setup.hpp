@@ -10,6 +10,7 @@
 #include "frame/frame_record.hpp"
 #include "frame/visibility_source.hpp"
 #include "scene/scene.hpp"
+#include "link/node_script.hpp"
 #include "link/udp_visibility_client.hpp"
 #include "pose/pose_guard.hpp"
 #include "pose/pose_source.hpp"
@@ -33,6 +34,10 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
 // scene: the run stops and exits with kExitSceneMismatch.
 bool scene_mismatch(const UdpVisibilityClient& link);
 inline constexpr const char* kExitScene = "scene mismatch";  // RunSummary::exit of such a run
+
+// --node-script's player (nullptr without the option). Throws InputError("--node-script FILE:LINE: why") for a
+// file that cannot be read or has a bad line: refused before the run.
+std::unique_ptr<NodeScriptPlayer> load_node_script_player(const ClientOptions& options, const Scene& scene);
 
 // The pose guard of a run; its fallback views are the eye model standing at the origin, looking down -Z.
 PoseGuard make_pose_guard(const EyeModel& eyes);

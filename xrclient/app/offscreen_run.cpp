@@ -46,6 +46,7 @@ std::unique_ptr<PoseSource> make_pose_source(const ClientOptions& options, const
 
 int run_offscreen(const ClientOptions& options) {
   const Scene scene = load_client_scene(options);
+  const std::unique_ptr<NodeScriptPlayer> node_script = load_node_script_player(options, scene);
   const EyeModel eyes = EyeModel::monado_simulated();
   std::unique_ptr<PoseSource> poses = make_pose_source(options, eyes);
   log::info("pose source: %s", poses->describe().c_str());
@@ -61,6 +62,7 @@ int run_offscreen(const ClientOptions& options) {
   const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene),
                                                                        render::soft_light_mask(render::layout_for_lights(scene.lights)));
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
+  source.set_node_script(node_script.get());
 
   FrameCoordinator coordinator(*context, client_scene, eye, source, coordinator_options(options));
   std::unique_ptr<StatsSink> stats;
@@ -100,7 +102,8 @@ int run_offscreen(const ClientOptions& options) {
       run.exit = kExitScene;
       break;
     }
-    const FrameInput input = frame_input(sample, guard_poses);
+    FrameInput input = frame_input(sample, guard_poses);
+    if (node_script) input.node_overrides = &node_script->overrides();
     if (!coordinator.run_frame(input, png)) {
       log::error("offscreen: frame %llu failed: %s", static_cast<unsigned long long>(sample.frame),
                  coordinator.last_error().c_str());

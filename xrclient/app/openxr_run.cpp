@@ -39,6 +39,7 @@ int run_openxr(const ClientOptions& options) {
   Watchdog watchdog(std::chrono::milliseconds(static_cast<int64_t>(options.timeout_s * 1000.0)) + kHardCapMargin,
                     "dhr-xrclient exceeded its wall-clock cap (a runtime call did not return)");
   const Scene scene = load_client_scene(options);
+  const std::unique_ptr<NodeScriptPlayer> node_script = load_node_script_player(options, scene);
 
   xr::HeadsetOptions headset_options;
   headset_options.instance.app_name = "dhr-xrclient";
@@ -73,6 +74,7 @@ int run_openxr(const ClientOptions& options) {
   const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene),
                                                                        render::soft_light_mask(render::layout_for_lights(scene.lights)));
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
+  source.set_node_script(node_script.get());
 
   CoordinatorOptions frame_options = coordinator_options(options);
   // The raw copy into a BGRA swapchain needs the channels swapped by the shading pass.
@@ -112,7 +114,8 @@ int run_openxr(const ClientOptions& options) {
     FramePose sample;
     poses.next(sample);
     note_source_failure(source, warned_failure);
-    const FrameInput input = frame_input(sample, guard_poses);
+    FrameInput input = frame_input(sample, guard_poses);
+    if (node_script) input.node_overrides = &node_script->overrides();
     swapchain.set_targets(t);
     // A failure is reported after the frame (after_frame below) so the session can be walked down.
     if (!coordinator.run_frame(input, sinks)) return std::nullopt;

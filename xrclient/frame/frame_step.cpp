@@ -29,6 +29,7 @@ FrameRecord FrameStep::record(VkCommandBuffer cmd, uint32_t slot, const FrameInp
   record.response_ms = plan.response_ms;
   StereoInputs inputs;
   inputs.scene_time_ns = pose.scene_time_ns;
+  inputs.node_overrides = input.node_overrides;
   for (uint32_t e = 0; e < 2; ++e) {
     const EyePlan& p = plan.eyes[e];
     inputs.views[e] = p.view;

@@ -20,6 +20,8 @@ namespace dhr::client {
 struct FrameInput {
   FramePose pose;  // validated by the pose layer (PoseGuard: finite, unit quaternions)
   bool pose_reused = false;
+  // App-moved nodes the client sent (NodeScriptPlayer::overrides()); drawn and warped with them. Null: none.
+  const NodeOverrides* node_overrides = nullptr;
 };
 
 struct FrameStepOptions {

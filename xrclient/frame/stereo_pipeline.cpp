@@ -35,7 +35,8 @@ void StereoPipeline::record(VkCommandBuffer cmd, uint32_t slot, const StereoInpu
   ensure_shadow_maps();
   const render::MovedScene* moved = nullptr;
   if (scene_->motion().animated()) {
-    scene_->motion().sample(render::scene_seconds(inputs.scene_time_ns), scene_->meshes(), moved_);
+    scene_->motion().sample(render::scene_seconds(inputs.scene_time_ns), scene_->meshes(), moved_,
+                            inputs.node_overrides);
     moved = &moved_;
     ShadowSlot& s = shadow_slots_.at(slot);
     s.update = {};

@@ -36,6 +36,7 @@ struct StereoInputs {
   std::array<VisibilityInput, 2> visibility;  // per eye, its newest (buffer null: none)
   std::array<VisibilityInput, 2> older;       // per eye, its previous one (buffer null: none)
   int64_t scene_time_ns = 0;                  // the scene time of the frame's display (FramePose::scene_time_ns)
+  const NodeOverrides* node_overrides = nullptr;  // app-moved nodes (scene/node_overrides.hpp); null: none
 };
 
 class StereoPipeline {

@@ -255,6 +255,29 @@ bool VisibilityClient::send_pose(const FramePose& pose) {
   return true;
 }
 
+std::optional<NodeTransform> VisibilityClient::send_node_transform(uint32_t node, int64_t scene_time_ns,
+                                                                  const Trs& trs) {
+  const std::lock_guard lock(mutex_);
+  if (state_ != State::kConnected) {
+    ++stats_.node_transforms_not_connected;
+    return std::nullopt;
+  }
+  const std::optional<NodeTransform> decoded = node_transform_as_decoded(NodeTransform{node, scene_time_ns, trs});
+  if (!decoded) {
+    ++stats_.node_transforms_refused;
+    return std::nullopt;
+  }
+  if (!send(*decoded, token_)) return std::nullopt;
+  ++stats_.node_transforms_sent;
+  const auto remembered = sent_transforms_.find(node);
+  if (remembered != sent_transforms_.end()) {
+    remembered->second = {remembered->second[1], decoded};
+  } else if (sent_transforms_.size() < kMaxRememberedNodes) {
+    sent_transforms_.emplace(node, std::array<std::optional<NodeTransform>, 2>{std::nullopt, decoded});
+  }
+  return decoded;
+}
+
 bool VisibilityClient::take_newest(Eye eye, VisibilityFrame& out) {
   const auto index = static_cast<size_t>(eye);
   if (index > 1) return false;

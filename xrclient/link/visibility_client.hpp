@@ -32,6 +32,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -117,6 +118,11 @@ struct ClientNetStats {
   uint64_t poses_sent = 0;
   uint64_t poses_not_connected = 0;  // send_pose() before the handshake finished
   uint64_t poses_refused = 0;        // frame number not increasing, or negative display or scene time
+  // App-moved nodes (send_node_transform).
+  uint64_t node_transforms_sent = 0;
+  uint64_t node_transforms_not_connected = 0;  // before the handshake finished
+  uint64_t node_transforms_refused = 0;        // no receiver would accept it (non-finite, scale <= 0, ...)
+  uint64_t node_transforms_resent = 0;         // the newest two per node, again to a new session's server
   // Shards (of the current session).
   uint64_t shards_received = 0;
   uint64_t shards_accepted = 0;
@@ -173,6 +179,17 @@ class VisibilityClient {
   // Render thread: sends a PoseUpdate (when connected; frame numbers strictly increasing) and remembers
   // its send time. False when not sent (not connected, frame not newer, negative time, send refused).
   bool send_pose(const FramePose& pose);
+
+  // Render thread: an application moved glTF node `node`: from `scene_time_ns` on its local transform is `trs`
+  // (docs/motion.md, "App-moved nodes"). Sends a NodeTransform when connected and returns the transform exactly as
+  // the server decodes it (rotation and scale rounded to the wire's f32): the caller records that one in its own
+  // NodeOverrides (rendering, the warp's motion rule) so that both ends hold the same bits. std::nullopt when not
+  // sent (not connected, not a valid transform, send refused). Which nodes may move is the server's to check.
+  // The newest two per node (of the first kMaxRememberedNodes nodes) are sent again when a new session starts
+  // (after a timeout or Bye the server's copy went with the old session), so the server extrapolates as the
+  // client does.
+  std::optional<NodeTransform> send_node_transform(uint32_t node, int64_t scene_time_ns, const Trs& trs);
+  static constexpr size_t kMaxRememberedNodes = 4096;
 
   // Render thread: the newest visibility of that eye published since the last call, swapped into `out`
   // (no copy; out's old storage is recycled). False, leaving `out` untouched, when nothing newer arrived.
@@ -247,6 +264,8 @@ class VisibilityClient {
   net::ClockOffsetEstimator clock_sync_;
   ResponseTracker responses_;
   SequenceTracker sequences_;
+  // App-moved nodes: the newest two transforms sent per node ([1] the newer), for a new session.
+  std::map<uint32_t, std::array<std::optional<NodeTransform>, 2>> sent_transforms_;
   ClientNetStats stats_;
   std::array<int64_t, kDecodeErrorCount> last_log_ns_{};
   Datagram rx_;                                    // decode target (a shard is ~1.3 KB)

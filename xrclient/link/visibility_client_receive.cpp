@@ -90,7 +90,8 @@ void VisibilityClient::on_datagram(std::span<const uint8_t> bytes, int64_t now) 
     case MessageType::kHeartbeat:
     case MessageType::kVisibilityShard: break;
     case MessageType::kHello:
-    case MessageType::kPoseUpdate: ++stats_.datagrams_unexpected; return;
+    case MessageType::kPoseUpdate:
+    case MessageType::kNodeTransform: ++stats_.datagrams_unexpected; return;
   }
   if (state_ != State::kConnected || rx_.session_token != token_) {
     ++stats_.datagrams_foreign;
@@ -195,6 +196,10 @@ void VisibilityClient::adopt_session(const Datagram& datagram, int64_t now) {
   log::info("visibility client: session %016llx: %ux%u per eye (guard %u,%u), %u lights, scene hash %016llx",
             static_cast<unsigned long long>(token_), w.buffer_width, w.buffer_height, w.guard_x, w.guard_y,
             w.light_count, static_cast<unsigned long long>(w.scene_hash));
+  // App-moved nodes: the new session's server has none of them yet (docs/motion.md).
+  for (const auto& [node, newest] : sent_transforms_)
+    for (const std::optional<NodeTransform>& t : newest)
+      if (t && send(*t, token_)) ++stats_.node_transforms_resent;
 }
 
 void VisibilityClient::handle_bye(const Datagram& datagram, int64_t now) {

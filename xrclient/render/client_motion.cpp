@@ -45,21 +45,22 @@ ClientMotion::ClientMotion(const Scene& scene, std::span<const ClientMesh> meshe
   }
 }
 
-glm::dmat4 ClientMotion::node_world(uint32_t mesh, double t) const {
+glm::dmat4 ClientMotion::node_world(uint32_t mesh, double t, const NodeOverrides* overrides) const {
   const SceneMesh& m = scene_motion_.scene().meshes[source_[mesh]];
-  return mesh_moves(mesh) ? node_world_at(scene_motion_.scene(), m.node, t) : m.T_world_local;
+  return mesh_moves(mesh) ? node_world_at(scene_motion_.scene(), m.node, t, overrides) : m.T_world_local;
 }
 
-glm::dmat4 ClientMotion::motion_at(uint32_t mesh, double t) const {
+glm::dmat4 ClientMotion::motion_at(uint32_t mesh, double t, const NodeOverrides* overrides) const {
   const Scene& scene = scene_motion_.scene();
-  return mesh_moves(mesh) ? mesh_motion_at(scene, scene.meshes[source_[mesh]], t) : glm::dmat4(1.0);
+  return mesh_moves(mesh) ? mesh_motion_at(scene, scene.meshes[source_[mesh]], t, overrides) : glm::dmat4(1.0);
 }
 
-WorldBox ClientMotion::world_bounds_at(uint32_t mesh, double t) const {
-  return moved_box(rest_local_bounds_[mesh], node_world(mesh, t));
+WorldBox ClientMotion::world_bounds_at(uint32_t mesh, double t, const NodeOverrides* overrides) const {
+  return moved_box(rest_local_bounds_[mesh], node_world(mesh, t, overrides));
 }
 
-void ClientMotion::sample(double t, std::span<const ClientMesh> meshes, MovedScene& out) const {
+void ClientMotion::sample(double t, std::span<const ClientMesh> meshes, MovedScene& out,
+                          const NodeOverrides* overrides) const {
   const size_t n = meshes.size();
   if (!out.sampled || out.motion.size() != n || out.lights.size() != scene_motion_.scene().lights.size()) {
     out.motion.assign(n, glm::dmat4(1.0));
@@ -73,13 +74,15 @@ void ClientMotion::sample(double t, std::span<const ClientMesh> meshes, MovedSce
   }
   out.time_s = t;
   out.sampled = true;
+  out.overrides = overrides;
   for (uint32_t i : moving_meshes_) {
-    const glm::dmat4 m = motion_at(i, t);
+    const glm::dmat4 m = motion_at(i, t, overrides);
     out.motion[i] = m;
     out.centre[i] = glm::dvec3(m * glm::dvec4(meshes[i].origin, 1.0));
     out.radius[i] = meshes[i].radius * max_scale(m);
   }
-  for (uint32_t l : moving_lights_) out.lights[l] = light_at(scene_motion_.scene(), scene_motion_.scene().lights[l], t);
+  for (uint32_t l : moving_lights_)
+    out.lights[l] = light_at(scene_motion_.scene(), scene_motion_.scene().lights[l], t, overrides);
 }
 
 }  // namespace dhr::render

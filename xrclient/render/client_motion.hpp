@@ -27,6 +27,7 @@ struct MovedScene {
   std::vector<glm::dvec3> centre;      // per ClientMesh: bounding-sphere centre at time_s (world)
   std::vector<double> radius;          // per ClientMesh: bounding-sphere radius at time_s
   std::vector<SceneLight> lights;      // the scene's lights at time_s
+  const NodeOverrides* overrides = nullptr;  // the app-moved nodes sampled with (the warp's motion rule uses them)
 };
 
 class ClientMotion {
@@ -44,15 +45,18 @@ class ClientMotion {
   const std::vector<uint32_t>& moving_lights() const { return moving_lights_; }  // light indices
   // The mesh's rest positions' bounds in its node's local frame (inverse(SceneMesh::T_world_local) * rest world).
   const WorldBox& rest_local_bounds(uint32_t mesh) const { return rest_local_bounds_[mesh]; }
-  // World transform of the mesh's node at scene time t (rest: SceneMesh::T_world_local).
-  glm::dmat4 node_world(uint32_t mesh, double t) const;
+  // World transform of the mesh's node at scene time t (rest: SceneMesh::T_world_local); with `overrides`, app-moved
+  // nodes where scene/node_overrides.hpp puts them.
+  glm::dmat4 node_world(uint32_t mesh, double t, const NodeOverrides* overrides = nullptr) const;
   // Rest world -> world at t (mesh_motion_at); identity for a static mesh.
-  glm::dmat4 motion_at(uint32_t mesh, double t) const;
+  glm::dmat4 motion_at(uint32_t mesh, double t, const NodeOverrides* overrides = nullptr) const;
   // World bounds at t: the rest local box's corners through node_world (conservative for any affine motion).
-  WorldBox world_bounds_at(uint32_t mesh, double t) const;
+  WorldBox world_bounds_at(uint32_t mesh, double t, const NodeOverrides* overrides = nullptr) const;
 
-  // Samples every mesh and light at scene time t into `out` (static ones at rest); `meshes` as constructed.
-  void sample(double t, std::span<const ClientMesh> meshes, MovedScene& out) const;
+  // Samples every mesh and light at scene time t into `out` (static ones at rest); `meshes` as constructed. With
+  // `overrides` (kept in out.overrides: it must outlive the frame), app-moved nodes are where the app put them.
+  void sample(double t, std::span<const ClientMesh> meshes, MovedScene& out,
+              const NodeOverrides* overrides = nullptr) const;
 
  private:
   SceneMotion scene_motion_;  // what moved between two times; its scene(): the animation, lights, nodes (no vertices)

@@ -169,6 +169,7 @@ const shader::ClientWarpMotion* EyePipeline::warp_motion(const Camera& display, 
   WarpMotionInput in;
   in.motion = &motion.scene_motion();
   in.display_time = moved->time_s;
+  in.overrides = moved->overrides;
   // The forward pass reads source 0 only: the others' motion is not sampled.
   const bool forward = uses_forward();
   in.source_times = {time_of(&visibility), forward ? std::nullopt : time_of(other.visibility),

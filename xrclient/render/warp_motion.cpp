@@ -66,10 +66,10 @@ void make_warp_motion(const WarpMotionInput& input, std::vector<WorldBox>& scrat
     if (!input.source_times[s]) continue;
     const double t = *input.source_times[s];
     shader::ClientMotionSource& src = out.source[s];
-    const uint32_t moved = input.motion->moved_lights(t, input.display_time);
+    const uint32_t moved = input.motion->moved_lights(t, input.display_time, input.overrides);
     for (uint32_t l = 0; l < lights && l < 32; ++l)
       if ((moved >> l) & 1u) src.moved_bits |= field_bits(input.layout, l);
-    input.motion->moved_boxes(t, input.display_time, scratch);
+    input.motion->moved_boxes(t, input.display_time, scratch, input.overrides);
     if (scratch.size() > shader::kClientMaxMotionBoxes) {
       src.box_count = shader::kClientMaxMotionBoxes + 1;
       continue;

@@ -28,6 +28,7 @@ struct WarpMotionInput {
   VisibilityLayout layout;              // the masks' fields
   glm::dvec3 eye{0.0};                  // display eye position (world): everything is made relative to it
   double far_distance = 100.0;          // directional lights: segment length (the scene's bounding diagonal)
+  const NodeOverrides* overrides = nullptr;  // app-moved nodes, at every time (the frame's MovedScene::overrides)
 };
 
 // Fills `out` (inactive when nothing moves). `scratch` holds the boxes between calls (no allocation once grown).

@@ -67,6 +67,16 @@ std::string prometheus_text(const ServiceStats& s) {
          s.scene_update_ms);
   metric(out, "dhr_scene_update_ms_per_frame", "gauge", "Mean scene update per frame traced at its scene time, ms.",
          s.frames_at_scene_time ? s.scene_update_ms / static_cast<double>(s.frames_at_scene_time) : 0.0);
+  metric(out, "dhr_node_transforms_applied_total", "counter", "App node transforms accepted (applied from their time).",
+         static_cast<double>(s.node_transforms_applied));
+  header(out, "dhr_node_transforms_dropped_total", "counter", "App node transforms dropped, by reason.");
+  const std::pair<const char*, uint64_t> node_drops[] = {{"unknown_node", s.node_transforms_dropped_unknown_node},
+                                                         {"out_of_order", s.node_transforms_dropped_out_of_order},
+                                                         {"late", s.node_transforms_dropped_late}};
+  for (const auto& [reason, count] : node_drops) {
+    sample(out, std::string("dhr_node_transforms_dropped_total{reason=\"") + reason + "\"}",
+           static_cast<double>(count));
+  }
   metric(out, "dhr_poses_received_total", "counter", "Pose updates received.", static_cast<double>(s.poses_received));
   metric(out, "dhr_poses_superseded_total", "counter", "Poses replaced by a newer one before being traced.",
          static_cast<double>(s.poses_superseded));

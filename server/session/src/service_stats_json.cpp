@@ -60,6 +60,12 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
                                      : 0.0},
           // Scene time (a moving scene): frames traced at their scene time, the acceleration-structure updates
           // that moved the tracer there (total, and per such frame).
+          // App-moved nodes (NodeTransform): received, applied, and each reason to drop one.
+          {"node_transforms_received", s.node_transforms_received},
+          {"node_transforms_applied", s.node_transforms_applied},
+          {"node_transforms_dropped_unknown_node", s.node_transforms_dropped_unknown_node},
+          {"node_transforms_dropped_out_of_order", s.node_transforms_dropped_out_of_order},
+          {"node_transforms_dropped_late", s.node_transforms_dropped_late},
           {"frames_at_scene_time", s.frames_at_scene_time},
           {"scene_update_ms", s.scene_update_ms},
           {"scene_update_ms_per_frame",

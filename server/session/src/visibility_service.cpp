@@ -200,6 +200,10 @@ void VisibilityService::handle_session_message(const Datagram& datagram, const n
         s.last_heartbeat_sent_ns = now;
         if (send_message(&s, s.token, make_heartbeat(s, now), s.peer)) ++stats_.heartbeats_sent;
       }
+    } else if (const auto* transform = std::get_if<NodeTransform>(&datagram.message)) {
+      s.last_receive_ns = now;
+      ++s.datagrams_received;
+      handle_node_transform(s, *transform, now);
     } else if (std::holds_alternative<Bye>(datagram.message)) {
       ++s.datagrams_received;
       ++stats_.sessions_closed_by_peer;

@@ -40,7 +40,8 @@ std::optional<VisibilityService::Work> VisibilityService::claim_work() {
     s->pending.reset();
     const bool identical = s->have_traced && same_view(pose.views[0], s->traced_views[0]) &&
                            same_view(pose.views[1], s->traced_views[1]) &&
-                           (!scene_moves_ || pose.scene_time_ns == s->traced_scene_time_ns);
+                           (!scene_moves_ || (pose.scene_time_ns == s->traced_scene_time_ns &&
+                                              s->overrides.revision() == s->traced_overrides_revision));
     const bool refresh_due = config_.identical_refresh_ns > 0 && now - s->last_trace_ns >= config_.identical_refresh_ns;
     if (config_.skip_identical_pose && identical && !refresh_due) {
       ++stats_.poses_skipped_identical;
@@ -50,9 +51,11 @@ std::optional<VisibilityService::Work> VisibilityService::claim_work() {
     s->have_traced = true;
     s->traced_views = pose.views;
     s->traced_scene_time_ns = pose.scene_time_ns;
+    s->traced_overrides_revision = s->overrides.revision();
     s->last_trace_ns = now;
     s->busy = true;
-    Work w{next, pose, {s->codec[0].acked, s->codec[1].acked}, s->rate.pacing_dps().has_value(), s->pending_receive_ns};
+    Work w{next, pose, s->overrides, {s->codec[0].acked, s->codec[1].acked}, s->rate.pacing_dps().has_value(),
+           s->pending_receive_ns};
     if (config_.predict || config_.adaptive_fov.enabled) {
       int64_t horizon = config_.predict_horizon_ns;
       if (horizon < 0) {
@@ -176,7 +179,9 @@ bool VisibilityService::trace_and_send(const Work& work) {
     try {
       if (scene_moves_ && e == 0) {
         tracer_lock = std::unique_lock(tracer_mutex_);
-        tracer_.set_scene_time(static_cast<double>(work.traced.scene_time_ns) * 1e-9);
+        // App-moved nodes where the session's transforms put them then (extrapolated beyond the newest).
+        tracer_.set_scene_time(node_stamp_seconds(work.traced.scene_time_ns),
+                               work.overrides.empty() ? nullptr : &work.overrides);
         update_ms = tracer_.last_motion_update_ms();
         at_scene_time = true;
       }

@@ -82,4 +82,19 @@ DecodeError validate(const Bye& m) {
   return DecodeError::kNone;
 }
 
+DecodeError validate(NodeTransform& m) {
+  const Trs& trs = m.trs;
+  const glm::dquat& q = trs.rotation;
+  for (double x : {trs.translation.x, trs.translation.y, trs.translation.z, q.x, q.y, q.z, q.w, trs.scale.x,
+                   trs.scale.y, trs.scale.z})
+    if (!std::isfinite(x)) return DecodeError::kNonFinite;
+  if (m.scene_time_ns < 0) return DecodeError::kBadValue;
+  const double norm2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  if (std::fabs(norm2 - 1.0) > kQuaternionNormTolerance) return DecodeError::kBadPose;
+  if (!(trs.scale.x > 0.0 && trs.scale.y > 0.0 && trs.scale.z > 0.0)) return DecodeError::kBadValue;
+  if (glm::length(trs.translation) > kMaxPositionMetres) return DecodeError::kBadPose;
+  m.trs.rotation = glm::normalize(q);
+  return DecodeError::kNone;
+}
+
 }  // namespace dhr::wire

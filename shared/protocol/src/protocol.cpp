@@ -40,6 +40,7 @@ const char* to_string(MessageType type) {
     case MessageType::kVisibilityShard: return "VisibilityShard";
     case MessageType::kHeartbeat: return "Heartbeat";
     case MessageType::kBye: return "Bye";
+    case MessageType::kNodeTransform: return "NodeTransform";
   }
   return "unknown";
 }
@@ -102,7 +103,7 @@ DecodeError decode_header(std::span<const uint8_t> bytes, DatagramHeader& out) {
   if (!r.ok()) return DecodeError::kTruncated;
   out.session_token = h.session_token;
   out.sequence = h.sequence;
-  if (h.type < static_cast<uint8_t>(MessageType::kHello) || h.type > static_cast<uint8_t>(MessageType::kBye))
+  if (h.type < static_cast<uint8_t>(MessageType::kHello) || h.type > static_cast<uint8_t>(MessageType::kNodeTransform))
     return DecodeError::kUnknownType;
   out.type = static_cast<MessageType>(h.type);
   if (h.flags != 0) return DecodeError::kBadReserved;  // sealed and tagged datagrams are opened before decoding
@@ -149,6 +150,14 @@ std::optional<View> view_as_decoded(const View& view) {
   wire::read_fields(r, wire::kViewFields, out, unused);
   if (!w.ok() || !r.ok() || wire::check_nested(out) != DecodeError::kNone) return std::nullopt;
   return out;
+}
+
+std::optional<NodeTransform> node_transform_as_decoded(const NodeTransform& transform) {
+  // Through the codec itself (any token: only the message matters), so the result is what a receiver holds.
+  const std::vector<uint8_t> bytes = encode_datagram(Datagram{1, 0, transform});
+  Datagram out;
+  if (bytes.empty() || decode_datagram(bytes, out) != DecodeError::kNone) return std::nullopt;
+  return std::get<NodeTransform>(out.message);
 }
 
 }  // namespace dhr

@@ -183,6 +183,7 @@ DecodeError validate(const PoseUpdate& m);
 DecodeError validate(const VisibilityShard& m);
 DecodeError validate(const Heartbeat& m);
 DecodeError validate(const Bye& m);
+DecodeError validate(NodeTransform& m);  // renormalizes the rotation
 
 template <class M>
 constexpr const auto& layout_of() {

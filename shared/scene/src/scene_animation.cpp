@@ -7,6 +7,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/matrix.hpp>
 
+#include "scene/node_overrides.hpp"
 #include "scene/scene.hpp"
 
 namespace dhr {
@@ -27,19 +28,6 @@ glm::dquat to_quat(const glm::dvec4& v) {
 }
 
 glm::dvec4 from_quat(const glm::dquat& q) { return glm::dvec4(q.x, q.y, q.z, q.w); }
-
-// Shortest-path spherical interpolation of unit quaternions (nlerp where they are nearly equal).
-glm::dquat slerp_shortest(const glm::dquat& a, glm::dquat b, double u) {
-  double d = glm::dot(a, b);
-  if (d < 0.0) {
-    b = -b;
-    d = -d;
-  }
-  if (d > 0.9999995) return glm::normalize(a * (1.0 - u) + b * u);
-  const double theta = std::acos(std::min(d, 1.0));
-  const double s = std::sin(theta);
-  return glm::normalize(a * (std::sin((1.0 - u) * theta) / s) + b * (std::sin(u * theta) / s));
-}
 
 // The track's value at local time `t` (x, y, z[, w]; rotations as a unit quaternion in glTF order).
 glm::dvec4 sample(const AnimationTrack& track, double t) {
@@ -78,9 +66,14 @@ glm::dvec4 sample(const AnimationTrack& track, double t) {
   return rotation ? from_quat(to_quat(p)) : p;
 }
 
-// The node's local transform at scene time `t`: rest TRS with its tracks applied (a later track on the same
-// property wins), or the rest local transform for a node that is not animated itself.
-glm::dmat4 local_at(const SceneAnimation& animation, const AnimatedNode& node, double t) {
+// The node's local transform at scene time `t`: the application's where `overrides` has one, else rest TRS with
+// its tracks applied (a later track on the same property wins), or the rest local transform for a node that is not
+// animated itself.
+glm::dmat4 local_at(const SceneAnimation& animation, const AnimatedNode& node, double t,
+                    const NodeOverrides* overrides) {
+  if (overrides) {
+    if (const std::optional<glm::dmat4> app = overrides->local_at(node.node, t)) return *app;
+  }
   if (node.track_count == 0) return node.rest_local;
   glm::dvec3 translation = node.translation;
   glm::dquat rotation = node.rotation;
@@ -101,9 +94,7 @@ glm::dmat4 local_at(const SceneAnimation& animation, const AnimatedNode& node, d
         break;
     }
   }
-  glm::dmat4 m = glm::translate(glm::dmat4(1.0), translation);
-  m = m * glm::mat4_cast(rotation);
-  return glm::scale(m, scale);
+  return trs_matrix(Trs{translation, rotation, scale});
 }
 
 glm::vec3 moved_direction(const glm::dmat4& motion, const glm::vec3& d) {
@@ -114,6 +105,18 @@ glm::vec3 moved_direction(const glm::dmat4& motion, const glm::vec3& d) {
 }
 
 }  // namespace
+
+glm::dquat slerp_shortest(const glm::dquat& a, glm::dquat b, double u) {
+  double d = glm::dot(a, b);
+  if (d < 0.0) {
+    b = -b;
+    d = -d;
+  }
+  if (d > 0.9999995) return glm::normalize(a * (1.0 - u) + b * u);
+  const double theta = std::acos(std::min(d, 1.0));
+  const double s = std::sin(theta);
+  return glm::normalize(a * (std::sin((1.0 - u) * theta) / s) + b * (std::sin(u * theta) / s));
+}
 
 const AnimatedNode* SceneAnimation::find(std::uint32_t node) const {
   const auto it = std::lower_bound(nodes.begin(), nodes.end(), node,
@@ -127,7 +130,7 @@ double animation_local_time(double t, double duration) {
   return std::fmod(t, duration);
 }
 
-glm::dmat4 node_world_at(const Scene& scene, std::uint32_t node, double t) {
+glm::dmat4 node_world_at(const Scene& scene, std::uint32_t node, double t, const NodeOverrides* overrides) {
   const SceneAnimation& animation = scene.animation;
   const AnimatedNode* n = animation.find(node);
   if (!n) {
@@ -143,20 +146,20 @@ glm::dmat4 node_world_at(const Scene& scene, std::uint32_t node, double t) {
     if (chain.size() > animation.nodes.size()) break;  // a malformed (cyclic) hierarchy: stop
   }
   glm::dmat4 world = chain.back()->parent_rest_world;
-  for (auto it = chain.rbegin(); it != chain.rend(); ++it) world = world * local_at(animation, **it, t);
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) world = world * local_at(animation, **it, t, overrides);
   return world;
 }
 
-glm::dmat4 mesh_motion_at(const Scene& scene, const SceneMesh& mesh, double t) {
+glm::dmat4 mesh_motion_at(const Scene& scene, const SceneMesh& mesh, double t, const NodeOverrides* overrides) {
   if (!scene.animation.find(mesh.node)) return glm::dmat4(1.0);
-  return node_world_at(scene, mesh.node, t) * glm::inverse(mesh.T_world_local);
+  return node_world_at(scene, mesh.node, t, overrides) * glm::inverse(mesh.T_world_local);
 }
 
-SceneLight light_at(const Scene& scene, const SceneLight& light, double t) {
+SceneLight light_at(const Scene& scene, const SceneLight& light, double t, const NodeOverrides* overrides) {
   if (light.node == kNoSceneNode) return light;
   const AnimatedNode* n = scene.animation.find(light.node);
   if (!n) return light;
-  const glm::dmat4 motion = node_world_at(scene, light.node, t) * glm::inverse(n->rest_world);
+  const glm::dmat4 motion = node_world_at(scene, light.node, t, overrides) * glm::inverse(n->rest_world);
   SceneLight moved = light;
   moved.position = glm::vec3(motion * glm::dvec4(glm::dvec3(light.position), 1.0));
   moved.direction = moved_direction(motion, light.direction);

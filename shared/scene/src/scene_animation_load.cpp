@@ -193,12 +193,31 @@ class AnimationLoader {
     return true;
   }
 
-  // Every node of the scene that is animated or below an animated node, sorted by index, with its tracks.
+  // A node the application may move at run time (`extras: {"dhr_movable": true}`); any other value is named and
+  // ignored.
+  bool movable(std::uint32_t n) {
+    const tinygltf::Value& extras = model_.nodes[n].extras;
+    if (!extras.IsObject() || !extras.Has("dhr_movable")) return false;
+    const tinygltf::Value& v = extras.Get("dhr_movable");
+    if (!v.IsBool()) {
+      warnings_.add(format("node %u: extras.dhr_movable is not true or false; ignored (the node is not movable)", n));
+      return false;
+    }
+    if (v.Get<bool>() && !nodes_[n].in_scene) {
+      warnings_.add(format("node %u: extras.dhr_movable on a node outside the loaded scene; ignored", n));
+      return false;
+    }
+    return v.Get<bool>();
+  }
+
+  // Every node of the scene that is animated, movable or below such a node, sorted by index, with its tracks.
   void collect_nodes(const std::vector<std::uint32_t>& walk_order) {
     std::stable_sort(out_->tracks.begin(), out_->tracks.end(),
                      [](const AnimationTrack& x, const AnimationTrack& y) { return x.node < y.node; });
     std::vector<std::uint8_t> moving(nodes_.size(), 0);
     for (const AnimationTrack& t : out_->tracks) moving[t.node] = 1;
+    for (std::uint32_t n = 0; n < nodes_.size() && n < model_.nodes.size(); ++n)
+      if (movable(n)) moving[n] = 1;
     for (std::uint32_t n : walk_order) {  // parents come first
       const std::uint32_t p = nodes_[n].parent;
       if (p != kNoSceneNode && moving[p]) moving[n] = 1;
@@ -208,6 +227,7 @@ class AnimationLoader {
       if (!moving[n]) continue;
       AnimatedNode node;
       node.node = n;
+      node.name = model_.nodes[n].name;
       node.parent = nodes_[n].parent;
       if (node.parent != kNoSceneNode) node.parent_rest_world = nodes_[node.parent].world;
       const tinygltf::Node& src = model_.nodes[n];

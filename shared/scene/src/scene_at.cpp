@@ -20,18 +20,18 @@ glm::vec3 moved_normal(const glm::dmat3& normal_matrix, const glm::vec3& n) {
   return glm::vec3(v / len);
 }
 
-Scene scene_at(const Scene& scene, double t) {
+Scene scene_at(const Scene& scene, double t, const NodeOverrides* overrides) {
   Scene out = scene;
   if (scene.animation.empty()) return out;
   for (SceneMesh& mesh : out.meshes) {
     if (!scene.animation.find(mesh.node)) continue;
-    const glm::dmat4 motion = mesh_motion_at(scene, mesh, t);
+    const glm::dmat4 motion = mesh_motion_at(scene, mesh, t, overrides);
     const glm::dmat3 nm = normal_matrix(motion);
     for (glm::vec3& p : mesh.positions) p = moved_position(motion, p);
     for (glm::vec3& n : mesh.normals) n = moved_normal(nm, n);
-    mesh.T_world_local = node_world_at(scene, mesh.node, t);
+    mesh.T_world_local = node_world_at(scene, mesh.node, t, overrides);
   }
-  for (SceneLight& light : out.lights) light = light_at(scene, light, t);
+  for (SceneLight& light : out.lights) light = light_at(scene, light, t, overrides);
   out.animation = SceneAnimation{};  // a snapshot: its meshes and lights are already where they are at t
   out.bounds = SceneBounds{};
   for (const SceneMesh& mesh : out.meshes) {

@@ -53,15 +53,16 @@ SceneMotion::SceneMotion(const Scene& scene) {
   }
 }
 
-void SceneMotion::moved_boxes(double t0, double t1, std::vector<WorldBox>& out) const {
+void SceneMotion::moved_boxes(double t0, double t1, std::vector<WorldBox>& out,
+                              const NodeOverrides* overrides) const {
   out.clear();
   for (const MovingNode& n : nodes_) {
-    if (node_world_at(scene_, n.node, t0) == node_world_at(scene_, n.node, t1)) continue;
+    if (node_world_at(scene_, n.node, t0, overrides) == node_world_at(scene_, n.node, t1, overrides)) continue;
     WorldBox box{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
     for (std::uint32_t i = n.first; i < n.end; ++i) {
       const SceneMesh& mesh = scene_.meshes[meshes_[i].mesh];
       for (const double t : {t0, t1}) {
-        const WorldBox at = moved_box(meshes_[i].rest, mesh_motion_at(scene_, mesh, t));
+        const WorldBox at = moved_box(meshes_[i].rest, mesh_motion_at(scene_, mesh, t, overrides));
         box.min = glm::min(box.min, at.min);
         box.max = glm::max(box.max, at.max);
       }
@@ -84,12 +85,12 @@ void SceneMotion::moved_boxes(double t0, double t1, std::vector<WorldBox>& out) 
   }
 }
 
-std::uint32_t SceneMotion::moved_lights(double t0, double t1) const {
+std::uint32_t SceneMotion::moved_lights(double t0, double t1, const NodeOverrides* overrides) const {
   std::uint32_t moved = 0;
   for (std::uint32_t l = 0; l < 32; ++l) {
     if ((moving_lights_ >> l & 1u) == 0) continue;
     const SceneLight& light = scene_.lights[l];
-    if (!same_light(light_at(scene_, light, t0), light_at(scene_, light, t1))) moved |= 1u << l;
+    if (!same_light(light_at(scene_, light, t0, overrides), light_at(scene_, light, t1, overrides))) moved |= 1u << l;
   }
   return moved;
 }

@@ -1,6 +1,7 @@
 // Internal to the session layer (visibility_service*.cpp): a session's state and a unit of trace work.
 #pragma once
 #include "net/clock_sync.hpp"
+#include "scene/node_overrides.hpp"
 #include "session/fov_margin.hpp"
 #include "session/pose_predictor.hpp"
 #include "session/visibility_service.hpp"
@@ -55,6 +56,10 @@ struct VisibilityService::Session {
   bool have_traced = false;
   std::array<View, 2> traced_views{};
   int64_t traced_scene_time_ns = 0;  // its scene time as sent (in a moving scene, another one is not identical)
+  // App-moved nodes: the transforms accepted (scene/node_overrides.hpp), and their revision at the last trace (a
+  // changed set is not an identical pose).
+  NodeOverrides overrides;
+  uint64_t traced_overrides_revision = 0;
   int64_t last_trace_ns = 0;
   uint64_t newest_frame_traced = 0;
   // Codec v2, per eye: the frames traced and sent (the newest kV2ReferenceFrames), the newest frame the client
@@ -96,6 +101,7 @@ struct VisibilityService::Session {
 struct VisibilityService::Work {
   std::shared_ptr<Session> session;
   FramePose traced;
+  NodeOverrides overrides;  // the session's app transforms when taken (applied at traced.scene_time_ns)
   std::array<std::optional<uint64_t>, 2> acked;  // codec v2: the client's acknowledgements when taken
   bool paced = false;  // the session's rate is capped: its datagrams go through the pacing queue
   int64_t received_ns = 0;  // when the pose arrived (service clock)

@@ -1,5 +1,5 @@
 // VisibilityService: the server's session layer, transport-agnostic (docs/protocol.md "Handshake and
-// session", docs/server.md "Serving clients"). Datagrams come in through on_datagram() with their sender's
+// session", docs/server.md "Serving clients"; NodeTransform: docs/motion.md "App-moved nodes"). Datagrams come in through on_datagram() with their sender's
 // address; replies and visibility shards go out through a net::DatagramSender (a ServerEndpoint, an
 // ImpairedSender, or a SimulatedLink in tests and dhr-eval); time comes from a net::Clock (VirtualClock in
 // tests), so the whole service runs deterministically without sockets or threads.
@@ -149,6 +149,14 @@ struct ServiceStats {
   uint64_t soft_shadow_rays = 0;
   // Scene time (a moving scene only: VisibilityTracer::moves()). Each traced frame moves the tracer to its scene
   // time (the pose's, plus the horizon when predicting) before both eyes are traced.
+  // App-moved nodes (NodeTransform, docs/motion.md): received, accepted (applied from their scene time on), and
+  // dropped (each logged, at most once a second): for a node the scene does not let move, stamped at or before the
+  // newest accepted for that node, or stamped before the scene time of a pose already traced.
+  uint64_t node_transforms_received = 0;
+  uint64_t node_transforms_applied = 0;
+  uint64_t node_transforms_dropped_unknown_node = 0;
+  uint64_t node_transforms_dropped_out_of_order = 0;
+  uint64_t node_transforms_dropped_late = 0;
   uint64_t frames_at_scene_time = 0;     // frames traced and sent after moving the tracer to their scene time
   double scene_update_ms = 0.0;          // their acceleration-structure updates, summed (tracer wall time)
   LatencyHistogram trace_hist;           // trace time per eye
@@ -168,7 +176,8 @@ class VisibilityService {
   VisibilityService& operator=(const VisibilityService&) = delete;
 
   // Decodes and validates one datagram and acts on it: Hello -> Welcome or Bye, PoseUpdate -> the
-  // session's pending pose (frame numbers not newer than the newest received are ignored), Heartbeat ->
+  // session's pending pose (frame numbers not newer than the newest received are ignored), NodeTransform -> the
+  // session's app-moved nodes (or dropped and counted, ServiceStats::node_transforms_*), Heartbeat ->
   // echoed at once (clock-offset sample for the client), Bye -> the session ends. Never throws, never
   // traces.
   void on_datagram(std::span<const uint8_t> bytes, const net::PeerAddress& from);
@@ -242,6 +251,8 @@ class VisibilityService {
   std::optional<std::span<const uint8_t>> unwrap(std::span<const uint8_t> bytes, const net::PeerAddress& from,
                                                  std::span<uint8_t> out, std::optional<secure::Random>& hello_random);
   size_t open_sealed(std::span<const uint8_t> bytes, const net::PeerAddress& from, std::span<uint8_t> out);
+  // An app's NodeTransform for session `s` (under mutex_): recorded, or dropped and counted.
+  void handle_node_transform(Session& s, const NodeTransform& transform, int64_t now_ns);
   void count_drop(uint64_t ServiceStats::*counter, const char* what, const net::PeerAddress& from);
   Heartbeat make_heartbeat(Session& session, int64_t now_ns) const;
   void close_session(std::map<uint64_t, std::shared_ptr<Session>>::iterator it, bool send_bye, ByeReason reason,
@@ -277,6 +288,7 @@ class VisibilityService {
   uint32_t replies_in_window_ = 0;
   SessionEvent observer_;
   std::array<int64_t, kDecodeErrorCount> last_logged_ns_{};  // rate limit of drop log lines, per code
+  int64_t last_node_drop_log_ns_ = 0;                          // rate limit of dropped NodeTransform lines
 
   // Send counters: the worker sends shards without mutex_.
   std::atomic<uint64_t> datagrams_sent_{0};

@@ -106,7 +106,16 @@ class VisibilityTracer {
   // Moves the traced scene to scene time `t` (seconds; scene/scene_animation.hpp): geometry on moving nodes and
   // lights (light_at) as they are at t. Not concurrent with tracing. The default does nothing: a backend without
   // motion traces the scene at rest (the Vulkan backend warns once when asked for t != 0 in an animated scene).
-  virtual void set_scene_time(double t) { (void)t; }
+  // With `overrides`, app-moved nodes are where scene/node_overrides.hpp puts them at t (the caller keeps them alive
+  // for the call).
+  virtual void set_scene_time(double t, const NodeOverrides* overrides = nullptr) {
+    (void)t;
+    (void)overrides;
+  }
+  // The nodes set_scene_time may move (SceneAnimation::nodes: animated, movable, or below one), for checking the
+  // node of an app's transform; nullptr for a tracer that moves nothing (an app's transforms are then for unknown
+  // nodes).
+  virtual const SceneAnimation* scene_animation() const { return nullptr; }
   // Whether set_scene_time changes what is traced (the scene has animation and this backend plays it). A caller
   // that traces a moving tracer from several threads serializes set_scene_time and the traces at that time.
   virtual bool moves() const { return false; }

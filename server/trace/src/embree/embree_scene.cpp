@@ -158,7 +158,7 @@ EmbreeScene::~EmbreeScene() {
   if (device_) rtcReleaseDevice(device_);
 }
 
-void EmbreeScene::set_scene_time(const Scene& scene, double t) {
+void EmbreeScene::set_scene_time(const Scene& scene, double t, const NodeOverrides* overrides) {
   const auto t0 = std::chrono::steady_clock::now();
   if (scene.meshes.size() != meshes_.size())
     throw std::runtime_error("embree: set_scene_time with another scene (" + std::to_string(scene.meshes.size()) +
@@ -167,7 +167,7 @@ void EmbreeScene::set_scene_time(const Scene& scene, double t) {
   uint32_t moved = 0;
   uint64_t moved_vertices = 0;
   for (const auto& mm : moving_) {
-    const glm::dmat4 motion = mesh_motion_at(scene, scene.meshes[mm->mesh], t);
+    const glm::dmat4 motion = mesh_motion_at(scene, scene.meshes[mm->mesh], t, overrides);
     if (motion == mm->motion) continue;
     mm->motion = motion;
     // The vertices at t: the world position as scene_at computes it, then made relative as create does (the same

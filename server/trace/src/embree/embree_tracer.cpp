@@ -44,11 +44,11 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, const TracerOptions& options, con
   }
 }
 
-void EmbreeTracer::set_scene_time(double t) {
+void EmbreeTracer::set_scene_time(double t, const NodeOverrides* overrides) {
   if (motion_.animation.empty()) return;
-  scene_->set_scene_time(motion_, t);
+  scene_->set_scene_time(motion_, t, overrides);
   for (size_t i = 0; i < lights_.size(); ++i) {
-    lights_[i] = light_at(motion_, rest_lights_[i], t);
+    lights_[i] = light_at(motion_, rest_lights_[i], t, overrides);
     sampled_[i] = make_sampled_light(lights_[i], scene_->origin());
   }
 }

@@ -40,12 +40,12 @@ GpuMotion plan_gpu_motion(const Scene& scene, const ScenePlan& plan) {
 }
 
 GpuMotionUpdate move_gpu_scene(const vk::Context& context, GpuScene& gpu, GpuMotion& motion, const glm::dvec3& origin,
-                               double t, uint32_t soft_salt) {
+                               double t, const NodeOverrides* overrides, uint32_t soft_salt) {
   GpuMotionUpdate update;
   if (motion.meta.animation.empty()) return update;
   std::vector<float> positions, normals;
   for (MovingMesh& m : motion.meshes) {
-    const glm::dmat4 T = mesh_motion_at(motion.meta, motion.meta.meshes[m.mesh], t);
+    const glm::dmat4 T = mesh_motion_at(motion.meta, motion.meta.meshes[m.mesh], t, overrides);
     if (T == m.motion) continue;
     m.motion = T;
     InstancePlan placed;
@@ -76,7 +76,7 @@ GpuMotionUpdate move_gpu_scene(const vk::Context& context, GpuScene& gpu, GpuMot
 
   bool lights_changed = false;
   for (size_t i = 0; i < motion.lights.size(); ++i) {
-    const SceneLight moved = light_at(motion.meta, motion.meta.lights[i], t);
+    const SceneLight moved = light_at(motion.meta, motion.meta.lights[i], t, overrides);
     if (moved.position == motion.lights[i].position && moved.direction == motion.lights[i].direction &&
         moved.tangent == motion.lights[i].tangent && moved.bitangent == motion.lights[i].bitangent)
       continue;

@@ -3,6 +3,7 @@
 #include "trace/ray_offset.hpp"
 #include "trace/soft/soft_visibility.hpp"
 #include "trace/vulkan/vulkan_tracer_internal.hpp"
+#include "scene/node_overrides.hpp"
 
 #include "log/log.hpp"
 #include "vk/barriers.hpp"
@@ -212,18 +213,22 @@ std::vector<bool> VulkanTracer::light_extents() const {
   for (const SceneLight& l : impl_->lights) out.push_back(l.has_extent());
   return out;
 }
-void VulkanTracer::set_scene_time(double t) {
+void VulkanTracer::set_scene_time(double t, const NodeOverrides* overrides) {
   Impl& im = *impl_;
   if (im.motion.meta.animation.empty()) return;
   const auto t0 = std::chrono::steady_clock::now();
   std::lock_guard lock(im.mutex);
-  const detail::GpuMotionUpdate update = detail::move_gpu_scene(*im.context, im.scene, im.motion, im.origin, t, im.soft.salt);
+  const detail::GpuMotionUpdate update =
+      detail::move_gpu_scene(*im.context, im.scene, im.motion, im.origin, t, overrides, im.soft.salt);
   if (update.moved_lights > 0) im.lights = im.motion.lights;  // light culling sees them where they are
   im.last_motion_update_ms = ms_since(t0);
 }
 
 bool VulkanTracer::moves() const { return !impl_->motion.meta.animation.empty(); }
 double VulkanTracer::last_motion_update_ms() const { return impl_->last_motion_update_ms; }
+const SceneAnimation* VulkanTracer::scene_animation() const {
+  return moves() ? &impl_->motion.meta.animation : nullptr;
+}
 
 const VulkanTracerConfig& VulkanTracer::config() const { return impl_->config; }
 bool VulkanTracer::is_cpu_device() const { return impl_->context->info().is_cpu; }

@@ -6,6 +6,7 @@
 #pragma once
 #include "math/pose.hpp"
 #include "math/projection.hpp"
+#include "math/trs.hpp"
 #include "protocol/protocol_error.hpp"
 #include "protocol/wire_layout.hpp"
 #include "visibility/visibility.hpp"
@@ -27,8 +28,8 @@ inline constexpr std::array<uint8_t, 4> kProtocolMagic = {'D', 'H', 'R', 'X'};
 // secure/envelope.hpp), shard payloads leave room for the seal's tag, Bye reasons 8 and 9; 4: the soft-levels
 // capability and Welcome's soft light count (masks with Gray-coded level fields, visibility/visibility_layout.hpp);
 // 5: scene time (DESIGN 5b) in PoseUpdate (the scene time of the pose's display) and VisibilityShard (the scene
-// time the eye was traced for).
-inline constexpr uint8_t kProtocolVersion = 5;
+// time the eye was traced for); 6: NodeTransform (app-moved nodes, docs/motion.md).
+inline constexpr uint8_t kProtocolVersion = 6;
 
 static_assert(kMaxShardPayload <= 1200);
 // |q|^2 of a decoded quaternion must be within this of 1 (float rounding is ~1e-7); then renormalized.
@@ -146,7 +147,19 @@ struct Bye {
   bool operator==(const Bye&) const = default;
 };
 
-using Message = std::variant<Hello, Welcome, PoseUpdate, VisibilityShard, Heartbeat, Bye>;
+// An application moved glTF node `node`: from scene_time_ns on, its local transform is `trs` (replacing its
+// animation or rest; the server extrapolates beyond the newest, scene/node_overrides.hpp). Decoding checks that it
+// is finite, the stamp >= 0, the rotation unit within kQuaternionNormTolerance (then renormalized), every scale > 0
+// and |translation| <= kMaxPositionMetres; which nodes may move is the receiver's to decide.
+struct NodeTransform {
+  uint32_t node = 0;
+  int64_t scene_time_ns = 0;
+  Trs trs;
+  bool operator==(const NodeTransform&) const = default;
+};
+
+// The variant's order is the MessageType order.
+using Message = std::variant<Hello, Welcome, PoseUpdate, VisibilityShard, Heartbeat, Bye, NodeTransform>;
 
 struct Datagram {
   uint64_t session_token = 0;  // 0 only in Hello (and in a Bye answering a Hello)
@@ -188,6 +201,11 @@ DecodeError decode_datagram(std::span<const uint8_t> bytes, Datagram& out);
 // receiver then holds the very view the bits were traced for. Not idempotent in general (the rounding of a
 // renormalized quaternion need not give back the same floats), so round-trip the view that is sent, once.
 std::optional<View> view_as_decoded(const View& view);
+
+// The transform exactly as a receiver decodes `transform` (translation as sent, rotation and scale rounded to the
+// wire's f32, the rotation renormalized); std::nullopt when no receiver would accept it. A sender that also applies
+// the transform itself (the client's own rendering) records this one: both ends then hold the same bits.
+std::optional<NodeTransform> node_transform_as_decoded(const NodeTransform& transform);
 
 // Fuzz-friendly entry point, same as decode_datagram.
 inline DecodeError decode_datagram(const uint8_t* data, size_t size, Datagram& out) {

@@ -31,6 +31,7 @@ enum class MessageType : uint8_t {
   kVisibilityShard = 4,  // server -> client, many per traced eye
   kHeartbeat = 5,        // both ways, ~1 Hz: liveness, clock-offset samples, counters
   kBye = 6,              // either way: session ends
+  kNodeTransform = 7,    // client -> server: an application moved a node (from a scene time on)
 };
 
 struct Hello;
@@ -39,6 +40,7 @@ struct PoseUpdate;
 struct VisibilityShard;
 struct Heartbeat;
 struct Bye;
+struct NodeTransform;
 
 namespace wire {
 using enum WireType;
@@ -105,6 +107,23 @@ inline constexpr auto kPoseUpdateLayout = message<PoseUpdate>(
                        "per eye: frame minus the newest complete frame held as a codec v2 reference; 0 = none"),
     });
 
+inline constexpr auto kNodeTransformLayout = message<NodeTransform>(
+    MessageType::kNodeTransform, "NodeTransform", kClientToServer,
+    std::tuple{
+        field<kU32>(DHR_WIRE_MEMBER(node), "glTF node index: one the scene lets an application move"),
+        field<kI64>(DHR_WIRE_MEMBER(scene_time_ns), "scene time the transform holds from, ns since the session's start, >= 0"),
+        field<kF64, 3>("translation", [](auto& m, size_t i) -> auto& { return m.trs.translation[static_cast<int>(i)]; },
+                       "x, y, z, metres, in the parent's frame (the node's local glTF translation)"),
+        field<kF32, 4>("rotation",
+                       [](auto& m, size_t i) -> auto& {
+                         auto& q = m.trs.rotation;
+                         return i == 0 ? q.x : i == 1 ? q.y : i == 2 ? q.z : q.w;
+                       },
+                       "local rotation quaternion x, y, z, w (glTF order), unit within tolerance"),
+        field<kF32, 3>("scale", [](auto& m, size_t i) -> auto& { return m.trs.scale[static_cast<int>(i)]; },
+                       "local scale x, y, z, each > 0"),
+    });
+
 // ---- server -> client --------------------------------------------------------------------------------
 
 inline constexpr auto kWelcomeLayout = message<Welcome>(
@@ -165,8 +184,9 @@ inline constexpr auto kByeLayout = message<Bye>(
     });
 
 // Every message, grouped by direction as above.
-inline constexpr auto kMessageLayouts = std::tuple{kHelloLayout,          kPoseUpdateLayout, kWelcomeLayout,
-                                                   kVisibilityShardLayout, kHeartbeatLayout,  kByeLayout};
+inline constexpr auto kMessageLayouts = std::tuple{kHelloLayout,     kPoseUpdateLayout,      kNodeTransformLayout,
+                                                   kWelcomeLayout,   kVisibilityShardLayout, kHeartbeatLayout,
+                                                   kByeLayout};
 
 inline constexpr size_t kHeaderBytes = fixed_size<decltype(kHeaderFields)>();
 

@@ -39,9 +39,11 @@ struct AnimationClip {
   double duration = 0.0;  // seconds: the largest last input time of its samplers; 0: constant
 };
 
-// A node whose world transform can change: animated itself or below an animated node.
+// A node whose world transform can change: animated itself, marked movable by the application (glTF node
+// `extras: {"dhr_movable": true}`), or below such a node.
 struct AnimatedNode {
   std::uint32_t node = 0;               // glTF node index
+  std::string name;                     // the glTF node's name ("" when it has none): scripts name nodes by it
   std::uint32_t parent = kNoSceneNode;  // glTF index of its parent; kNoSceneNode for a scene root
   glm::dmat4 parent_rest_world{1.0};    // the parent's world transform at rest (identity for a root)
   glm::dvec3 translation{0.0};          // rest local TRS (a node given by `matrix` is never animated itself)
@@ -59,7 +61,8 @@ struct SceneAnimation {
   std::vector<AnimationTrack> tracks;  // grouped by node (in `nodes` order), file order within a node
   std::vector<std::uint32_t> moving_nodes;  // sorted glTF node indices of `nodes`
 
-  bool empty() const { return tracks.empty(); }
+  // Nothing moves: no animation track and no node an application may move (extras.dhr_movable).
+  bool empty() const { return tracks.empty() && nodes.empty(); }
   // The entry of glTF node `node`, or nullptr when it does not move.
   const AnimatedNode* find(std::uint32_t node) const;
 };
@@ -67,22 +70,29 @@ struct SceneAnimation {
 struct Scene;
 struct SceneMesh;
 struct SceneLight;
+class NodeOverrides;  // scene/node_overrides.hpp: transforms an application sent (app-moved nodes)
 
 // Time within an animation of `duration` at scene time `t`: t mod duration; 0 for a duration of 0. A negative or
 // non-finite scene time counts as 0.
 double animation_local_time(double t, double duration);
 
+// Shortest-path spherical interpolation of unit quaternions (nlerp where they are nearly equal); u outside [0, 1]
+// continues along the same arc (extrapolation).
+glm::dquat slerp_shortest(const glm::dquat& a, glm::dquat b, double u);
+
 // World transform of glTF node `node` at scene time `t` (seconds). A node that does not move gets its rest world
 // transform: that of its first mesh instance (SceneMesh::T_world_local), else identity (a node with neither meshes
-// nor animation is not stored).
-glm::dmat4 node_world_at(const Scene& scene, std::uint32_t node, double t);
+// nor animation is not stored). With `overrides`, a moving node's local transform is the app's where
+// NodeOverrides::local_at gives one (the node and everything below it follow).
+glm::dmat4 node_world_at(const Scene& scene, std::uint32_t node, double t, const NodeOverrides* overrides = nullptr);
 
 // Maps a mesh's rest world positions to their positions at `t`: node_world_at(mesh.node, t) *
 // inverse(mesh.T_world_local). Identity for a mesh whose node does not move.
-glm::dmat4 mesh_motion_at(const Scene& scene, const SceneMesh& mesh, double t);
+glm::dmat4 mesh_motion_at(const Scene& scene, const SceneMesh& mesh, double t,
+                          const NodeOverrides* overrides = nullptr);
 
 // The light at `t`: position, direction, tangent and bitangent moved with its node (directions renormalized);
 // unchanged for a light without a node or on a node that does not move. Extents are not rescaled.
-SceneLight light_at(const Scene& scene, const SceneLight& light, double t);
+SceneLight light_at(const Scene& scene, const SceneLight& light, double t, const NodeOverrides* overrides = nullptr);
 
 }  // namespace dhr

@@ -14,8 +14,9 @@ namespace dhr {
 // A copy of `scene` at scene time `t` (seconds): moving meshes' positions transformed by mesh_motion_at, their
 // normals by its inverse-transpose (renormalized), their T_world_local set to node_world_at; lights replaced by
 // light_at; bounds recomputed from the (moved) triangle vertices, as the loader computes them. A static scene (animation.empty()) gives an identical copy.
-// The result is a static scene (animation cleared): a snapshot, traced like any static scene.
-Scene scene_at(const Scene& scene, double t);
+// The result is a static scene (animation cleared): a snapshot, traced like any static scene. With `overrides`, the
+// app-moved nodes are where scene/node_overrides.hpp's rule puts them at t.
+Scene scene_at(const Scene& scene, double t, const NodeOverrides* overrides = nullptr);
 
 // The vertex math scene_at applies, shared with the server so that both move a vertex to the same float:
 // a rest world position moved by `motion` (in double, rounded once).

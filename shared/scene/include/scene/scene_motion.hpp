@@ -37,10 +37,11 @@ class SceneMotion {
   std::uint32_t moving_lights() const { return moving_lights_; }
 
   // One box per moving node whose pose differs between t0 and t1: around its meshes at t0 and at t1; boxes that
-  // overlap are merged into their union. Clears `out` first; keeps its storage.
-  void moved_boxes(double t0, double t1, std::vector<WorldBox>& out) const;
+  // overlap are merged into their union. Clears `out` first; keeps its storage. With `overrides`, app-moved nodes
+  // are where scene/node_overrides.hpp puts them at each time.
+  void moved_boxes(double t0, double t1, std::vector<WorldBox>& out, const NodeOverrides* overrides = nullptr) const;
   // Bit l: light l (of the first 32) is placed differently at t0 and t1 (position, direction or orientation).
-  std::uint32_t moved_lights(double t0, double t1) const;
+  std::uint32_t moved_lights(double t0, double t1, const NodeOverrides* overrides = nullptr) const;
 
  private:
   struct MovingMesh {

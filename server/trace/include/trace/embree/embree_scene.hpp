@@ -82,12 +82,12 @@ class EmbreeScene {
   std::string description(uint32_t trace_threads) const;
 
   // Moves the scene to scene time `t` (seconds): each moving mesh's EmbreeMesh positions and normals are moved by
-  // mesh_motion_at(scene, mesh, t) from their rest positions (O(moving vertices); Embree shares the vertex buffer),
+  // mesh_motion_at(scene, mesh, t, overrides) from their rest positions (O(moving vertices); Embree shares the vertex buffer),
   // its geometry is committed (a BVH refit), then the scene (the top level over the geometries). Meshes whose motion
   // did not change are not touched; nothing is committed when none changed. `scene` is the Scene this was created from
   // (only its animation and its meshes' node and T_world_local are read: a copy without vertices will do).
   // A static scene only records t. Not concurrent with tracing. Throws std::runtime_error when Embree fails.
-  void set_scene_time(const Scene& scene, double t);
+  void set_scene_time(const Scene& scene, double t, const NodeOverrides* overrides = nullptr);
   double scene_time() const { return scene_time_; }
   const MotionStats& motion_stats() const { return motion_stats_; }
   // Whether some mesh moves (the scene was built dynamic).

@@ -43,8 +43,9 @@ class EmbreeTracer final : public VisibilityTracer {
 
   // Moves geometry (EmbreeScene::set_scene_time) and lights (light_at) to scene time `t`; does nothing for a scene
   // without animation. Not concurrent with tracing.
-  void set_scene_time(double t) override;
+  void set_scene_time(double t, const NodeOverrides* overrides = nullptr) override;
   bool moves() const override { return !motion_.animation.empty(); }
+  const SceneAnimation* scene_animation() const override { return moves() ? &motion_.animation : nullptr; }
   double last_motion_update_ms() const override { return scene_->motion_stats().last_update_ms; }
   double scene_time() const { return scene_->scene_time(); }
 

@@ -53,12 +53,13 @@ class VulkanTracer final : public VisibilityTracer {
   void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                     TraceStats& out_stats) override;
 
-  // Moves the scene to scene time t: moving meshes by their instance transforms (one TLAS update; their BLASes,
-  // built at rest, stay) and their shading vertices, moved lights re-uploaded (vulkan_scene_motion.cpp). Nothing
-  // for a scene without animation. Not concurrent with tracing.
-  void set_scene_time(double t) override;
+  // Moves the scene to scene time t (app-moved nodes where `overrides` puts them): moving meshes by their instance
+  // transforms (one TLAS update; their BLASes, built at rest, stay) and their shading vertices, moved lights
+  // re-uploaded (vulkan_scene_motion.cpp). Nothing for a scene without animation. Not concurrent with tracing.
+  void set_scene_time(double t, const NodeOverrides* overrides = nullptr) override;
   bool moves() const override;
   double last_motion_update_ms() const override;
+  const SceneAnimation* scene_animation() const override;
 
   const VulkanTracerConfig& config() const;
   // True on a CPU implementation (lavapipe).

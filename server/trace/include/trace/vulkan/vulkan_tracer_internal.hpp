@@ -121,12 +121,12 @@ struct GpuMotionUpdate {
   bool tlas_updated = false;
 };
 
-// Moves the GPU scene to scene time t: each moving mesh whose motion changed gets its instance transform
+// Moves the GPU scene to scene time t (app-moved nodes where `overrides`, when given, puts them): each moving mesh whose motion changed gets its instance transform
 // (motion * T_world_blas) and its shading vertices (moved_position, moved_normal: the floats the Embree backend
 // traces), then one TLAS update over all instances; lights that moved are re-uploaded (packed and as soft records
 // with `soft_salt`). Not concurrent with tracing.
 GpuMotionUpdate move_gpu_scene(const vk::Context& context, GpuScene& gpu, GpuMotion& motion, const glm::dvec3& origin,
-                               double t, uint32_t soft_salt);
+                               double t, const NodeOverrides* overrides, uint32_t soft_salt);
 
 // The visibility pipeline with its single descriptor set.
 struct TracerPipeline {
