@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "moving_scene.hpp"
+#include "scene/node_overrides.hpp"
 #include "test_scenes.hpp"
 
 namespace dhr::server::tracer_test {
@@ -59,6 +60,38 @@ TEST_F(VulkanTracerTest, AStaticSceneDoesNotMove) {
   EXPECT_FALSE(vulkan.moves());
   vulkan.set_scene_time(3.0);  // nothing to move
   EXPECT_EQ(vulkan.last_motion_update_ms(), 0.0);
+}
+
+// An app-moved node (docs/motion.md): the animated occluder overridden by an app's transform; both backends trace
+// it where the transform puts it, not where its animation has it.
+TEST_F(VulkanTracerTest, AnAppMovedNodeAgreesWithEmbree) {
+  const Scene scene = moving_scene();
+  EmbreeTracer embree(scene, embree_options());
+  VulkanTracer vulkan(scene, vk_options());
+  ASSERT_NE(vulkan.scene_animation(), nullptr);
+  const Camera camera = occluder_camera();
+  const double t = 0.5;
+  VisibilityBuffer animated, ref, got;
+  TraceStats stats;
+  vulkan.set_scene_time(t);
+  vulkan.trace(camera, animated, stats);
+  NodeOverrides overrides;
+  const Trs app{glm::dvec3(-0.6, 1.0, 0.2), glm::angleAxis(0.4, glm::dvec3(1.0, 0.0, 0.0)), glm::dvec3(1.5)};
+  ASSERT_EQ(overrides.add(*vulkan.scene_animation(), render::kOccluderNode, 250'000'000, app),
+            NodeTransformVerdict::kAccepted);
+  embree.set_scene_time(t, &overrides);
+  vulkan.set_scene_time(t, &overrides);
+  embree.trace(camera, ref, stats);
+  vulkan.trace(camera, got, stats);
+  size_t differing = 0, moved = 0;
+  for (uint32_t y = 0; y < camera.extent.height; ++y)
+    for (uint32_t x = 0; x < camera.extent.width; ++x) {
+      differing += ref.get(x, y) != got.get(x, y);
+      moved += animated.get(x, y) != got.get(x, y);
+    }
+  EXPECT_EQ(differing, 0u) << "Vulkan and Embree disagree with the app's transform";
+  EXPECT_GT(moved, 50u) << "the app put the occluder elsewhere than its animation: its shadow must differ";
+  EXPECT_EQ(vulkan.validation_error_count(), 0u);
 }
 
 TEST_F(VulkanTracerTest, LivingRoomMovingAgreesWithEmbreeWhileTheCarDrives) {
