@@ -10,7 +10,7 @@ trap 'rm -rf "$tmp"' EXIT
 DHR_BUILD_DIR="$build" DHR_GPU_BUNDLE_SKIP_BUILD=1 "$src/scripts/gpu-bundle" --out "$tmp/bundle" --no-data --no-compress \
   >"$tmp/bundle.json" 2>"$tmp/bundle.err" || { cat "$tmp/bundle.err"; echo "FAIL: gpu-bundle"; exit 1; }
 env -i PATH=/usr/bin:/bin HOME="$tmp" TMPDIR="$tmp" "$src/scripts/gpu-run" --bundle "$tmp/bundle/dhr-gpu" --out "$tmp/results" \
-  --quick --driver lavapipe >"$tmp/run.out" 2>"$tmp/run.err" || { cat "$tmp/run.err" "$tmp/results/log.txt"; echo "FAIL: gpu-run"; exit 1; }
+  --quick --driver lavapipe --no-links >"$tmp/run.out" 2>"$tmp/run.err" || { cat "$tmp/run.err" "$tmp/results/log.txt"; echo "FAIL: gpu-run"; exit 1; }
 python3 - "$tmp/results" <<'PY'
 import json, os, sys
 out = sys.argv[1]
