@@ -56,15 +56,18 @@ inline constexpr auto kHeaderFields = std::tuple{
     field<kU32>(DHR_WIRE_MEMBER(sequence), "per-sender datagram counter, for loss statistics"),
 };
 
+// A quaternion's component i in the wire's x, y, z, w order (glm keeps w apart).
+template <typename Quaternion>
+constexpr auto& quaternion_xyzw(Quaternion& q, size_t i) {
+  return i == 0 ? q.x : i == 1 ? q.y : i == 2 ? q.z : q.w;
+}
+
 // An eye's view, inside PoseUpdate and VisibilityShard.
 inline constexpr auto kViewFields = std::tuple{
     field<kF64, 3>("position", [](auto& v, size_t i) -> auto& { return v.pose.position[static_cast<int>(i)]; },
                    "x, y, z, metres, world (f64: large world coordinates stay exact)"),
     field<kF32, 4>("orientation",
-                   [](auto& v, size_t i) -> auto& {
-                     auto& q = v.pose.orientation;
-                     return i == 0 ? q.x : i == 1 ? q.y : i == 2 ? q.z : q.w;
-                   },
+                   [](auto& v, size_t i) -> auto& { return quaternion_xyzw(v.pose.orientation, i); },
                    "quaternion x, y, z, w (OpenXR order; f32 is ~1e-7 rad, far below a pixel)"),
     field<kF32, 4>("fov",
                    [](auto& v, size_t i) -> auto& {
@@ -115,10 +118,7 @@ inline constexpr auto kNodeTransformLayout = message<NodeTransform>(
         field<kF64, 3>("translation", [](auto& m, size_t i) -> auto& { return m.trs.translation[static_cast<int>(i)]; },
                        "x, y, z, metres, in the parent's frame (the node's local glTF translation)"),
         field<kF32, 4>("rotation",
-                       [](auto& m, size_t i) -> auto& {
-                         auto& q = m.trs.rotation;
-                         return i == 0 ? q.x : i == 1 ? q.y : i == 2 ? q.z : q.w;
-                       },
+                       [](auto& m, size_t i) -> auto& { return quaternion_xyzw(m.trs.rotation, i); },
                        "local rotation quaternion x, y, z, w (glTF order), unit within tolerance"),
         field<kF32, 3>("scale", [](auto& m, size_t i) -> auto& { return m.trs.scale[static_cast<int>(i)]; },
                        "local scale x, y, z, each > 0"),
