@@ -61,9 +61,12 @@ def below_target(s):
     if s.get("mode") != "openxr" or fps >= TARGET_FPS:
         return None
     eye_ms = s.get("eye_gpu_ms_median") or 0.0
+    update_ms = s.get("shadow_update_ms_median") or 0.0
     cores = os.cpu_count() or 1
     because = (f"the client's passes took {eye_ms:.1f} ms per eye (median) on the Vulkan device it used"
                if eye_ms > 0 else "the client's frames took longer than the headset's period")
+    if update_ms > 0:
+        because += f", and re-rendering the shadow maps that moving things made stale {update_ms:.1f} ms per frame"
     return (f"Rate:     {fps:.1f} fps, below the headset's {TARGET_FPS:g}: {because}, two eyes a frame, with "
             f"dhr-server and Monado on the same {cores} cores; on lavapipe (CPU) the scene's geometry bounds it "
             f"(--render-scale 0.5 or the default room run faster; a GPU headset renders this at its full rate)")

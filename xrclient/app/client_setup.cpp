@@ -128,6 +128,7 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   j["shading_ms_median"] = opt(frames.shading_ms_median());
   j["forward_ms_median"] = opt(frames.forward_ms_median());
   j["eye_gpu_ms_median"] = opt(frames.eye_gpu_ms_median());
+  j["shadow_update_ms_median"] = opt(frames.shadow_update_ms_median());
   j["poses_rejected"] = run.poses_rejected;
   j["png_files"] = run.png_files;
   j["net"] = {{"poses_sent", net.poses_sent},

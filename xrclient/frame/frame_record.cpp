@@ -72,6 +72,7 @@ void FrameSummary::add(const FrameRecord& record) {
       shading_ms_.push_back(e.stats.gpu.shading_ms);
       forward_ms_.push_back(e.stats.gpu.forward_ms);
       total_ms_.push_back(e.stats.gpu.total_ms);
+      if (e.stats.shadow_update.faces > 0) shadow_update_ms_.push_back(e.stats.gpu.shadow_update_ms);
     }
   }
   if (any_visibility) ++frames_with_visibility_;

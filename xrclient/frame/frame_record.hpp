@@ -56,6 +56,8 @@ class FrameSummary {
   std::optional<double> shading_ms_median() const { return median(shading_ms_); }
   std::optional<double> forward_ms_median() const { return median(forward_ms_); }
   std::optional<double> eye_gpu_ms_median() const { return median(total_ms_); }  // every pass of one eye
+  // The shadow-map re-render of a moving scene, over the frames that re-rendered faces (std::nullopt: none did).
+  std::optional<double> shadow_update_ms_median() const { return median(shadow_update_ms_); }
   uint64_t responses() const { return response_ms_.size(); }
 
   static std::optional<double> median(std::vector<double> values);
@@ -78,6 +80,7 @@ class FrameSummary {
   std::vector<double> shading_ms_;
   std::vector<double> forward_ms_;
   std::vector<double> total_ms_;
+  std::vector<double> shadow_update_ms_;
 };
 
 }  // namespace dhr::client
