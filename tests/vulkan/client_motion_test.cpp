@@ -194,6 +194,34 @@ TEST_F(ClientMotionTest, ShadowMapsReRenderWhatMotionMadeStale) {
   EXPECT_EQ(none.faces, 0u);
 }
 
+// The static casters' atlas plus the moving meshes gives the same depths as re-rendering every caster: the atlases
+// of split and unsplit maps are equal bit for bit after each update (light C moves: its faces are re-rendered whole
+// either way; A's faces that see the occluder are completed from the static atlas).
+TEST_F(ClientMotionTest, SplitStaticCastersGiveTheSameMapsAsAFullReRender) {
+  const Scene scene = moving_scene();
+  const ClientScene gpu(ctx(), scene);
+  ShadowMaps split(ctx(), gpu, ShadowMapSettings{.size = 128});
+  ShadowMaps whole(ctx(), gpu, ShadowMapSettings{.size = 128, .split_static = false});
+  MovedScene moved;
+  for (const double t : {0.5, 1.0, 1.7, 0.0}) {
+    gpu.motion().sample(t, gpu.meshes(), moved);
+    ShadowUpdate a, b;
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+      a = split.update(cmd, moved);
+      b = whole.update(cmd, moved);
+    });
+    EXPECT_EQ(a.faces, b.faces);
+    EXPECT_GT(a.faces, 6u) << "t = " << t << ": C's six faces and some of A's";
+    std::vector<float> sa, sb;
+    const ShadowReference ra = forward_test::shadow_reference(ctx(), split, sa);
+    const ShadowReference rb = forward_test::shadow_reference(ctx(), whole, sb);
+    ASSERT_EQ(sa.size(), sb.size());
+    size_t differing = 0;
+    for (size_t i = 0; i < sa.size(); ++i) differing += std::memcmp(&sa[i], &sb[i], sizeof(float)) != 0;
+    EXPECT_EQ(differing, 0u) << "t = " << t;
+  }
+}
+
 // Under the occluder at rest / where its shadow falls at t = 1 (x in [1.2, 1.8] from A): the maps' lookup
 // (CPU reference on the read-back atlas) of light A flips as a CPU ray against scene_at says, at rest and after
 // update() at t = 1; and again once the occluder has left (t = 0 rest pose: back in place).

@@ -146,9 +146,16 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
   if (!atlas_ || atlas_.width() != width || atlas_.height() != height) {
     atlas_ = vk::Image(*context_, width, height, VK_FORMAT_D32_SFLOAT,
                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
-                           VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+                           VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
   }
   const ClientScene& scene = *scene_;
+  const bool split = settings_.split_static && scene.motion().animated() && scene.indices() && rows > 0;
+  if (!split) {
+    static_atlas_ = vk::Image();
+  } else if (!static_atlas_ || static_atlas_.width() != width || static_atlas_.height() != height) {
+    static_atlas_ = vk::Image(*context_, width, height, VK_FORMAT_D32_SFLOAT,
+                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  }
   context_->submit_and_wait([&](VkCommandBuffer cmd) {
     discard_to_layout(cmd, atlas_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                       VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
@@ -168,10 +175,27 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
     }
     vkCmdEndRendering(cmd);
     atlas_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    if (split) {  // the same faces with the static casters alone
+      discard_to_layout(cmd, static_atlas_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+      const VkRenderingAttachmentInfo static_depth =
+          cleared_attachment(static_atlas_.view(), VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, nothing);
+      begin_rendering(cmd, width, height, {}, &static_depth);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
+      scene.bind_geometry(cmd);
+      for (const ShadowTile& tile : tiles_) {
+        if (!tile.row) continue;
+        for (uint32_t face = 0; face < (tile.sun ? 1u : 6u); ++face) draw_face(cmd, tile, face, nullptr, Casters::kStatic);
+      }
+      vkCmdEndRendering(cmd);
+      static_atlas_.transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    }
   });
   // Which faces hold a moving mesh at rest (the first update re-renders those).
   held_.assign(tiles_.size(), 0);
   stale_.assign(tiles_.size(), 0);
+  split_faces_.assign(tiles_.size(), 0);
   if (scene.motion().animated() && lights.size() == scene.lights().size()) {
     std::vector<glm::dvec3> centre;
     std::vector<double> radius;
@@ -197,18 +221,22 @@ ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved) {
     if (light_moves) tiles_[l] = tile_for(moved.lights[l], tiles_[l].row);
     const uint8_t seeing = faces_seeing_motion(tiles_[l], moved.lights[l], motion, spheres, size_);
     stale_[l] = stale_faces(tiles_[l], light_moves, seeing, held_[l]);
+    // A light that stays put: its static casters are where they were, so the static atlas holds them.
+    split_faces_[l] = static_atlas_ && !light_moves ? stale_[l] : uint8_t{0};
     held_[l] = seeing;
     if (stale_[l] == 0) continue;
     ++out.lights;
     for (uint32_t face = 0; face < 6; ++face) out.faces += (stale_[l] >> face) & 1u;
   }
   if (out.faces == 0) return out;
-  // Keep the other faces: wait for earlier readers, load, clear only the stale faces.
-  vk::image_barrier(cmd, atlas_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, atlas_.layout(),
-                    VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
-                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
-  atlas_.set_layout(VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+  // Keep the other faces: wait for earlier readers, load, clear only the stale faces (or copy their static casters).
+  if (!copy_static_faces(cmd)) {
+    vk::image_barrier(cmd, atlas_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, atlas_.layout(),
+                      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
+                      VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+    atlas_.set_layout(VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+  }
   VkRenderingAttachmentInfo depth{};
   depth.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
   depth.imageView = atlas_.view();
@@ -224,6 +252,10 @@ ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved) {
   for (size_t l = 0; l < tiles_.size(); ++l) {
     for (uint32_t face = 0; face < 6; ++face) {
       if (((stale_[l] >> face) & 1u) == 0) continue;
+      if ((split_faces_[l] >> face) & 1u) {  // the static casters are copied in: add the moving ones
+        draw_face(cmd, tiles_[l], face, &moved, Casters::kMoving);
+        continue;
+      }
       const VkClearRect rect{{{static_cast<int32_t>(face * size_), static_cast<int32_t>(*tiles_[l].row * size_)},
                               {size_, size_}},
                              0, 1};
@@ -236,9 +268,45 @@ ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved) {
   return out;
 }
 
-void ShadowMaps::draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t face, const MovedScene* moved) const {
+bool ShadowMaps::drawn(uint32_t mesh, Casters casters) const {
+  if (casters == Casters::kAll) return true;
+  return scene_->motion().mesh_moves(mesh) == (casters == Casters::kMoving);
+}
+
+bool ShadowMaps::copy_static_faces(VkCommandBuffer cmd) {
+  std::vector<VkImageCopy> regions;
+  for (size_t l = 0; l < tiles_.size(); ++l) {
+    for (uint32_t face = 0; face < 6; ++face) {
+      if (((split_faces_[l] >> face) & 1u) == 0) continue;
+      VkImageCopy region{};
+      region.srcSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
+      region.dstSubresource = region.srcSubresource;
+      region.srcOffset = {static_cast<int32_t>(face * size_), static_cast<int32_t>(*tiles_[l].row * size_), 0};
+      region.dstOffset = region.srcOffset;
+      region.extent = {size_, size_, 1};
+      regions.push_back(region);
+    }
+  }
+  if (regions.empty()) return false;
+  // Earlier readers of the atlas (previous frames' lookups) finish before the copy overwrites those faces.
+  vk::image_barrier(cmd, atlas_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, atlas_.layout(),
+                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
+                    VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  vkCmdCopyImage(cmd, static_atlas_.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, atlas_.handle(),
+                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, static_cast<uint32_t>(regions.size()), regions.data());
+  vk::image_barrier(cmd, atlas_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                    VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                    VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+  atlas_.set_layout(VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+  return true;
+}
+
+void ShadowMaps::draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t face, const MovedScene* moved,
+                           Casters casters) const {
   if (tile.sun) {
-    render_sun(cmd, tile, moved);
+    render_sun(cmd, tile, moved, casters);
     return;
   }
   const Camera camera = cube_face_camera(tile.position, face, size_);
@@ -252,6 +320,7 @@ void ShadowMaps::draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t
   const MeshPush transform(camera_relative_view_projection(camera, settings_.near_plane), tile.position);
   const ClientScene& scene = *scene_;
   for (uint32_t i = 0; i < scene.meshes().size(); ++i) {
+    if (!drawn(i, casters)) continue;
     const ClientMesh& mesh = scene.meshes()[i];
     const glm::dmat4* motion = moved_motion(scene, moved, i);
     if (!sphere_may_be_visible(camera, motion ? moved->centre[i] : mesh.origin,
@@ -264,7 +333,8 @@ void ShadowMaps::draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t
   }
 }
 
-void ShadowMaps::render_sun(VkCommandBuffer cmd, const ShadowTile& tile, const MovedScene* moved) const {
+void ShadowMaps::render_sun(VkCommandBuffer cmd, const ShadowTile& tile, const MovedScene* moved,
+                            Casters casters) const {
   const VkViewport viewport{0.0f, static_cast<float>(*tile.row * size_), static_cast<float>(size_),
                             static_cast<float>(size_), 0.0f, 1.0f};
   const VkRect2D scissor{{0, static_cast<int32_t>(*tile.row * size_)}, {size_, size_}};
@@ -274,6 +344,7 @@ void ShadowMaps::render_sun(VkCommandBuffer cmd, const ShadowTile& tile, const M
   const MeshPush transform(sun_view_projection(*tile.sun), tile.sun->position);
   const ClientScene& scene = *scene_;
   for (uint32_t i = 0; i < scene.meshes().size(); ++i) {  // the tile covers the whole scene: no culling
+    if (!drawn(i, casters)) continue;
     const ClientMesh& mesh = scene.meshes()[i];
     transform.set(push, mesh, moved_motion(scene, moved, i));
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);

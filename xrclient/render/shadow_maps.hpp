@@ -39,6 +39,9 @@ struct ShadowMapSettings {
   double bias_abs = 0.001;       // metres
   double normal_offset = 0.25;   // texels (at the point's distance) along the normal before the lookup
   double bias_slope = 1.0;       // plus this many texels times tan(angle between normal and light), tan <= 10
+  // A moving scene keeps a second atlas of the static casters alone, rendered once: a stale face of a light that
+  // does not move is then that copy plus the moving meshes (the same depths as drawing them all), not a re-render.
+  bool split_static = true;
 };
 
 // One direction from a light on its cube (the C++ twin of cube_face.h's cube_lookup, in double).
@@ -103,8 +106,15 @@ class ShadowMaps {
  private:
   ShadowTile tile_for(const SceneLight& light, std::optional<uint32_t> row) const;
   // Draws face `face` of `tile` (a sun: its tile) with the meshes at `moved`'s time (null: at rest).
-  void draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t face, const MovedScene* moved) const;
-  void render_sun(VkCommandBuffer cmd, const ShadowTile& tile, const MovedScene* moved) const;
+  // Which meshes a face draws: all, those that never move (the static atlas), or the moving ones alone.
+  enum class Casters : uint8_t { kAll, kStatic, kMoving };
+  void draw_face(VkCommandBuffer cmd, const ShadowTile& tile, uint32_t face, const MovedScene* moved,
+                 Casters casters = Casters::kAll) const;
+  void render_sun(VkCommandBuffer cmd, const ShadowTile& tile, const MovedScene* moved, Casters casters) const;
+  bool drawn(uint32_t mesh, Casters casters) const;
+  // Copies the static atlas's faces that update() completes with the moving meshes (split_faces_) into the atlas,
+  // leaving the atlas in DEPTH_ATTACHMENT_OPTIMAL. False when there are none.
+  bool copy_static_faces(VkCommandBuffer cmd);
 
   const vk::Context* context_;
   const ClientScene* scene_;
@@ -113,7 +123,9 @@ class ShadowMaps {
   vk::PipelineLayout layout_;
   vk::Pipeline pipeline_;
   vk::Image atlas_;
+  vk::Image static_atlas_;  // the static casters alone (split_static in a moving scene), TRANSFER_SRC_OPTIMAL
   std::vector<ShadowTile> tiles_;
+  std::vector<uint8_t> split_faces_;  // per light: stale faces completed from the static atlas (update())
   std::vector<uint8_t> held_;   // per light: faces that held a moving mesh when last rendered (shadow_refresh.hpp)
   std::vector<uint8_t> stale_;  // per light: faces update() re-renders (kept: no allocation per frame)
   double render_ms_ = 0.0;
