@@ -69,8 +69,8 @@ def below_target(s):
         because += f", and re-rendering the shadow maps that moving things made stale {update_ms:.1f} ms per frame"
     return (f"Rate:     {fps:.1f} fps, below the headset's {TARGET_FPS:g}: {because}, two eyes a frame, with "
             f"dhr-server and Monado on the same {cores} cores; a CPU rasterizer (lavapipe) is bound by the scene's "
-            f"geometry here (the default room, 892 triangles, ran 83 fps at --render-scale 0.5 on this machine; a GPU "
-            f"headset renders this at its full rate)")
+            f"geometry here (measured rates per scene and size: docs/client.md, \"Measured\"; a GPU headset renders "
+            f"this at its full rate)")
 
 
 def describe_run(s, server):
