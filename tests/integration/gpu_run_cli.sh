@@ -16,13 +16,17 @@ import json, os, sys
 out = sys.argv[1]
 summary = json.load(open(f"{out}/summary.json"))
 assert summary["all_passed"], summary
-assert [s["step"] for s in summary["steps"]] == ["vulkan_tracer", "vulkan_tests", "trace_bench", "client_bench", "dhr_eval"], summary
+assert [s["step"] for s in summary["steps"]] == ["vulkan_tracer", "vulkan_tests", "trace_bench", "client_bench", "dhr_eval",
+                                                "end_to_end"], summary
 assert "llvmpipe" in summary["vulkan_device"], summary
 tracer = json.load(open(f"{out}/vulkan_tracer.json"))
 assert tracer["tests"] > 0 and tracer["failures"] == 0, "VulkanTracer tests did not all pass"
 assert any(json.loads(l).get("backend") == "vulkan" for l in open(f"{out}/trace_bench.jsonl")), "no Vulkan trace_bench record"
 json.loads(open(f"{out}/client_bench.jsonl").read().strip().splitlines()[-1])
 assert json.load(open(f"{out}/eval_results.json")), "empty dhr-eval results"
+e2e = json.load(open(f"{out}/e2e.json"))
+assert e2e["client"]["exit"] == "clean" and e2e["client"]["frames_with_visibility"] > 0, e2e
+assert e2e["server"] is not None, "no statistics line from dhr-server"
 assert len(os.listdir(out)) <= 8, os.listdir(out)  # what the device tool brings back
 print(f"PASS: {len(summary['steps'])} steps, {tracer['tests']} VulkanTracer tests")
 PY
