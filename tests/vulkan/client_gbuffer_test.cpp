@@ -10,6 +10,7 @@
 #include "render/client_scene.hpp"
 #include "render/gbuffer_pass.hpp"
 #include "render/render_camera.hpp"
+#include "gbuffer_readback.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace dhr::render {
@@ -20,24 +21,12 @@ using ClientGBufferTest = vk::test::VulkanTest;
 constexpr Extent kExtent{96, 72};
 constexpr double kNear = kDefaultNearPlane;
 
-struct GBufferReadback {
-  std::vector<float> depth;
-  std::vector<float> normal;   // 4 per pixel
-  std::vector<uint8_t> albedo; // 4 per pixel
-};
+using test::GBufferReadback;
 
 // Renders `scene` from `view` and reads the three images back.
 GBufferReadback render(vk::Context& ctx, const Scene& scene, const View& view) {
   const ClientScene gpu_scene(ctx, scene);
-  const GBufferPass pass(ctx, gpu_scene);
-  GBuffer targets = GBuffer::create(ctx, kExtent);
-  const Camera camera = display_camera(view, kExtent);
-  ctx.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, targets, camera, kNear); });
-  GBufferReadback out;
-  out.depth = test::read_pixels<float>(ctx, targets.depth);
-  out.normal = test::read_normals(ctx, targets.normal);
-  out.albedo = test::read_pixels<uint8_t>(ctx, targets.albedo, 4);
-  return out;
+  return test::render_gbuffer(ctx, gpu_scene, display_camera(view, kExtent), kNear);
 }
 
 // A camera at `offset` looking down -Z (tangents 0.5 x 0.375) and a quad 2 m ahead, x in [-0.5, 0.5],

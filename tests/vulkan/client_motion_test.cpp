@@ -25,6 +25,7 @@
 #include "render/shadow_maps.hpp"
 #include "scene/node_overrides.hpp"
 #include "scene/scene_at.hpp"
+#include "gbuffer_readback.hpp"
 #include "moving_scene.hpp"
 #include "vulkan_test_fixture.hpp"
 
@@ -35,19 +36,10 @@ using ClientMotionTest = vk::test::VulkanTest;
 
 constexpr Extent kExtent{96, 72};
 constexpr double kNear = kDefaultNearPlane;
-struct Readback {
-  std::vector<float> depth;
-  std::vector<float> normal;
-  std::vector<uint8_t> albedo;
-};
+using Readback = test::GBufferReadback;
 
 Readback render_gbuffer(vk::Context& ctx, const ClientScene& scene, const MovedScene* moved) {
-  const GBufferPass pass(ctx, scene);
-  GBuffer targets = GBuffer::create(ctx, kExtent);
-  const Camera camera = display_camera(camera_view(), kExtent);
-  ctx.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, targets, camera, kNear, moved); });
-  return Readback{test::read_pixels<float>(ctx, targets.depth), test::read_normals(ctx, targets.normal),
-                  test::read_pixels<uint8_t>(ctx, targets.albedo, 4)};
+  return test::render_gbuffer(ctx, scene, display_camera(camera_view(), kExtent), kNear, moved);
 }
 
 TEST_F(ClientMotionTest, MotionIsExposedPerMeshAndLight) {

@@ -70,6 +70,13 @@ TEST(WorldOrigin, HeadOfViewsIsTheMidpointWithTheLeftOrientation) {
   EXPECT_NEAR(head.orientation.w, left.orientation.w, 1e-7);
 }
 
+TEST(WorldOrigin, ANonFiniteHeadGivesAnOffsetTheFrameLoopRefuses) {
+  const XrPosef head = pose(glm::dquat(1, 0, 0, 0), {std::nan(""), 1.6, 0});
+  const XrPosef start = pose(glm::dquat(1, 0, 0, 0), {1, 1, 1});
+  EXPECT_FALSE(dhr::xr::finite_pose(world_offset_for_start(head, start)));
+  EXPECT_TRUE(dhr::xr::finite_pose(world_offset_for_start(pose(glm::dquat(1, 0, 0, 0), {0, 1.6, 0}), start)));
+}
+
 TEST(WorldOrigin, LookingStraightDownKeepsTheHeading) {
   const XrPosef down = pose(glm::angleAxis(glm::radians(-90.0), glm::dvec3(1, 0, 0)), {0, 1.6, 0});
   const XrPosef start = pose(glm::dquat(1, 0, 0, 0), {1, 1, 1});

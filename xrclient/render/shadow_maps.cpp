@@ -274,7 +274,8 @@ bool ShadowMaps::drawn(uint32_t mesh, Casters casters) const {
 }
 
 bool ShadowMaps::copy_static_faces(VkCommandBuffer cmd) {
-  std::vector<VkImageCopy> regions;
+  std::vector<VkImageCopy>& regions = copies_;
+  regions.clear();
   for (size_t l = 0; l < tiles_.size(); ++l) {
     for (uint32_t face = 0; face < 6; ++face) {
       if (((split_faces_[l] >> face) & 1u) == 0) continue;

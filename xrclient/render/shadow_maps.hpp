@@ -126,6 +126,7 @@ class ShadowMaps {
   vk::Image static_atlas_;  // the static casters alone (split_static in a moving scene), TRANSFER_SRC_OPTIMAL
   std::vector<ShadowTile> tiles_;
   std::vector<uint8_t> split_faces_;  // per light: stale faces completed from the static atlas (update())
+  std::vector<VkImageCopy> copies_;   // their regions (kept: no allocation per frame)
   std::vector<uint8_t> held_;   // per light: faces that held a moving mesh when last rendered (shadow_refresh.hpp)
   std::vector<uint8_t> stale_;  // per light: faces update() re-renders (kept: no allocation per frame)
   double render_ms_ = 0.0;

@@ -39,8 +39,12 @@ XrResult FrameLoop::locate_views(FrameState& frame) {
   frame.view_state_flags = view_state.viewStateFlags;
   frame.views_valid = count == kEyeCount && (view_state.viewStateFlags & kValid) == kValid;
   if (frame.views_valid && options_.start_head) {
-    // The first valid views: move the world so that the head starts where asked, and locate again in it.
-    spaces_.offset_world(world_offset_for_start(head_of_views(frame.views[0].pose, frame.views[1].pose), *options_.start_head));
+    // The first valid views: move the world so that the head starts where asked, and locate again in it. A pose
+    // that is not finite (a runtime's bad sample) leaves the offset for the next frame.
+    const XrPosef offset =
+        world_offset_for_start(head_of_views(frame.views[0].pose, frame.views[1].pose), *options_.start_head);
+    if (!finite_pose(offset)) return XR_SUCCESS;
+    spaces_.offset_world(offset);
     world_ = spaces_.world();
     options_.start_head.reset();
     return locate_views(frame);

@@ -1,6 +1,7 @@
 #include "xr/world_origin.hpp"
 
 #include <cmath>
+#include <initializer_list>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
@@ -41,6 +42,13 @@ XrPosef world_offset_for_start(const XrPosef& head_in_reference, const XrPosef& 
   const glm::dvec3 translation = to_glm(start.position) - rotation * to_glm(head_in_reference.position);
   const glm::dquat inverse_rotation = glm::inverse(rotation);
   return to_xr(inverse_rotation, -(inverse_rotation * translation));
+}
+
+bool finite_pose(const XrPosef& pose) {
+  for (const float c : {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w, pose.position.x,
+                        pose.position.y, pose.position.z})
+    if (!std::isfinite(c)) return false;
+  return true;
 }
 
 XrPosef head_of_views(const XrPosef& left_eye, const XrPosef& right_eye) {

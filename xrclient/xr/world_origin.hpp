@@ -12,6 +12,9 @@ namespace dhr::xr {
 // roll are ignored (its heading: the direction its -Z looks, projected onto the floor). Both quaternions unit.
 XrPosef world_offset_for_start(const XrPosef& head_in_reference, const XrPosef& start);
 
+// Every component finite (a NaN head pose gives a NaN offset, which must not reach the runtime).
+bool finite_pose(const XrPosef& pose);
+
 // The head of a stereo pair: the mid-point of the eyes, the left eye's orientation.
 XrPosef head_of_views(const XrPosef& left_eye, const XrPosef& right_eye);
 
