@@ -34,6 +34,7 @@ Pose resolve_start_pose(const std::string& spec, const std::string& scene_path) 
   if (spec == "bookmark") {
     bookmark = pick_bookmark("", scene_path);
   } else if (spec.rfind("bookmark:", 0) == 0) {
+    if (spec.size() == 9) throw InputError("--start-at: 'bookmark:' names no bookmark (bookmark:N or bookmark:NAME)");
     bookmark = pick_bookmark(spec.substr(9), scene_path);
   } else {
     std::string error;
