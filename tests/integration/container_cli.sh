@@ -78,8 +78,8 @@ podman logs "$name" >"$tmp/run.log" 2>&1
 grep -q '"frames_traced"' "$tmp/run.log" || { tail "$tmp/run.log"; fail "podman run: no statistics line after SIGTERM"; }
 podman rm "$name" >/dev/null
 
-# 2. podman kube play: the Secret (made as kubectl makes it, when kubectl is here) and the manifest as shipped,
-# renamed and on free ports.
+# 2. podman kube play: a Secret holding the key (base64 `data`, as `kubectl create secret generic` writes it) and the
+# manifest as shipped, renamed and on free ports.
 port=$(free_port); metrics=$(free_port)
 python3 - "$src/deploy/kubernetes/dhr-server.yaml" "$kube_yaml" "$name" "$port" "$metrics" "$tmp/dhr.key" <<'PY'
 import base64, sys, yaml
