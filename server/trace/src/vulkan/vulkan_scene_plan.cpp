@@ -166,30 +166,39 @@ ScenePlan plan_gpu_scene(const Scene& scene, const VulkanTracerConfig& config) {
       const bool mirrored = glm::determinant(glm::dmat3(mesh.T_world_local)) < 0.0;
       const auto key = std::make_pair(mesh.geometry, mirrored);
       auto it = shared.find(key);
-      // Instances of one glTF primitive share indices and local vertices; anything else gets its own BLAS.
+      // The mesh's local vertices (the world ones brought back through its transform), about their box's centre.
+      const glm::dmat4 T_local_world = glm::inverse(mesh.T_world_local);
+      std::vector<glm::dvec3> q(mesh.positions.size());
+      glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+      for (size_t v = 0; v < q.size(); ++v) {
+        q[v] = glm::dvec3(T_local_world * glm::dvec4(glm::dvec3(mesh.positions[v]), 1.0));
+        lo = glm::min(lo, q[v]);
+        hi = glm::max(hi, q[v]);
+      }
+      const glm::dvec3 centre = lo * 0.5 + hi * 0.5;
+      std::vector<float> local;
+      local.reserve(q.size() * 3);
+      for (const glm::dvec3& p : q) {
+        const glm::vec3 r(p - centre);
+        local.insert(local.end(), {r.x, r.y, r.z});
+      }
+      // Instances of one glTF primitive share a BLAS: same indices and the same local vertices (up to the rounding
+      // of bringing world vertices back: 1e-5 of the box). A mesh whose SceneMesh::geometry merely collides (a scene
+      // built in code) gets its own.
       const SceneMesh* built_from = it == shared.end() ? nullptr : it->second.second;
-      const bool reuse = built_from != nullptr && built_from->positions.size() == mesh.positions.size() &&
-                         built_from->triangle_count() == tri_count &&
-                         std::equal(mesh.indices.begin(), mesh.indices.begin() + tri_count * 3,
-                                    built_from->indices.begin());
+      bool reuse = built_from != nullptr && built_from->positions.size() == mesh.positions.size() &&
+                   built_from->triangle_count() == tri_count &&
+                   std::equal(mesh.indices.begin(), mesh.indices.begin() + tri_count * 3, built_from->indices.begin());
+      if (reuse) {
+        const BlasPlan& candidate = plan.blases[it->second.first];
+        const double tolerance = 1e-5 * glm::length(hi - lo) + 1e-9;
+        reuse = glm::length(candidate.local_centre - centre) <= tolerance;
+        for (size_t i = 0; reuse && i < local.size(); ++i)
+          reuse = std::abs(double(candidate.positions[i]) - double(local[i])) <= tolerance;
+      }
       if (reuse) {
         blas = it->second.first;
       } else {
-        const glm::dmat4 T_local_world = glm::inverse(mesh.T_world_local);
-        std::vector<glm::dvec3> q(mesh.positions.size());
-        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
-        for (size_t v = 0; v < q.size(); ++v) {
-          q[v] = glm::dvec3(T_local_world * glm::dvec4(glm::dvec3(mesh.positions[v]), 1.0));
-          lo = glm::min(lo, q[v]);
-          hi = glm::max(hi, q[v]);
-        }
-        const glm::dvec3 centre = lo * 0.5 + hi * 0.5;
-        std::vector<float> local;
-        local.reserve(q.size() * 3);
-        for (const glm::dvec3& p : q) {
-          const glm::vec3 r(p - centre);
-          local.insert(local.end(), {r.x, r.y, r.z});
-        }
         blas = add_blas(plan, std::move(local), mesh, mirrored, config.morton_sort, centre);
         if (it == shared.end()) shared.emplace(key, std::make_pair(blas, &mesh));
       }
