@@ -37,6 +37,18 @@ std::vector<CameraBookmark> bench_bookmarks(const std::string& scene_path, const
 
 GuardBand bench_guard_band(Extent display) { return paper_guard_band(display); }
 
+void split_guard_band(Extent traced, Extent& out_display, GuardBand& out_guard) {
+  // The display size gets the traced size's parity, so the guard band is whole pixels on each side and
+  // display + 2 * guard is exactly the traced size.
+  auto display = [](uint32_t t, uint32_t display_ref, uint32_t traced_ref) {
+    const uint64_t d = (uint64_t{t} * display_ref + traced_ref / 2) / traced_ref;
+    return static_cast<uint32_t>(d < 2 ? t : d - (t - d) % 2);
+  };
+  out_display = {display(traced.width, 1920, 1984), display(traced.height, 1080, 1116)};
+  out_guard = {(traced.width - out_display.width) / 2, (traced.height - out_display.height) / 2};
+}
+
+
 std::optional<Camera> bench_eye_camera(const CameraBookmark& bookmark, int eye, Extent display) {
   const std::optional<Pose> head = look_at_pose(bookmark);
   if (!head) return std::nullopt;

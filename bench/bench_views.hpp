@@ -25,6 +25,10 @@ inline constexpr double kTraceBenchFovDegrees = 90.0;  // horizontal, of the dis
 // Guard band of a display size: the server's default, 64x36 at 1920x1080, scaled.
 GuardBand bench_guard_band(Extent display);
 
+// The displayed size and guard band for a traced (guard-banded) buffer size, in the paper's proportion
+// (1920x1080 displayed + 64x36 guard = 1984x1116).
+void split_guard_band(Extent traced, Extent& out_display, GuardBand& out_guard);
+
 // The guard-banded camera of one eye (0 left, 1 right; IPD 63 mm) of a bookmark, or std::nullopt when the
 // bookmark has no usable look-at pose.
 std::optional<Camera> bench_eye_camera(const CameraBookmark& bookmark, int eye, Extent display);

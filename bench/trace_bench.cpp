@@ -1,6 +1,7 @@
 // trace_bench: the server's visibility tracer on real scenes; one JSON object per line, never asserts.
 //   trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] [--threads N]
 //               [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels]
+//   trace_bench --trace PATH ... : the sequence mode, with and without reuse (trace_sequence.hpp)
 // Every scene is traced from each camera bookmark (both eyes, IPD 63 mm, 90 degree horizontal FOV plus
 // the server's default guard band) at each size, by Embree with skipping on and with SkipOptions::none(),
 // then its skipping-on rays are replayed by a bare rtcIntersect1 + rtcOccluded1 loop (bare_embree.hpp),
@@ -19,6 +20,7 @@
 #include "cli/exit_codes.hpp"
 #include "cli/help_flag.hpp"
 #include "bench_views.hpp"
+#include "trace_sequence.hpp"
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/stats_json.hpp"
 #include "trace/visibility_tracer.hpp"
@@ -101,7 +103,10 @@ std::optional<Extent> parse_size(const std::string& text) {
 int usage(FILE* to = stderr) {
   std::fprintf(to,
                "usage: trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] "
-               "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels]\n");
+               "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels]\n"
+               "       trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
+               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels] [--no-shared] [--no-refresh] [--no-blocks] "
+               "[--no-pairs]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
@@ -447,6 +452,7 @@ void bench_scene(const std::string& path, const Options& o, unsigned threads) {
 int main(int argc, char** argv) {
   Options o;
   if (cli::asks_for_help(argc, argv)) return usage(stdout);
+  if (wants_trace_sequence(argc, argv)) return run_trace_sequence(argc, argv);
   if (!parse_args(argc, argv, o)) return usage();
   const unsigned threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
   Json sizes = Json::array();

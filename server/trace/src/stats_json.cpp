@@ -18,6 +18,9 @@ nlohmann::ordered_json to_json(const TraceStats& s) {
           {"soft_shadow_rays", s.soft_shadow_rays},
           {"soft_rays_per_pair", s.soft_rays_per_pair()},
           {"soft_refined_share", s.soft_refined_share()},
+          {"reused_pixels", s.reused_pixels},
+          {"reused_pairs", s.reused_pairs},
+          {"refreshed_pixels", s.refreshed_pixels},
           {"trace_ms", s.trace_ms},
           {"gpu_ms", s.gpu_ms}};
 }

@@ -20,6 +20,9 @@ void TraceStats::add_counts(const TraceStats& o) {
   soft_contributing_pairs += o.soft_contributing_pairs;
   soft_refined_pairs += o.soft_refined_pairs;
   soft_shadow_rays += o.soft_shadow_rays;
+  reused_pixels += o.reused_pixels;
+  reused_pairs += o.reused_pairs;
+  refreshed_pixels += o.refreshed_pixels;
 }
 
 double TraceStats::soft_rays_per_pair() const {
@@ -90,6 +93,12 @@ void VisibilityTracer::trace_layout(const Camera& camera, const VisibilityLayout
   thread_local VisibilityBuffer hard;
   trace_lights(camera, layout.light_count, hard, out_stats);
   widen_to_layout(hard, layout, out);
+}
+
+void VisibilityTracer::trace_reusing(const Camera& camera, const VisibilityLayout& layout,
+                                     const ReuseRequest& request, VisibilityBuffer& out, TraceStats& out_stats) {
+  trace_layout(camera, layout, out, out_stats);
+  if (request.record) request.record->mesh.clear();
 }
 
 }  // namespace dhr::server

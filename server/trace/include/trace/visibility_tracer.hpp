@@ -4,6 +4,7 @@
 // also the reference). Both produce identical bits except at silhouettes / shadow boundaries.
 #pragma once
 #include "math/projection.hpp"
+#include "trace/reuse/reuse_frame.hpp"
 #include "trace/soft/soft_options.hpp"
 #include "scene/scene.hpp"
 #include "visibility/visibility.hpp"
@@ -71,6 +72,12 @@ struct TraceStats {
   uint64_t soft_contributing_pairs = 0;  // of those, the light test passed: samples were taken
   uint64_t soft_refined_pairs = 0;       // of those, the first samples disagreed: sampled up to the maximum
   uint64_t soft_shadow_rays = 0;         // their occlusion rays (also counted in shadow_rays)
+  // Reuse (trace_reusing, trace/reuse): pixels answered whole from the eye's previous trace (no primary ray),
+  // contributing pixel-light pairs of traced pixels answered from a source instead of a ray, and the hit pixels
+  // traced in full as this frame's refresh share.
+  uint64_t reused_pixels = 0;
+  uint64_t reused_pairs = 0;
+  uint64_t refreshed_pixels = 0;
   // Rays per hit pixel per soft light (soft_shadow_rays / soft_pairs; 0 without soft pairs).
   double soft_rays_per_pair() const;
   // Share of contributing soft pairs that needed more than the first samples.
@@ -136,6 +143,13 @@ class VisibilityTracer {
   // widened). Hard fields are trace_lights' bits in all.
   virtual void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                             TraceStats& out_stats);
+
+  // Traces like trace_layout, but a contributing pixel-light pair of a hard field takes its occlusion from
+  // request's earlier traces where the reuse rule allows (trace/reuse/reuse_frame.hpp), and this trace's surfaces
+  // and answers go to request.record (when not nullptr) for later traces. The Embree backend reuses; this default
+  // (the Vulkan backend) traces every pair and leaves request.record invalid.
+  virtual void trace_reusing(const Camera& camera, const VisibilityLayout& layout, const ReuseRequest& request,
+                             VisibilityBuffer& out, TraceStats& out_stats);
 };
 
 // The soft-capable layout of the first `lights` lights of `extents` (light_extents()): for_lights of their

@@ -158,6 +158,93 @@ EmbreeScene::~EmbreeScene() {
   if (device_) rtcReleaseDevice(device_);
 }
 
+namespace {
+
+// Squared distance from p to segment [a, b].
+float segment_distance2(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b) {
+  const glm::vec3 ab = b - a;
+  const float len2 = glm::dot(ab, ab);
+  const float t = len2 > 0.0f ? std::clamp(glm::dot(p - a, ab) / len2, 0.0f, 1.0f) : 0.0f;
+  const glm::vec3 d = a + ab * t - p;
+  return glm::dot(d, d);
+}
+
+// Squared distance from p to triangle (a, b, c): to its plane where p projects inside it, else to its nearest edge.
+float triangle_distance2(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  const glm::vec3 n = glm::cross(b - a, c - a);
+  const float n2 = glm::dot(n, n);
+  if (n2 > 0.0f) {
+    const float along = glm::dot(p - a, n);
+    const glm::vec3 q = p - n * (along / n2);  // p on the plane
+    const bool inside = glm::dot(glm::cross(b - a, q - a), n) >= 0.0f && glm::dot(glm::cross(c - b, q - b), n) >= 0.0f &&
+                        glm::dot(glm::cross(a - c, q - c), n) >= 0.0f;
+    if (inside) return along * along / n2;
+  }
+  return std::min({segment_distance2(p, a, b), segment_distance2(p, b, c), segment_distance2(p, c, a)});
+}
+
+// Whether triangle (a, b, c) keeps a point after clipping by every plane (Sutherland-Hodgman).
+bool triangle_meets(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const std::vector<glm::vec4>& planes) {
+  std::vector<glm::vec3> poly{a, b, c}, next;
+  for (const glm::vec4& plane : planes) {
+    next.clear();
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const glm::vec3& p = poly[i];
+      const glm::vec3& q = poly[(i + 1) % poly.size()];
+      const float dp = glm::dot(glm::vec3(plane), p) + plane.w, dq = glm::dot(glm::vec3(plane), q) + plane.w;
+      if (dp >= 0.0f) next.push_back(p);
+      if ((dp >= 0.0f) != (dq >= 0.0f)) next.push_back(p + (q - p) * (dp / (dp - dq)));
+    }
+    poly.swap(next);
+    if (poly.empty()) return false;
+  }
+  return true;
+}
+
+struct WithinQuery {
+  const std::vector<EmbreeMesh>* meshes = nullptr;
+  const std::vector<glm::vec4>* planes = nullptr;
+  bool found = false;
+};
+
+bool within_callback(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<WithinQuery*>(args->userPtr);
+  const EmbreeMesh& mesh = (*q->meshes)[args->geomID];
+  const uint32_t* tri = &mesh.indices[static_cast<size_t>(args->primID) * 3];
+  const glm::vec3 p(args->query->x, args->query->y, args->query->z);
+  const float r = args->query->radius;
+  const glm::vec3 &a = mesh.positions[tri[0]], &b = mesh.positions[tri[1]], &c = mesh.positions[tri[2]];
+  if (triangle_distance2(p, a, b, c) <= r * r && triangle_meets(a, b, c, *q->planes)) {
+    q->found = true;
+    args->query->radius = 0.0f;  // found: nothing more to look for
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool EmbreeScene::geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes) const {
+  RTCPointQuery query;
+  query.x = center.x;
+  query.y = center.y;
+  query.z = center.z;
+  query.time = 0.0f;
+  query.radius = radius;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  WithinQuery within{&meshes_, &planes, false};
+  rtcPointQuery(scene_, &query, &context, within_callback, &within);
+  return within.found;
+}
+
+std::vector<uint32_t> EmbreeScene::moving_meshes() const {
+  std::vector<uint32_t> out;
+  for (const auto& mm : moving_) out.push_back(mm->mesh);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 void EmbreeScene::set_scene_time(const Scene& scene, double t, const NodeOverrides* overrides) {
   const auto t0 = std::chrono::steady_clock::now();
   if (scene.meshes.size() != meshes_.size())

@@ -26,13 +26,22 @@ void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint
                          uint32_t slot0, TileScratch& scratch, TraceStats& stats) {
   const EmbreeScene& scene = *frame.scene;
   const uint32_t lanes_x = std::min(kBlock, x1 - bx), lanes_y = std::min(kBlock, y1 - by);
-  const uint32_t inside = lanes_x * lanes_y;
+  // Lanes inside the image and not answered whole by reuse (TileScratch::skipped).
+  uint32_t inside = 0;
+  alignas(64) int valid[kBlockPixels];
+  for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
+    const uint32_t lx = lane % kBlock, ly = lane / kBlock;
+    const bool in = lx < lanes_x && ly < lanes_y && !scratch.skipped(bx + lx, by + ly);
+    valid[lane] = in ? -1 : 0;
+    inside += in ? 1 : 0;
+  }
+  if (inside == 0) return;
   stats.primary_rays += inside;
   const size_t hits_before = scratch.hits.size();
   if (!frame.primary_packets) {
     for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
       const uint32_t x = bx + lane % kBlock, y = by + lane / kBlock;
-      if (x >= x1 || y >= y1) continue;
+      if (!valid[lane]) continue;
       const glm::vec3 dir = primary_direction(frame, x, y);
       if (const auto hit = scene.intersect(frame.eye, dir, primary_tnear(frame, dir)))
         add_hit(scratch, *hit, slot0 + lane, x, y);
@@ -43,12 +52,10 @@ void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  alignas(64) int valid[kBlockPixels];
   alignas(64) RTCRayHit16 rh;
   for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
     const uint32_t lx = lane % kBlock, ly = lane / kBlock;
-    const bool in = lx < lanes_x && ly < lanes_y;
-    valid[lane] = in ? -1 : 0;
+    const bool in = valid[lane] != 0;
     const glm::vec3 dir = in ? primary_direction(frame, bx + lx, by + ly) : glm::vec3(0.0f, 0.0f, -1.0f);
     rh.ray.org_x[lane] = frame.eye.x;
     rh.ray.org_y[lane] = frame.eye.y;
@@ -204,21 +211,35 @@ void trace_primary_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint3
 
 void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,
                 TraceStats& stats, TileScratch& scratch) {
-  // 1. Primary rays.
+  // 1. Primary rays, but for pixels reuse answers whole. The tile's rows are cleared in one go first (background
+  // and unlit pixels: 0); reuse writes the masks it answers, the trace those of hit pixels with a bit.
+  const size_t mask_bytes = out.bytes_per_mask();
+  for (uint32_t y = y0; y < y1; ++y)
+    std::memset(out.data.data() + (size_t{y} * out.width + x0) * mask_bytes, 0, (x1 - x0) * mask_bytes);
+  gather_tile(frame, x0, y0, x1, y1, scratch, out, stats);
   trace_primary_tile(frame, x0, y0, x1, y1, scratch, stats);
   const uint32_t hits = static_cast<uint32_t>(scratch.hits.size());
   stats.skipped_culled_light += uint64_t{hits} * frame.culled_lights;
 
   // 2. Per pixel-light pair: skip (counted by reason) or queue an occlusion ray. Light-major, then block by
   // block: runs of up to 16 neighbouring rays toward the same light, which packets and streams bundle.
+  // With reuse, a contributing pair whose occlusion a source answers takes that answer instead of a ray.
+  reuse_tile_hits(frame, scratch, stats);
   scratch.rays.clear();
   scratch.pending.clear();
+  scratch.masks.assign(hits, 0u);
   for (uint32_t li : frame.active_lights) {
     const PackedLight& light = frame.lights[li];
+    const uint32_t light_bit = 1u << li;
     for (uint32_t h = 0; h < hits; ++h) {
       RTCRay ray;
       bool contributes = false;
       if (!shadow_ray_for(frame, light, scratch.hits[h], stats, ray, contributes)) continue;
+      if (contributes && (scratch.reuse_known[h] & light_bit)) {
+        ++stats.reused_pairs;
+        if (scratch.reuse_reached[h] & light_bit) scratch.masks[h] |= 1u << frame.bit[li];
+        continue;
+      }
       scratch.rays.push_back(ray);
       scratch.pending.push_back({scratch.hit_pixels[h].slot, h, li, contributes});
     }
@@ -228,17 +249,18 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   // 3. Occlusion queries (terminate on the first hit).
   trace_shadow_rays(frame, scratch);
 
-  // 4. Bit = the light contributes and its ray reached it. The tile's rows are cleared in one go (background
-  // and unlit pixels: 0), then only hit pixels with a bit are written.
-  scratch.masks.assign(hits, 0u);
+  // 4. Bit = the light contributes and its ray reached it (or its reused answer says so); only hit pixels with a
+  // bit are written.
   for (size_t r = 0; r < scratch.rays.size(); ++r) {
     const bool reached = scratch.rays[r].tfar >= 0.0f;  // Embree sets tfar = -inf when occluded
     const PendingShadowRay& p = scratch.pending[r];
-    if (reached && p.contributes) scratch.masks[p.hit] |= 1u << frame.bit[p.light];
+    if (!p.contributes) continue;
+    if (reached) scratch.masks[p.hit] |= 1u << frame.bit[p.light];
+    if (frame.reuse) {  // what the record keeps: this pair's occlusion is known now
+      scratch.reuse_known[p.hit] |= 1u << p.light;
+      if (reached) scratch.reuse_reached[p.hit] |= 1u << p.light;
+    }
   }
-  const size_t mask_bytes = out.bytes_per_mask();
-  for (uint32_t y = y0; y < y1; ++y)
-    std::memset(out.data.data() + (size_t{y} * out.width + x0) * mask_bytes, 0, (x1 - x0) * mask_bytes);
   for (uint32_t h = 0; h < hits; ++h)
     if (scratch.masks[h] != 0u) out.set(scratch.hit_pixels[h].x, scratch.hit_pixels[h].y, scratch.masks[h]);
 }

@@ -79,8 +79,13 @@ void EmbreeTracer::trace_layout(const Camera& camera, const VisibilityLayout& la
   trace_fields(camera, layout, out, out_stats);
 }
 
+void EmbreeTracer::trace_reusing(const Camera& camera, const VisibilityLayout& layout, const ReuseRequest& request,
+                                 VisibilityBuffer& out, TraceStats& out_stats) {
+  trace_fields(camera, layout, out, out_stats, &request);
+}
+
 void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
-                                TraceStats& out_stats) {
+                                TraceStats& out_stats, const ReuseRequest* reuse) {
   const auto t0 = std::chrono::steady_clock::now();
   check_trace_request(camera, layout, light_count());
 
@@ -106,6 +111,15 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
     for (uint32_t i = 0; i < lights; ++i) frame.bit[i] = layout.offset[i];
   }
 
+  detail::ReuseSetup reuse_setup;
+  if (reuse) {
+    uint32_t hard_lights = 0;
+    for (uint32_t li = 0; li < lights; ++li)
+      if (!layout.is_soft(li)) hard_lights |= 1u << li;
+    reuse_setup = detail::make_reuse_setup(*scene_, frame, *reuse, lights, bits, hard_lights, scene_->scene_time());
+    frame.reuse = &reuse_setup;
+  }
+
   const uint32_t tile = config_.tile_size;
   const uint32_t tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
   const uint32_t tile_count = tiles_x * tiles_y;
@@ -123,8 +137,10 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
                            partial[worker], scratch[worker]);
         if (!soft.active.empty())
           detail::trace_soft_tile(frame, soft, scratch[worker], soft_scratch[worker], out, partial[worker]);
+        if (frame.reuse) detail::record_reuse_tile(frame, scratch[worker], out);
       },
       "embree tracer");
+  if (frame.reuse) detail::finish_reuse_record(frame, workers);
 
   TraceStats stats;
   stats.pixels = static_cast<uint64_t>(width) * height;

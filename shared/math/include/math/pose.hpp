@@ -12,6 +12,10 @@
 
 namespace dhr {
 
+// Interpupillary distance (metres) of the eye models, snapshots and benchmarks: the adult median, also Monado's
+// OXR_DEBUG_IPD_MM default.
+inline constexpr double kDefaultIpdMetres = 0.063;
+
 // T_world_eye: the eye expressed in world coordinates (position + Hamilton unit quaternion).
 struct Pose {
   glm::dvec3 position{0.0};

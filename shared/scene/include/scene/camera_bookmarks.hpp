@@ -46,8 +46,7 @@ std::optional<Pose> look_at_pose(const CameraBookmark& bookmark);
 // (square pixels). Requires 0 < horizontal_deg < 180 and a non-empty display.
 Fov symmetric_fov(double horizontal_deg, Extent display);
 
-// Interpupillary distance used for snapshots (metres) and the eye offsets it implies.
-inline constexpr double kDefaultIpdMetres = 0.063;
+// The eye offsets kDefaultIpdMetres (math/pose.hpp) implies.
 // The left eye: the head pose moved ipd/2 along its own -X (right) axis, same orientation.
 Pose left_eye_pose(const Pose& head, double ipd_metres = kDefaultIpdMetres);
 

@@ -12,7 +12,6 @@
 
 namespace dhr {
 
-inline constexpr double kDefaultIpdMetres = 0.063;  // adult median; also Monado's OXR_DEBUG_IPD_MM default
 inline constexpr double kDefaultEyeHeightMetres = 1.6;  // the scenes' camera files use it too
 
 // Per-eye asymmetric FOV of a typical current standalone headset (representative values, not any

@@ -13,6 +13,7 @@
 
 #include <embree3/rtcore.h>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <atomic>
 #include <cstdint>
@@ -92,6 +93,8 @@ class EmbreeScene {
   const MotionStats& motion_stats() const { return motion_stats_; }
   // Whether some mesh moves (the scene was built dynamic).
   bool is_dynamic() const { return !moving_.empty(); }
+  // The meshes on moving nodes (mesh indices, ascending).
+  std::vector<uint32_t> moving_meshes() const;
 
   // Surface point of Embree hit (geometry = mesh index, primitive, u, v) seen along ray direction `dir`.
   SurfaceHit surface(uint32_t mesh, uint32_t triangle, float u, float v, const glm::vec3& dir) const;
@@ -101,6 +104,10 @@ class EmbreeScene {
   std::optional<SurfaceHit> intersect(const glm::vec3& origin, const glm::vec3& dir, float tnear = 0.0f) const;
   // Shadow-style query: any surface (both sides) within (0, tfar) along dir.
   bool occluded(const glm::vec3& origin, const glm::vec3& dir, float tfar) const;
+  // Whether any triangle comes within `radius` of `center` (relative frame) and, with `planes`, meets the convex
+  // region where every plane's dot((x, 1)) >= 0: an Embree point query with the exact point-triangle distance,
+  // then each such triangle clipped by the planes (touching counts as meeting).
+  bool geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes = {}) const;
 
  private:
   EmbreeScene() = default;

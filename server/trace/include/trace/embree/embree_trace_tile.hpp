@@ -4,6 +4,7 @@
 #include "scene/lighting.hpp"
 #include "trace/embree/embree_scene.hpp"
 #include "trace/embree/shadow_query.hpp"
+#include "trace/reuse/reuse_frame.hpp"
 #include "trace/visibility_tracer.hpp"
 
 #include <glm/geometric.hpp>
@@ -15,6 +16,31 @@
 #include <vector>
 
 namespace dhr::server::detail {
+
+// One trace's reuse (trace/reuse): where answers may come from and where this trace's go (embree_reuse_tile.cpp).
+struct ReuseSetup {
+  struct Source {
+    const ReuseFrame* frame = nullptr;
+    uint32_t lights = 0;  // lights it may answer (rule 2): traced then, hard now, not moved since
+  };
+  std::vector<Source> sources;  // tried in order
+  uint32_t usable_lights = 0;   // the union of their lights
+  // Rule 1 (whole pixels) from the eye's previous trace: only when it traced the same layout and no light moved.
+  const ReuseFrame* previous = nullptr;
+  ReuseProjection now;          // this trace's camera
+  ReuseMotion eye_motion;       // reuse_motion(previous, now)
+  // Unnormalized view rays in float, columns[x] + rows[y] + forward (FrameSetup's tables): where a taken pixel's
+  // ray meets the plane it is taken on.
+  std::vector<glm::vec3> columns, rows;
+  glm::vec3 forward{0.0f};
+  bool near_geometry = false;   // rule 1 refused: geometry near an eye could cross the near plane
+  ReuseFrame* record = nullptr;
+  ReuseOptions options;
+  uint32_t generation = 0;            // this trace's: picks the refreshed pixels
+  std::vector<uint8_t> moving_mesh;   // per mesh: 1 = on a moving node (never reused from or into)
+  std::vector<ReuseBox> moving_boxes; // moving meshes now (relative frame)
+  bool motion = false;                // some box, now or in a source: shadow segments are tested against them
+};
 
 // Per-frame constants shared read-only by all threads.
 struct FrameSetup {
@@ -38,6 +64,7 @@ struct FrameSetup {
   SkipOptions skip;
   bool primary_packets = true;
   ShadowQuery shadow_query = ShadowQuery::kStream;
+  const ReuseSetup* reuse = nullptr;  // nullptr: every pair traced, nothing recorded
 };
 
 // One queued occlusion ray's destination.
@@ -63,6 +90,16 @@ struct TileScratch {
   std::vector<RTCRay> rays;
   std::vector<PendingShadowRay> pending;
   std::vector<uint32_t> masks;  // parallel to hits
+  // Reuse, parallel to hits: lights answered without a ray and their answers; after the trace, every light whose
+  // occlusion is known at the hit (reused or traced) and those reached (what the record keeps).
+  std::vector<uint32_t> reuse_known;
+  std::vector<uint32_t> reuse_reached;
+  // Rule 1: the tile's pixels answered whole (no primary ray), by pixel within the tile.
+  std::vector<uint8_t> skip;  // (y - skip_y0) * skip_width + (x - skip_x0): 1 = gathered
+  uint32_t skip_x0 = 0, skip_y0 = 0, skip_width = 0;
+  bool skipped(uint32_t x, uint32_t y) const {
+    return !skip.empty() && skip[(y - skip_y0) * skip_width + (x - skip_x0)] != 0;
+  }
 };
 
 // The frame constants for one camera: the eye in the scene's relative frame, the packed lights and which of
@@ -104,6 +141,29 @@ void trace_primary_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint3
 // by reason). bench/trace_bench uses it to replay exactly the tracer's rays.
 bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
                     RTCRay& out_ray, bool& out_contributes);
+
+// Reuse for one trace: the sources' usable lights (`hard_lights` of those traced now, not moved since), whether
+// whole pixels may come from the previous trace, the moving meshes and their boxes now, and the record (reset for
+// `camera`, its light state written). Sources that are not valid or were traced with another layout are left out.
+ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, const ReuseRequest& request,
+                            uint32_t lights, uint32_t mask_bits, uint32_t hard_lights, double scene_time);
+
+// Rule 1 for the tile's pixels: those answered whole (counted in stats.reused_pixels) get their masks in `out`
+// and their surfaces in the record, and are marked in scratch.skip; refreshed pixels are left to trace. Every
+// other pixel of the record's tile starts without a surface (kNoReuseSurface).
+void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, TileScratch& scratch,
+                 VisibilityBuffer& out, TraceStats& stats);
+
+// Rule 2: fills scratch.reuse_known / reuse_reached for the tile's hits from frame.reuse's sources (all zero
+// without reuse, on refreshed pixels (counted in stats.refreshed_pixels) and on moving meshes).
+void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats);
+
+// Writes the tile's hit pixels into frame.reuse->record (not those on moving meshes): surface, mask (from `out`,
+// soft fields included) and known and reached lights (scratch.reuse_known / reuse_reached after the trace).
+void record_reuse_tile(const FrameSetup& frame, const TileScratch& scratch, const VisibilityBuffer& out);
+
+// After every tile: the record's discontinuity distances (trace/reuse), on `workers` threads.
+void finish_reuse_record(const FrameSetup& frame, uint32_t workers);
 
 // Traces pixels [x0, x1) x [y0, y1) into `out` and adds to `stats` (counts only, no times).
 void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, VisibilityBuffer& out,

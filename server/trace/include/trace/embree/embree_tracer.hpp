@@ -40,6 +40,9 @@ class EmbreeTracer final : public VisibilityTracer {
   // Soft fields: each soft light sampled over its extent (trace/soft, embree_soft_tile.hpp).
   void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                     TraceStats& out_stats) override;
+  // Hard fields' pairs answered from request's traces where the reuse rule allows (embree_reuse_tile.cpp).
+  void trace_reusing(const Camera& camera, const VisibilityLayout& layout, const ReuseRequest& request,
+                     VisibilityBuffer& out, TraceStats& out_stats) override;
 
   // Moves geometry (EmbreeScene::set_scene_time) and lights (light_at) to scene time `t`; does nothing for a scene
   // without animation. Not concurrent with tracing.
@@ -56,7 +59,9 @@ class EmbreeTracer final : public VisibilityTracer {
  private:
   std::unique_ptr<EmbreeScene> scene_;
   // Traces the first layout.light_count lights into their fields (hard layout: one bit per light).
-  void trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out, TraceStats& out_stats);
+  // With `reuse`, answers are taken from its sources and recorded.
+  void trace_fields(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out, TraceStats& out_stats,
+                    const ReuseRequest* reuse = nullptr);
 
   std::vector<SceneLight> lights_;       // at the scene time
   std::vector<SceneLight> rest_lights_;  // as the Scene gives them

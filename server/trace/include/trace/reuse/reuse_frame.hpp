@@ -1,0 +1,192 @@
+// Reuse of traced visibility across frames (and sessions): what one traced eye leaves behind (ReuseFrame) and the
+// two rules that take visibility from it instead of tracing (docs/server.md, "Reuse").
+//
+// A static surface point's visibility of a static light does not depend on the viewer (shared/DESIGN.md §5).
+// 1. Whole 4x4 blocks, no ray at all (reuse_gather_block): the block's centre is found in the eye's previous trace
+//    by iterating its reprojection; the traced pixels within reach of it must be uniform (one mesh, identical
+//    masks, cells without a discontinuity: ReuseFrame::cell_mesh), land 0.75 to 1.5 new pixels apart, and lie
+//    farther from any depth or surface discontinuity of that trace than anything in front of them could move across
+//    the image between the two traces (the parallax bound: reuse_motion with the nearest depths around,
+//    ReuseFrame::near), and farther from the image border than unseen geometry at the near plane could. Then no
+//    other surface can cover the block; each pixel's point is where its ray meets the found pixel's tangent plane,
+//    and its mask is theirs. Not when geometry crosses the near plane between the traces (the tracer's point query).
+// 2. Per pixel-light pair, after the pixel's primary ray (reuse_lookup): the surface point X is projected into a
+//    source trace (the eye's previous one, the other eye's, other sessions'); the four traced pixels around it must
+//    be X's surface (reuse_same_surface, no sparser than 1.5 new pixels) and know the light's occlusion and agree.
+// Anything else traces. One pixel in kRefreshPeriod is traced in full each frame (a 4x4 ordered dither that visits
+// each pixel of a 4x4 block once in 16 frames), so a shadow feature that fell between the samples it was taken
+// from is found again. Motion: surfaces on moving meshes are never taken from, a light that moved is traced again,
+// and a block or pair whose shadow segments meet a moving mesh's box (then or now) is traced.
+// What this cannot see: a surface that no traced pixel sampled (seen exactly edge-on) and that turns toward the eye
+// by the next trace; docs/server.md, "Reuse", measures what that costs.
+#pragma once
+#include "math/projection.hpp"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace dhr::server {
+
+// An axis-aligned box in the tracer's relative frame.
+struct ReuseBox {
+  glm::vec3 lo{0.0f};
+  glm::vec3 hi{0.0f};
+};
+
+// A pixel of a ReuseFrame with no reusable surface (background, or a surface on a moving mesh).
+inline constexpr uint32_t kNoReuseSurface = 0xFFFFFFFFu;
+
+// One pixel in this many is traced in full each frame (the 4x4 dither: one pixel per 4x4 block).
+inline constexpr uint32_t kRefreshPeriod = 16;
+
+// Discontinuities are kept per cell of this many pixels square (ReuseFrame::edge_distance).
+inline constexpr uint32_t kReuseCell = 4;
+// ReuseFrame::near: the nearest depth within kNearRadius[k] pixels, k = 0, 1, 2 (on cells of that size, each
+// with its 8 neighbours), and over the whole frame. A surface that can slide over a point by p pixels must lie
+// within p pixels of it; the rule takes a point only when the nearest surfaces within each radius cannot move
+// farther than the radius below (parallax within 16 pixels: the discontinuity clearance).
+inline constexpr uint32_t kNearLevels = 3;
+inline constexpr uint32_t kNearRadius[kNearLevels] = {16, 64, 256};
+
+struct ReuseOptions {
+  bool enabled = true;
+  // Neighbours count as one surface when each is within this share of the pixel spacing of the others' tangent
+  // planes and within neighbour_reach spacings of them.
+  float plane_tolerance = 0.25f;
+  float neighbour_reach = 2.5f;
+  // The traced pixels taken from may be at most this many new pixels apart (a closer view traces).
+  float max_magnification = 1.5f;
+  bool refresh = true;        // trace the dithered kRefreshPeriod share in full (off: tests of the rules only)
+  bool whole_pixels = true;   // rule 1 (off: every pixel's primary ray is traced, rule 2 only)
+  bool pairs = true;          // rule 2
+};
+
+// Pixel coordinates of a point (relative frame) in one camera, in float: pixel = (ax.d, ay.d) / (w.d) with
+// d = X - eye, and w.d its depth along the view axis.
+struct ReuseProjection {
+  glm::vec3 eye{0.0f};
+  glm::vec3 ax{0.0f}, ay{0.0f}, w{0.0f};
+  float focal = 1.0f;  // the smaller of the camera's two focal lengths (pixels per unit tangent)
+
+  // `eye` = the camera's position in the relative frame.
+  static ReuseProjection of(const Camera& camera, const glm::vec3& eye);
+  // False at or behind the eye plane.
+  bool project(const glm::vec3& x, glm::vec2& out_pixel, float& out_depth) const;
+};
+
+// What one traced eye leaves for later traces: its camera and, per pixel, the surface and its visibility.
+// Positions and boxes are in the relative frame of the tracer that wrote it (only that tracer reads it back).
+struct ReuseFrame {
+  Camera camera;
+  ReuseProjection projection;
+  double scene_time = 0.0;
+  uint32_t generation = 0;  // traces in this eye's chain so far: picks the dithered refresh pixels
+  uint32_t lights = 0;      // lights of the traced layout
+  uint32_t mask_bits = 0;   // its mask's bits (VisibilityLayout::total_bits)
+  // Per light, two entries: its packed position_type and direction_range then (a light whose entries differ
+  // now has moved: nothing of it is reused).
+  std::vector<glm::vec4> light_state;
+  std::vector<ReuseBox> moving_boxes;  // meshes on moving nodes then
+  // Per pixel, row-major.
+  std::vector<glm::vec3> position;   // surface point (relative frame)
+  std::vector<glm::vec3> normal;     // unit geometric normal, on the viewer's side
+  std::vector<uint32_t> mesh;        // kNoReuseSurface where nothing may be reused
+  std::vector<uint32_t> mask;        // the traced mask (every field of the layout)
+  std::vector<uint32_t> known;       // hard lights (bit = light index) whose occlusion is known here
+  std::vector<uint32_t> reached;     // of those, the light is reached (not occluded)
+  // Per kReuseCell x kReuseCell cell: Chebyshev distance in cells to the nearest cell with a discontinuity
+  // (0: this one has one; capped at 255), and its nearest surface depth (metres).
+  uint32_t cells_x = 0, cells_y = 0;
+  std::vector<uint8_t> edge_distance;
+  std::vector<float> cell_depth;
+  // The nearest depth within kNearRadius[k] pixels, per cell of that size (near_x[k] per row), and of the frame.
+  std::vector<float> near[kNearLevels];
+  uint32_t near_x[kNearLevels] = {};
+  float nearest = 0.0f;
+  // Per cell: the mesh all its pixels share with identical mask, known and reached lights (those of its first
+  // pixel), or kNoReuseSurface.
+  std::vector<uint32_t> cell_mesh;
+
+  bool valid() const { return !mesh.empty() && !edge_distance.empty(); }
+  // Sizes the per-pixel arrays for `camera` (their contents are the tracer's to write: every pixel) and clears
+  // the edge distances (finish_reuse_frame computes them).
+  void reset(const Camera& camera, const glm::vec3& eye, uint32_t lights, uint32_t mask_bits, double scene_time,
+             uint32_t generation);
+};
+
+// What one trace may take from (sources, tried in order) and where it leaves its own (record, not a source).
+// Every frame must come from the same tracer (its relative frame and scene).
+struct ReuseRequest {
+  const ReuseFrame* previous = nullptr;   // this eye's last trace: whole pixels come from it; this is generation + 1
+  std::vector<const ReuseFrame*> shared;  // other eyes' or sessions' traces, tried after `previous` for pairs
+  ReuseFrame* record = nullptr;           // receives this trace's surfaces and answers (nullptr: none kept)
+  ReuseOptions options;
+};
+
+// The lights of `frame` whose occlusion at a new surface point can be taken from it (rule 2), and their answers.
+struct ReuseAnswer {
+  uint32_t known = 0;
+  uint32_t reached = 0;
+};
+
+// The new pixel's surface point: position and unit geometric normal (relative frame), its mesh, and the new
+// frame's pixel spacing there (metres per pixel).
+struct ReuseQuery {
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f};
+  uint32_t mesh = 0;
+  float spacing = 0.0f;
+};
+
+// Whether two traced surface points (positions, unit normals) are one smooth surface at `spacing` metres per
+// pixel: normals within about 25 degrees, each within options.plane_tolerance spacings of the other's tangent plane
+// and options.neighbour_reach spacings of the other.
+bool reuse_same_surface(const glm::vec3& pa, const glm::vec3& na, const glm::vec3& pb, const glm::vec3& nb,
+                        float spacing, const ReuseOptions& options);
+
+// Rule 2 (motion not considered: see segment_misses_boxes). `candidates` limits the lights looked at.
+ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint32_t candidates,
+                         const ReuseOptions& options);
+
+// How far the eye moved between `frame` and now, for the parallax bound: a point at depth z moves across the image
+// by at most scale / (z - shift) pixels beyond what a point at infinity does (the eye's move times the focal length
+// times the frustum's corner ray length, over the depth less the move).
+struct ReuseMotion {
+  float scale = 0.0f;  // pixel-metres
+  float shift = 0.0f;  // metres
+};
+ReuseMotion reuse_motion(const ReuseFrame& frame, const ReuseProjection& now);
+
+// A pixel taken whole (rule 1).
+struct GatheredPixel {
+  uint32_t mask = 0, known = 0, reached = 0, mesh = 0;
+  glm::vec3 position{0.0f};  // the surface point under the new pixel centre
+  glm::vec3 normal{0.0f};
+};
+
+// Rule 1 for a 4x4 block at once: the traced pixel found for the block's centre (bx + 2, by + 2), with every cell
+// within reach of it uniform (ReuseFrame::cell_mesh, the same for all) and clear of discontinuities by the
+// parallax, and the traced pixels no sparser than options.max_magnification new pixels: true with that pixel's
+// index in the frame (its mask, known and reached lights are every block pixel's; its tangent plane holds their
+// surface points).
+bool reuse_gather_block(const ReuseFrame& frame, const ReuseProjection& now, uint32_t bx, uint32_t by,
+                        const ReuseMotion& motion, const ReuseOptions& options, glm::vec2& guess, size_t& out_pixel);
+
+
+// Computes frame's edge distances, uniform cells and near depths from its per-pixel surfaces (rows [y0, y1) of
+// cells for finish_reuse_cells, run by parallel workers; then finish_reuse_distances once).
+void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, const ReuseOptions& options);
+void finish_reuse_distances(ReuseFrame& frame);
+
+// Whether pixel (x, y) is in this generation's dithered refresh share (traced in full).
+bool reuse_refresh_pixel(uint32_t x, uint32_t y, uint32_t generation);
+
+// Whether the segment from `from` to `to` misses every box (each widened by `margin`).
+bool segment_misses_boxes(const glm::vec3& from, const glm::vec3& to, const std::vector<ReuseBox>& boxes,
+                          float margin);
+
+}  // namespace dhr::server

@@ -1,0 +1,309 @@
+// The Embree tile kernel's reuse steps (trace/reuse/reuse_frame.hpp): whole pixels from the eye's previous trace,
+// pairs from any source, and what a traced tile leaves in the record.
+#include "trace/embree/embree_trace_tile.hpp"
+
+#include "trace/embree/tile_pool.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace dhr::server::detail {
+namespace {
+
+// A directional light's shadow segment is tested this far toward the light (metres): past any scene's boxes.
+constexpr float kDirectionalReach = 1.0e5f;
+
+glm::vec3 segment_end(const PackedLight& light, const glm::vec3& from) {
+  if (light_eval::light_is_directional(light)) return from - glm::vec3(light.direction_range) * kDirectionalReach;
+  return glm::vec3(light.position_type);
+}
+
+ReuseBox box_of(const EmbreeMesh& mesh) {
+  ReuseBox box{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(-std::numeric_limits<float>::max())};
+  // positions ends with Embree's padding element.
+  const size_t n = mesh.positions.empty() ? 0 : mesh.positions.size() - 1;
+  for (size_t i = 0; i < n; ++i) {
+    box.lo = glm::min(box.lo, mesh.positions[i]);
+    box.hi = glm::max(box.hi, mesh.positions[i]);
+  }
+  return box;
+}
+
+// Whether the shadow segments from `at` toward the lights in `lights` miss what moves (now, and in `source`).
+uint32_t lights_clear_of_motion(const FrameSetup& frame, const ReuseFrame& source, const glm::vec3& at,
+                                uint32_t lights, float margin) {
+  const ReuseSetup& reuse = *frame.reuse;
+  for (uint32_t li = 0; li < 32; ++li) {
+    const uint32_t bit = 1u << li;
+    if (!(lights & bit)) continue;
+    const glm::vec3 end = segment_end(frame.lights[li], at);
+    if (!segment_misses_boxes(at, end, reuse.moving_boxes, margin) ||
+        !segment_misses_boxes(at, end, source.moving_boxes, margin))
+      lights &= ~bit;
+  }
+  return lights;
+}
+
+}  // namespace
+
+namespace {
+
+// Whether some triangle lies beyond `frame`'s near plane inside its frustum but was nearer than the near plane in
+// `previous`. Such a point has depth_now < (near + eye move) / (1 - turn x corner) (turn: the angle between the view
+// axes, corner: the frustum's corner ray length at unit depth), which bounds the point query; a turn that large
+// (turn x corner >= 1/2) counts as crossing.
+bool near_plane_crossing(const EmbreeScene& scene, const FrameSetup& frame, const ReuseFrame& previous) {
+  const Camera& cam = *frame.camera;
+  const Tangents& t = cam.tangents;
+  const float corner = static_cast<float>(std::sqrt(std::max(t.left * t.left, t.right * t.right) +
+                                                    std::max(t.up * t.up, t.down * t.down) + 1.0));
+  const glm::vec3 w_now = glm::vec3(frame.ray_forward), w_then = previous.projection.w;
+  const float turn = std::acos(std::clamp(glm::dot(w_now, w_then), -1.0f, 1.0f));
+  if (!(turn * corner < 0.5f)) return true;
+  const float near = static_cast<float>(frame.primary_near);
+  const glm::vec3 eye_then = previous.projection.eye;
+  const float moved = glm::length(frame.eye - eye_then);
+  const float radius = corner * (near + moved) / (1.0f - turn * corner);
+  // x = eye + d: the frustum's sides (tx between left and right, ty between down and up, with c = R^T d, w = -c.z),
+  // beyond the near plane now, at or nearer than it then.
+  const glm::dmat3 R = frame.world_from_eye;
+  auto through_eye = [&](const glm::dvec3& n) {
+    const glm::vec3 nf(n);
+    return glm::vec4(nf, -glm::dot(nf, frame.eye));
+  };
+  const std::vector<glm::vec4> planes{
+      through_eye(R[0] + t.left * R[2]), through_eye(-R[0] - t.right * R[2]), through_eye(-R[1] - t.up * R[2]),
+      through_eye(R[1] + t.down * R[2]), glm::vec4(w_now, -glm::dot(w_now, frame.eye) - near),
+      glm::vec4(-w_then, glm::dot(w_then, eye_then) + near)};
+  return scene.geometry_within(frame.eye, radius, planes);
+}
+
+}  // namespace
+
+ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, const ReuseRequest& request,
+                            uint32_t lights, uint32_t mask_bits, uint32_t hard_lights, double scene_time) {
+  ReuseSetup setup;
+  setup.options = request.options;
+  setup.record = request.record;
+  setup.now = ReuseProjection::of(*frame.camera, frame.eye);
+  const ReuseFrame* previous = request.previous && request.previous->valid() ? request.previous : nullptr;
+  setup.generation = previous ? previous->generation + 1 : 0;
+  setup.moving_mesh.assign(scene.meshes().size(), 0);
+  for (uint32_t m : scene.moving_meshes()) {
+    setup.moving_mesh[m] = 1;
+    setup.moving_boxes.push_back(box_of(scene.meshes()[m]));
+  }
+  setup.motion = !setup.moving_boxes.empty();
+  const uint32_t all_lights = lights >= 32 ? 0xFFFFFFFFu : (1u << lights) - 1u;
+
+  if (request.options.enabled) {
+    std::vector<const ReuseFrame*> candidates;
+    if (previous) candidates.push_back(previous);
+    for (const ReuseFrame* f : request.shared)
+      if (f && f != previous && f->valid()) candidates.push_back(f);
+    for (const ReuseFrame* f : candidates) {
+      if (f == request.record || f->lights != lights || f->mask_bits != mask_bits ||
+          f->light_state.size() != 2u * lights)
+        continue;
+      uint32_t unmoved = all_lights;
+      for (uint32_t li = 0; li < lights; ++li) {
+        const PackedLight& now = frame.lights[li];
+        if (f->light_state[2 * li] != now.position_type || f->light_state[2 * li + 1] != now.direction_range)
+          unmoved &= ~(1u << li);
+      }
+      if (f == previous && unmoved == all_lights && request.options.whole_pixels) setup.previous = f;
+      if ((unmoved & hard_lights) == 0 || !request.options.pairs) continue;
+      setup.sources.push_back({f, unmoved & hard_lights});
+      setup.usable_lights |= unmoved & hard_lights;
+      setup.motion = setup.motion || !f->moving_boxes.empty();
+    }
+    if (setup.previous) {
+      setup.eye_motion = reuse_motion(*setup.previous, setup.now);
+      // Primary rays start at the near plane. Geometry that was nearer than it then and is not now appears
+      // anywhere in the image: whole pixels only when no triangle meets that region inside this camera's frustum
+      // (gather_tile checks the other way: a taken point must lie beyond the near plane now).
+      setup.columns.assign(frame.ray_columns.begin(), frame.ray_columns.end());
+      setup.rows.assign(frame.ray_rows.begin(), frame.ray_rows.end());
+      setup.forward = glm::vec3(frame.ray_forward);
+      if (near_plane_crossing(scene, frame, *setup.previous)) {        setup.previous = nullptr;
+        setup.near_geometry = true;
+      }
+    }
+  }
+
+  if (ReuseFrame* rec = request.record) {
+    rec->reset(*frame.camera, frame.eye, lights, mask_bits, scene_time, setup.generation);
+    for (uint32_t li = 0; li < lights; ++li) {
+      rec->light_state.push_back(frame.lights[li].position_type);
+      rec->light_state.push_back(frame.lights[li].direction_range);
+    }
+    rec->moving_boxes = setup.moving_boxes;
+    rec->edge_distance.assign(static_cast<size_t>(rec->cells_x) * rec->cells_y, 255);
+  }
+  return setup;
+}
+
+void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, TileScratch& scratch,
+                 VisibilityBuffer& out, TraceStats& stats) {
+  scratch.skip.clear();
+  const ReuseSetup* reuse = frame.reuse;
+  if (!reuse) return;
+  ReuseFrame* rec = reuse->record;
+  const size_t width = frame.camera->extent.width;
+  // The record's pixels start without a surface: gathered and hit pixels get theirs.
+  if (rec)
+    for (uint32_t y = y0; y < y1; ++y)
+      std::fill_n(rec->mesh.begin() + static_cast<ptrdiff_t>(y * width + x0), x1 - x0, kNoReuseSurface);
+  if (!reuse->previous) return;
+  const ReuseFrame& previous = *reuse->previous;
+  const ReuseOptions& options = reuse->options;
+  scratch.skip_x0 = x0;
+  scratch.skip_y0 = y0;
+  scratch.skip_width = x1 - x0;
+  scratch.skip.assign(static_cast<size_t>(x1 - x0) * (y1 - y0), 0);
+  uint64_t taken = 0;
+  const uint32_t all_lights = previous.lights >= 32 ? 0xFFFFFFFFu : (1u << previous.lights) - 1u;
+  auto clear_of_motion = [&](const glm::vec3& at, float pixels) {
+    if (!reuse->motion) return true;
+    const float spacing = glm::dot(at - frame.eye, reuse->now.w) / reuse->now.focal;
+    const float margin = options.neighbour_reach * options.max_magnification * spacing * pixels;
+    return lights_clear_of_motion(frame, previous, at, all_lights, margin) == all_lights;
+  };
+  const float near = static_cast<float>(frame.primary_near);
+  auto take = [&](uint32_t x, uint32_t y, const GatheredPixel& pixel) {
+    // Beyond the near plane now (nearer, this trace's primary ray would pass it).
+    if (!(glm::dot(pixel.position - frame.eye, reuse->now.w) > near)) return;
+    scratch.skip[(y - y0) * scratch.skip_width + (x - x0)] = 1;
+    out.set(x, y, pixel.mask);
+    ++taken;
+    if (!rec) return;
+    const size_t i = y * width + x;
+    rec->position[i] = pixel.position;
+    rec->normal[i] = pixel.normal;
+    rec->mesh[i] = pixel.mesh;
+    rec->mask[i] = pixel.mask;
+    rec->known[i] = pixel.known;
+    rec->reached[i] = pixel.reached;
+  };
+  auto refreshed = [&](uint32_t x, uint32_t y) { return options.refresh && reuse_refresh_pixel(x, y, reuse->generation); };
+
+  // Whole 4x4 blocks (the primary packets' blocks): one search, then each pixel's point on the found pixel's tangent
+  // plane (which must face the eye at every pixel of the block).
+  const uint32_t blocks_x = (x1 - x0 + 3) / 4, blocks_y = (y1 - y0 + 3) / 4;
+  glm::vec2 guess(0.0f);
+  for (uint32_t b = 0; b < blocks_x * blocks_y; ++b) {
+    const uint32_t bx = x0 + (b % blocks_x) * 4, by = y0 + (b / blocks_x) * 4;
+    const uint32_t ex = std::min(bx + 4, x1), ey = std::min(by + 4, y1);
+    if (b % blocks_x == 0) guess = glm::vec2(static_cast<float>(bx) + 2.0f, static_cast<float>(by) + 2.0f);
+    size_t source = 0;
+    if (!reuse_gather_block(previous, reuse->now, bx, by, reuse->eye_motion, options, guess, source)) {
+      guess = glm::vec2(static_cast<float>(bx) + 6.0f, static_cast<float>(by) + 2.0f);
+      continue;
+    }
+    guess.x += 4.0f;
+    if (!clear_of_motion(previous.position[source], 4.0f)) continue;
+    GatheredPixel pixel;
+    pixel.mesh = previous.mesh[source];
+    pixel.mask = previous.mask[source];
+    pixel.known = previous.known[source];
+    pixel.reached = previous.reached[source];
+    pixel.normal = previous.normal[source];
+    const glm::vec3& n = pixel.normal;
+    const float plane = glm::dot(n, previous.position[source] - frame.eye);
+    glm::vec3 dirs[16];
+    bool facing = plane < 0.0f;
+    for (uint32_t y = by; y < ey && facing; ++y)
+      for (uint32_t x = bx; x < ex && facing; ++x) {
+        glm::vec3& dir = dirs[(y - by) * 4 + (x - bx)];
+        dir = reuse->columns[x] + reuse->rows[y] + reuse->forward;
+        facing = glm::dot(n, dir) < 0.0f;
+      }
+    if (!facing) continue;  // the plane seen edge-on or from behind somewhere in the block
+    for (uint32_t y = by; y < ey; ++y)
+      for (uint32_t x = bx; x < ex; ++x) {
+        if (refreshed(x, y)) continue;
+        const glm::vec3& dir = dirs[(y - by) * 4 + (x - bx)];
+        pixel.position = frame.eye + dir * (plane / glm::dot(n, dir));
+        take(x, y, pixel);
+      }
+  }
+
+  stats.reused_pixels += taken;
+}
+
+void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats) {
+  const size_t hits = scratch.hits.size();
+  scratch.reuse_known.assign(hits, 0u);
+  scratch.reuse_reached.assign(hits, 0u);
+  const ReuseSetup* reuse = frame.reuse;
+  if (!reuse || reuse->sources.empty()) return;
+  for (size_t h = 0; h < hits; ++h) {
+    const SurfaceHit& hit = scratch.hits[h];
+    const HitPixel& px = scratch.hit_pixels[h];
+    if (reuse->moving_mesh[hit.mesh]) continue;
+    if (reuse->options.refresh && reuse_refresh_pixel(px.x, px.y, reuse->generation)) {
+      ++stats.refreshed_pixels;
+      continue;
+    }
+    ReuseQuery query;
+    query.position = hit.position;
+    query.normal = hit.geometric_normal;
+    query.mesh = hit.mesh;
+    query.spacing = glm::dot(hit.position - frame.eye, reuse->now.w) / reuse->now.focal;
+    uint32_t known = 0, reached = 0;
+    for (const ReuseSetup::Source& source : reuse->sources) {
+      ReuseAnswer answer = reuse_lookup(*source.frame, query, source.lights & ~known, reuse->options);
+      if (answer.known && reuse->motion) {
+        // X's neighbours' segments lie within the reach of X's, so the boxes are widened by it.
+        const float margin = reuse->options.neighbour_reach * reuse->options.max_magnification * query.spacing;
+        answer.known = lights_clear_of_motion(frame, *source.frame, hit.position, answer.known, margin);
+        answer.reached &= answer.known;
+      }
+      known |= answer.known;
+      reached |= answer.reached;
+      if ((reuse->usable_lights & ~known) == 0) break;  // every light any source could answer is answered
+    }
+    scratch.reuse_known[h] = known;
+    scratch.reuse_reached[h] = reached;
+  }
+}
+
+void record_reuse_tile(const FrameSetup& frame, const TileScratch& scratch, const VisibilityBuffer& out) {
+  ReuseFrame* rec = frame.reuse ? frame.reuse->record : nullptr;
+  if (!rec) return;
+  const size_t width = rec->camera.extent.width;
+  for (size_t h = 0; h < scratch.hits.size(); ++h) {
+    const SurfaceHit& hit = scratch.hits[h];
+    if (frame.reuse->moving_mesh[hit.mesh]) continue;  // never a source: left kNoReuseSurface
+    const uint32_t x = scratch.hit_pixels[h].x, y = scratch.hit_pixels[h].y;
+    const size_t i = y * width + x;
+    rec->position[i] = hit.position;
+    rec->normal[i] = hit.geometric_normal;
+    rec->mesh[i] = hit.mesh;
+    rec->mask[i] = out.get(x, y);
+    rec->known[i] = scratch.reuse_known[h];
+    rec->reached[i] = scratch.reuse_reached[h];
+  }
+}
+
+void finish_reuse_record(const FrameSetup& frame, uint32_t workers) {
+  ReuseFrame* rec = frame.reuse ? frame.reuse->record : nullptr;
+  if (!rec) return;
+  constexpr uint32_t kRowsPerJob = 8;
+  const uint32_t jobs = (rec->cells_y + kRowsPerJob - 1) / kRowsPerJob;
+  run_tiles(
+      tile_workers(workers, jobs), jobs,
+      [&](uint32_t, uint32_t job) {
+        finish_reuse_cells(*rec, job * kRowsPerJob, std::min(rec->cells_y, (job + 1) * kRowsPerJob),
+                           frame.reuse->options);
+      },
+      "reuse record");
+  finish_reuse_distances(*rec);
+}
+
+}  // namespace dhr::server::detail

@@ -1,0 +1,221 @@
+// Rule 1 of trace/reuse/reuse_frame.hpp: whole pixels found in the eye's previous trace, and the discontinuity
+// distances that bound where it holds.
+#include "trace/reuse/reuse_frame.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dhr::server {
+namespace {
+
+constexpr int kGatherIterations = 4;
+// A whole block is taken only where neighbouring traced pixels land at least this many new pixels apart along
+// both image axes.
+constexpr float kMinBlockSpacing = 0.75f;
+
+}  // namespace
+
+ReuseMotion reuse_motion(const ReuseFrame& frame, const ReuseProjection& now) {
+  const Tangents& t = frame.camera.tangents;
+  const float corner = static_cast<float>(std::sqrt(std::max(t.left * t.left, t.right * t.right) +
+                                                    std::max(t.up * t.up, t.down * t.down) + 1.0));
+  ReuseMotion m;
+  m.shift = glm::length(now.eye - frame.projection.eye);
+  m.scale = std::max(now.focal, frame.projection.focal) * corner * m.shift;
+  return m;
+}
+
+namespace {
+
+// The traced pixel (ix, iy) whose surface point lands within half a pixel of `target` in `now` (p: where it lands):
+// start at the guess, move by the miss (1 new pixel ~ 1 traced pixel for the small moves between frames).
+bool find_traced_pixel(const ReuseFrame& frame, const ReuseProjection& now, const glm::vec2& target, glm::vec2& guess,
+                       int& ix, int& iy, glm::vec2& p) {
+  const int W = static_cast<int>(frame.camera.extent.width), H = static_cast<int>(frame.camera.extent.height);
+  glm::vec2 u = guess;
+  float depth = 0.0f;
+  for (int it = 0; it < kGatherIterations; ++it) {
+    if (!(u.x >= 0.0f && u.y >= 0.0f && u.x < static_cast<float>(W) && u.y < static_cast<float>(H))) return false;
+    ix = static_cast<int>(u.x);
+    iy = static_cast<int>(u.y);
+    const size_t i = static_cast<size_t>(iy) * static_cast<size_t>(W) + static_cast<size_t>(ix);
+    if (frame.mesh[i] == kNoReuseSurface || !now.project(frame.position[i], p, depth)) return false;
+    const glm::vec2 miss = target - p;
+    u = glm::vec2(static_cast<float>(ix) + 0.5f, static_cast<float>(iy) + 0.5f) + miss;
+    if (std::fabs(miss.x) <= 0.5f && std::fabs(miss.y) <= 0.5f) {
+      guess = u;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Whether traced pixel (x, y) is clear of every discontinuity by `pixels` plus how far anything in front of it can
+// slide over it (ReuseFrame::near and reuse_motion), and of the image border by `pixels` plus what unseen geometry
+// at the near plane could move.
+bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const ReuseMotion& motion) {
+  const size_t i = static_cast<size_t>(y) * frame.camera.extent.width + static_cast<size_t>(x);
+  const float depth = glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
+  const float far_inverse = 1.0f / (std::max(depth, 1e-3f) + motion.shift);
+  // A surface at depth `near_depth` moves at most scale / (near_depth - shift) pixels relative to the eye's view of
+  // a point at infinity, so relative to this pixel's surface at most scale x (1 / (near - shift) - 1 / (depth +
+  // shift)); plus a pixel.
+  auto parallax = [&](float near_depth) {
+    const float nd = near_depth - motion.shift;
+    if (!(nd > 1e-4f)) return std::numeric_limits<float>::max();
+    return motion.scale * std::max(0.0f, 1.0f / nd - far_inverse) + 1.0f;
+  };
+  const float border = static_cast<float>(std::min(std::min(x, y), std::min(static_cast<int>(frame.camera.extent.width) - 1 - x,
+                                                                         static_cast<int>(frame.camera.extent.height) - 1 - y)));
+  if (!(border >= pixels + parallax(static_cast<float>(kClipNearPlane)))) return false;
+  float within = 0.0f;  // pixels: what lies beyond one radius must not reach the one below
+  for (uint32_t k = 0; k < kNearLevels; ++k) {
+    const uint32_t r = kNearRadius[k];
+    const float p = parallax(frame.near[k][(static_cast<uint32_t>(y) / r) * frame.near_x[k] + static_cast<uint32_t>(x) / r]);
+    if (!(p <= (k == 0 ? static_cast<float>(r) : static_cast<float>(kNearRadius[k - 1])))) return false;
+    if (k == 0) within = p;
+  }
+  if (!(parallax(frame.nearest) <= static_cast<float>(kNearRadius[kNearLevels - 1]))) return false;
+  const uint32_t cell = (static_cast<uint32_t>(y) / kReuseCell) * frame.cells_x + static_cast<uint32_t>(x) / kReuseCell;
+  return (static_cast<float>(frame.edge_distance[cell]) - 1.0f) * kReuseCell >= pixels + within;
+}
+
+}  // namespace
+
+bool reuse_gather_block(const ReuseFrame& frame, const ReuseProjection& now, uint32_t bx, uint32_t by,
+                        const ReuseMotion& motion, const ReuseOptions& options, glm::vec2& guess, size_t& out_pixel) {
+  const int W = static_cast<int>(frame.camera.extent.width), H = static_cast<int>(frame.camera.extent.height);
+  const glm::vec2 target(static_cast<float>(bx) + 2.0f, static_cast<float>(by) + 2.0f);
+  int ix = 0, iy = 0;
+  glm::vec2 p;
+  if (!find_traced_pixel(frame, now, target, guess, ix, iy, p)) return false;
+  if (ix + 1 >= W || iy + 1 >= H) return false;
+  // The block's pixels lie within 2 new pixels of its centre, so within `reach` traced pixels of (ix, iy) when
+  // those are at least kMinBlockSpacing new pixels apart (and no sparser than max_magnification).
+  const float reach = std::ceil(2.5f / kMinBlockSpacing);
+  if (!clear_of_edges(frame, ix, iy, reach + 2.0f, motion)) return false;
+  const size_t i = static_cast<size_t>(iy) * W + ix;
+  glm::vec2 px, py;
+  float depth = 0.0f;
+  if (!now.project(frame.position[i + 1], px, depth) || !now.project(frame.position[i + W], py, depth)) return false;
+  const float limit = options.max_magnification * options.max_magnification;
+  const float least = kMinBlockSpacing * kMinBlockSpacing;
+  if (!(glm::dot(px - p, px - p) <= limit && glm::dot(py - p, py - p) <= limit)) return false;
+  // Nor denser (the traced pixels would cover less than the block), nor turned (the block's rows along theirs).
+  if (!(std::fabs(px.x - p.x) >= kMinBlockSpacing && std::fabs(py.y - p.y) >= kMinBlockSpacing) ||
+      !(glm::dot(px - p, px - p) >= least && glm::dot(py - p, py - p) >= least))
+    return false;
+  // Every cell the block's pixels can come from: uniform, the same as (ix, iy)'s.
+  const int r = static_cast<int>(std::ceil(reach));
+  const uint32_t cx0 = static_cast<uint32_t>(std::max(0, ix - r)) / kReuseCell;
+  const uint32_t cx1 = static_cast<uint32_t>(std::min(W - 1, ix + r)) / kReuseCell;
+  const uint32_t cy0 = static_cast<uint32_t>(std::max(0, iy - r)) / kReuseCell;
+  const uint32_t cy1 = static_cast<uint32_t>(std::min(H - 1, iy + r)) / kReuseCell;
+  const size_t first = (static_cast<size_t>(iy) / kReuseCell) * frame.cells_x + static_cast<size_t>(ix) / kReuseCell;
+  const uint32_t mesh = frame.cell_mesh[first];
+  if (mesh == kNoReuseSurface) return false;
+  for (uint32_t cy = cy0; cy <= cy1; ++cy)
+    for (uint32_t cx = cx0; cx <= cx1; ++cx) {
+      const size_t c = static_cast<size_t>(cy) * frame.cells_x + cx;
+      if (frame.cell_mesh[c] != mesh) return false;
+      // Uniform cells are compared by their first pixels.
+      const size_t a = static_cast<size_t>(cy) * kReuseCell * W + cx * kReuseCell;
+      if (frame.mask[a] != frame.mask[i] || frame.known[a] != frame.known[i] || frame.reached[a] != frame.reached[i])
+        return false;
+    }
+  out_pixel = i;
+  return true;
+}
+
+void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, const ReuseOptions& options) {
+  const uint32_t W = frame.camera.extent.width, H = frame.camera.extent.height;
+  for (uint32_t cy = cell_y0; cy < cell_y1; ++cy)
+    for (uint32_t cx = 0; cx < frame.cells_x; ++cx) {
+      float nearest = std::numeric_limits<float>::max();
+      const size_t cell = static_cast<size_t>(cy) * frame.cells_x + cx;
+      const size_t first = static_cast<size_t>(cy) * kReuseCell * W + cx * kReuseCell;
+      bool edge = false, uniform = frame.mesh[first] != kNoReuseSurface;
+      for (uint32_t y = cy * kReuseCell; y < std::min(H, (cy + 1) * kReuseCell); ++y)
+        for (uint32_t x = cx * kReuseCell; x < std::min(W, (cx + 1) * kReuseCell); ++x) {
+          const size_t i = static_cast<size_t>(y) * W + x;
+          const bool surface = frame.mesh[i] != kNoReuseSurface;
+          uniform = uniform && frame.mesh[i] == frame.mesh[first] && frame.mask[i] == frame.mask[first] &&
+                    frame.known[i] == frame.known[first] && frame.reached[i] == frame.reached[first];
+          float depth = 0.0f;
+          if (surface) {
+            depth = glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
+            nearest = std::min(nearest, depth);
+          }
+          // A discontinuity between this pixel and its right or lower neighbour: surface against none, another
+          // mesh, or off this pixel's tangent plane.
+          const float tolerance = options.plane_tolerance * depth / frame.projection.focal;
+          for (const size_t j : {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i}) {
+            if (j == i) continue;
+            const bool other = frame.mesh[j] != kNoReuseSurface;
+            if (surface != other || (surface && frame.mesh[j] != frame.mesh[i]) ||
+                (surface &&
+                 !(std::fabs(glm::dot(frame.position[j] - frame.position[i], frame.normal[i])) <= tolerance)))
+              edge = true;
+          }
+        }
+      if (edge) frame.edge_distance[cell] = 0;
+      frame.cell_mesh[cell] = uniform ? frame.mesh[first] : kNoReuseSurface;
+      frame.cell_depth[cell] = nearest;
+    }
+}
+
+void finish_reuse_distances(ReuseFrame& frame) {
+  // Two-pass chamfer transform with unit steps to all eight neighbours (Chebyshev distance), capped at 255.
+  const int cx = static_cast<int>(frame.cells_x), cy = static_cast<int>(frame.cells_y);
+  std::vector<uint8_t>& d = frame.edge_distance;
+  auto at = [&](int x, int y) -> uint8_t& { return d[static_cast<size_t>(y) * cx + x]; };
+  // Near depths: per level, the minimum of the cell depths in each cell of kNearRadius[k] pixels, then over its 3x3
+  // neighbourhood (which covers at least the radius around any point of the centre cell).
+  frame.nearest = std::numeric_limits<float>::max();
+  for (float v : frame.cell_depth) frame.nearest = std::min(frame.nearest, v);
+  for (uint32_t k = 0; k < kNearLevels; ++k) {
+    const uint32_t per = kNearRadius[k] / kReuseCell;
+    const int nx = (cx + static_cast<int>(per) - 1) / static_cast<int>(per), ny = (cy + static_cast<int>(per) - 1) / static_cast<int>(per);
+    std::vector<float> pooled(static_cast<size_t>(nx) * ny, std::numeric_limits<float>::max());
+    for (int y = 0; y < cy; ++y)
+      for (int x = 0; x < cx; ++x) {
+        float& m = pooled[static_cast<size_t>(y / static_cast<int>(per)) * nx + x / static_cast<int>(per)];
+        m = std::min(m, frame.cell_depth[static_cast<size_t>(y) * cx + x]);
+      }
+    std::vector<float>& near = frame.near[k];
+    near.assign(pooled.size(), std::numeric_limits<float>::max());
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        for (int v = std::max(0, y - 1); v <= std::min(ny - 1, y + 1); ++v)
+          for (int u = std::max(0, x - 1); u <= std::min(nx - 1, x + 1); ++u)
+            near[static_cast<size_t>(y) * nx + x] = std::min(near[static_cast<size_t>(y) * nx + x], pooled[static_cast<size_t>(v) * nx + u]);
+    frame.near_x[k] = static_cast<uint32_t>(nx);
+  }
+  for (int y = 0; y < cy; ++y)
+    for (int x = 0; x < cx; ++x) {
+      int v = at(x, y);
+      if (x > 0) v = std::min(v, at(x - 1, y) + 1);
+      if (y > 0) {
+        v = std::min(v, at(x, y - 1) + 1);
+        if (x > 0) v = std::min(v, at(x - 1, y - 1) + 1);
+        if (x + 1 < cx) v = std::min(v, at(x + 1, y - 1) + 1);
+      }
+      at(x, y) = static_cast<uint8_t>(v);
+    }
+  for (int y = cy - 1; y >= 0; --y)
+    for (int x = cx - 1; x >= 0; --x) {
+      int v = at(x, y);
+      if (x + 1 < cx) v = std::min(v, at(x + 1, y) + 1);
+      if (y + 1 < cy) {
+        v = std::min(v, at(x, y + 1) + 1);
+        if (x + 1 < cx) v = std::min(v, at(x + 1, y + 1) + 1);
+        if (x > 0) v = std::min(v, at(x - 1, y + 1) + 1);
+      }
+      at(x, y) = static_cast<uint8_t>(v);
+    }
+}
+
+}  // namespace dhr::server
