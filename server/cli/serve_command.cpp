@@ -56,6 +56,10 @@ int run_serve_command(const ServerOptions& options) {
   config.workers = options.workers;
   config.codec_v2 = options.codec_v2;
   config.soft_levels = options.soft_levels;
+  config.reuse = options.reuse;
+  if (config.reuse && tracer->backend() != TracerBackend::kEmbree)
+    std::fprintf(stderr, "dhr-server: warning: --reuse on: the %s tracer does not reuse (Embree only); every pixel is "
+                 "traced\n", tracer_backend_name(tracer->backend()));
   if (options.predict_horizon_ms >= 0.0)
     config.predict_horizon_ns = static_cast<int64_t>(options.predict_horizon_ms * static_cast<double>(net::kNsPerMs));
 

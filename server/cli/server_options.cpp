@@ -150,6 +150,14 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       ->capture_default_str()
       ->check(CLI::IsMember({"on", "off"}))
       ->group(kServeGroup);
+  std::string reuse = "off";
+  app.add_option("--reuse", reuse,
+                 "take visibility from each eye's previous trace where it is certain (whole 4x4 blocks and "
+                 "pixel-light pairs; Embree; docs/server.md, \"Reuse\"): fewer rays, but slower than tracing them "
+                 "on this project's CPU tracer so far")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}))
+      ->group(kServeGroup);
   app.add_flag("--predict,!--no-predict", out.predict,
                "trace the views predicted for when the result is displayed (constant velocity from the "
                "client's last poses); on by default, --no-predict traces the poses as sent (the paper's server)")
@@ -228,6 +236,7 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
   out.rate_adapt = !no_rate_adapt;
   out.codec_v2 = codec == "v2";
   out.soft_levels = soft_levels == "on";
+  out.reuse = reuse == "on";
   out.skip_identical_pose = !trace_identical;
   if (*serve) {
     const auto p = parse_port(port);

@@ -37,6 +37,7 @@ struct ServerOptions {
   bool skip_identical_pose = true;
   bool codec_v2 = true;                 // --codec v2 (default) or v1, for clients that offer v2
   bool soft_levels = true;              // --soft-levels on (default) or off, for clients that offer them
+  bool reuse = false;                   // --reuse on|off (ServiceConfig::reuse)
   bool predict = shipped::kPredict;     // server-side pose prediction (--no-predict: off, the paper's server)
   double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
   bool adaptive_fov = shipped::kAdaptiveFov;            // widen the traced FOV from the measured shortfall (server/session/include/session/fov_margin.hpp)

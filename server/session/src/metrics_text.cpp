@@ -81,6 +81,11 @@ std::string prometheus_text(const ServiceStats& s) {
   metric(out, "dhr_poses_superseded_total", "counter", "Poses replaced by a newer one before being traced.",
          static_cast<double>(s.poses_superseded));
   metric(out, "dhr_rays_total", "counter", "Rays traced (primary and shadow).", static_cast<double>(s.rays));
+  metric(out, "dhr_reused_pixels_total", "counter", "Pixels taken whole from an earlier trace (--reuse on).",
+         static_cast<double>(s.reused_pixels));
+  metric(out, "dhr_reused_pairs_total", "counter",
+         "Pixel-light pairs answered from an earlier trace instead of a shadow ray (--reuse on).",
+         static_cast<double>(s.reused_pairs));
   metric(out, "dhr_bytes_sent_total", "counter", "Bytes of every datagram sent, headers included.",
          static_cast<double>(s.bytes_sent));
   metric(out, "dhr_datagrams_sent_total", "counter", "Datagrams sent.", static_cast<double>(s.datagrams_sent));

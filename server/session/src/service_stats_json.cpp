@@ -53,6 +53,8 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
           {"soft_contributing_pairs", s.soft_contributing_pairs},
           {"soft_refined_pairs", s.soft_refined_pairs},
           {"soft_shadow_rays", s.soft_shadow_rays},
+          {"reused_pixels", s.reused_pixels},
+          {"reused_pairs", s.reused_pairs},
           // Rays per hit pixel per soft light, and the share of (contributing) soft pairs refined.
           {"soft_rays_per_pair", s.soft_pairs ? static_cast<double>(s.soft_shadow_rays) / s.soft_pairs : 0.0},
           {"soft_refined_share", s.soft_contributing_pairs

@@ -154,7 +154,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
   const TracedFormat format = s.welcome.format();
   double trace_ms = 0.0, encode_ms = 0.0, update_ms = 0.0;
   uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0, shed = 0, rays = 0;
-  uint64_t soft_pairs = 0, soft_contributing = 0, soft_refined = 0, soft_rays = 0;
+  uint64_t soft_pairs = 0, soft_contributing = 0, soft_refined = 0, soft_rays = 0, reused_pixels = 0, reused_pairs = 0;
   std::array<double, 2> eye_trace_ms{};
   bool ok = true, at_scene_time = false;
   const int64_t start_ns = clock_.now_ns();
@@ -186,7 +186,17 @@ bool VisibilityService::trace_and_send(const Work& work) {
         at_scene_time = true;
       }
       // Only the lights the client asked for (the layout's, the first light_count): the others cost no ray.
-      tracer_.trace_layout(camera, s.layout, scratch, trace_stats);
+      if (config_.reuse) {
+        ReuseRequest request;
+        const size_t eye = static_cast<size_t>(e);
+        request.previous = &s.reuse_newest[eye];
+        if (e == 1) request.shared.push_back(&s.reuse_newest[0]);  // the left eye of this frame, just traced
+        request.record = &s.reuse_writing[eye];
+        tracer_.trace_reusing(camera, s.layout, request, scratch, trace_stats);
+        std::swap(s.reuse_newest[eye], s.reuse_writing[eye]);
+      } else {
+        tracer_.trace_layout(camera, s.layout, scratch, trace_stats);
+      }
     } catch (const std::exception& ex) {
       log::warn("session %016llx frame %llu: trace failed: %s", static_cast<unsigned long long>(s.token),
                 static_cast<unsigned long long>(work.traced.frame), ex.what());
@@ -197,6 +207,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
     trace_ms += trace_stats.trace_ms;
     eye_trace_ms[static_cast<size_t>(e)] = trace_stats.trace_ms;
     rays += trace_stats.primary_rays + trace_stats.shadow_rays;
+    reused_pixels += trace_stats.reused_pixels;
+    reused_pairs += trace_stats.reused_pairs;
     soft_pairs += trace_stats.soft_pairs;
     soft_contributing += trace_stats.soft_contributing_pairs;
     soft_refined += trace_stats.soft_refined_pairs;
@@ -235,6 +247,8 @@ bool VisibilityService::trace_and_send(const Work& work) {
   stats_.eyes_coded_v2_intra += intra_eyes;
   stats_.datagrams_shed += shed;
   stats_.rays += rays;
+  stats_.reused_pixels += reused_pixels;
+  stats_.reused_pairs += reused_pairs;
   stats_.soft_pairs += soft_pairs;
   stats_.soft_contributing_pairs += soft_contributing;
   stats_.soft_refined_pairs += soft_refined;

@@ -81,6 +81,11 @@ struct ServiceConfig {
   // an extent: its field is the Gray-coded level of its sampled visibility (Embree; the Vulkan tracer writes
   // level 0 or the top level for now). Off: every session gets one bit per light.
   bool soft_levels = true;
+  // Reuse of traced visibility (trace/reuse/reuse_frame.hpp; Embree): each eye of a session takes whole blocks
+  // and pixel-light pairs from its previous trace, and the right eye pairs from the left eye's trace of the same
+  // frame. Off by default: on this CPU tracer it casts a quarter to a third of the rays but takes longer than
+  // tracing them (docs/server.md, "Reuse").
+  bool reuse = false;
   // Worker threads run_serve starts to trace sessions in parallel (one session per worker at a time); the
   // Vulkan tracer takes one at a time, so it is clamped to 1 there.
   uint32_t workers = 1;
@@ -141,6 +146,9 @@ struct ServiceStats {
   uint64_t eyes_coded_v2_inter = 0;      // eyes sent with codec v2 against an acknowledged reference
   uint64_t eyes_coded_v2_intra = 0;      // eyes sent with codec v2 on their own
   uint64_t rays = 0;                     // primary and shadow rays traced
+  // ServiceConfig::reuse: pixels taken whole from an earlier trace (no ray) and pixel-light pairs answered from one.
+  uint64_t reused_pixels = 0;
+  uint64_t reused_pairs = 0;
   // Soft levels (sessions whose layout has level fields; TraceStats' soft_* summed over traced eyes).
   uint64_t sessions_soft = 0;            // sessions opened with the soft layout (Welcome grants soft levels)
   uint64_t soft_pairs = 0;               // hit pixel x soft light

@@ -53,15 +53,23 @@ uint32_t lights_clear_of_motion(const FrameSetup& frame, const ReuseFrame& sourc
 
 namespace {
 
+// How far the point query looks for the nearest geometry (metres): beyond it, unseen geometry is treated as that far.
+constexpr float kUnseenSearch = 10.0f;
+
+// The length of the frustum's corner ray at unit depth: a point inside it at distance r has depth >= r / this.
+float frustum_corner(const Camera& camera) {
+  const Tangents& t = camera.tangents;
+  return static_cast<float>(
+      std::sqrt(std::max(t.left * t.left, t.right * t.right) + std::max(t.up * t.up, t.down * t.down) + 1.0));
+}
+
 // Whether some triangle lies beyond `frame`'s near plane inside its frustum but was nearer than the near plane in
 // `previous`. Such a point has depth_now < (near + eye move) / (1 - turn x corner) (turn: the angle between the view
 // axes, corner: the frustum's corner ray length at unit depth), which bounds the point query; a turn that large
 // (turn x corner >= 1/2) counts as crossing.
 bool near_plane_crossing(const EmbreeScene& scene, const FrameSetup& frame, const ReuseFrame& previous) {
-  const Camera& cam = *frame.camera;
-  const Tangents& t = cam.tangents;
-  const float corner = static_cast<float>(std::sqrt(std::max(t.left * t.left, t.right * t.right) +
-                                                    std::max(t.up * t.up, t.down * t.down) + 1.0));
+  const Tangents& t = frame.camera->tangents;
+  const float corner = frustum_corner(*frame.camera);
   const glm::vec3 w_now = glm::vec3(frame.ray_forward), w_then = previous.projection.w;
   const float turn = std::acos(std::clamp(glm::dot(w_now, w_then), -1.0f, 1.0f));
   if (!(turn * corner < 0.5f)) return true;
@@ -130,6 +138,11 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
       setup.columns.assign(frame.ray_columns.begin(), frame.ray_columns.end());
       setup.rows.assign(frame.ray_rows.begin(), frame.ray_rows.end());
       setup.forward = glm::vec3(frame.ray_forward);
+      // Geometry no pixel saw is at least as far from the eyes as the nearest triangle: what enters from beyond
+      // the border is at that depth or deeper (over the corner ray's length), not at the near plane.
+      const float nearest = std::min(scene.nearest_distance(frame.eye, kUnseenSearch),
+                                     scene.nearest_distance(setup.previous->projection.eye, kUnseenSearch));
+      setup.eye_motion.unseen_depth = std::max(setup.eye_motion.unseen_depth, nearest / frustum_corner(*frame.camera));
       if (near_plane_crossing(scene, frame, *setup.previous)) {        setup.previous = nullptr;
         setup.near_geometry = true;
       }

@@ -222,7 +222,33 @@ bool within_callback(RTCPointQueryFunctionArguments* args) {
   return false;
 }
 
+bool nearest_callback(RTCPointQueryFunctionArguments* args) {
+  const auto* meshes = static_cast<const std::vector<EmbreeMesh>*>(args->userPtr);
+  const EmbreeMesh& mesh = (*meshes)[args->geomID];
+  const uint32_t* tri = &mesh.indices[static_cast<size_t>(args->primID) * 3];
+  const glm::vec3 p(args->query->x, args->query->y, args->query->z);
+  const float d = std::sqrt(triangle_distance2(p, mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]));
+  if (d < args->query->radius) {
+    args->query->radius = d;  // shrinks the search to what is nearer
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius) const {
+  RTCPointQuery query;
+  query.x = center.x;
+  query.y = center.y;
+  query.z = center.z;
+  query.time = 0.0f;
+  query.radius = max_radius;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(scene_, &query, &context, nearest_callback, const_cast<std::vector<EmbreeMesh>*>(&meshes_));
+  return query.radius;
+}
 
 bool EmbreeScene::geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes) const {
   RTCPointQuery query;

@@ -55,7 +55,7 @@ bool find_traced_pixel(const ReuseFrame& frame, const ReuseProjection& now, cons
 
 // Whether traced pixel (x, y) is clear of every discontinuity by `pixels` plus how far anything in front of it can
 // slide over it (ReuseFrame::near and reuse_motion), and of the image border by `pixels` plus what unseen geometry
-// at the near plane could move.
+// (at ReuseMotion::unseen_depth) could move.
 bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const ReuseMotion& motion) {
   const size_t i = static_cast<size_t>(y) * frame.camera.extent.width + static_cast<size_t>(x);
   const float depth = glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
@@ -70,7 +70,7 @@ bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const R
   };
   const float border = static_cast<float>(std::min(std::min(x, y), std::min(static_cast<int>(frame.camera.extent.width) - 1 - x,
                                                                          static_cast<int>(frame.camera.extent.height) - 1 - y)));
-  if (!(border >= pixels + parallax(static_cast<float>(kClipNearPlane)))) return false;
+  if (!(border >= pixels + parallax(motion.unseen_depth))) return false;
   float within = 0.0f;  // pixels: what lies beyond one radius must not reach the one below
   for (uint32_t k = 0; k < kNearLevels; ++k) {
     const uint32_t r = kNearRadius[k];

@@ -108,6 +108,8 @@ class EmbreeScene {
   // region where every plane's dot((x, 1)) >= 0: an Embree point query with the exact point-triangle distance,
   // then each such triangle clipped by the planes (touching counts as meeting).
   bool geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes = {}) const;
+  // The distance from `center` to the nearest triangle, or `max_radius` when none is nearer.
+  float nearest_distance(const glm::vec3& center, float max_radius) const;
 
  private:
   EmbreeScene() = default;

@@ -158,6 +158,9 @@ ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint3
 struct ReuseMotion {
   float scale = 0.0f;  // pixel-metres
   float shift = 0.0f;  // metres
+  // The nearest depth at which geometry no pixel of the frame saw can enter the image from beyond its border:
+  // the near plane, or more when the caller knows nothing is that near the eyes (the tracer's point query).
+  float unseen_depth = static_cast<float>(kClipNearPlane);
 };
 ReuseMotion reuse_motion(const ReuseFrame& frame, const ReuseProjection& now);
 

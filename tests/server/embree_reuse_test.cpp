@@ -1,0 +1,263 @@
+// Reuse of traced visibility (trace/reuse/reuse_frame.hpp, EmbreeTracer::trace_reusing) against the exhaustive
+// trace of the same camera (trace_layout, no reuse), which is the reference: a still camera gives identical bits with
+// most pixels taken whole; a moving camera over a room with an occluder differs in at most kMaxDifferingShare of
+// the hit pixel-light bits (measured: 0 here); a box that moves over a still camera's floor, and a light that moves,
+// are traced again, never kept (identical bits); pixels near an eye-close wall that crosses the near plane are not
+// taken; the same inputs give the same bits on 1 and 2 threads. Plus the rule's pieces: the float projection against
+// reproject(), the segment-box test, the refresh dither, the point-triangle query.
+#include "trace/embree/embree_tracer.hpp"
+#include "trace/reuse/reuse_frame.hpp"
+#include "test_scenes.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/gtc/quaternion.hpp>
+
+#include <array>
+#include <cmath>
+#include <random>
+
+namespace dhr::server {
+namespace {
+
+constexpr double kMaxDifferingShare = 1e-4;  // the bound on differing pixel-light bits
+constexpr uint32_t kMovingNode = 5;
+
+TracerOptions threads(uint32_t n) {
+  TracerOptions o;
+  o.threads = n;
+  return o;
+}
+
+// A floor, a back wall, a static box (shadow caster) and two point lights; optionally a box on an animated node
+// (slides 2 m along +x in 2 s) and a light on it.
+Scene room(bool moving_box, bool moving_light) {
+  Scene s = test::make_empty_scene();
+  test::add_grid(s, glm::vec3(-4, 0, -4), glm::vec3(0, 0, 8), glm::vec3(8, 0, 0), 8, test::kSingleSided);
+  test::add_grid(s, glm::vec3(-4, 0, -4), glm::vec3(8, 0, 0), glm::vec3(0, 4, 0), 8, test::kSingleSided);
+  test::add_box(s, glm::vec3(-0.5f, 0.0f, -1.5f), glm::vec3(0.5f, 1.0f, -0.5f), test::kSingleSided);
+  s.lights.push_back(test::point_light(glm::vec3(1.0f, 3.0f, 1.0f), 50.0f));
+  s.lights.push_back(test::point_light(glm::vec3(-2.0f, 2.5f, 0.0f), 30.0f));
+  if (moving_box) {
+    const size_t first = s.meshes.size();
+    test::add_box(s, glm::vec3(-2.0f, 0.3f, 0.5f), glm::vec3(-1.6f, 0.9f, 0.9f), test::kSingleSided);
+    for (size_t m = first; m < s.meshes.size(); ++m) s.meshes[m].node = kMovingNode;
+  }
+  if (moving_light) {
+    SceneLight carried = test::point_light(glm::vec3(-1.8f, 1.4f, 0.7f), 20.0f);
+    carried.node = kMovingNode;
+    s.lights.push_back(carried);
+  }
+  test::finalize(s);
+  if (moving_box || moving_light) {
+    AnimatedNode node;
+    node.node = kMovingNode;
+    node.track_count = 1;
+    s.animation.nodes.push_back(node);
+    s.animation.moving_nodes.push_back(kMovingNode);
+    s.animation.clips.push_back(AnimationClip{"slide", 2.0});
+    AnimationTrack slide;
+    slide.node = kMovingNode;
+    slide.path = AnimationPath::kTranslation;
+    slide.times = {0.0f, 2.0f};
+    slide.values = {0, 0, 0, 2, 0, 0};
+    s.animation.tracks.push_back(slide);
+  }
+  return s;
+}
+
+struct Pair {
+  VisibilityBuffer exact, reused;
+  TraceStats exact_stats, reused_stats;
+};
+
+// Traces `camera` both ways; the reusing trace takes from `previous` and records into `record`.
+Pair trace_both(VisibilityTracer& tracer, const Camera& camera, const ReuseFrame* previous, ReuseFrame& record,
+                const ReuseOptions& options = {}) {
+  Pair p;
+  const VisibilityLayout layout = VisibilityLayout::hard(tracer.light_count());
+  tracer.trace_layout(camera, layout, p.exact, p.exact_stats);
+  ReuseRequest request;
+  request.previous = previous;
+  request.record = &record;
+  request.options = options;
+  tracer.trace_reusing(camera, layout, request, p.reused, p.reused_stats);
+  return p;
+}
+
+uint64_t differing_bits(const VisibilityBuffer& a, const VisibilityBuffer& b) {
+  uint64_t n = 0;
+  for (size_t i = 0; i < a.pixel_count(); ++i) n += static_cast<uint64_t>(__builtin_popcount(a.mask_at(i) ^ b.mask_at(i)));
+  return n;
+}
+
+Camera camera_at(double x, double y, double z, uint32_t w = 384, uint32_t h = 256) {
+  return test::look_camera(glm::dvec3(x, y, z), glm::dvec3(0.0, 0.3, -1.5), w, h, 80.0);
+}
+
+TEST(ReuseRule, FloatProjectionAgreesWithReproject) {
+  const Camera camera = camera_at(0.3, 1.6, 3.0);
+  const glm::vec3 eye(camera.T_world_eye.position);
+  const ReuseProjection p = ReuseProjection::of(camera, eye);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+  for (int i = 0; i < 200; ++i) {
+    const glm::vec3 x(u(rng), u(rng) * 0.5f + 1.0f, u(rng) - 2.0f);
+    const Reprojection r = reproject(camera, glm::dvec3(x));
+    glm::vec2 pixel;
+    float depth = 0.0f;
+    const bool in_front = p.project(x, pixel, depth);
+    ASSERT_EQ(in_front, r.status != Reprojection::Status::kBehind);
+    if (!in_front) continue;
+    EXPECT_NEAR(pixel.x, r.pixel.x, 1e-2);
+    EXPECT_NEAR(pixel.y, r.pixel.y, 1e-2);
+    EXPECT_NEAR(depth, r.depth, 1e-4);
+  }
+}
+
+TEST(ReuseRule, SegmentBoxTest) {
+  const std::vector<ReuseBox> boxes{{glm::vec3(0.0f), glm::vec3(1.0f)}};
+  EXPECT_FALSE(segment_misses_boxes(glm::vec3(-1, 0.5f, 0.5f), glm::vec3(2, 0.5f, 0.5f), boxes, 0.0f));
+  EXPECT_TRUE(segment_misses_boxes(glm::vec3(-1, 1.5f, 0.5f), glm::vec3(2, 1.5f, 0.5f), boxes, 0.0f));
+  EXPECT_FALSE(segment_misses_boxes(glm::vec3(-1, 1.5f, 0.5f), glm::vec3(2, 1.5f, 0.5f), boxes, 0.6f));  // widened
+  EXPECT_TRUE(segment_misses_boxes(glm::vec3(-1, 0.5f, 0.5f), glm::vec3(-0.1f, 0.5f, 0.5f), boxes, 0.0f));  // short
+  EXPECT_FALSE(segment_misses_boxes(glm::vec3(0.5f, 0.5f, 0.5f), glm::vec3(0.6f, 0.5f, 0.5f), boxes, 0.0f));
+  const float nan = std::nanf("");
+  EXPECT_FALSE(segment_misses_boxes(glm::vec3(nan, 0, 0), glm::vec3(2, 0.5f, 0.5f), boxes, 0.0f));  // NaN: traced
+}
+
+TEST(ReuseRule, RefreshVisitsEveryPixelOfABlockOnceIn16Frames) {
+  for (uint32_t y = 0; y < 8; ++y)
+    for (uint32_t x = 0; x < 8; ++x) {
+      int hits = 0;
+      for (uint32_t g = 100; g < 100 + kRefreshPeriod; ++g) hits += reuse_refresh_pixel(x, y, g) ? 1 : 0;
+      EXPECT_EQ(hits, 1) << x << "," << y;
+    }
+  int per_frame = 0;
+  for (uint32_t y = 0; y < 4; ++y)
+    for (uint32_t x = 0; x < 4; ++x) per_frame += reuse_refresh_pixel(x, y, 7) ? 1 : 0;
+  EXPECT_EQ(per_frame, 1);
+}
+
+TEST(ReuseRule, PointQueryFindsTrianglesWithinRadiusAndRegion) {
+  EmbreeTracer tracer(room(false, false), threads(1));
+  const EmbreeScene& scene = tracer.embree_scene();
+  const glm::vec3 above_floor = scene.to_relative(glm::dvec3(0.0, 0.05, 2.0));
+  EXPECT_TRUE(scene.geometry_within(above_floor, 0.06f));
+  EXPECT_FALSE(scene.geometry_within(above_floor, 0.04f));
+  // Only the half-space y >= 0.1 (relative frame): the floor is not in it.
+  const float floor_y = scene.to_relative(glm::dvec3(0.0, 0.1, 0.0)).y;
+  EXPECT_FALSE(scene.geometry_within(above_floor, 0.06f, {glm::vec4(0, 1, 0, -floor_y)}));
+  EXPECT_TRUE(scene.geometry_within(above_floor, 0.06f, {glm::vec4(0, -1, 0, floor_y)}));
+}
+
+TEST(EmbreeReuse, StillCameraGivesIdenticalBitsMostlyWithoutRays) {
+  EmbreeTracer tracer(room(false, false), threads(2));
+  const Camera camera = camera_at(0.3, 1.6, 3.0);
+  std::array<ReuseFrame, 2> frames;
+  Pair first = trace_both(tracer, camera, nullptr, frames[0]);
+  EXPECT_EQ(first.reused, first.exact);
+  EXPECT_EQ(first.reused_stats.reused_pixels, 0u);  // nothing to take from yet
+  ASSERT_TRUE(frames[0].valid());
+  for (int i = 1; i < 4; ++i) {
+    Pair p = trace_both(tracer, camera, &frames[(i + 1) % 2], frames[i % 2]);
+    EXPECT_EQ(p.reused, p.exact) << "frame " << i;
+    const uint64_t hits = p.exact_stats.pixels - p.exact_stats.background_pixels;
+    EXPECT_GT(p.reused_stats.reused_pixels, hits / 2) << "frame " << i;
+    // Every pixel is either taken whole or traced.
+    EXPECT_EQ(p.reused_stats.primary_rays + p.reused_stats.reused_pixels, p.exact_stats.primary_rays);
+  }
+}
+
+TEST(EmbreeReuse, MovingCameraStaysWithinTheBoundAndReuses) {
+  EmbreeTracer tracer(room(false, false), threads(2));
+  std::array<ReuseFrame, 2> frames;
+  uint64_t bits = 0, differing = 0, reused = 0, pixels = 0, rays = 0, exhaustive_rays = 0;
+  for (int i = 0; i < 24; ++i) {
+    // A head drifting sideways and forward at about 0.5 m/s (90 Hz), turning a little.
+    const Camera camera = camera_at(0.3 + 0.006 * i, 1.6 - 0.001 * i, 3.0 - 0.004 * i);
+    Pair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
+    const uint64_t hits = p.exact_stats.pixels - p.exact_stats.background_pixels;
+    bits += hits * tracer.light_count();
+    differing += differing_bits(p.exact, p.reused);
+    reused += p.reused_stats.reused_pixels;
+    pixels += p.exact_stats.pixels;
+    rays += p.reused_stats.primary_rays + p.reused_stats.shadow_rays;
+    exhaustive_rays += p.exact_stats.primary_rays + p.exact_stats.shadow_rays;
+  }
+  EXPECT_LE(static_cast<double>(differing), kMaxDifferingShare * static_cast<double>(bits));
+  EXPECT_GT(reused, pixels / 3);
+  EXPECT_LT(rays, exhaustive_rays / 2);
+}
+
+// A still camera, the box sliding over the floor: its shadow moves and no frame keeps the old one.
+TEST(EmbreeReuse, MovingOccluderAndLightAreTracedAgain) {
+  for (const bool light : {false, true}) {
+    EmbreeTracer tracer(room(true, light), threads(2));
+    const Camera camera = camera_at(0.0, 2.0, 3.5);
+    std::array<ReuseFrame, 2> frames;
+    uint64_t reused = 0;
+    for (int i = 0; i < 12; ++i) {
+      tracer.set_scene_time(0.05 * i);
+      Pair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
+      EXPECT_EQ(p.reused, p.exact) << "frame " << i << (light ? " with the moving light" : "");
+      reused += p.reused_stats.reused_pixels;
+    }
+    if (!light) {
+      EXPECT_GT(reused, 0u);  // away from the box's shadow segments, blocks are still taken
+    }
+  }
+}
+
+// The eye 3 cm from a wall, moving toward it: the wall crosses the near plane, so no block is taken whole.
+TEST(EmbreeReuse, GeometryAtTheNearPlaneTurnsBlocksOff) {
+  EmbreeTracer tracer(room(false, false), threads(2));
+  std::array<ReuseFrame, 2> frames;
+  for (int i = 0; i < 3; ++i) {
+    const Camera camera = test::look_camera(glm::dvec3(1.0, 1.5, -3.97 + 0.01 * (1 - i)),
+                                            glm::dvec3(1.0, 1.5, -5.0), 96, 64, 100.0);
+    Pair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
+    EXPECT_EQ(p.reused, p.exact) << "frame " << i;
+    if (i > 0) {
+      EXPECT_EQ(p.reused_stats.reused_pixels, 0u) << "frame " << i;
+    }
+  }
+}
+
+TEST(EmbreeReuse, SameBitsOnOneAndTwoThreads) {
+  const Scene scene = room(false, false);
+  std::array<VisibilityBuffer, 2> last;
+  for (uint32_t n : {1u, 2u}) {
+    EmbreeTracer tracer(scene, threads(n));
+    std::array<ReuseFrame, 2> frames;
+    for (int i = 0; i < 5; ++i) {
+      Pair p = trace_both(tracer, camera_at(0.3 + 0.01 * i, 1.6, 3.0), i ? &frames[(i + 1) % 2] : nullptr,
+                          frames[i % 2]);
+      last[n - 1] = p.reused;
+    }
+  }
+  EXPECT_EQ(last[0], last[1]);
+}
+
+TEST(EmbreeReuse, RecordIsLeftInvalidByTheDefaultImplementation) {
+  // A tracer that only implements trace_layout (the Vulkan backend) traces everything and keeps no record.
+  struct Wrapped : VisibilityTracer {
+    EmbreeTracer inner{room(false, false), threads(1)};
+    TracerBackend backend() const override { return inner.backend(); }
+    std::string device_description() const override { return "wrapped"; }
+    const AccelStats& accel_stats() const override { return inner.accel_stats(); }
+    uint32_t light_count() const override { return inner.light_count(); }
+    void trace(const Camera& c, VisibilityBuffer& out, TraceStats& s) override { inner.trace(c, out, s); }
+    void trace_layout(const Camera& c, const VisibilityLayout& l, VisibilityBuffer& out, TraceStats& s) override {
+      inner.trace_layout(c, l, out, s);
+    }
+  } wrapped;
+  ReuseFrame record;
+  record.mesh.assign(4, 0);
+  record.edge_distance.assign(1, 0);
+  Pair p = trace_both(wrapped, camera_at(0.3, 1.6, 3.0), nullptr, record);
+  EXPECT_EQ(p.reused, p.exact);
+  EXPECT_FALSE(record.valid());
+}
+
+}  // namespace
+}  // namespace dhr::server
