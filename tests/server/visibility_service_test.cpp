@@ -222,9 +222,6 @@ TEST_F(VisibilityServiceTest, AutomaticHorizonLandsOnTheClientFrameGrid) {
   }
 }
 
-}  // namespace
-}  // namespace dhr::server
-
 namespace dhr::server {
 namespace {
 
@@ -274,6 +271,27 @@ TEST_F(VisibilityServiceTest, AFloodingSessionIsTracedNoMoreOftenThanAPoliteOne)
   EXPECT_EQ(frames_of(peer(1)), 5u);
   EXPECT_EQ(frames_of(peer(2)), 5u);
   EXPECT_EQ(service_->stats().poses_superseded, 5u * 9u);
+}
+
+}  // namespace
+}  // namespace dhr::server
+
+// --reuse on (ServiceConfig::reuse): a session walking slowly gets exactly the exhaustive trace's bits every frame,
+// and takes pixels from its earlier traces (the stats count them).
+TEST_F(VisibilityServiceTest, ReuseGivesTheExhaustiveBitsAndCountsWhatItTook) {
+  config_.reuse = true;
+  make_service();
+  Welcome w;
+  const uint64_t t = connect(peer(1), 5, &w);
+  for (uint64_t f = 1; f <= 6; ++f) {
+    const auto views = send_pose(t, peer(1), f, bookmark_views(0, 0.002 * static_cast<double>(f)));
+    EXPECT_EQ(service_->process_pending(), 1u);
+    const auto got = reassemble(w, shards_of(drain()[peer(1)]), f);
+    for (int e = 0; e < 2; ++e) EXPECT_EQ(got[e], trace_directly(views[e])) << "frame " << f << " eye " << e;
+  }
+  const ServiceStats s = service_->stats();
+  EXPECT_GT(s.reused_pixels, 0u);
+  EXPECT_GT(s.reused_pairs, 0u);
 }
 
 }  // namespace

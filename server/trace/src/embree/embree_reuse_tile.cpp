@@ -94,12 +94,18 @@ bool near_plane_crossing(const EmbreeScene& scene, const FrameSetup& frame, cons
 }  // namespace
 
 ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, const ReuseRequest& request,
-                            uint32_t lights, uint32_t mask_bits, uint32_t hard_lights, double scene_time) {
+                            const VisibilityLayout& layout, double scene_time) {
+  const uint32_t lights = layout.light_count, mask_bits = layout.total_bits();
+  uint32_t hard_lights = 0;
+  for (uint32_t li = 0; li < lights; ++li)
+    if (!layout.is_soft(li)) hard_lights |= 1u << li;
   ReuseSetup setup;
   setup.options = request.options;
   setup.record = request.record;
   setup.now = ReuseProjection::of(*frame.camera, frame.eye);
-  const ReuseFrame* previous = request.previous && request.previous->valid() ? request.previous : nullptr;
+  // A record that is also a source would be overwritten while read: it is not one.
+  const ReuseFrame* previous =
+      request.previous && request.previous != request.record && request.previous->valid() ? request.previous : nullptr;
   setup.generation = previous ? previous->generation + 1 : 0;
   setup.moving_mesh.assign(scene.meshes().size(), 0);
   for (uint32_t m : scene.moving_meshes()) {
@@ -124,7 +130,10 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
         if (f->light_state[2 * li] != now.position_type || f->light_state[2 * li + 1] != now.direction_range)
           unmoved &= ~(1u << li);
       }
-      if (f == previous && unmoved == all_lights && request.options.whole_pixels) setup.previous = f;
+      if (f == previous && request.options.whole_pixels) {
+        setup.previous = f;
+        setup.previous_lights = unmoved;
+      }
       if ((unmoved & hard_lights) == 0 || !request.options.pairs) continue;
       setup.sources.push_back({f, unmoved & hard_lights});
       setup.usable_lights |= unmoved & hard_lights;
@@ -164,6 +173,10 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
 void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, TileScratch& scratch,
                  VisibilityBuffer& out, TraceStats& stats) {
   scratch.skip.clear();
+  scratch.partial_hits.clear();
+  scratch.partial_pixels.clear();
+  scratch.partial_known.clear();
+  scratch.partial_reached.clear();
   const ReuseSetup* reuse = frame.reuse;
   if (!reuse) return;
   ReuseFrame* rec = reuse->record;
@@ -181,23 +194,39 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
   scratch.skip.assign(static_cast<size_t>(x1 - x0) * (y1 - y0), 0);
   uint64_t taken = 0;
   const uint32_t all_lights = previous.lights >= 32 ? 0xFFFFFFFFu : (1u << previous.lights) - 1u;
-  auto clear_of_motion = [&](const glm::vec3& at, float pixels) {
-    if (!reuse->motion) return true;
+  // The lights whose answers may be taken at `at` (a block's centre): not moved, and their shadow segments clear
+  // of what moves (widened by the block's reach).
+  auto takeable = [&](const glm::vec3& at, float pixels) {
+    if (!reuse->motion) return reuse->previous_lights;
     const float spacing = glm::dot(at - frame.eye, reuse->now.w) / reuse->now.focal;
     const float margin = options.neighbour_reach * options.max_magnification * spacing * pixels;
-    return lights_clear_of_motion(frame, previous, at, all_lights, margin) == all_lights;
+    return lights_clear_of_motion(frame, previous, at, reuse->previous_lights, margin);
   };
   const float near = static_cast<float>(frame.primary_near);
-  auto take = [&](uint32_t x, uint32_t y, const GatheredPixel& pixel) {
+  // A pixel taken whole (`lights` = all) or with the other lights left to trace from its surface point.
+  auto take = [&](uint32_t x, uint32_t y, const GatheredPixel& pixel, uint32_t lights) {
     // Beyond the near plane now (nearer, this trace's primary ray would pass it).
     if (!(glm::dot(pixel.position - frame.eye, reuse->now.w) > near)) return;
     scratch.skip[(y - y0) * scratch.skip_width + (x - x0)] = 1;
-    out.set(x, y, pixel.mask);
     ++taken;
+    if (lights != all_lights) {
+      SurfaceHit hit;
+      hit.mesh = pixel.mesh;
+      hit.position = pixel.position;
+      hit.geometric_normal = pixel.normal;
+      hit.shading_normal = pixel.shading;
+      scratch.partial_hits.push_back(hit);
+      scratch.partial_pixels.push_back({0, x, y});
+      scratch.partial_known.push_back(pixel.known & lights);
+      scratch.partial_reached.push_back(pixel.reached & lights);
+      return;
+    }
+    out.set(x, y, pixel.mask);
     if (!rec) return;
     const size_t i = y * width + x;
     rec->position[i] = pixel.position;
     rec->normal[i] = pixel.normal;
+    rec->shading[i] = pixel.shading;
     rec->mesh[i] = pixel.mesh;
     rec->mask[i] = pixel.mask;
     rec->known[i] = pixel.known;
@@ -219,13 +248,14 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
       continue;
     }
     guess.x += 4.0f;
-    if (!clear_of_motion(previous.position[source], 4.0f)) continue;
+    const uint32_t lights = takeable(previous.position[source], 4.0f);
     GatheredPixel pixel;
     pixel.mesh = previous.mesh[source];
     pixel.mask = previous.mask[source];
     pixel.known = previous.known[source];
     pixel.reached = previous.reached[source];
     pixel.normal = previous.normal[source];
+    pixel.shading = previous.shading[source];
     const glm::vec3& n = pixel.normal;
     const float plane = glm::dot(n, previous.position[source] - frame.eye);
     glm::vec3 dirs[16];
@@ -242,11 +272,24 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
         if (refreshed(x, y)) continue;
         const glm::vec3& dir = dirs[(y - by) * 4 + (x - bx)];
         pixel.position = frame.eye + dir * (plane / glm::dot(n, dir));
-        take(x, y, pixel);
+        take(x, y, pixel, lights);
       }
   }
 
   stats.reused_pixels += taken;
+}
+
+void append_partial_hits(TileScratch& scratch) {
+  // The block pixels' slots follow the primary hits' (trace_tile's shadow rays group by slot / 16).
+  uint32_t slot = scratch.hit_pixels.empty() ? 0 : scratch.hit_pixels.back().slot + 1;
+  for (size_t i = 0; i < scratch.partial_hits.size(); ++i) {
+    scratch.hits.push_back(scratch.partial_hits[i]);
+    HitPixel px = scratch.partial_pixels[i];
+    px.slot = slot++;
+    scratch.hit_pixels.push_back(px);
+    scratch.reuse_known.push_back(scratch.partial_known[i]);
+    scratch.reuse_reached.push_back(scratch.partial_reached[i]);
+  }
 }
 
 void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats) {
@@ -254,15 +297,15 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
   scratch.reuse_known.assign(hits, 0u);
   scratch.reuse_reached.assign(hits, 0u);
   const ReuseSetup* reuse = frame.reuse;
-  if (!reuse || reuse->sources.empty()) return;
+  if (!reuse) return;
   for (size_t h = 0; h < hits; ++h) {
     const SurfaceHit& hit = scratch.hits[h];
     const HitPixel& px = scratch.hit_pixels[h];
-    if (reuse->moving_mesh[hit.mesh]) continue;
     if (reuse->options.refresh && reuse_refresh_pixel(px.x, px.y, reuse->generation)) {
       ++stats.refreshed_pixels;
       continue;
     }
+    if (reuse->sources.empty() || reuse->moving_mesh[hit.mesh]) continue;
     ReuseQuery query;
     query.position = hit.position;
     query.normal = hit.geometric_normal;
@@ -297,6 +340,7 @@ void record_reuse_tile(const FrameSetup& frame, const TileScratch& scratch, cons
     const size_t i = y * width + x;
     rec->position[i] = hit.position;
     rec->normal[i] = hit.geometric_normal;
+    rec->shading[i] = hit.shading_normal;
     rec->mesh[i] = hit.mesh;
     rec->mask[i] = out.get(x, y);
     rec->known[i] = scratch.reuse_known[h];

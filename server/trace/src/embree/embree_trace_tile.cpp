@@ -218,13 +218,15 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
     std::memset(out.data.data() + (size_t{y} * out.width + x0) * mask_bytes, 0, (x1 - x0) * mask_bytes);
   gather_tile(frame, x0, y0, x1, y1, scratch, out, stats);
   trace_primary_tile(frame, x0, y0, x1, y1, scratch, stats);
+  // With reuse, a contributing pair whose occlusion a source answers takes that answer instead of a ray (rule 2);
+  // then rule 1's blocks with lights left to trace join the hits.
+  reuse_tile_hits(frame, scratch, stats);
+  append_partial_hits(scratch);
   const uint32_t hits = static_cast<uint32_t>(scratch.hits.size());
   stats.skipped_culled_light += uint64_t{hits} * frame.culled_lights;
 
   // 2. Per pixel-light pair: skip (counted by reason) or queue an occlusion ray. Light-major, then block by
   // block: runs of up to 16 neighbouring rays toward the same light, which packets and streams bundle.
-  // With reuse, a contributing pair whose occlusion a source answers takes that answer instead of a ray.
-  reuse_tile_hits(frame, scratch, stats);
   scratch.rays.clear();
   scratch.pending.clear();
   scratch.masks.assign(hits, 0u);

@@ -113,10 +113,7 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
 
   detail::ReuseSetup reuse_setup;
   if (reuse) {
-    uint32_t hard_lights = 0;
-    for (uint32_t li = 0; li < lights; ++li)
-      if (!layout.is_soft(li)) hard_lights |= 1u << li;
-    reuse_setup = detail::make_reuse_setup(*scene_, frame, *reuse, lights, bits, hard_lights, scene_->scene_time());
+    reuse_setup = detail::make_reuse_setup(*scene_, frame, *reuse, layout, scene_->scene_time());
     frame.reuse = &reuse_setup;
   }
 

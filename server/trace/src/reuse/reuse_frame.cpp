@@ -57,6 +57,7 @@ void ReuseFrame::reset(const Camera& cam, const glm::vec3& eye, uint32_t light_c
   // The tracer writes every pixel (kNoReuseSurface where nothing may be reused): no fill needed here.
   position.resize(pixels);
   normal.resize(pixels);
+  shading.resize(pixels);
   mesh.resize(pixels);
   mask.resize(pixels);
   known.resize(pixels);

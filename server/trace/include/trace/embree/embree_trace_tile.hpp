@@ -25,8 +25,11 @@ struct ReuseSetup {
   };
   std::vector<Source> sources;  // tried in order
   uint32_t usable_lights = 0;   // the union of their lights
-  // Rule 1 (whole pixels) from the eye's previous trace: only when it traced the same layout and no light moved.
+  // Rule 1 (whole pixels) from the eye's previous trace (the same layout): its answers for previous_lights (those
+  // that did not move since) are taken; a block that needs another light's (moved, or whose shadow segments meet
+  // what moves) skips its primary rays and traces only those lights from the block's surface points.
   const ReuseFrame* previous = nullptr;
+  uint32_t previous_lights = 0;
   ReuseProjection now;          // this trace's camera
   ReuseMotion eye_motion;       // reuse_motion(previous, now)
   // Unnormalized view rays in float, columns[x] + rows[y] + forward (FrameSetup's tables): where a taken pixel's
@@ -96,6 +99,11 @@ struct TileScratch {
   std::vector<uint32_t> reuse_reached;
   // Rule 1: the tile's pixels answered whole (no primary ray), by pixel within the tile.
   std::vector<uint8_t> skip;  // (y - skip_y0) * skip_width + (x - skip_x0): 1 = gathered
+  // Rule 1 blocks with lights to trace: their pixels' surface points (no primary ray), appended to `hits` after the
+  // primary rays with their taken answers (append_partial_hits).
+  std::vector<SurfaceHit> partial_hits;
+  std::vector<HitPixel> partial_pixels;
+  std::vector<uint32_t> partial_known, partial_reached;
   uint32_t skip_x0 = 0, skip_y0 = 0, skip_width = 0;
   bool skipped(uint32_t x, uint32_t y) const {
     return !skip.empty() && skip[(y - skip_y0) * skip_width + (x - skip_x0)] != 0;
@@ -146,7 +154,7 @@ bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const Sur
 // whole pixels may come from the previous trace, the moving meshes and their boxes now, and the record (reset for
 // `camera`, its light state written). Sources that are not valid or were traced with another layout are left out.
 ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, const ReuseRequest& request,
-                            uint32_t lights, uint32_t mask_bits, uint32_t hard_lights, double scene_time);
+                            const VisibilityLayout& layout, double scene_time);
 
 // Rule 1 for the tile's pixels: those answered whole (counted in stats.reused_pixels) get their masks in `out`
 // and their surfaces in the record, and are marked in scratch.skip; refreshed pixels are left to trace. Every
@@ -154,8 +162,12 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
 void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, TileScratch& scratch,
                  VisibilityBuffer& out, TraceStats& stats);
 
-// Rule 2: fills scratch.reuse_known / reuse_reached for the tile's hits from frame.reuse's sources (all zero
-// without reuse, on refreshed pixels (counted in stats.refreshed_pixels) and on moving meshes).
+// Appends rule 1's partial blocks (scratch.partial_*) to the hits, with their answers in reuse_known / reuse_reached.
+void append_partial_hits(TileScratch& scratch);
+
+// Rule 2: fills scratch.reuse_known / reuse_reached for the tile's hits (those of its primary rays) from
+// frame.reuse's sources (all zero without reuse, on refreshed pixels (counted in stats.refreshed_pixels) and on
+// moving meshes).
 void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats);
 
 // Writes the tile's hit pixels into frame.reuse->record (not those on moving meshes): surface, mask (from `out`,

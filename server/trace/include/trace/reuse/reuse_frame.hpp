@@ -94,6 +94,7 @@ struct ReuseFrame {
   // Per pixel, row-major.
   std::vector<glm::vec3> position;   // surface point (relative frame)
   std::vector<glm::vec3> normal;     // unit geometric normal, on the viewer's side
+  std::vector<glm::vec3> shading;    // unit shading normal (the light test's), flipped with the geometric one
   std::vector<uint32_t> mesh;        // kNoReuseSurface where nothing may be reused
   std::vector<uint32_t> mask;        // the traced mask (every field of the layout)
   std::vector<uint32_t> known;       // hard lights (bit = light index) whose occlusion is known here
@@ -169,6 +170,7 @@ struct GatheredPixel {
   uint32_t mask = 0, known = 0, reached = 0, mesh = 0;
   glm::vec3 position{0.0f};  // the surface point under the new pixel centre
   glm::vec3 normal{0.0f};
+  glm::vec3 shading{0.0f};
 };
 
 // Rule 1 for a 4x4 block at once: the traced pixel found for the block's centre (bx + 2, by + 2), with every cell
