@@ -72,4 +72,22 @@ inline Scene animated_scene() {
   return s;
 }
 
+// Gives `node` (at rest at the identity) one looping clip of `seconds`: a linear translation from `from` to `to`.
+inline void animate_translation(Scene& s, std::uint32_t node, const glm::vec3& from, const glm::vec3& to,
+                                double seconds) {
+  AnimatedNode n;
+  n.node = node;
+  n.first_track = static_cast<std::uint32_t>(s.animation.tracks.size());
+  n.track_count = 1;
+  s.animation.nodes.push_back(n);
+  s.animation.moving_nodes.push_back(node);
+  s.animation.clips.push_back(AnimationClip{"translate", seconds});
+  AnimationTrack track;
+  track.node = node;
+  track.path = AnimationPath::kTranslation;
+  track.times = {0.0f, static_cast<float>(seconds)};
+  track.values = {from.x, from.y, from.z, to.x, to.y, to.z};
+  s.animation.tracks.push_back(track);
+}
+
 }  // namespace dhr::test

@@ -7,6 +7,7 @@
 // reproject(), the segment-box test, the refresh dither, the point-triangle query.
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/reuse/reuse_frame.hpp"
+#include "test_animated_scene.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>
@@ -48,20 +49,7 @@ Scene room(bool moving_box, bool moving_light) {
     s.lights.push_back(carried);
   }
   test::finalize(s);
-  if (moving_box || moving_light) {
-    AnimatedNode node;
-    node.node = kMovingNode;
-    node.track_count = 1;
-    s.animation.nodes.push_back(node);
-    s.animation.moving_nodes.push_back(kMovingNode);
-    s.animation.clips.push_back(AnimationClip{"slide", 2.0});
-    AnimationTrack slide;
-    slide.node = kMovingNode;
-    slide.path = AnimationPath::kTranslation;
-    slide.times = {0.0f, 2.0f};
-    slide.values = {0, 0, 0, 2, 0, 0};
-    s.animation.tracks.push_back(slide);
-  }
+  if (moving_box || moving_light) test::animate_translation(s, kMovingNode, glm::vec3(0.0f), glm::vec3(2, 0, 0), 2.0);
   return s;
 }
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -201,56 +202,21 @@ bool triangle_meets(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, 
   return true;
 }
 
-struct WithinQuery {
+// One point query over `scene`: `visit` is called with the query and each candidate triangle's vertices (it may
+// shrink query.radius and returns whether it did).
+struct PointVisit {
   const std::vector<EmbreeMesh>* meshes = nullptr;
-  const std::vector<glm::vec4>* planes = nullptr;
-  bool found = false;
+  std::function<bool(RTCPointQuery&, const glm::vec3&, const glm::vec3&, const glm::vec3&)> visit;
 };
 
-bool within_callback(RTCPointQueryFunctionArguments* args) {
-  auto* q = static_cast<WithinQuery*>(args->userPtr);
-  const EmbreeMesh& mesh = (*q->meshes)[args->geomID];
+bool point_visit_callback(RTCPointQueryFunctionArguments* args) {
+  const auto* v = static_cast<const PointVisit*>(args->userPtr);
+  const EmbreeMesh& mesh = (*v->meshes)[args->geomID];
   const uint32_t* tri = &mesh.indices[static_cast<size_t>(args->primID) * 3];
-  const glm::vec3 p(args->query->x, args->query->y, args->query->z);
-  const float r = args->query->radius;
-  const glm::vec3 &a = mesh.positions[tri[0]], &b = mesh.positions[tri[1]], &c = mesh.positions[tri[2]];
-  if (triangle_distance2(p, a, b, c) <= r * r && triangle_meets(a, b, c, *q->planes)) {
-    q->found = true;
-    args->query->radius = 0.0f;  // found: nothing more to look for
-    return true;
-  }
-  return false;
+  return v->visit(*args->query, mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
 }
 
-bool nearest_callback(RTCPointQueryFunctionArguments* args) {
-  const auto* meshes = static_cast<const std::vector<EmbreeMesh>*>(args->userPtr);
-  const EmbreeMesh& mesh = (*meshes)[args->geomID];
-  const uint32_t* tri = &mesh.indices[static_cast<size_t>(args->primID) * 3];
-  const glm::vec3 p(args->query->x, args->query->y, args->query->z);
-  const float d = std::sqrt(triangle_distance2(p, mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]));
-  if (d < args->query->radius) {
-    args->query->radius = d;  // shrinks the search to what is nearer
-    return true;
-  }
-  return false;
-}
-
-}  // namespace
-
-float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius) const {
-  RTCPointQuery query;
-  query.x = center.x;
-  query.y = center.y;
-  query.z = center.z;
-  query.time = 0.0f;
-  query.radius = max_radius;
-  RTCPointQueryContext context;
-  rtcInitPointQueryContext(&context);
-  rtcPointQuery(scene_, &query, &context, nearest_callback, const_cast<std::vector<EmbreeMesh>*>(&meshes_));
-  return query.radius;
-}
-
-bool EmbreeScene::geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes) const {
+float run_point_query(RTCScene scene, const glm::vec3& center, float radius, const PointVisit& visit) {
   RTCPointQuery query;
   query.x = center.x;
   query.y = center.y;
@@ -259,9 +225,34 @@ bool EmbreeScene::geometry_within(const glm::vec3& center, float radius, const s
   query.radius = radius;
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
-  WithinQuery within{&meshes_, &planes, false};
-  rtcPointQuery(scene_, &query, &context, within_callback, &within);
-  return within.found;
+  rtcPointQuery(scene, &query, &context, point_visit_callback, const_cast<PointVisit*>(&visit));
+  return query.radius;
+}
+
+}  // namespace
+
+float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius) const {
+  const PointVisit visit{&meshes_, [&](RTCPointQuery& q, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+                           const float d = std::sqrt(triangle_distance2(center, a, b, c));
+                           if (!(d < q.radius)) return false;
+                           q.radius = d;  // shrinks the search to what is nearer
+                           return true;
+                         }};
+  return run_point_query(scene_, center, max_radius, visit);
+}
+
+bool EmbreeScene::geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes) const {
+  bool found = false;
+  const PointVisit visit{&meshes_, [&](RTCPointQuery& q, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+                           if (!(triangle_distance2(center, a, b, c) <= q.radius * q.radius) ||
+                               !triangle_meets(a, b, c, planes))
+                             return false;
+                           found = true;
+                           q.radius = 0.0f;  // found: nothing more to look for
+                           return true;
+                         }};
+  run_point_query(scene_, center, radius, visit);
+  return found;
 }
 
 std::vector<uint32_t> EmbreeScene::moving_meshes() const {
