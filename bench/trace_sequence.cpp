@@ -101,6 +101,7 @@ bool parse(int argc, char** argv, SequenceArgs& a) {
 struct Difference {
   uint64_t hard_bits = 0, hard_differing = 0;
   uint64_t soft_pairs = 0, soft_differing = 0;
+  double soft_abs_difference = 0.0;  // sum over soft pairs of |visibility reused - visibility exhaustive|
 };
 
 void compare(const VisibilityBuffer& exact, const VisibilityBuffer& reused, const VisibilityLayout& layout,
@@ -114,7 +115,11 @@ void compare(const VisibilityBuffer& exact, const VisibilityBuffer& reused, cons
     if (a == b) continue;
     for (uint32_t li = 0; li < layout.light_count; ++li) {
       const uint32_t field = ((1u << layout.bits[li]) - 1u) << layout.offset[li];
-      if ((a & field) != (b & field)) ++(layout.is_soft(li) ? d.soft_differing : d.hard_differing);
+      if ((a & field) == (b & field)) continue;
+      ++(layout.is_soft(li) ? d.soft_differing : d.hard_differing);
+      if (layout.is_soft(li))
+        d.soft_abs_difference +=
+            std::fabs(static_cast<double>(layout.visibility(a, li)) - static_cast<double>(layout.visibility(b, li)));
     }
   }
 }
@@ -242,6 +247,9 @@ int run_trace_sequence(int argc, char** argv) {
   out["differing_bits_frac"] = diff.hard_bits ? static_cast<double>(diff.hard_differing) / diff.hard_bits : 0.0;
   out["differing_bits"] = diff.hard_differing;
   out["differing_levels_frac"] = diff.soft_pairs ? static_cast<double>(diff.soft_differing) / diff.soft_pairs : 0.0;
+  // Mean |k reused - k exhaustive| over soft pairs: the most reuse can change the visibility_error against any
+  // reference (triangle inequality).
+  out["levels_mean_abs_difference"] = diff.soft_pairs ? diff.soft_abs_difference / diff.soft_pairs : 0.0;
   Json sessions = Json::array();
   for (uint32_t s = 0; s < S; ++s) {
     Json j = totals_json(per_session[s], 2.0 * a.frames);

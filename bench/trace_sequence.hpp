@@ -10,7 +10,9 @@
 //   rays_per_eye_frame, exhaustive_rays_per_eye_frame     primary + shadow rays per traced eye
 //   trace_ms_per_eye, exhaustive_trace_ms_per_eye         wall time per traced eye (median over eyes)
 //   differing_bits_frac   hard fields: pixel-light bits that differ from the exhaustive trace, over hit pixels
-//                         x hard lights; soft fields: differing_levels_frac, the same over soft pairs
+//                         x hard lights; soft fields: differing_levels_frac, the same over soft pairs, and
+//                         levels_mean_abs_difference, mean |k reused - k exhaustive| over soft pairs (a bound on
+//                         how much reuse can move visibility_error against any reference)
 // and the shadow rays, reused pairs and refreshed pixels beside them, per session too. docs/performance.md, "Reuse".
 #pragma once
 

@@ -1,7 +1,8 @@
 // Reuse of traced visibility (trace/reuse/reuse_frame.hpp, EmbreeTracer::trace_reusing) against the exhaustive
 // trace of the same camera (trace_layout, no reuse), which is the reference: a still camera gives identical bits with
 // most pixels taken whole; a moving camera over a room with an occluder differs in at most kMaxDifferingShare of
-// the hit pixel-light bits (measured: 0 here); a box that moves over a still camera's floor, and a light that moves,
+// the hit pixel-light bits (measured: 0 here); a sphere light's levels are taken where neighbours agree (identical
+// for a still camera); a box that moves over a still camera's floor, and a light that moves,
 // are traced again, never kept (identical bits); pixels near an eye-close wall that crosses the near plane are not
 // taken; the same inputs give the same bits on 1 and 2 threads. Plus the rule's pieces: the float projection against
 // reproject(), the segment-box test, the refresh dither, the point-triangle query.
@@ -208,6 +209,32 @@ TEST(EmbreeReuse, GeometryAtTheNearPlaneTurnsBlocksOff) {
       EXPECT_EQ(p.reused_stats.reused_pixels, 0u) << "frame " << i;
     }
   }
+}
+
+// A sphere light (soft levels): a still camera's levels are taken where the neighbours hold one level, and they
+// are the exhaustive trace's.
+TEST(EmbreeReuse, SoftLevelsAreTakenWhereNeighboursAgree) {
+  Scene scene = room(false, false);
+  scene.lights[0].radius = 0.3f;
+  EmbreeTracer tracer(scene, threads(2));
+  const VisibilityLayout layout = layout_for_lights(tracer.light_extents(), tracer.light_count());
+  ASSERT_TRUE(layout.is_soft(0));
+  const Camera camera = camera_at(0.3, 1.6, 3.0, 192, 128);
+  std::array<ReuseFrame, 2> frames;
+  uint64_t reused_pairs = 0;
+  for (int i = 0; i < 3; ++i) {
+    VisibilityBuffer exact, reused;
+    TraceStats xs, rs;
+    tracer.trace_layout(camera, layout, exact, xs);
+    ReuseRequest request;
+    request.previous = i ? &frames[(i + 1) % 2] : nullptr;
+    request.record = &frames[i % 2];
+    tracer.trace_reusing(camera, layout, request, reused, rs);
+    EXPECT_EQ(reused, exact) << "frame " << i;
+    EXPECT_LT(rs.soft_shadow_rays, i ? xs.soft_shadow_rays : xs.soft_shadow_rays + 1);
+    reused_pairs += rs.reused_pairs;
+  }
+  EXPECT_GT(reused_pairs, 0u);
 }
 
 TEST(EmbreeReuse, SameBitsOnOneAndTwoThreads) {

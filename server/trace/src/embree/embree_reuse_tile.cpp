@@ -100,6 +100,8 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
   for (uint32_t li = 0; li < lights; ++li)
     if (!layout.is_soft(li)) hard_lights |= 1u << li;
   ReuseSetup setup;
+  for (uint32_t li = 0; li < lights; ++li) setup.field_bits[li] = ((1u << layout.bits[li]) - 1u) << layout.offset[li];
+  uint32_t soft_unmoved = ~hard_lights & (lights >= 32 ? 0xFFFFFFFFu : (1u << lights) - 1u);
   setup.options = request.options;
   setup.record = request.record;
   setup.now = ReuseProjection::of(*frame.camera, frame.eye);
@@ -134,11 +136,13 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
         setup.previous = f;
         setup.previous_lights = unmoved;
       }
-      if ((unmoved & hard_lights) == 0 || !request.options.pairs) continue;
+      soft_unmoved &= unmoved;
+      if (!request.options.pairs) continue;
       setup.sources.push_back({f, unmoved & hard_lights});
       setup.usable_lights |= unmoved & hard_lights;
       setup.motion = setup.motion || !f->moving_boxes.empty();
     }
+    if (!setup.sources.empty() && !setup.motion) setup.soft_lights = soft_unmoved;
     if (setup.previous) {
       setup.eye_motion = reuse_motion(*setup.previous, setup.now);
       // Primary rays start at the near plane. Geometry that was nearer than it then and is not now appears
@@ -289,6 +293,8 @@ void append_partial_hits(TileScratch& scratch) {
     scratch.hit_pixels.push_back(px);
     scratch.reuse_known.push_back(scratch.partial_known[i]);
     scratch.reuse_reached.push_back(scratch.partial_reached[i]);
+    scratch.soft_known.push_back(0u);
+    scratch.soft_mask.push_back(0u);
   }
 }
 
@@ -296,6 +302,8 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
   const size_t hits = scratch.hits.size();
   scratch.reuse_known.assign(hits, 0u);
   scratch.reuse_reached.assign(hits, 0u);
+  scratch.soft_known.assign(hits, 0u);
+  scratch.soft_mask.assign(hits, 0u);
   const ReuseSetup* reuse = frame.reuse;
   if (!reuse) return;
   for (size_t h = 0; h < hits; ++h) {
@@ -311,9 +319,15 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
     query.normal = hit.geometric_normal;
     query.mesh = hit.mesh;
     query.spacing = glm::dot(hit.position - frame.eye, reuse->now.w) / reuse->now.focal;
-    uint32_t known = 0, reached = 0;
+    uint32_t known = 0, reached = 0, soft_known = 0, soft_mask = 0;
     for (const ReuseSetup::Source& source : reuse->sources) {
       ReuseAnswer answer = reuse_lookup(*source.frame, query, source.lights & ~known, reuse->options);
+      for (uint32_t li = 0; li < 32; ++li) {  // soft lights whose four neighbours hold one level
+        const uint32_t bit = 1u << li, field = reuse->field_bits[li];
+        if (!(reuse->soft_lights & bit & ~soft_known) || (answer.agree & field) != field) continue;
+        soft_known |= bit;
+        soft_mask |= answer.mask & field;
+      }
       if (answer.known && reuse->motion) {
         // X's neighbours' segments lie within the reach of X's, so the boxes are widened by it.
         const float margin = reuse->options.neighbour_reach * reuse->options.max_magnification * query.spacing;
@@ -322,10 +336,13 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
       }
       known |= answer.known;
       reached |= answer.reached;
-      if ((reuse->usable_lights & ~known) == 0) break;  // every light any source could answer is answered
+      // Every light any source could answer is answered.
+      if ((reuse->usable_lights & ~known) == 0 && (reuse->soft_lights & ~soft_known) == 0) break;
     }
     scratch.reuse_known[h] = known;
     scratch.reuse_reached[h] = reached;
+    scratch.soft_known[h] = soft_known;
+    scratch.soft_mask[h] = soft_mask;
   }
 }
 

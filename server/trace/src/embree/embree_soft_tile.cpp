@@ -9,16 +9,27 @@ void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const T
   // Light-major, then hit order (as trace_soft_image): runs of neighbouring pixels toward one light.
   std::vector<SoftPair>& batch = soft_scratch.pairs;
   batch.clear();
+  // A pair whose level reuse took (TileScratch::soft_known) is not sampled: its field is written as taken.
+  auto taken = [&](uint32_t li, size_t h) { return !scratch.soft_known.empty() && (scratch.soft_known[h] >> li & 1u); };
   for (uint32_t li : soft.active)
-    for (size_t h = 0; h < hits; ++h)
+    for (size_t h = 0; h < hits; ++h) {
+      if (taken(li, h)) continue;
       batch.push_back({&(*soft.sampled)[li], &scratch.hits[h],
                        soft.sampling.seed(scratch.hit_pixels[h].x, scratch.hit_pixels[h].y, li), {}});
+    }
   soft_visibility_batch(*frame.scene, batch, soft.sampling, soft_scratch.soft);
   size_t k = 0;
   for (uint32_t li : soft.active) {
-    for (size_t h = 0; h < hits; ++h, ++k) {
-      const SoftSample& r = batch[k].result;
+    for (size_t h = 0; h < hits; ++h) {
       ++stats.soft_pairs;
+      const HitPixel& px = scratch.hit_pixels[h];
+      if (taken(li, h)) {
+        ++stats.reused_pairs;
+        const uint32_t field = ((1u << soft.layout->bits[li]) - 1u) << soft.layout->offset[li];
+        out.set(px.x, px.y, (out.get(px.x, px.y) & ~field) | (scratch.soft_mask[h] & field));
+        continue;
+      }
+      const SoftSample& r = batch[k++].result;
       if (r.test == LightTest::kBackfacing) ++stats.skipped_backfacing;
       if (r.test == LightTest::kOutOfRange || (r.test == LightTest::kContributes && r.samples == 0))
         ++stats.skipped_out_of_range;
@@ -27,7 +38,6 @@ void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const T
       stats.soft_shadow_rays += r.rays;
       stats.shadow_rays += r.rays;
       if (r.fraction <= 0.0f) continue;  // level 0 is Gray code 0: the field is already clear
-      const HitPixel& px = scratch.hit_pixels[h];
       out.set(px.x, px.y, soft.layout->with_visibility(out.get(px.x, px.y), li, r.fraction));
     }
   }

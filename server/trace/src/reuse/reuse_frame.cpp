@@ -86,7 +86,7 @@ bool reuse_same_surface(const glm::vec3& pa, const glm::vec3& na, const glm::vec
 
 ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint32_t candidates,
                          const ReuseOptions& options) {
-  if (!frame.valid() || candidates == 0) return {};
+  if (!frame.valid()) return {};
   glm::vec2 pixel;
   float depth = 0.0f;
   if (!frame.projection.project(query.position, pixel, depth)) return {};
@@ -101,7 +101,7 @@ ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint3
   const size_t x0 = static_cast<size_t>(fx), y0 = static_cast<size_t>(fy);
   const size_t corners[4] = {y0 * width + x0, y0 * width + x0 + 1, (y0 + 1) * width + x0, (y0 + 1) * width + x0 + 1};
 
-  uint32_t known = candidates, all_reached = 0xFFFFFFFFu, any_reached = 0u;
+  uint32_t known = candidates, all_reached = 0xFFFFFFFFu, any_reached = 0u, all_mask = 0xFFFFFFFFu, any_mask = 0u;
   for (const size_t i : corners) {
     if (frame.mesh[i] != query.mesh) return {};
     if (!reuse_same_surface(query.position, query.normal, frame.position[i], frame.normal[i], spacing, options))
@@ -109,9 +109,11 @@ ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint3
     known &= frame.known[i];
     all_reached &= frame.reached[i];
     any_reached |= frame.reached[i];
+    all_mask &= frame.mask[i];
+    any_mask |= frame.mask[i];
   }
   known &= ~(all_reached ^ any_reached);  // the four agree
-  return {known, all_reached & known};
+  return {known, all_reached & known, ~(all_mask ^ any_mask), all_mask};
 }
 
 bool segment_misses_boxes(const glm::vec3& from, const glm::vec3& to, const std::vector<ReuseBox>& boxes,

@@ -28,7 +28,8 @@ struct SoftTileScratch {
 };
 
 // Adds the soft lights' fields of the tile's hit pixels (scratch.hits / hit_pixels, as trace_tile left them) to
-// `out` and their counts to `stats` (soft_* counters, shadow_rays, skipped_* by the whole-light test).
+// `out` and their counts to `stats` (soft_* counters, shadow_rays, skipped_* by the whole-light test). A pair whose
+// level reuse took (scratch.soft_known, rule 2 of trace/reuse) gets that level unsampled (counted in reused_pairs).
 void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const TileScratch& scratch,
                      SoftTileScratch& soft_scratch, VisibilityBuffer& out, TraceStats& stats);
 

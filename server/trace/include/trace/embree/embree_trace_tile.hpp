@@ -25,6 +25,10 @@ struct ReuseSetup {
   };
   std::vector<Source> sources;  // tried in order
   uint32_t usable_lights = 0;   // the union of their lights
+  // Soft lights whose levels rule 2 may take (not moved in any source; none when anything moves), and each light's
+  // field bits in the mask.
+  uint32_t soft_lights = 0;
+  std::array<uint32_t, kMaxLights> field_bits{};
   // Rule 1 (whole pixels) from the eye's previous trace (the same layout): its answers for previous_lights (those
   // that did not move since) are taken; a block that needs another light's (moved, or whose shadow segments meet
   // what moves) skips its primary rays and traces only those lights from the block's surface points.
@@ -97,6 +101,9 @@ struct TileScratch {
   // occlusion is known at the hit (reused or traced) and those reached (what the record keeps).
   std::vector<uint32_t> reuse_known;
   std::vector<uint32_t> reuse_reached;
+  // Rule 2 for soft lights, parallel to hits: the soft lights whose levels were taken, and the mask holding them.
+  std::vector<uint32_t> soft_known;
+  std::vector<uint32_t> soft_mask;
   // Rule 1: the tile's pixels answered whole (no primary ray), by pixel within the tile.
   std::vector<uint8_t> skip;  // (y - skip_y0) * skip_width + (x - skip_x0): 1 = gathered
   // Rule 1 blocks with lights to trace: their pixels' surface points (no primary ray), appended to `hits` after the

@@ -12,7 +12,8 @@
 //    and its mask is theirs. Not when geometry crosses the near plane between the traces (the tracer's point query).
 // 2. Per pixel-light pair, after the pixel's primary ray (reuse_lookup): the surface point X is projected into a
 //    source trace (the eye's previous one, the other eye's, other sessions'); the four traced pixels around it must
-//    be X's surface (reuse_same_surface, no sparser than 1.5 new pixels) and know the light's occlusion and agree.
+//    be X's surface (reuse_same_surface, no sparser than 1.5 new pixels) and know the light's occlusion and agree
+//    (a soft light: hold the same level; not in a scene that moves).
 // Anything else traces. One pixel in kRefreshPeriod is traced in full each frame (a 4x4 ordered dither that visits
 // each pixel of a 4x4 block once in 16 frames), so a shadow feature that fell between the samples it was taken
 // from is found again. Motion: surfaces on moving meshes are never taken from, a light that moved is traced again,
@@ -132,6 +133,10 @@ struct ReuseRequest {
 struct ReuseAnswer {
   uint32_t known = 0;
   uint32_t reached = 0;
+  // Where the four neighbours were X's surface: the mask bits on which all four agree, and their common value (for
+  // soft fields, taken only when every bit of a field agrees).
+  uint32_t agree = 0;
+  uint32_t mask = 0;
 };
 
 // The new pixel's surface point: position and unit geometric normal (relative frame), its mesh, and the new
@@ -149,7 +154,8 @@ struct ReuseQuery {
 bool reuse_same_surface(const glm::vec3& pa, const glm::vec3& na, const glm::vec3& pb, const glm::vec3& nb,
                         float spacing, const ReuseOptions& options);
 
-// Rule 2 (motion not considered: see segment_misses_boxes). `candidates` limits the lights looked at.
+// Rule 2 (motion not considered: see segment_misses_boxes). `candidates` limits the hard lights looked at; the
+// agreeing mask bits are returned whenever the surface checks pass.
 ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint32_t candidates,
                          const ReuseOptions& options);
 
