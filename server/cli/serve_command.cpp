@@ -56,10 +56,19 @@ int run_serve_command(const ServerOptions& options) {
   config.workers = options.workers;
   config.codec_v2 = options.codec_v2;
   config.soft_levels = options.soft_levels;
-  config.reuse = options.reuse;
-  if (config.reuse && tracer->backend() != TracerBackend::kEmbree)
+  const bool soft_scene = std::any_of(scene->lights.begin(), scene->lights.end(),
+                                      [](const SceneLight& l) { return l.has_extent(); });
+  const bool embree = tracer->backend() == TracerBackend::kEmbree;
+  config.reuse = options.reuse == ReuseChoice::kOn ||
+                 (options.reuse == ReuseChoice::kAuto && config.soft_levels && soft_scene && embree);
+  if (config.reuse && !embree)
     std::fprintf(stderr, "dhr-server: warning: --reuse on: the %s tracer does not reuse (Embree only); every pixel is "
                  "traced\n", tracer_backend_name(tracer->backend()));
+  std::fprintf(stderr, "reuse of earlier traces: %s\n",
+               config.reuse                               ? "on"
+               : options.reuse == ReuseChoice::kOff       ? "off (--reuse off)"
+               : !embree                                  ? "off (not the Embree tracer)"
+                                                          : "off (no soft levels here; --reuse on to force)");
   if (options.predict_horizon_ms >= 0.0)
     config.predict_horizon_ns = static_cast<int64_t>(options.predict_horizon_ms * static_cast<double>(net::kNsPerMs));
 

@@ -15,6 +15,9 @@ namespace dhr::server::cli {
 
 enum class Mode { kNone, kCheck, kSnapshot, kServe, kGenKey };
 
+// --reuse: auto turns it on where it was measured to save time (soft levels and a light with an extent).
+enum class ReuseChoice { kAuto, kOn, kOff };
+
 struct ServerOptions {
   Mode mode = Mode::kNone;
   std::string scene_path;    // resolved default when not given
@@ -37,7 +40,7 @@ struct ServerOptions {
   bool skip_identical_pose = true;
   bool codec_v2 = true;                 // --codec v2 (default) or v1, for clients that offer v2
   bool soft_levels = true;              // --soft-levels on (default) or off, for clients that offer them
-  bool reuse = false;                   // --reuse on|off (ServiceConfig::reuse)
+  ReuseChoice reuse = ReuseChoice::kAuto;  // --reuse auto|on|off (ServiceConfig::reuse; reuse_for_scene)
   bool predict = shipped::kPredict;     // server-side pose prediction (--no-predict: off, the paper's server)
   double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
   bool adaptive_fov = shipped::kAdaptiveFov;            // widen the traced FOV from the measured shortfall (server/session/include/session/fov_margin.hpp)
