@@ -1,7 +1,7 @@
 // Reuse of traced visibility (trace/reuse/reuse_frame.hpp, EmbreeTracer::trace_reusing) against the exhaustive
 // trace of the same camera (trace_layout, no reuse), which is the reference: a still camera gives identical bits with
 // most pixels taken whole; a moving camera over a room with an occluder differs in at most kMaxDifferingShare of
-// the hit pixel-light bits (measured: 0 here); a sphere light's levels are taken where neighbours agree (identical
+// the hit pixel-light bits; a sphere light's levels are taken where neighbours agree (identical
 // for a still camera); a box that moves over a still camera's floor, and a light that moves,
 // are traced again, never kept (identical bits); pixels near an eye-close wall that crosses the near plane are not
 // taken; the same inputs give the same bits on 1 and 2 threads. Plus the rule's pieces: the float projection against
