@@ -3,6 +3,7 @@
 #include "visibility_error.hpp"
 
 #include "plan/shipped_defaults.hpp"
+#include "session/shipped_defaults.hpp"
 #include "image/png_writer.hpp"
 
 #include <filesystem>
@@ -40,8 +41,12 @@ int64_t server_ns_per_eye(const RunOptions& options) {
   return static_cast<int64_t>(std::llround(options.server_ms * 1e6 / 2.0));
 }
 
-server::ServiceConfig service_config(const Setting& setting, const RunOptions& options) {
+server::ServiceConfig service_config(const Setting& setting, const RunOptions& options, const SessionShared& shared) {
   server::ServiceConfig c;
+  // The default method runs what dhr-server --reuse auto does.
+  c.reuse = setting.method.shipped &&
+            server::shipped::reuse_by_default(shared.tracer->backend() == server::TracerBackend::kEmbree,
+                                              c.soft_levels, shared.soft_lights != 0);
   c.token_seed = options.seed * 2 + 1;  // never 0 (0 would draw tokens from std::random_device)
   c.predict = server_predicts(setting.method);
   c.adaptive_fov.enabled = server_adapts_fov(setting.method);
@@ -146,6 +151,13 @@ void ModelledTimeTracer::trace_layout(const Camera& camera, const VisibilityLayo
   traced(out_stats);
 }
 
+void ModelledTimeTracer::trace_reusing(const Camera& camera, const VisibilityLayout& layout,
+                                       const server::ReuseRequest& request, VisibilityBuffer& out,
+                                       server::TraceStats& out_stats) {
+  inner_.trace_reusing(camera, layout, request, out, out_stats);
+  traced(out_stats);
+}
+
 bool CountingSender::send_to(std::span<const uint8_t> datagram, const net::PeerAddress& to) {
   DatagramHeader header;
   const bool shard = decode_header(datagram, header) == DecodeError::kNone && header.type == MessageType::kVisibilityShard;
@@ -164,7 +176,7 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
   cap_ms_ = options.predict_max_horizon_ms;
   warp_ = warp_settings(setting.method, options);
   snapshot_dir_ = options.out_dir;
-  service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options), server_out_,
+  service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options, shared), server_out_,
                                                          server_clock_);
   client_ = std::make_unique<client::VisibilityClient>(client_config(setting, options, shared), uplink_, clock_);
   source_ = std::make_unique<SessionVisibilitySource>(*client_, uses_server_visibility(setting.method));

@@ -135,6 +135,9 @@ class ModelledTimeTracer final : public server::VisibilityTracer {
   void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, server::TraceStats& out_stats) override;
   void trace_layout(const Camera& camera, const VisibilityLayout& layout, VisibilityBuffer& out,
                     server::TraceStats& out_stats) override;
+  // The inner tracer's reuse (the default method on a scene with soft lights, as dhr-server --reuse auto).
+  void trace_reusing(const Camera& camera, const VisibilityLayout& layout, const server::ReuseRequest& request,
+                     VisibilityBuffer& out, server::TraceStats& out_stats) override;
   // The rays and pixels of every trace so far, summed (the times are the host's, not summed).
   const server::TraceStats& sums() const { return sums_; }
 

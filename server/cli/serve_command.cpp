@@ -5,6 +5,7 @@
 #include "scene/scene_hash.hpp"
 #include "scene/session_scene.hpp"
 #include "session/serve.hpp"
+#include "session/shipped_defaults.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -60,7 +61,7 @@ int run_serve_command(const ServerOptions& options) {
                                       [](const SceneLight& l) { return l.has_extent(); });
   const bool embree = tracer->backend() == TracerBackend::kEmbree;
   config.reuse = options.reuse == ReuseChoice::kOn ||
-                 (options.reuse == ReuseChoice::kAuto && config.soft_levels && soft_scene && embree);
+                 (options.reuse == ReuseChoice::kAuto && shipped::reuse_by_default(embree, config.soft_levels, soft_scene));
   if (config.reuse && !embree)
     std::fprintf(stderr, "dhr-server: warning: --reuse on: the %s tracer does not reuse (Embree only); every pixel is "
                  "traced\n", tracer_backend_name(tracer->backend()));

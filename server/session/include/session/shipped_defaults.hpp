@@ -10,5 +10,11 @@ namespace dhr::server::shipped {
 inline constexpr bool kPredict = true;
 // --adaptive-fov: measured only with the full warp so far (docs/evaluation.md), so not yet shipped.
 inline constexpr bool kAdaptiveFov = false;
+// --reuse auto: reuse of earlier traces (trace/reuse) where it was measured to save time: the Embree tracer (the
+// only one that reuses), soft levels on and a light with an extent, where it halved the trace time; with hard
+// shadows only it cast fewer rays but took longer (docs/performance.md, "Reuse across frames and sessions").
+inline constexpr bool reuse_by_default(bool embree, bool soft_levels, bool light_with_extent) {
+  return embree && soft_levels && light_with_extent;
+}
 
 }  // namespace dhr::server::shipped
