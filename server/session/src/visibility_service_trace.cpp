@@ -149,6 +149,36 @@ std::vector<VisibilityShard> VisibilityService::encode_v2(Session& s, Eye eye, c
   return shards_as_messages(traced, work.traced.frame, eye, work.traced.views[static_cast<size_t>(eye)], encoded);
 }
 
+void VisibilityService::trace_reusing(Session& s, size_t eye, const Camera& camera, VisibilityBuffer& out,
+                                      TraceStats& stats) {
+  std::shared_ptr<ReuseFrame>& writing = s.reuse_writing[eye];
+  if (!writing || writing.use_count() > 1) writing = std::make_shared<ReuseFrame>();  // a reader holds the old one
+  // The sources, held for the trace: this eye's previous trace, this frame's left eye (for the right), then the
+  // newest traces of the same eye of up to kReuseSharedSessions other sessions (the scene's view-independent state).
+  std::vector<std::shared_ptr<ReuseFrame>> held;
+  ReuseRequest request;
+  {
+    std::lock_guard lock(mutex_);
+    request.previous = s.reuse_newest[eye].get();
+    if (s.reuse_newest[eye]) held.push_back(s.reuse_newest[eye]);
+    if (eye == 1 && s.reuse_newest[0]) held.push_back(s.reuse_newest[0]);
+    size_t others = 0;
+    for (const auto& [token, other] : sessions_) {
+      if (other.get() == &s || !other->reuse_newest[eye] || others == kReuseSharedSessions) continue;
+      held.push_back(other->reuse_newest[eye]);
+      ++others;
+    }
+  }
+  for (const auto& f : held)
+    if (f.get() != request.previous) request.shared.push_back(f.get());
+  request.record = writing.get();
+  tracer_.trace_reusing(camera, s.layout, request, out, stats);
+  held.clear();
+  std::lock_guard lock(mutex_);
+  // The old newest is the next one written, unless a reader still holds it then (a new one is made).
+  std::swap(s.reuse_newest[eye], writing);
+}
+
 bool VisibilityService::trace_and_send(const Work& work) {
   Session& s = *work.session;
   const TracedFormat format = s.welcome.format();
@@ -187,13 +217,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
       }
       // Only the lights the client asked for (the layout's, the first light_count): the others cost no ray.
       if (config_.reuse) {
-        ReuseRequest request;
-        const size_t eye = static_cast<size_t>(e);
-        request.previous = &s.reuse_newest[eye];
-        if (e == 1) request.shared.push_back(&s.reuse_newest[0]);  // the left eye of this frame, just traced
-        request.record = &s.reuse_writing[eye];
-        tracer_.trace_reusing(camera, s.layout, request, scratch, trace_stats);
-        std::swap(s.reuse_newest[eye], s.reuse_writing[eye]);
+        trace_reusing(s, static_cast<size_t>(e), camera, scratch, trace_stats);
       } else {
         tracer_.trace_layout(camera, s.layout, scratch, trace_stats);
       }

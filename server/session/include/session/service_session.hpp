@@ -10,6 +10,7 @@
 #include <array>
 #include <atomic>
 #include <deque>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <vector>
@@ -45,10 +46,11 @@ struct VisibilityService::Session {
   FovMarginTracker fov_margin;    // used with ServiceConfig::adaptive_fov
   SendRateController rate;        // used with ServiceConfig::rate_control
   bool busy = false;              // a worker is tracing it (claim_work)
-  // ServiceConfig::reuse: per eye, the newest trace's record and the one the next trace writes (swapped after each
-  // trace; only the worker that holds the session touches them).
-  std::array<ReuseFrame, 2> reuse_newest;
-  std::array<ReuseFrame, 2> reuse_writing;
+  // ServiceConfig::reuse: per eye, the newest trace's record (other sessions' workers read it: replaced only under
+  // the service's mutex, and a reader holds its own reference while it traces) and the one the next trace writes
+  // (only this session's worker touches it; a new one when a reader still holds the old).
+  std::array<std::shared_ptr<ReuseFrame>, 2> reuse_newest;
+  std::array<std::shared_ptr<ReuseFrame>, 2> reuse_writing;
   // Pacing (rate control): while the trace rate is capped, the newest frame's datagrams, protected, wait here
   // and pace() sends them at the controller's pacing rate; a newer frame's replace what is left.
   std::mutex pace_mutex;

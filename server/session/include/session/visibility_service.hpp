@@ -82,9 +82,9 @@ struct ServiceConfig {
   // level 0 or the top level for now). Off: every session gets one bit per light.
   bool soft_levels = true;
   // Reuse of traced visibility (trace/reuse/reuse_frame.hpp; Embree): each eye of a session takes whole blocks
-  // and pixel-light pairs from its previous trace, and the right eye pairs from the left eye's trace of the same
-  // frame. Off by default: on this CPU tracer it casts a quarter to a third of the rays but takes longer than
-  // tracing them (docs/server.md, "Reuse").
+  // and pixel-light pairs from its previous trace, pairs from the left eye's trace of the same frame (the right
+  // eye) and from the newest traces of up to three other sessions. Off here; dhr-server's --reuse auto turns it on
+  // where it saves time (shipped::reuse_by_default; docs/server.md, "Reuse").
   bool reuse = false;
   // Worker threads run_serve starts to trace sessions in parallel (one session per worker at a time); the
   // Vulkan tracer takes one at a time, so it is clamped to 1 there.
@@ -267,6 +267,9 @@ class VisibilityService {
                      std::vector<std::pair<SessionInfo, ByeReason>>& closed);
   void notify(const std::vector<std::pair<SessionInfo, ByeReason>>& closed, const SessionInfo* opened);
   bool trace_and_send(const Work& work);
+  // One eye with ServiceConfig::reuse: traced taking from the session's and others' newest records (below).
+  void trace_reusing(Session& s, size_t eye, const Camera& camera, VisibilityBuffer& out, TraceStats& stats);
+  static constexpr size_t kReuseSharedSessions = 3;
   void widen_fov(Session& s, int64_t target_time_ns, std::array<View, 2>& views);
   std::vector<VisibilityShard> encode_v2(Session& s, Eye eye, const Work& work, const Camera& camera,
                                          const VisibilityBuffer& traced, uint64_t& inter_eyes, uint64_t& intra_eyes);
