@@ -222,6 +222,9 @@ TEST_F(VisibilityServiceTest, AutomaticHorizonLandsOnTheClientFrameGrid) {
   }
 }
 
+}  // namespace
+}  // namespace dhr::server
+
 namespace dhr::server {
 namespace {
 
@@ -272,63 +275,6 @@ TEST_F(VisibilityServiceTest, AFloodingSessionIsTracedNoMoreOftenThanAPoliteOne)
   EXPECT_EQ(frames_of(peer(2)), 5u);
   EXPECT_EQ(service_->stats().poses_superseded, 5u * 9u);
 }
-
-// With reuse, a session's first trace already takes pixel-light pairs from another session's newest record (the
-// scene's view-independent state): the same views give the same bits as the exhaustive trace.
-TEST_F(VisibilityServiceTest, ReuseSharesRecordsBetweenSessions) {
-  config_.reuse = true;
-  make_service();
-  Welcome w1, w2;
-  const uint64_t t1 = connect(peer(1), 5, &w1);
-  const uint64_t t2 = connect(peer(2), 6, &w2);
-  const auto views = send_pose(t1, peer(1), 1, bookmark_views(0));
-  EXPECT_EQ(service_->process_pending(), 1u);
-  drain();
-  const uint64_t pairs_before = service_->stats().reused_pairs;
-  send_pose(t2, peer(2), 1, bookmark_views(0));
-  EXPECT_EQ(service_->process_pending(), 1u);
-  const auto got = reassemble(w2, shards_of(drain()[peer(2)]), 1);
-  for (int e = 0; e < 2; ++e) EXPECT_EQ(got[e], trace_directly(views[e])) << "eye " << e;
-  EXPECT_GT(service_->stats().reused_pairs, pairs_before);
-}
-
-// Two workers tracing four sessions that read each other's records while they are replaced: every frame arrives,
-// within the reuse rule's bound of the exhaustive trace (the 1e-4 of the pixel-light bits).
-TEST_F(VisibilityServiceTest, ReuseWithConcurrentWorkersStaysWithinTheBound) {
-  config_.reuse = true;
-  make_service();
-  std::array<Welcome, 4> welcomes;
-  std::array<uint64_t, 4> tokens{};
-  for (uint8_t i = 0; i < 4; ++i) tokens[i] = connect(peer(static_cast<uint8_t>(20 + i)), 1, &welcomes[i]);
-  uint64_t bits = 0, differing = 0;
-  for (uint64_t frame = 1; frame <= 4; ++frame) {
-    std::array<std::array<View, 2>, 4> views;
-    for (uint8_t i = 0; i < 4; ++i)
-      views[i] = send_pose(tokens[i], peer(static_cast<uint8_t>(20 + i)), frame,
-                           bookmark_views(i % 2, 0.003 * static_cast<double>(frame + i)));
-    std::atomic<size_t> traced{0};
-    std::thread other([&] { traced += service_->process_pending(); });
-    traced += service_->process_pending();
-    other.join();
-    EXPECT_EQ(traced.load(), 4u);
-    auto sent = drain();
-    for (uint8_t i = 0; i < 4; ++i) {
-      const auto got = reassemble(welcomes[i], shards_of(sent[peer(static_cast<uint8_t>(20 + i))]), frame);
-      for (int e = 0; e < 2; ++e) {
-        const VisibilityBuffer exact = trace_directly(views[i][static_cast<size_t>(e)]);
-        ASSERT_EQ(got[e].pixel_count(), exact.pixel_count());
-        bits += exact.pixel_count() * exact.light_count;
-        for (size_t p = 0; p < exact.pixel_count(); ++p)
-          differing += static_cast<uint64_t>(__builtin_popcount(got[e].mask_at(p) ^ exact.mask_at(p)));
-      }
-    }
-  }
-  EXPECT_LE(static_cast<double>(differing), 1e-4 * static_cast<double>(bits));
-  EXPECT_GT(service_->stats().reused_pairs, 0u);
-}
-
-}  // namespace
-}  // namespace dhr::server
 
 // --reuse on (ServiceConfig::reuse): a session walking slowly gets exactly the exhaustive trace's bits every frame,
 // and takes pixels from its earlier traces (the stats count them).
