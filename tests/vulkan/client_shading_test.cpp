@@ -255,7 +255,9 @@ TEST_F(ClientShadingTest, DebugViews) {
   for (size_t p = 0; p < depth.size(); ++p) {
     if (depth[p] == 0.0f) continue;
     const bool bit = ((mask[p] >> 1) & 1u) != 0;
-    ASSERT_EQ(out[p * 4], bit ? 230 : 26) << p;
+    // 0.9 and 0.1 of 255 are 229.5 and 25.5: either neighbour is a correct rounding (lavapipe rounds up, an
+    // NVIDIA H100 gave 229).
+    ASSERT_NEAR(out[p * 4], bit ? 230 : 26, 1) << p;
     ASSERT_EQ(out[p * 4 + 1], out[p * 4]);
   }
 
