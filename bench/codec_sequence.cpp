@@ -127,7 +127,15 @@ int run_sequence(const SequenceOptions& o) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::array<EyeState, 2> state;
   double v1_bytes = 0, v2_bytes = 0, v2_payload = 0, shards_v2 = 0;
-  std::vector<double> encode_ms, decode_ms;
+  std::vector<double> encode_ms, decode_ms, one_range_encode_ms, one_thread_encode_ms;
+  double one_range_bytes = 0;
+  // What ships (EncodeOptions{}: its ranges on its threads) and, on the same frames and references, one range on
+  // one thread: the encoder before ranges, for the before/after in one run (alternating which goes first).
+  const EncodeOptions shipped{};
+  const EncodeOptions one_range{.v2_ranges = 1, .threads = 1};
+  EncodeOptions one_thread = shipped;  // the shipped ranges on one thread: the same bytes, the threads' gain alone
+  one_thread.threads = 1;
+  std::vector<EncodedShard> v2_one_range, v2_one_thread;
   bool lossless = true;
   uint64_t pixels = 0, unavailable = 0, inter_frames = 0, fallback_rows = 0, pixels_coded = 0, blocks = 0,
            blocks_copied = 0, blocks_coded = 0;
@@ -152,13 +160,24 @@ int run_sequence(const SequenceOptions& o) {
           break;
         }
       }
-      V2Stats s2;
-      const auto enc_start = std::chrono::steady_clock::now();
-      if (!encode_visibility_v2(buffer, number, have_ref ? &ref : nullptr, EncodeOptions{}, v2, &s2)) {
+      V2Stats s2, s_one;
+      bool encoded = true;
+      for (int k = 0; k < 2; ++k) {
+        const bool baseline = (k == 0) == ((f + static_cast<uint32_t>(e)) % 2 == 0);
+        const auto enc_start = std::chrono::steady_clock::now();
+        encoded = encoded && encode_visibility_v2(buffer, number, have_ref ? &ref : nullptr,
+                                                  baseline ? one_range : shipped, baseline ? v2_one_range : v2,
+                                                  baseline ? &s_one : &s2);
+        (baseline ? one_range_encode_ms : encode_ms).push_back(ms_since(enc_start));
+      }
+      const auto one_thread_start = std::chrono::steady_clock::now();
+      encoded = encoded && encode_visibility_v2(buffer, number, have_ref ? &ref : nullptr, one_thread, v2_one_thread);
+      one_thread_encode_ms.push_back(ms_since(one_thread_start));
+      if (!encoded) {
         std::fprintf(stderr, "codec_bench: v2 encoding failed at frame %u\n", f);
         return 1;
       }
-      encode_ms.push_back(ms_since(enc_start));
+      one_range_bytes += static_cast<double>(s_one.datagram_bytes);
       inter_frames += have_ref ? 1 : 0;
       fallback_rows += s2.v1_fallback_rows;
       pixels_coded += s2.pixels_coded;
@@ -240,6 +259,11 @@ int run_sequence(const SequenceOptions& o) {
   j.value("v2_block_lights_copied_frac", blocks > 0 ? static_cast<double>(blocks_copied) / blocks : 0.0, 4);
   j.value("v2_block_lights_coded_frac", blocks > 0 ? static_cast<double>(blocks_coded) / blocks : 0.0, 4);
   j.value("v2_encode_ms_per_eye", median(encode_ms, 0.0), 3);
+  j.value("v2_ranges", static_cast<unsigned long>(shipped.v2_ranges));
+  j.value("v2_encode_threads", static_cast<unsigned long>(shipped.threads));
+  j.value("v2_one_range_mbit_s", mbit(one_range_bytes / eye_frames), 3);
+  j.value("v2_one_range_encode_ms_per_eye", median(one_range_encode_ms, 0.0), 3);
+  j.value("v2_one_thread_encode_ms_per_eye", median(one_thread_encode_ms, 0.0), 3);
   j.value("v2_decode_ms_per_eye", median(decode_ms, 0.0), 3);
   j.value("lossless", lossless);
   j.value("unavailable_frac", pixels > 0 ? static_cast<double>(unavailable) / static_cast<double>(pixels) : 0.0, 5);

@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstring>
+#include <exception>
+#include <thread>
 
 namespace dhr {
 
@@ -61,9 +64,9 @@ std::span<const uint8_t> rows_of(const VisibilityBuffer& b, uint32_t y0, uint32_
   return std::span<const uint8_t>(b.data).subspan(y0 * row, (y1 - y0) * row);
 }
 
-// Encodes rows [y0, y1) with block height bh. Stops after the first block row whose end would exceed
-// `budget` bytes of coded stream; returns the first row not covered by the block rows that fit (y0: none).
-// With a large enough budget the payload is complete in `out` (header included) and y1 is returned.
+// Encodes rows [y0, y1) with block height bh, as many whole block rows as fit `budget` bytes (header
+// included): `out` holds the finished payload of rows [y0, returned row); y0 when not even one block row fits.
+// One pass: the coder's state is kept at each block row's end, and the row that overflowed is undone.
 uint32_t encode_band(const VisibilityBuffer& buffer, const VisibilityBuffer* ref, uint16_t ref_distance,
                      uint32_t y0, uint32_t y1, uint32_t bh, size_t budget, const BlockDecider& decide,
                      Models& models, std::vector<uint8_t>& out, BandCounts& counts) {
@@ -76,17 +79,23 @@ uint32_t encode_band(const VisibilityBuffer& buffer, const VisibilityBuffer* ref
   uint8_t* cur = const_cast<uint8_t*>(buffer.data.data());  // read only: the encoder never writes pixels
   BandCoder<BitEncoder> coder(enc, g, cur, ref != nullptr ? ref->data.data() : nullptr, models);
   uint32_t fitted = y0;
-  const bool complete = coder.run(&decide, counts, [&](uint32_t next_row) {
+  BitEncoder::State kept = enc.state();
+  BandCounts kept_counts = counts;
+  coder.run(&decide, counts, [&](uint32_t next_row) {
     if (header_size(h.inter) + enc.size_if_finished() > budget) return false;
     fitted = next_row;
+    kept = enc.state();
+    kept_counts = counts;
     return true;
   });
-  if (!complete) return fitted;
+  if (fitted == y0) return y0;
+  enc.restore(kept);  // a no-op when every row fitted
+  counts = kept_counts;
   enc.finish();
-  const uint32_t checksum = v2_checksum(rows_of(buffer, y0, y1));
+  const uint32_t checksum = v2_checksum(rows_of(buffer, y0, fitted));
   const size_t at = header_size(h.inter) - 4;
   for (int i = 0; i < 4; ++i) out[at + i] = static_cast<uint8_t>(checksum >> (8 * i));
-  return y1;
+  return fitted;
 }
 
 }  // namespace
@@ -151,6 +160,106 @@ DecodeError decode_shard_payload_v2(std::span<const uint8_t> payload, uint32_t f
   return DecodeError::kNone;
 }
 
+namespace {
+
+// One range's shards (rows [y0, y1)), in row order, with their counts; what the whole-buffer encoder then
+// concatenates. False only for what cannot happen (a measured prefix that does not re-encode to itself).
+struct RangeResult {
+  std::vector<EncodedShard> shards;
+  V2Stats stats;
+  bool ok = true;
+};
+
+RangeResult encode_range(const VisibilityBuffer& buffer, const V2Reference* reference, uint16_t distance, uint32_t y0,
+                         uint32_t y1, const EncodeOptions& options) {
+  RangeResult r;
+  const VisibilityBuffer* ref = reference != nullptr ? reference->buffer : nullptr;
+  const size_t budget = std::clamp(options.max_payload, kMinShardPayload, kMaxShardPayload);  // header included
+  const BlockDecider decide = make_block_decider(buffer, reference);
+  Models models;
+  std::vector<uint8_t> payload;
+  BandCounts counts;
+  for (uint32_t y = y0; y < y1;) {
+    uint32_t end = y;
+    for (const uint32_t bh : {32u, 8u}) {  // 8-row blocks only where not even one row of 32-row blocks fits
+      counts = BandCounts{};
+      end = encode_band(buffer, ref, distance, y, y1, bh, budget, decide, models, payload, counts);
+      ++r.stats.encode_passes;
+      if (end > y) {
+        if (payload.size() > budget) {  // cannot happen: size_if_finished bounds the finished size
+          r.ok = false;
+          return r;
+        }
+        break;
+      }
+    }
+    if (end > y) {
+      r.shards.push_back(EncodedShard{y * buffer.width, (end - y) * buffer.width, payload});
+      r.stats.blocks += counts.blocks;
+      r.stats.blocks_uniform += counts.uniform;
+      r.stats.blocks_copied += counts.copied;
+      r.stats.blocks_coded += counts.coded;
+      r.stats.pixels_coded += counts.pixels_coded;
+      y = end;
+      continue;
+    }
+    // Not even 8 rows fit (noise): v1 chunks for those rows.
+    const uint32_t rows = std::min(8u, y1 - y);
+    VisibilityBuffer part = VisibilityBuffer::create(buffer.width, rows, buffer.light_count);
+    const auto src = rows_of(buffer, y, y + rows);
+    std::copy(src.begin(), src.end(), part.data.begin());
+    std::vector<EncodedShard> v1;
+    if (!encode_visibility(part, options, v1)) {
+      r.ok = false;
+      return r;
+    }
+    for (EncodedShard& s : v1) {
+      s.first_pixel += y * buffer.width;
+      r.shards.push_back(std::move(s));
+    }
+    r.stats.v1_fallback_rows += rows;
+    y += rows;
+  }
+  return r;
+}
+
+// Where the ranges start: row 0, then at 32-row boundaries that split the buffer's expected coding work evenly.
+// The work is estimated from a sample (every 2nd row, every 4th pixel) of where a mask differs from the sampled
+// one left of it or above it: uniform areas cost next to nothing, coded pixels lie at such changes. Each range
+// holds at least 32 rows; a buffer without changes is cut into equal ranges.
+std::vector<uint32_t> range_starts(const VisibilityBuffer& buffer, size_t ranges) {
+  std::vector<uint32_t> starts{0};
+  ranges = std::clamp<size_t>(ranges, 1, 64);
+  if (ranges == 1 || buffer.height < 64) return starts;
+  const uint32_t bands = (buffer.height + 31) / 32;
+  const size_t mb = buffer.bytes_per_mask(), row = size_t{buffer.width} * mb;
+  std::vector<uint64_t> work(bands, 0);
+  for (uint32_t y = 2; y < buffer.height; y += 2) {
+    const uint8_t* cur = buffer.data.data() + size_t{y} * row;
+    const uint8_t* up = cur - 2 * row;
+    uint64_t changes = 0;
+    for (size_t x = 4 * mb; x < row; x += 4 * mb) {
+      changes += (std::memcmp(cur + x, cur + x - 4 * mb, mb) != 0) | (std::memcmp(cur + x, up + x, mb) != 0);
+    }
+    work[y / 32] += changes;
+  }
+  uint64_t total = 0;
+  for (const uint64_t w : work) total += w;
+  uint64_t sum = 0;
+  size_t next = 1;
+  for (uint32_t b = 1; b < bands && next < ranges; ++b) {
+    sum += work[b - 1];
+    const bool due = total > 0 ? sum * ranges >= total * next : uint64_t{b} * ranges >= uint64_t{bands} * next;
+    if (due && b * 32 + 32 <= buffer.height) {
+      starts.push_back(b * 32);
+      ++next;
+    }
+  }
+  return starts;
+}
+
+}  // namespace
+
 bool encode_visibility_v2(const VisibilityBuffer& buffer, uint64_t frame_number, const V2Reference* reference,
                           const EncodeOptions& options, std::vector<EncodedShard>& out_shards, V2Stats* out_stats) {
   out_shards.clear();
@@ -169,55 +278,41 @@ bool encode_visibility_v2(const VisibilityBuffer& buffer, uint64_t frame_number,
     }
     distance = static_cast<uint16_t>(frame_number - reference->frame_number);
   }
-  const size_t max_payload = std::clamp(options.max_payload, kMinShardPayload, kMaxShardPayload);
-  const size_t budget = max_payload;  // header included
-  const BlockDecider decide = make_block_decider(buffer, reference);
-  Models models;
+  const std::vector<uint32_t> starts = range_starts(buffer, options.v2_ranges);
+  std::vector<RangeResult> results(starts.size());
+  const auto run = [&](size_t i) {
+    const uint32_t y1 = i + 1 < starts.size() ? starts[i + 1] : buffer.height;
+    try {
+      results[i] = encode_range(buffer, reference, distance, starts[i], y1, options);
+    } catch (const std::exception&) {  // out of memory: the frame is not sent, never a crash
+      results[i].ok = false;
+    }
+  };
+  // Each worker takes the next range not yet taken; the calling thread is one of them.
+  const size_t workers = std::clamp<size_t>(options.threads, 1, starts.size());
+  std::atomic<size_t> next{0};
+  const auto work = [&] {
+    for (size_t i = next++; i < starts.size(); i = next++) run(i);
+  };
+  std::vector<std::thread> helpers;
+  for (size_t w = 1; w < workers; ++w) helpers.emplace_back(work);
+  work();
+  for (std::thread& t : helpers) t.join();
+
   V2Stats stats;
-  std::vector<uint8_t> payload;
-  BandCounts counts;
-  for (uint32_t y = 0; y < buffer.height;) {
-    uint32_t end = y;
-    for (const uint32_t bh : {32u, 8u}) {
-      BandCounts measure;
-      end = encode_band(buffer, ref, distance, y, buffer.height, bh, budget, decide, models, payload, measure);
-      ++stats.encode_passes;
-      if (end == buffer.height && payload.size() <= budget) {
-        counts = measure;
-        break;  // the rest fitted: this encoding is the shard
-      }
-      if (end > y) {
-        BandCounts final_counts;
-        const uint32_t got = encode_band(buffer, ref, distance, y, end, bh, SIZE_MAX, decide, models, payload, final_counts);
-        ++stats.encode_passes;
-        if (got != end || payload.size() > budget) return false;  // cannot happen: the stream is a prefix
-        counts = final_counts;
-        break;
-      }
+  for (RangeResult& r : results) {
+    if (!r.ok) {
+      out_shards.clear();
+      return false;
     }
-    if (end > y) {
-      out_shards.push_back(EncodedShard{y * buffer.width, (end - y) * buffer.width, payload});
-      stats.blocks += counts.blocks;
-      stats.blocks_uniform += counts.uniform;
-      stats.blocks_copied += counts.copied;
-      stats.blocks_coded += counts.coded;
-      stats.pixels_coded += counts.pixels_coded;
-      y = end;
-      continue;
-    }
-    // Not even 8 rows fit (noise): v1 chunks for those rows.
-    const uint32_t rows = std::min(8u, buffer.height - y);
-    VisibilityBuffer part = VisibilityBuffer::create(buffer.width, rows, buffer.light_count);
-    const auto src = rows_of(buffer, y, y + rows);
-    std::copy(src.begin(), src.end(), part.data.begin());
-    std::vector<EncodedShard> v1;
-    if (!encode_visibility(part, options, v1)) return false;
-    for (EncodedShard& s : v1) {
-      s.first_pixel += y * buffer.width;
-      out_shards.push_back(std::move(s));
-    }
-    stats.v1_fallback_rows += rows;
-    y += rows;
+    for (EncodedShard& s : r.shards) out_shards.push_back(std::move(s));
+    stats.blocks += r.stats.blocks;
+    stats.blocks_uniform += r.stats.blocks_uniform;
+    stats.blocks_copied += r.stats.blocks_copied;
+    stats.blocks_coded += r.stats.blocks_coded;
+    stats.pixels_coded += r.stats.pixels_coded;
+    stats.v1_fallback_rows += r.stats.v1_fallback_rows;
+    stats.encode_passes += r.stats.encode_passes;
   }
   if (out_shards.size() > 65535) {
     out_shards.clear();

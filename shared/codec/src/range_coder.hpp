@@ -74,6 +74,27 @@ class BitEncoder {
   // Bytes the stream will have after finish() if no further bit is coded (an upper bound by at most one).
   size_t size_if_finished() const { return out_.size() - start_ + pending_ + 5; }
 
+  // The coder's state between two bits. Bytes already written are final (a carry only reaches the cached and
+  // pending bytes, which are part of the state), so restoring it after more bits were coded truncates the
+  // output and continues, or finishes, exactly as if those bits had never been coded.
+  struct State {
+    size_t size = 0;
+    uint64_t low = 0;
+    uint32_t range = 0;
+    uint8_t cache = 0;
+    bool have_cache = false;
+    size_t pending = 0;
+  };
+  State state() const { return State{out_.size(), low_, range_, cache_, have_cache_, pending_}; }
+  void restore(const State& s) {
+    out_.resize(s.size);
+    low_ = s.low;
+    range_ = s.range;
+    cache_ = s.cache;
+    have_cache_ = s.have_cache;
+    pending_ = s.pending;
+  }
+
  private:
   void shift_low() {
     if (static_cast<uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {

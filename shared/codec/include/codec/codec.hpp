@@ -34,6 +34,12 @@ struct EncodeOptions {
   // row that other shards carry. Off by default: on real traced buffers it costs 1-7 % more bytes
   // (each shard wastes half a row's worth of budget on average) for little gain.
   bool row_aligned = false;
+  // v2 only: the rows are cut into this many ranges that are coded on their own, each into its own shards, so
+  // they can be coded at once. Cuts lie at multiples of 32 rows where they split the estimated coding work evenly
+  // (each range at least 32 rows; fewer ranges for small buffers). The bytes depend on this, never on `threads`.
+  size_t v2_ranges = 2;
+  // v2 only: at most this many threads code the ranges (the calling thread is one of them; 1: it alone).
+  size_t threads = 2;
 };
 
 struct CodecStats {

@@ -61,12 +61,13 @@ struct V2Stats {
   size_t blocks_coded = 0;
   size_t pixels_coded = 0;    // pixel x light coded bit by bit
   size_t v1_fallback_rows = 0;
-  size_t encode_passes = 0;   // shard encodings, including the measuring pass of each shard
+  size_t encode_passes = 0;   // band encodings: one per shard, one more where 32-row blocks did not fit
 };
 
 // Encodes the whole buffer (intra when reference is null) into out_shards, in row order. False, with
 // out_shards empty, for an inconsistent buffer or reference (sizes, light count, frame distance).
-// Deterministic.
+// Deterministic. The rows are cut into options.v2_ranges ranges coded on up to options.threads threads; the
+// bytes depend on the ranges only.
 bool encode_visibility_v2(const VisibilityBuffer& buffer, uint64_t frame_number, const V2Reference* reference,
                           const EncodeOptions& options, std::vector<EncodedShard>& out_shards,
                           V2Stats* out_stats = nullptr);
