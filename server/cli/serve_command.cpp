@@ -55,6 +55,7 @@ int run_serve_command(const ServerOptions& options) {
   config.adaptive_fov.enabled = options.adaptive_fov;
   config.rate_control.enabled = options.rate_adapt;
   config.workers = options.workers;
+  config.encode.threads = options.encode_threads;
   config.codec_v2 = options.codec_v2;
   config.soft_levels = options.soft_levels;
   const bool soft_scene = std::any_of(scene->lights.begin(), scene->lights.end(),

@@ -177,6 +177,11 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       ->check(CLI::Range(1u, 64u))
       ->capture_default_str()
       ->group(kServeGroup);
+  app.add_option("--encode-threads", out.encode_threads,
+                 "threads coding one eye frame with codec v2 (its row ranges; the bytes do not depend on it)")
+      ->check(CLI::Range(1u, 64u))
+      ->capture_default_str()
+      ->group(kServeGroup);
   app.add_option("--metrics-port", out.metrics_port,
                  "serve the statistics in the Prometheus text format on http://BIND:PORT/metrics (0: off)")
       ->check(CLI::Range(0, 65535))

@@ -44,8 +44,9 @@ struct ServerOptions {
   bool predict = shipped::kPredict;     // server-side pose prediction (--no-predict: off, the paper's server)
   double predict_horizon_ms = -1.0;     // < 0: automatic (round trip + server time)
   bool adaptive_fov = shipped::kAdaptiveFov;            // widen the traced FOV from the measured shortfall (server/session/include/session/fov_margin.hpp)
-  uint32_t workers = 2;
-  uint16_t metrics_port = 0;            // > 0: Prometheus text on http://BIND:PORT/metrics                 // sessions traced in parallel (Embree; Vulkan: 1)
+  uint32_t workers = 2;                 // sessions traced in parallel (Embree; Vulkan: 1)
+  uint32_t encode_threads = 2;          // threads coding one eye frame's v2 ranges (EncodeOptions::threads)
+  uint16_t metrics_port = 0;            // > 0: Prometheus text on http://BIND:PORT/metrics
   bool rate_adapt = true;               // cap a session's trace rate when its client reports loss (--no-rate-adapt)
   net::ImpairmentParams impairment;     // on everything the server sends
   // Authentication (docs/security.md): serving needs --key-file unless --insecure; --gen-key writes a key.

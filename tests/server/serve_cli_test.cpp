@@ -173,7 +173,7 @@ nlohmann::json last_json_line(const std::string& out) {
 }
 
 TEST(ServeCli, ServesAHelloAndStopsAfterMaxSeconds) {
-  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "3", "--insecure"});
+  ServerProcess server({"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "3", "--insecure", "--encode-threads", "1"});
   ASSERT_TRUE(server.started());
   const uint16_t port = server.wait_for_port(std::chrono::seconds(60));
   ASSERT_NE(port, 0) << server.err();
@@ -418,6 +418,7 @@ TEST(ServeCli, BadServingOptionsExitTwo) {
       {{"--port", "0", "--insecure", "--net-loss", "2"}, "--net-loss"},
       {{"--port", "0", "--insecure", "--check"}, "--check"},
       {{"--port", "0", "--insecure", "--max-sessions", "0"}, "--max-sessions"},
+      {{"--port", "0", "--insecure", "--encode-threads", "0"}, "--encode-threads"},
       {{"--port", "0", "--insecure", "--bind", "not-an-address"}, "not-an-address"},
       {{"--port", "0"}, "serving needs a key: --key-file FILE"},
       {{"--port", "0", "--insecure", "--key-file", "k"}, "--key-file and --insecure exclude each other"},
