@@ -18,7 +18,8 @@ class Decider {
         reference_camera_(reference != nullptr ? reference->reference_camera : nullptr),
         mb_(cur.bytes_per_mask()) {}
 
-  // Memoized: the encoder codes a shard's blocks twice (measuring, then for good) with the same inputs.
+  // Memoized: a block row that overflowed a shard is coded again at the start of the next one, and a band that
+  // falls back from 32- to 8-row blocks codes its rows again, with the same inputs where the vectors agree.
   BlockPlan operator()(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, Vector previous, Vector above) {
     const Key key{x0, y0, w, h, previous.x, previous.y, above.x, above.y};
     const auto found = memo_.find(key);
