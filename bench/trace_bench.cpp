@@ -105,7 +105,7 @@ int usage(FILE* to = stderr) {
                "usage: trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] "
                "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels]\n"
                "       trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
-               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels] [--no-shared] [--no-refresh] [--no-blocks] "
+               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N]] [--no-shared] [--no-refresh] [--no-blocks] "
                "[--no-pairs]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }

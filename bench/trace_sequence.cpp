@@ -2,8 +2,10 @@
 
 #include "bench_timing.hpp"
 #include "bench_views.hpp"
+#include "sequence_truth.hpp"
 #include "cli/exit_codes.hpp"
 #include "scene/scene.hpp"
+#include "trace/embree/embree_tracer.hpp"
 #include "trace/stats_json.hpp"
 #include "trace/visibility_tracer.hpp"
 #include "traces/eye_model.hpp"
@@ -41,13 +43,14 @@ struct SequenceArgs {
   bool refresh = true;
   bool blocks = true;  // rule 1 (trace/reuse)
   bool pairs = true;   // rule 2
+  uint32_t truth_every = 30;  // soft levels: the truth of every camera of every this many frames (0: none)
 };
 
 int usage(FILE* to) {
   std::fprintf(to,
                "usage: trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
-               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels] [--no-shared] [--no-refresh] [--no-blocks] "
-               "[--no-pairs]\n");
+               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N]] [--no-shared] [--no-refresh] "
+               "[--no-blocks] [--no-pairs]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
@@ -70,6 +73,10 @@ bool parse(int argc, char** argv, SequenceArgs& a) {
       const long n = std::strtol(v.c_str(), &end, 10);
       if (*end || n < 1 || n > 100000) return false;
       a.frames = static_cast<uint32_t>(n);
+    } else if (k == "--truth-every") {
+      const long n = std::strtol(v.c_str(), &end, 10);
+      if (*end || n < 0 || n > 100000) return false;
+      a.truth_every = static_cast<uint32_t>(n);
     } else if (k == "--sessions") {
       const long n = std::strtol(v.c_str(), &end, 10);
       if (*end || n < 1 || n > 64) return false;
@@ -184,6 +191,17 @@ int run_trace_sequence(int argc, char** argv) {
                                                                             tracer->light_count())
                                                 : VisibilityLayout::hard(tracer->light_count());
 
+  // The truth for the soft fields' visibility_error: static scenes (the lights at rest are the scene's).
+  std::unique_ptr<SequenceTruth> truth;
+  if (a.soft_levels && a.truth_every > 0) {
+    if (tracer->moves()) {
+      std::fprintf(stderr, "trace_bench: a moving scene: no truth, so no visibility_error\n");
+    } else {
+      const auto& embree = dynamic_cast<const server::EmbreeTracer&>(*tracer);
+      truth = std::make_unique<SequenceTruth>(embree.embree_scene(), scene.lights, layout, a.threads);
+    }
+  }
+
   const uint32_t S = a.sessions;
   // Per session and eye: the newest reusing trace's record and the one being written (swapped after each trace).
   std::vector<std::array<server::ReuseFrame, 2>> newest(S), writing(S);
@@ -219,6 +237,7 @@ int run_trace_sequence(int argc, char** argv) {
         tracer->trace_reusing(camera, layout, request, reused, rs);
         std::swap(newest[s][e], writing[s][e]);
         compare(exact, reused, layout, xs.pixels - xs.background_pixels, diff);
+        if (truth && (f + 1) % a.truth_every == 0) truth->add(camera, exact, reused);
         exhaustive.rays += static_cast<double>(xs.primary_rays + xs.shadow_rays);
         exhaustive.shadow_rays += static_cast<double>(xs.shadow_rays);
         exhaustive.ms.push_back(xs.trace_ms);
@@ -250,6 +269,17 @@ int run_trace_sequence(int argc, char** argv) {
   // Mean |k reused - k exhaustive| over soft pairs: the most reuse can change the visibility_error against any
   // reference (triangle inequality).
   out["levels_mean_abs_difference"] = diff.soft_pairs ? diff.soft_abs_difference / diff.soft_pairs : 0.0;
+  if (truth) {
+    // Mean |k - k truth| over the surface pixels' soft lights of the cameras of every --truth-every'th frame.
+    out["visibility_error"] = truth->reused.mean();
+    out["exhaustive_visibility_error"] = truth->exhaustive.mean();
+    out["truth"] = Json{{"cameras", truth->cameras},
+                        {"every_frames", a.truth_every},
+                        {"first_samples", kTruthFirstSamples},
+                        {"samples", kTruthSamples},
+                        {"pairs", truth->reused.pairs},
+                        {"trace_ms", truth->ms}};
+  }
   Json sessions = Json::array();
   for (uint32_t s = 0; s < S; ++s) {
     Json j = totals_json(per_session[s], 2.0 * a.frames);

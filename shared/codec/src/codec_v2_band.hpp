@@ -23,6 +23,21 @@ inline constexpr uint32_t kIntraContextBits = 9;
 inline constexpr uint32_t kInterContextBits = 14;
 inline constexpr uint32_t kVectorMagnitudeContexts = 16;
 
+// Row loops at the mask's width: `at` loads mask i of a row of Mask-wide masks (8, 16 or 32 bits, little-endian
+// as the buffers are, one load), and with_mask_type calls f.template operator()<Mask>() for a buffer's width.
+template <typename Mask>
+Mask at(const uint8_t* row, size_t i) {
+  Mask m;
+  std::memcpy(&m, row + i * sizeof(Mask), sizeof m);
+  return m;
+}
+template <typename F>
+decltype(auto) with_mask_type(uint32_t mask_bytes, F&& f) {
+  if (mask_bytes == 1) return f.template operator()<uint8_t>();
+  if (mask_bytes == 2) return f.template operator()<uint16_t>();
+  return f.template operator()<uint32_t>();
+}
+
 struct BandGeometry {
   uint32_t width = 0;
   uint32_t height = 0;

@@ -3,11 +3,53 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 
 namespace dhr::codec_detail {
 namespace {
+
+// AND and OR of each 8-pixel sub-block's masks over one row (the bits above the mask's width stay set in `all`).
+template <typename Mask>
+void row_all_any(const uint8_t* row, uint32_t w, uint32_t sub_cols, uint32_t* all, uint32_t* any) {
+  constexpr uint32_t kAbove = sizeof(Mask) == 4 ? 0u : ~uint32_t{0} << (8 * sizeof(Mask));
+  for (uint32_t sc = 0; sc < sub_cols; ++sc) {
+    const uint32_t end = std::min(w, (sc + 1) * kSub);
+    Mask a = static_cast<Mask>(~Mask{0}), o = 0;
+    for (uint32_t i = sc * kSub; i < end; ++i) {
+      const Mask m = at<Mask>(row, i);
+      a &= m;
+      o |= m;
+    }
+    all[sc] &= kAbove | a;
+    any[sc] |= o;
+  }
+}
+
+// OR of each sub-block's differences from the displaced reference row; returns their OR.
+template <typename Mask>
+uint32_t row_diff(const uint8_t* a, const uint8_t* r, uint32_t w, uint32_t sub_cols, uint32_t* diff) {
+  uint32_t block = 0;
+  for (uint32_t sc = 0; sc < sub_cols; ++sc) {
+    const uint32_t end = std::min(w, (sc + 1) * kSub);
+    Mask d = 0;
+    for (uint32_t i = sc * kSub; i < end; ++i) d |= at<Mask>(a, i) ^ at<Mask>(r, i);
+    diff[sc] |= d;
+    block |= d;
+  }
+  return block;
+}
+
+// Pixels of one row whose `bits` differ from the displaced reference row.
+template <typename Mask>
+uint32_t row_cost(const uint8_t* a, const uint8_t* b, uint32_t w, uint32_t bits) {
+  const Mask m = static_cast<Mask>(bits);
+  uint32_t n = 0;
+  for (uint32_t i = 0; i < w; ++i) n += ((at<Mask>(a, i) ^ at<Mask>(b, i)) & m) != 0 ? 1u : 0u;
+  return n;
+}
+
 
 class Decider {
  public:
@@ -37,25 +79,8 @@ class Decider {
     all.fill(0xFFFFFFFFu);
     for (uint32_t y = y0; y < y0 + h; ++y) {
       const uint32_t srow = ((y - y0) / kSub) * sub_cols;
-      if (mb_ == 1) {  // 8-bit masks: 8 pixels per sub-block row, plain byte loops
-        const uint8_t* row = &cur_.data[size_t{y} * cur_.width + x0];
-        for (uint32_t sc = 0; sc < sub_cols; ++sc) {
-          const uint32_t n = std::min(kSub, w - sc * kSub);
-          uint8_t a = 0xFF, o = 0;
-          for (uint32_t i = 0; i < n; ++i) {
-            a &= row[sc * kSub + i];
-            o |= row[sc * kSub + i];
-          }
-          all[srow + sc] &= 0xFFFFFF00u | a;
-          any[srow + sc] |= o;
-        }
-        continue;
-      }
-      for (uint32_t x = x0; x < x0 + w; ++x) {
-        const uint32_t s = srow + (x - x0) / kSub, m = cur_mask(x, y);
-        all[s] &= m;
-        any[s] |= m;
-      }
+      const uint8_t* row = &cur_.data[(size_t{y} * cur_.width + x0) * mb_];
+      with_mask_type(mb_, [&]<typename Mask>() { row_all_any<Mask>(row, w, sub_cols, &all[srow], &any[srow]); });
     }
     uint32_t block_all = 0xFFFFFFFFu, block_any = 0, block_diff = 0;
     for (uint32_t s = 0; s < sub_cols * sub_rows; ++s) {
@@ -68,15 +93,10 @@ class Decider {
       for (uint32_t y = y0; y < y0 + h; ++y) {
         const uint32_t srow = ((y - y0) / kSub) * sub_cols;
         const int64_t ry = int64_t{y} + plan.vector.y, rx = int64_t{x0} + plan.vector.x;
-        if (mb_ == 1 && ry >= 0 && ry < ref_->height && rx >= 0 && rx + w <= ref_->width) {
-          const uint8_t* a = &cur_.data[size_t{y} * cur_.width + x0];
-          const uint8_t* r = &ref_->data[static_cast<size_t>(ry) * ref_->width + static_cast<size_t>(rx)];
-          for (uint32_t sc = 0; sc < sub_cols; ++sc) {
-            uint8_t d = 0;
-            for (uint32_t i = sc * kSub; i < std::min(w, (sc + 1) * kSub); ++i) d |= a[i] ^ r[i];
-            diff[srow + sc] |= d;
-            block_diff |= d;
-          }
+        if (ry >= 0 && ry < ref_->height && rx >= 0 && rx + w <= ref_->width) {
+          const uint8_t* a = &cur_.data[(size_t{y} * cur_.width + x0) * mb_];
+          const uint8_t* r = &ref_->data[(static_cast<size_t>(ry) * ref_->width + static_cast<size_t>(rx)) * mb_];
+          block_diff |= with_mask_type(mb_, [&]<typename Mask>() { return row_diff<Mask>(a, r, w, sub_cols, &diff[srow]); });
           continue;
         }
         for (uint32_t x = x0; x < x0 + w; ++x) {
@@ -117,13 +137,10 @@ class Decider {
     uint64_t n = 0;
     for (uint32_t y = y0; y < y0 + h; ++y) {
       const int64_t ry = int64_t{y} + v.y, rx = int64_t{x0} + v.x;
-      if (mb_ == 1 && ry >= 0 && ry < ref_->height && rx >= 0 && rx + w <= ref_->width) {
-        const uint8_t* a = &cur_.data[size_t{y} * cur_.width + x0];
-        const uint8_t* b = &ref_->data[static_cast<size_t>(ry) * ref_->width + static_cast<size_t>(rx)];
-        const uint8_t m = static_cast<uint8_t>(bits);
-        uint32_t row = 0;
-        for (uint32_t i = 0; i < w; ++i) row += ((a[i] ^ b[i]) & m) != 0 ? 1u : 0u;
-        n += row;
+      if (ry >= 0 && ry < ref_->height && rx >= 0 && rx + w <= ref_->width) {
+        const uint8_t* a = &cur_.data[(size_t{y} * cur_.width + x0) * mb_];
+        const uint8_t* b = &ref_->data[(static_cast<size_t>(ry) * ref_->width + static_cast<size_t>(rx)) * mb_];
+        n += with_mask_type(mb_, [&]<typename Mask>() { return row_cost<Mask>(a, b, w, bits); });
         if (n > limit) return n;
         continue;
       }
