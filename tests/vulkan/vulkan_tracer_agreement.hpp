@@ -47,6 +47,11 @@ using test::load_scene_or_fail;
 // surfaces.
 std::vector<uint8_t> near_silhouette(const EmbreeTracer& embree, const Camera& camera);
 
+// For an agreement failure: where the reference's shadow ray from pixel (x, y) to each point or spot light in `bits`
+// first meets a front face, and how close to that triangle's edges (its smallest barycentric); text starting "; ".
+std::string describe_shadow_rays(const EmbreeTracer& embree, const Camera& camera, const std::vector<SceneLight>& lights,
+                                 int x, int y, uint32_t bits);
+
 // Traces every camera with both backends; expects < 0.1% differing bits and none unexplained. With scene_times,
 // both tracers are moved to each time in turn (set_scene_time) and every camera is traced at each.
 void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,

@@ -311,5 +311,38 @@ TEST(VulkanTracerPlan, MortonOrderIsADeterministicSpatialPermutation) {
   }
 }
 
+// The agreement's failure text for a pixel-light bit: a lit bit's shadow ray meets no front face before the light;
+// some shadowed bit's meets its occluder, named with its barycentrics.
+TEST(VulkanTracerAgreement, DescribesWhereAShadowRayMeetsItsOccluder) {
+  const std::string path = test::source_path(kDefaultScenePath);
+  const Scene scene = load_scene_or_fail(path);
+  const Camera camera = bookmark_cameras(path, {64, 48}).at(0);
+  TracerOptions options;
+  options.threads = 2;
+  options.skip = SkipOptions::none();  // every hit pixel's bit is its shadow ray's
+  EmbreeTracer embree(scene, options);
+  VisibilityBuffer vis;
+  TraceStats stats;
+  embree.trace(camera, vis, stats);
+  size_t lit = 0, met = 0;
+  for (uint32_t y = 0; y < camera.extent.height; ++y) {
+    for (uint32_t x = 0; x < camera.extent.width; ++x) {
+      for (uint32_t li = 0; li < vis.light_count; ++li) {
+        const std::string text = describe_shadow_rays(embree, camera, scene.lights, int(x), int(y), 1u << li);
+        if (text.find("no primary hit") != std::string::npos) continue;
+        if ((vis.get(x, y) >> li) & 1u) {
+          ++lit;
+          EXPECT_NE(text.find("no front face before the light"), std::string::npos) << x << "," << y << ": " << text;
+        } else if (text.find("meets mesh") != std::string::npos) {
+          EXPECT_NE(text.find("barycentrics"), std::string::npos) << text;
+          ++met;
+        }
+      }
+    }
+  }
+  EXPECT_GT(lit, 100u);
+  EXPECT_GT(met, 10u);
+}
+
 }  // namespace
 }  // namespace dhr::server
