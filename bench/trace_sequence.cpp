@@ -203,6 +203,16 @@ int run_trace_sequence(int argc, char** argv) {
   }
 
   const uint32_t S = a.sessions;
+  // A session that runs past its trace's end holds the last pose (PoseTrace::sample): said, not silent.
+  for (uint32_t s = 0; s < S; ++s) {
+    const PoseTrace& trace = traces[s % traces.size()];
+    const double needed = a.trace_start_s + kSessionStaggerS * (s / traces.size()) + (a.frames - 1) * kFramePeriodS;
+    if (needed > trace.duration())
+      std::fprintf(stderr,
+                   "trace_bench: warning: session %u needs %.2f s of %s, which lasts %.2f s: its last pose is held "
+                   "from there on\n",
+                   s, needed, a.traces[s % a.traces.size()].c_str(), trace.duration());
+  }
   // Per session and eye: the newest reusing trace's record and the one being written (swapped after each trace).
   std::vector<std::array<server::ReuseFrame, 2>> newest(S), writing(S);
   std::vector<Pose> T_scene_trace(S);
