@@ -452,7 +452,14 @@ void bench_scene(const std::string& path, const Options& o, unsigned threads) {
 int main(int argc, char** argv) {
   Options o;
   if (cli::asks_for_help(argc, argv)) return usage(stdout);
-  if (wants_trace_sequence(argc, argv)) return run_trace_sequence(argc, argv);
+  if (wants_trace_sequence(argc, argv)) {
+    try {
+      return run_trace_sequence(argc, argv);
+    } catch (const std::exception& e) {  // a trace or the truth that throws: said, exit 1
+      std::fprintf(stderr, "trace_bench: %s\n", e.what());
+      return exit_code::kFailure;
+    }
+  }
   if (!parse_args(argc, argv, o)) return usage();
   const unsigned threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
   Json sizes = Json::array();

@@ -44,7 +44,8 @@ TEST_F(VulkanTracerTest, AgreesWithEmbreeOnEveryOtherRealScene) {
     }
   }
   std::sort(paths.begin(), paths.end());
-  // A partial copy of the data (scripts/gpu-run's bundle holds the living room alone) has no MANIFEST.md.
+  // A partial copy of the data (scripts/gpu-run's bundle: the living room and its area- and sun-lit variants) has no
+  // MANIFEST.md.
   if (test::shared_data_path("MANIFEST.md").empty()) {
     if (paths.empty()) GTEST_SKIP() << "a partial copy of ../shared/data: no other scene";
   } else {

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cstring>
 #include <exception>
+#include <system_error>
 #include <thread>
 
 namespace dhr {
@@ -163,7 +164,8 @@ DecodeError decode_shard_payload_v2(std::span<const uint8_t> payload, uint32_t f
 namespace {
 
 // One range's shards (rows [y0, y1)), in row order, with their counts; what the whole-buffer encoder then
-// concatenates. False only for what cannot happen (a measured prefix that does not re-encode to itself).
+// concatenates. ok is false when the range could not be coded: a v1 fallback that failed, an exception (out of
+// memory), or a finished shard over its budget (which size_if_finished rules out).
 struct RangeResult {
   std::vector<EncodedShard> shards;
   V2Stats stats;
@@ -306,7 +308,13 @@ bool encode_visibility_v2(const VisibilityBuffer& buffer, uint64_t frame_number,
     for (size_t i = next++; i < starts.size(); i = next++) run(i);
   };
   std::vector<std::thread> helpers;
-  for (size_t w = 1; w < workers; ++w) helpers.emplace_back(work);
+  for (size_t w = 1; w < workers; ++w) {
+    try {
+      helpers.emplace_back(work);
+    } catch (const std::system_error&) {  // no thread to be had: the calling thread codes the rest
+      break;
+    }
+  }
   work();
   for (std::thread& t : helpers) t.join();
 
