@@ -1,9 +1,10 @@
 // trace_bench's sequence mode, soft fields against a converged truth: every --truth-every'th frame the truth of
-// each traced camera (trace_soft_image with kTruthFirstSamples first samples and up to kTruthSamples where they
-// disagree, an independent per-pixel scramble) and, for the exhaustive and the reusing trace of that camera, the
+// each traced camera (trace_soft_image with dhr-eval's truth sampling: kTruthFirstSamples first samples and up to
+// kTruthSamples where they disagree, an independent per-pixel scramble) and, for the exhaustive and the reusing trace of that camera, the
 // sum of |k traced - k truth| over the surface pixels' soft lights (k traced: the field's level / 7). Their means
 // are the JSON's visibility_error and exhaustive_visibility_error (issue 28: reuse must not raise it).
 #pragma once
+#include "eval/truth_sampling.hpp"
 #include "math/projection.hpp"
 #include "scene/scene.hpp"
 #include "trace/embree/embree_scene.hpp"
@@ -17,9 +18,10 @@
 
 namespace dhr::bench {
 
-inline constexpr uint32_t kTruthFirstSamples = 32;
-inline constexpr uint32_t kTruthSamples = 256;
-inline constexpr uint32_t kTruthSalt = 0x74727574u;  // independent of the traced fields' scramble (salt 0)
+// dhr-eval's ground-truth sampling (eval/truth_sampling.hpp): one definition of "converged" for both benchmarks.
+using eval::kTruthFirstSamples;
+using eval::kTruthSalt;
+using eval::kTruthSamples;
 
 struct TruthError {
   double sum = 0.0;    // of |k traced - k truth|

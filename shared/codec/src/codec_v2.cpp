@@ -236,26 +236,18 @@ std::vector<uint32_t> range_starts(const VisibilityBuffer& buffer, size_t ranges
   const uint32_t bands = (buffer.height + 31) / 32;
   const size_t mb = buffer.bytes_per_mask(), row = size_t{buffer.width} * mb;
   std::vector<uint64_t> work(bands, 0);
-  const auto sample = [&]<typename Mask>() {
-    const auto at = [](const uint8_t* p) {
-      Mask m;
-      std::memcpy(&m, p, sizeof m);  // one load: the size is known here
-      return m;
-    };
+  with_mask_type(static_cast<uint32_t>(mb), [&]<typename Mask>() {
     for (uint32_t y = 2; y < buffer.height; y += 2) {
       const uint8_t* cur = buffer.data.data() + size_t{y} * row;
       const uint8_t* up = cur - 2 * row;
       uint64_t changes = 0;
-      for (size_t x = 4 * sizeof(Mask); x < row; x += 4 * sizeof(Mask)) {
-        const Mask m = at(cur + x);
-        changes += (m != at(cur + x - 4 * sizeof(Mask))) | (m != at(up + x));
+      for (size_t x = 4; x < buffer.width; x += 4) {
+        const Mask m = at<Mask>(cur, x);
+        changes += (m != at<Mask>(cur, x - 4)) | (m != at<Mask>(up, x));
       }
       work[y / 32] += changes;
     }
-  };
-  if (mb == 1) sample.template operator()<uint8_t>();
-  else if (mb == 2) sample.template operator()<uint16_t>();
-  else sample.template operator()<uint32_t>();
+  });
   uint64_t total = 0;
   for (const uint64_t w : work) total += w;
   uint64_t sum = 0;
