@@ -243,6 +243,7 @@ TEST(ServeCli, AMovingSceneIsPlayedOnTheSceneClock) {
   const auto stats = last_json_line(server.out());
   EXPECT_EQ(stats.at("frames_at_scene_time").get<int>(), 0);
   EXPECT_TRUE(stats.contains("scene_update_ms_per_frame"));
+  EXPECT_TRUE(stats.contains("trace_gpu_ms"));
 }
 
 TEST(ServeCli, ImpairedSendsStillDeliverTheFinalBye) {

@@ -73,6 +73,9 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
           {"scene_update_ms_per_frame",
            s.frames_at_scene_time ? s.scene_update_ms / static_cast<double>(s.frames_at_scene_time) : 0.0},
           {"trace_ms", s.trace_ms},
+          // The GPU's share of trace_ms (Vulkan timestamps; 0 with Embree): far below trace_ms, the tracer waited
+          // on something else (another process's work on the same GPU, the readback).
+          {"trace_gpu_ms", s.trace_gpu_ms},
           {"encode_ms", s.encode_ms}};
 }
 

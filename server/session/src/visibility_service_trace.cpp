@@ -182,7 +182,7 @@ void VisibilityService::trace_reusing(Session& s, size_t eye, const Camera& came
 bool VisibilityService::trace_and_send(const Work& work) {
   Session& s = *work.session;
   const TracedFormat format = s.welcome.format();
-  double trace_ms = 0.0, encode_ms = 0.0, update_ms = 0.0;
+  double trace_ms = 0.0, trace_gpu_ms = 0.0, encode_ms = 0.0, update_ms = 0.0;
   uint64_t shards = 0, inter_eyes = 0, intra_eyes = 0, shed = 0, rays = 0;
   uint64_t soft_pairs = 0, soft_contributing = 0, soft_refined = 0, soft_rays = 0, reused_pixels = 0, reused_pairs = 0;
   std::array<double, 2> eye_trace_ms{};
@@ -229,6 +229,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
     }
     if (e == 1 && tracer_lock.owns_lock()) tracer_lock.unlock();  // both eyes traced at the frame's scene time
     trace_ms += trace_stats.trace_ms;
+    trace_gpu_ms += trace_stats.gpu_ms;
     eye_trace_ms[static_cast<size_t>(e)] = trace_stats.trace_ms;
     rays += trace_stats.primary_rays + trace_stats.shadow_rays;
     reused_pixels += trace_stats.reused_pixels;
@@ -266,6 +267,7 @@ bool VisibilityService::trace_and_send(const Work& work) {
   shards_sent_.fetch_add(shards, std::memory_order_relaxed);
   std::lock_guard lock(mutex_);
   stats_.trace_ms += trace_ms;
+  stats_.trace_gpu_ms += trace_gpu_ms;
   stats_.encode_ms += encode_ms;
   stats_.eyes_coded_v2_inter += inter_eyes;
   stats_.eyes_coded_v2_intra += intra_eyes;

@@ -170,6 +170,7 @@ struct ServiceStats {
   LatencyHistogram trace_hist;           // trace time per eye
   LatencyHistogram response_hist;        // pose received -> its frame's last datagram handed to the socket
   double trace_ms = 0.0;                 // sums over all eyes traced (tracer wall time)
+  double trace_gpu_ms = 0.0;             // their GPU time where the tracer measures it (Vulkan timestamps), summed
   double encode_ms = 0.0;                // sums: light-count repacking, codec, datagram encoding and send
 };
 
