@@ -48,9 +48,11 @@ struct Agreement {
   uint64_t differing = 0;
   uint64_t unexplained = 0;
   uint64_t differing_pixels = 0;
-  std::string first_unexplained;
-  int first_x = -1, first_y = -1;
-  uint32_t first_bits = 0;  // its unexplained bits
+  struct Pixel {
+    int x = 0, y = 0;
+    uint32_t bits = 0;  // its unexplained bits
+  };
+  std::vector<Pixel> unexplained_pixels;  // in raster order
   double rate() const { return bits ? double(differing) / double(bits) : 0.0; }
 };
 
@@ -99,62 +101,95 @@ Agreement compare(const VisibilityBuffer& ref, const VisibilityBuffer& got, cons
       const uint32_t unexplained = diff & ~boundary_bits;
       if (!unexplained) continue;
       a.unexplained += uint64_t(std::popcount(unexplained));
-      if (a.first_unexplained.empty()) {
-        char text[128];
-        std::snprintf(text, sizeof text, "pixel (%d, %d): reference 0x%x, vulkan 0x%x", x, y, centre,
-                      got.get(uint32_t(x), uint32_t(y)));
-        a.first_x = x;
-        a.first_y = y;
-        a.first_bits = unexplained;
-        a.first_unexplained = text;
-      }
+      a.unexplained_pixels.push_back({x, y, unexplained});
     }
   }
   return a;
 }
 
-}  // namespace
+// Where the reference's shadow ray from pixel (x, y) toward a point or spot light first meets a front face
+// (EmbreeScene::intersect culls single-sided back faces; shadow rays see every face). Empty without a primary hit.
+struct ShadowRayOccluder {
+  bool primary_hit = false;
+  bool met = false;       // a front face before the light
+  float at = 0.0f;        // where, from the ray's origin (m)
+  float distance = 0.0f;  // the light's distance from the ray's origin (m)
+  uint32_t mesh = 0, triangle = 0;
+  float barycentrics[3] = {0.0f, 0.0f, 0.0f};
+};
 
-// For a failure message: where the reference's shadow ray from pixel (x, y) to each point or spot light in `bits`
-// first meets a front face (EmbreeScene::intersect culls single-sided back faces; shadow rays see every face), and
-// how close to that triangle's edges (its smallest barycentric). A ray through an edge or a vertex may go either way
-// in another implementation: Vulkan asks for a watertight test but does not require one.
-std::string describe_shadow_rays(const EmbreeTracer& embree, const Camera& camera, const std::vector<SceneLight>& lights,
-                                 int x, int y, uint32_t bits) {
-  const EmbreeScene& scene = embree.embree_scene();
+ShadowRayOccluder reference_occluder(const EmbreeScene& scene, const Camera& camera, const SceneLight& light, int x,
+                                     int y) {
+  ShadowRayOccluder r;
   const glm::vec3 eye = scene.to_relative(camera.T_world_eye.position);
   const glm::dmat3 R = glm::mat3_cast(glm::normalize(camera.T_world_eye.orientation));
   const glm::vec3 dir(glm::normalize(R * camera.eye_ray(x + 0.5, y + 0.5)));
   const float tnear = static_cast<float>(kClipNearPlane / glm::dot(glm::dvec3(dir), R * glm::dvec3(0, 0, -1)));
   const auto hit = scene.intersect(eye, dir, tnear);
-  if (!hit) return "; no primary hit in the reference";
+  if (!hit) return r;
+  r.primary_hit = true;
+  const glm::vec3 lp = scene.to_relative(glm::dvec3(light.position));
+  const glm::vec3 n = glm::dot(hit->geometric_normal, lp - hit->position) >= 0.0f ? hit->geometric_normal
+                                                                                 : -hit->geometric_normal;
+  const glm::vec3 o = offset_ray_origin(hit->position, n, scene.ray_offset());
+  r.distance = glm::length(lp - o);
+  const auto s = scene.intersect(o, (lp - o) / r.distance);
+  r.at = s ? glm::length(s->position - o) : 0.0f;
+  if (!s || r.at >= r.distance) return r;
+  r.met = true;
+  r.mesh = s->mesh;
+  r.triangle = s->triangle;
+  r.barycentrics[0] = 1.0f - s->u - s->v;
+  r.barycentrics[1] = s->u;
+  r.barycentrics[2] = s->v;
+  return r;
+}
+
+bool is_point_or_spot(const SceneLight& light) {
+  return light.type == SceneLight::Type::kPoint || light.type == SceneLight::Type::kSpot;
+}
+
+}  // namespace
+
+// A light on a surface: the reference's occluder lies within kAtTheLight of the light's distance. Both tracers end
+// shadow rays at the same distance (kShadowTfarScale), and whether a triangle that close counts is decided by
+// each implementation's intersection arithmetic at that end: either answer stands. (Measured on an NVIDIA H100:
+// light 30 of MaskWidthsFollowTheLightCount, placed on a box's face, met it at 2.4964 of 2.4964 m.)
+constexpr float kAtTheLight = 1e-4f;  // relative to the light's distance: 10x the rays' end (1 - kShadowTfarScale)
+
+bool occluder_at_the_light(const EmbreeScene& scene, const Camera& camera, const SceneLight& light, int x, int y) {
+  if (!is_point_or_spot(light)) return false;
+  const ShadowRayOccluder r = reference_occluder(scene, camera, light, x, y);
+  return r.met && r.distance - r.at <= kAtTheLight * r.distance;
+}
+
+// For a failure message: where the reference's shadow ray from pixel (x, y) to each point or spot light in `bits`
+// first meets a front face, and how close to that triangle's edges (its smallest barycentric). A ray through an
+// edge or a vertex may go either way in another implementation: Vulkan asks for a watertight test but does not
+// require one.
+std::string describe_shadow_rays(const EmbreeTracer& embree, const Camera& camera, const std::vector<SceneLight>& lights,
+                                 int x, int y, uint32_t bits) {
   std::string out;
   for (uint32_t li = 0; li < lights.size() && li < 32; ++li) {
     if (((bits >> li) & 1u) == 0) continue;
     char text[256];
-    const SceneLight& light = lights[li];
-    if (light.type != SceneLight::Type::kPoint && light.type != SceneLight::Type::kSpot) {
+    if (!is_point_or_spot(lights[li])) {
       std::snprintf(text, sizeof text, "; light %u: not a point or spot light, not described", li);
       out += text;
       continue;
     }
-    const glm::vec3 lp = scene.to_relative(glm::dvec3(light.position));
-    const glm::vec3 n = glm::dot(hit->geometric_normal, lp - hit->position) >= 0.0f ? hit->geometric_normal
-                                                                                   : -hit->geometric_normal;
-    const glm::vec3 o = offset_ray_origin(hit->position, n, scene.ray_offset());
-    const float dist = glm::length(lp - o);
-    const auto s = scene.intersect(o, (lp - o) / dist);
-    const float at = s ? glm::length(s->position - o) : 0.0f;
-    if (!s || at >= dist) {
+    const ShadowRayOccluder r = reference_occluder(embree.embree_scene(), camera, lights[li], x, y);
+    if (!r.primary_hit) return "; no primary hit in the reference";
+    if (!r.met) {
       std::snprintf(text, sizeof text, "; light %u: no front face before the light (%.4f m; a back face may occlude)",
-                    li, double{dist});
+                    li, double{r.distance});
     } else {
-      const float w = 1.0f - s->u - s->v;
+      const float* b = r.barycentrics;
       std::snprintf(text, sizeof text,
-                    "; light %u: the shadow ray meets mesh %u triangle %u at %.4f of %.4f m, barycentrics (%.2e, "
+                    "; light %u: the shadow ray meets mesh %u triangle %u at %.6f of %.6f m, barycentrics (%.2e, "
                     "%.2e, %.2e), smallest %.2e",
-                    li, s->mesh, s->triangle, double{at}, double{dist}, double{w}, double{s->u}, double{s->v},
-                    double{std::min({w, s->u, s->v})});
+                    li, r.mesh, r.triangle, double{r.at}, double{r.distance}, double{b[0]}, double{b[1]},
+                    double{b[2]}, double{std::min({b[0], b[1], b[2]})});
     }
     out += text;
   }
@@ -197,17 +232,36 @@ void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, co
     ASSERT_EQ(got.width, ref.width);
     ASSERT_EQ(got.height, ref.height);
     ASSERT_EQ(got.mask_bits, ref.mask_bits);
-    const Agreement a = compare(ref, got, reference_hits(embree, cameras[c]));
+    Agreement a = compare(ref, got, reference_hits(embree, cameras[c]));
+    // Bits of a light that sits on a surface: explained (occluder_at_the_light), counted apart.
+    uint64_t at_light = 0;
+    std::vector<Agreement::Pixel> left;
+    for (Agreement::Pixel p : a.unexplained_pixels) {
+      for (uint32_t li = 0; li < scene.lights.size() && li < 32; ++li)
+        if (((p.bits >> li) & 1u) && occluder_at_the_light(embree.embree_scene(), cameras[c], scene.lights[li], p.x, p.y)) {
+          p.bits &= ~(1u << li);
+          ++at_light;
+        }
+      if (p.bits) left.push_back(p);
+    }
+    a.unexplained -= at_light;
+    if (at_light) std::printf("[ agreement ] camera %zu: %llu differing bits of lights on a surface\n", c,
+                              static_cast<unsigned long long>(at_light));
     std::printf("[ agreement ] camera %zu %ux%u, %u lights: %llu of %llu bits differ (%.4f%%), %llu pixels, "
                 "%llu unexplained; vulkan %.1f ms (gpu %.1f ms), embree %.1f ms\n",
                 c, ref.width, ref.height, ref.light_count, static_cast<unsigned long long>(a.differing),
                 static_cast<unsigned long long>(a.bits), 100.0 * a.rate(),
                 static_cast<unsigned long long>(a.differing_pixels), static_cast<unsigned long long>(a.unexplained),
                 got_stats.trace_ms, got_stats.gpu_ms, ref_stats.trace_ms);
-    EXPECT_EQ(a.unexplained, 0u) << "camera " << c << ": first at " << a.first_unexplained
-                                 << (a.unexplained > 0 ? describe_shadow_rays(embree, cameras[c], scene.lights,
-                                                                              a.first_x, a.first_y, a.first_bits)
-                                                       : std::string());
+    std::string first;
+    if (!left.empty()) {
+      const auto [x, y, pixel_bits] = left[0];
+      char text[128];
+      std::snprintf(text, sizeof text, "pixel (%d, %d): reference 0x%x, vulkan 0x%x", x, y,
+                    ref.get(uint32_t(x), uint32_t(y)), got.get(uint32_t(x), uint32_t(y)));
+      first = text + describe_shadow_rays(embree, cameras[c], scene.lights, x, y, pixel_bits);
+    }
+    EXPECT_EQ(a.unexplained, 0u) << "camera " << c << ": first at " << first;
     EXPECT_LT(a.rate(), 0.001) << "camera " << c;
     // Statistics: one primary ray per pixel; every hit pixel-light pair traced or skipped for a reason.
     EXPECT_EQ(got_stats.pixels, ref_stats.pixels);

@@ -52,8 +52,15 @@ std::vector<uint8_t> near_silhouette(const EmbreeTracer& embree, const Camera& c
 std::string describe_shadow_rays(const EmbreeTracer& embree, const Camera& camera, const std::vector<SceneLight>& lights,
                                  int x, int y, uint32_t bits);
 
-// Traces every camera with both backends; expects < 0.1% differing bits and none unexplained. With scene_times,
-// both tracers are moved to each time in turn (set_scene_time) and every camera is traced at each.
+// Whether the reference's shadow ray from pixel (x, y) to a point or spot light meets a surface within 0.01 % of the
+// light's distance: a light on a surface, where either tracer's answer stands (both end the ray at the same
+// distance; which triangle that close counts is each implementation's arithmetic). expect_agreement explains such
+// differing bits.
+bool occluder_at_the_light(const EmbreeScene& scene, const Camera& camera, const SceneLight& light, int x, int y);
+
+// Traces every camera with both backends; expects < 0.1% differing bits and none unexplained (lights on a surface
+// explained). With scene_times, both tracers are moved to each time in turn (set_scene_time) and every camera is
+// traced at each.
 void expect_agreement(const Scene& scene, const std::vector<Camera>& cameras, const TracerOptions& vk_options,
                       const TracerOptions& embree_options, const VulkanTracerConfig& config = {},
                       const std::vector<double>& scene_times = {});

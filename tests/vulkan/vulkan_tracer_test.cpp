@@ -313,6 +313,32 @@ TEST(VulkanTracerPlan, MortonOrderIsADeterministicSpatialPermutation) {
 
 // The agreement's failure text for a pixel-light bit: a lit bit's shadow ray meets no front face before the light;
 // some shadowed bit's meets its occluder, named with its barycentrics.
+// The one bit the H100 disagreed on (2026-11-27): MaskWidthsFollowTheLightCount's light 30 sits on a face of the
+// default room, and the reference's shadow ray from pixel (64, 32) met that face at the light's distance. Embree
+// alone: that bit is a light on a surface, and a light in free space is not.
+TEST(VulkanTracerAgreement, ExplainsALightOnASurface) {
+  const std::string path = test::source_path(kDefaultScenePath);
+  Scene scene = load_scene_or_fail(path);
+  const Camera camera = bookmark_cameras(path, {64, 48}).at(0);
+  SceneLight on_face = scene.lights[30 % scene.lights.size()];
+  on_face.position += glm::vec3(0.05f * 30.0f, 0.0f, -0.03f * 30.0f);
+  TracerOptions options;
+  options.threads = 2;
+  EmbreeTracer embree(scene, options);
+  EXPECT_TRUE(occluder_at_the_light(embree.embree_scene(), camera, on_face, 64, 32))
+      << describe_shadow_rays(embree, camera, {on_face}, 64, 32, 1u);
+  size_t at_light = 0, met = 0;
+  for (const SceneLight& light : scene.lights) {  // the scene's own lights hang in free space
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 64; ++x) {
+        at_light += occluder_at_the_light(embree.embree_scene(), camera, light, x, y);
+        met += describe_shadow_rays(embree, camera, {light}, x, y, 1u).find("meets mesh") != std::string::npos;
+      }
+  }
+  EXPECT_EQ(at_light, 0u);
+  EXPECT_GT(met, 10u);  // shadowed pixels exist, and none of them is "at the light"
+}
+
 TEST(VulkanTracerAgreement, DescribesWhereAShadowRayMeetsItsOccluder) {
   const std::string path = test::source_path(kDefaultScenePath);
   const Scene scene = load_scene_or_fail(path);
