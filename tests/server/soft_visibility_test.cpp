@@ -137,6 +137,46 @@ TEST(SoftVisibility, EveryShapeHalfHiddenBehindPlaneEdge) {
   }
 }
 
+// With one scramble per light a batch prepares each (seed, shape)'s sample points once and keeps a few: the results
+// must be bit for bit those of preparing every sample of every pair (the per-pixel pattern's path), also when the
+// pairs interleave more seeds than the batch keeps (entries replaced, then made again and extended).
+TEST(SoftVisibility, SharedSamplePointsGiveTheSameResults) {
+  SceneLight sun = test::directional_light({0.3f, -1.0f, 0.2f});
+  sun.angle = 0.1f;
+  SceneLight disk = rect_light({0.4f, 4, 0.3f}, 1.0f, 0.7f);
+  disk.type = SceneLight::Type::kDisk;
+  const Scene scene = floor_scene([&](Scene& s) {
+    add_grid(s, {-10, 2, 10}, {10, 0, 0}, {0, 0, -20}, 2, test::kDoubleSided);
+    s.lights = {sphere_light(kLightCentre, kLightRadius), sun, rect_light({-0.3f, 4, 0}, 1.0f, 0.5f), disk};
+  });
+  const auto es = EmbreeScene::create(scene);
+  std::vector<SampledLight> lights;
+  for (const SceneLight& l : scene.lights) lights.push_back(make_sampled_light(l, es->origin()));
+  std::vector<SurfaceHit> hits;
+  for (int i = 0; i < 24; ++i) hits.push_back(floor_hit(*es, {-1.2 + 0.1 * i, 0.0, 0.05 * (i % 5)}));
+  SoftOptions shared;  // adaptive 8 / 32: refined pairs extend their entry
+  ASSERT_EQ(shared.pattern, SoftPattern::kPerLight);
+  SoftOptions each = shared;
+  each.pattern = SoftPattern::kPerPixel;  // the same seeds, every sample prepared on its own
+  std::vector<SoftPair> pairs;
+  for (size_t h = 0; h < hits.size(); ++h)
+    for (uint32_t li = 0; li < lights.size(); ++li)  // 4 shapes x 2 seeds each: more than the batch keeps
+      pairs.push_back({&lights[li], &hits[h], soft_seed(0, 0, li, static_cast<uint32_t>(h % 2)), {}});
+  SoftScratch scratch;
+  soft_visibility_batch(*es, pairs, shared, scratch);
+  size_t refined = 0, penumbra = 0;
+  for (const SoftPair& p : pairs) {
+    const SoftSample ref = soft_visibility(*es, *p.light, *p.hit, p.seed, each);
+    EXPECT_EQ(p.result.fraction, ref.fraction);
+    EXPECT_EQ(p.result.rays, ref.rays);
+    EXPECT_EQ(p.result.samples, ref.samples);
+    refined += p.result.refined;
+    penumbra += p.result.fraction > 0.0f && p.result.fraction < 1.0f;
+  }
+  EXPECT_GT(refined, 10u);
+  EXPECT_GT(penumbra, 10u);
+}
+
 // A disk occluder of radius a at height h centred on the axis hides the directions with tan(theta) < a / h; the
 // cap is sin(theta_max) = r / d: visible = (cos theta_b - cos theta_max) / (1 - cos theta_max).
 TEST(SoftVisibility, SphereBehindDiskMatchesCapFraction) {

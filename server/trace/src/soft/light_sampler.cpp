@@ -165,10 +165,32 @@ std::optional<LightView> LightView::create(const SampledLight& light, const glm:
   return v;
 }
 
-SampleRay LightView::sample(glm::vec2 u) const {
+SamplePoint prepare_sample(SampledLight::Shape shape, glm::vec2 u) {
+  SamplePoint p;
+  p.u = u;
+  switch (shape) {
+    case SampledLight::Shape::kRect:
+      p.q = 2.0f * u - 1.0f;
+      break;
+    case SampledLight::Shape::kDisk:
+      p.q = glm::vec2(concentric_disk(u));
+      break;
+    case SampledLight::Shape::kSphere:
+    case SampledLight::Shape::kSunDisk: {
+      const float phi = 2.0f * std::numbers::pi_v<float> * u.y;
+      p.q = glm::vec2(std::cos(phi), std::sin(phi));
+      break;
+    }
+    case SampledLight::Shape::kPunctual:
+      break;
+  }
+  return p;
+}
+
+SampleRay LightView::sample(const SamplePoint& point) const {
   SampleRay ray;
+  const glm::vec2 u = point.u, q = point.q;
   if (shape_ == SampledLight::Shape::kRect || shape_ == SampledLight::Shape::kDisk) {
-    const glm::vec2 q = shape_ == SampledLight::Shape::kRect ? 2.0f * u - 1.0f : glm::vec2(concentric_disk(u));
     const glm::vec3 d = centre_ + q.x * half_u_ + q.y * half_v_;
     const float dist = glm::length(d);
     ray.dir = d / dist;
@@ -178,8 +200,7 @@ SampleRay LightView::sample(glm::vec2 u) const {
   // Uniform in the cone's solid angle: 1 - cos(theta) uniform in [0, 1 - cos_max), phi uniform.
   const float om = u.x * one_minus_cos_max_;
   const float sin_theta = std::sqrt(std::max(0.0f, om * (2.0f - om)));
-  const float phi = 2.0f * std::numbers::pi_v<float> * u.y;
-  ray.dir = glm::normalize((1.0f - om) * axis_ + sin_theta * (std::cos(phi) * b1_ + std::sin(phi) * b2_));
+  ray.dir = glm::normalize((1.0f - om) * axis_ + sin_theta * (q.x * b1_ + q.y * b2_));  // q: cos, sin of phi
   if (shape_ == SampledLight::Shape::kSunDisk) {
     ray.tfar = std::numeric_limits<float>::infinity();
     return ray;

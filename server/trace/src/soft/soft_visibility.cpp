@@ -52,12 +52,37 @@ State begin_pair(const EmbreeScene& scene, SoftPair& pair) {
   return hard();                     // inside a sphere light: no cap to sample; the ray toward its centre decides
 }
 
+constexpr size_t kPreparedEntries = 4;  // (seed, shape) entries kept: more than a batch's lights in a tile row
+
+// The first `count` sample points of `seed` prepared for `shape`, from the scratch's entries (made or extended here).
+const SamplePoint* prepared_points(SoftScratch& scratch, uint32_t seed, SampledLight::Shape shape, uint32_t count) {
+  SoftScratch::Prepared* entry = nullptr;
+  for (SoftScratch::Prepared& e : scratch.prepared)
+    if (e.seed == seed && e.shape == shape) entry = &e;
+  if (entry == nullptr) {
+    if (scratch.prepared.size() < kPreparedEntries) {
+      entry = &scratch.prepared.emplace_back();
+    } else {
+      entry = &scratch.prepared[scratch.prepared_next];
+      scratch.prepared_next = (scratch.prepared_next + 1) % kPreparedEntries;
+    }
+    entry->seed = seed;
+    entry->shape = shape;
+    entry->points.clear();
+  }
+  for (uint32_t i = static_cast<uint32_t>(entry->points.size()); i < count; ++i)
+    entry->points.push_back(prepare_sample(shape, sample_2d(i, seed)));
+  return entry->points.data();
+}
+
 // Rays of samples [begin, end) of pair `index`; a sample below the horizon of the origin's side is hidden by the
-// surface itself: it counts as occluded and costs no ray.
+// surface itself: it counts as occluded and costs no ray. `points`: the pair's prepared sample points (at least
+// `end`), or null to prepare each here (a scramble per pixel: nothing to share).
 void append_samples(const SoftPair& pair, const State& st, uint32_t index, uint32_t begin, uint32_t end,
-                    SoftScratch& scratch) {
+                    const SamplePoint* points, SoftScratch& scratch) {
   for (uint32_t i = begin; i < end; ++i) {
-    const SampleRay s = st.view->sample(sample_2d(i, pair.seed));
+    const SampleRay s =
+        points != nullptr ? st.view->sample(points[i]) : st.view->sample(sample_2d(i, pair.seed));
     if (!(glm::dot(st.n, s.dir) > 0.0f)) continue;
     scratch.rays.push_back(make_rtc_ray(st.origin, s.dir, s.tfar));
     scratch.owner.push_back(index);
@@ -96,6 +121,11 @@ void soft_visibility_batch(const EmbreeScene& scene, std::span<SoftPair> pairs, 
   scratch.states.clear();
   scratch.rays.clear();
   scratch.owner.clear();
+  // One scramble per light: every pair of a light samples the same points, prepared once (bit for bit the same).
+  const bool shared_points = options.pattern == SoftPattern::kPerLight;
+  auto points_for = [&](const SoftPair& pair, uint32_t count) -> const SamplePoint* {
+    return shared_points ? prepared_points(scratch, pair.seed, pair.light->shape, count) : nullptr;
+  };
   // Round 1: the hard rays and every pair's first samples.
   for (uint32_t i = 0; i < pairs.size(); ++i) {
     scratch.states.push_back(begin_pair(scene, pairs[i]));
@@ -104,7 +134,8 @@ void soft_visibility_batch(const EmbreeScene& scene, std::span<SoftPair> pairs, 
       scratch.rays.push_back(st.hard_ray);
       scratch.owner.push_back(i);
     } else if (st.kind == State::Kind::kExtent) {
-      append_samples(pairs[i], st, i, 0, options.initial_samples, scratch);
+      append_samples(pairs[i], st, i, 0, options.initial_samples, points_for(pairs[i], options.initial_samples),
+                     scratch);
     }
   }
   trace_queued(scene, scratch, pairs);
@@ -116,7 +147,8 @@ void soft_visibility_batch(const EmbreeScene& scene, std::span<SoftPair> pairs, 
     if (st.kind != State::Kind::kExtent) continue;
     r.samples = options.initial_samples;
     if (st.visible != 0 && st.visible != options.initial_samples && options.max_samples > options.initial_samples) {
-      append_samples(pairs[i], st, i, options.initial_samples, options.max_samples, scratch);
+      append_samples(pairs[i], st, i, options.initial_samples, options.max_samples,
+                     points_for(pairs[i], options.max_samples), scratch);
       r.samples = options.max_samples;
       r.refined = true;
     }

@@ -49,6 +49,16 @@ struct SampledLight {
 // non-finite) is kPunctual; a rect or disk without area keeps its one-sidedness but is sampled as a point.
 SampledLight make_sampled_light(const SceneLight& light, const glm::dvec3& origin);
 
+// A sample point u of the sequence with what every surface point would compute from it alone, once: the emitter's
+// point in [-1, 1]^2 (rect: 2u - 1; disk: the concentric map) or the cone's azimuth (cos, sin of 2 pi u.y). With
+// one scramble per light (SoftPattern::kPerLight) every pixel samples the same points, so a batch prepares them
+// once per light instead of once per pair (soft_visibility.cpp). LightView::sample gives the same bits either way.
+struct SamplePoint {
+  glm::vec2 u{0.0f};
+  glm::vec2 q{0.0f};
+};
+SamplePoint prepare_sample(SampledLight::Shape shape, glm::vec2 u);
+
 // One sample ray: unit direction and where it ends (tfar, infinite for the sun).
 struct SampleRay {
   glm::vec3 dir{0.0f, 1.0f, 0.0f};
@@ -62,7 +72,9 @@ class LightView {
   // its plane), or inside a sphere light.
   static std::optional<LightView> create(const SampledLight& light, const glm::vec3& origin);
   // The ray of the sample point u in [0, 1)^2 (uniform in solid angle for cones, in area for emitters).
-  SampleRay sample(glm::vec2 u) const;
+  SampleRay sample(glm::vec2 u) const { return sample(prepare_sample(shape_, u)); }
+  // The same from a point prepared for this light's shape (prepare_sample): bit for bit the same ray.
+  SampleRay sample(const SamplePoint& point) const;
   // Solid angle (steradians) the cone covers; 0 for area emitters. For tests and pdf bookkeeping.
   double cone_solid_angle() const;
 

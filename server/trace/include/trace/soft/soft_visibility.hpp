@@ -54,6 +54,15 @@ struct SoftScratch {
   std::vector<State> states;
   std::vector<RTCRay> rays;
   std::vector<uint32_t> owner;  // pair of each ray
+  // With one scramble per light (SoftPattern::kPerLight): the sample points of the last few (seed, shape) prepared,
+  // the sequence's first points.size() points. A batch is light-major, so one entry serves a light's every pair.
+  struct Prepared {
+    uint32_t seed = 0;
+    SampledLight::Shape shape = SampledLight::Shape::kPunctual;
+    std::vector<SamplePoint> points;
+  };
+  std::vector<Prepared> prepared;
+  size_t prepared_next = 0;  // the entry replaced next when all are taken
   SoftScratch();
   ~SoftScratch();
 };
