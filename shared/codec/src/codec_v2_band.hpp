@@ -24,12 +24,17 @@ inline constexpr uint32_t kInterContextBits = 14;
 inline constexpr uint32_t kVectorMagnitudeContexts = 16;
 
 // Row loops at the mask's width: `at` loads mask i of a row of Mask-wide masks (8, 16 or 32 bits, little-endian
-// as the buffers are, one load), and with_mask_type calls f.template operator()<Mask>() for a buffer's width.
+// as the buffers are, one load), `put` stores one, and with_mask_type calls f.template operator()<Mask>() for a
+// buffer's width.
 template <typename Mask>
 Mask at(const uint8_t* row, size_t i) {
   Mask m;
   std::memcpy(&m, row + i * sizeof(Mask), sizeof m);
   return m;
+}
+template <typename Mask>
+void put(uint8_t* row, size_t i, Mask m) {
+  std::memcpy(row + i * sizeof(Mask), &m, sizeof m);
 }
 template <typename F>
 decltype(auto) with_mask_type(uint32_t mask_bytes, F&& f) {
@@ -181,24 +186,25 @@ class BandCoder {
   // ORs into [x0, x0+w) x [y0, y0+h): `one` bits everywhere, `copy` bits from the reference displaced by v.
   void fill(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t one, uint32_t copy, Vector v) {
     if ((one | copy) == 0) return;
-    const uint32_t mb = g_.mask_bytes;
+    with_mask_type(g_.mask_bytes, [&]<typename Mask>() { fill_rows<Mask>(x0, y0, w, h, one, copy, v); });
+  }
+  template <typename Mask>
+  void fill_rows(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t one, uint32_t copy, Vector v) {
+    const Mask o = static_cast<Mask>(one), c = static_cast<Mask>(copy);
     for (uint32_t y = y0; y < y0 + h; ++y) {
-      uint8_t* dst = cur_ + (size_t{y} * g_.width + x0) * mb;
+      uint8_t* dst = cur_ + (size_t{y} * g_.width + x0) * sizeof(Mask);
       const int64_t ry = int64_t{y} + v.y, rx0 = int64_t{x0} + v.x;
-      const bool row_inside = copy != 0 && ry >= 0 && ry < g_.height && rx0 >= 0 && rx0 + w <= g_.width;
-      if (mb == 1 && (copy == 0 || row_inside)) {
-        const uint8_t o = static_cast<uint8_t>(one), c = static_cast<uint8_t>(copy);
-        if (copy == 0) {
-          for (uint32_t i = 0; i < w; ++i) dst[i] |= o;
-        } else {
-          const uint8_t* src = ref_ + static_cast<size_t>(ry) * g_.width + static_cast<size_t>(rx0);
-          for (uint32_t i = 0; i < w; ++i) dst[i] = static_cast<uint8_t>(dst[i] | o | (src[i] & c));
+      if (copy == 0) {
+        for (uint32_t i = 0; i < w; ++i) put<Mask>(dst, i, static_cast<Mask>(at<Mask>(dst, i) | o));
+      } else if (ry >= 0 && ry < g_.height && rx0 >= 0 && rx0 + w <= g_.width) {  // the row's source is inside
+        const uint8_t* src = ref_ + (static_cast<size_t>(ry) * g_.width + static_cast<size_t>(rx0)) * sizeof(Mask);
+        for (uint32_t i = 0; i < w; ++i)
+          put<Mask>(dst, i, static_cast<Mask>(at<Mask>(dst, i) | o | (at<Mask>(src, i) & c)));
+      } else {  // partly outside the reference: those pixels copy 0
+        for (uint32_t i = 0; i < w; ++i) {
+          const Mask r = static_cast<Mask>(load_ref(rx0 + i, ry) & copy);
+          put<Mask>(dst, i, static_cast<Mask>(at<Mask>(dst, i) | o | r));
         }
-        continue;
-      }
-      for (uint32_t i = 0; i < w; ++i) {
-        const uint32_t r = copy != 0 ? load_ref(rx0 + i, ry) & copy : 0u;
-        store_mask(dst + size_t{i} * mb, mb, load_mask(dst + size_t{i} * mb, mb) | one | r);
       }
     }
   }
@@ -209,14 +215,11 @@ class BandCoder {
 
   // out[i] = bit `light` of the mask at row column x_begin + i, for i < count.
   void extract_bits(const uint8_t* row, int64_t x_begin, int64_t count, uint32_t light, uint8_t* out) const {
-    const uint32_t mb = g_.mask_bytes;
-    const uint8_t* in = row + static_cast<size_t>(x_begin) * mb;
-    if (mb == 1) {
-      for (int64_t i = 0; i < count; ++i) out[i] = static_cast<uint8_t>((in[i] >> light) & 1u);
-      return;
-    }
-    for (int64_t i = 0; i < count; ++i)
-      out[i] = static_cast<uint8_t>((load_mask(in + static_cast<size_t>(i) * mb, mb) >> light) & 1u);
+    with_mask_type(g_.mask_bytes, [&]<typename Mask>() {
+      const uint8_t* in = row + static_cast<size_t>(x_begin) * sizeof(Mask);
+      for (int64_t i = 0; i < count; ++i)
+        out[i] = static_cast<uint8_t>((at<Mask>(in, static_cast<size_t>(i)) >> light) & 1u);
+    });
   }
 
   // The coded pixels of light l in a block, raster order, with the contexts read from local copies of the
@@ -227,27 +230,45 @@ class BandCoder {
     plane_.assign(size_t{lw} * (h + 2), 0);
     const uint32_t bx1 = bx + w;
     const uint32_t mb = g_.mask_bytes;
-    for (uint32_t r = 0; r < h + 2; ++r) {
-      const int64_t y = int64_t{by} + r - 2;
-      if (y < g_.y0 || y >= g_.y1) continue;  // other shards' rows: unknown, 0
-      // Known columns: inside the image, and left of the block's right edge in the current block row.
-      const int64_t x_begin = std::max<int64_t>(int64_t{bx} - 2, 0);
-      const int64_t x_end = std::min<int64_t>(y >= by ? int64_t{bx1} : int64_t{bx1} + 2, g_.width);
-      const uint8_t* row = cur_ + static_cast<size_t>(y) * g_.width * mb;
-      if (x_begin < x_end)  // local column of image column x: x - bx + 2
-        extract_bits(row, x_begin, x_end - x_begin, l, &plane_[size_t{r} * lw + static_cast<size_t>(x_begin - bx + 2)]);
-    }
     const bool inter = ref_ != nullptr;
-    if (inter) {  // reference plane: rows by-1 .. by+h, columns bx-1 .. bx+w, displaced by the vector
-      ref_plane_.assign(size_t{w + 2} * (h + 2), 0);
-      for (uint32_t r = 0; r < h + 2; ++r) {
-        const int64_t y = int64_t{by} + r - 1 + plan.vector.y;
-        if (y < 0 || y >= g_.height) continue;  // outside the reference: 0
-        const int64_t x0 = int64_t{bx} - 1 + plan.vector.x;  // reference column of local column 0
-        const int64_t x_begin = std::max<int64_t>(x0, 0), x_end = std::min<int64_t>(x0 + w + 2, g_.width);
-        if (x_begin >= x_end) continue;
-        extract_bits(ref_ + static_cast<size_t>(y) * g_.width * mb, x_begin, x_end - x_begin, l,
-                     &ref_plane_[size_t{r} * (w + 2) + static_cast<size_t>(x_begin - x0)]);
+    if (inter) ref_plane_.assign(size_t{w + 2} * (h + 2), 0);  // rows by-1 .. by+h, columns bx-1 .. bx+w, displaced
+    // Only the neighbourhoods of coded sub-blocks are read: each run of coded sub-blocks in a sub-block row is
+    // copied from the buffers with its neighbourhood (overlaps get the same values twice); the rest of the local
+    // planes stays 0, unread.
+    const uint32_t sub_rows = (h + kSub - 1) / kSub;
+    for (uint32_t sr = 0; sr < sub_rows; ++sr) {
+      const uint8_t* modes = &plan.sub[l][sr * sub_cols];
+      for (uint32_t sc = 0; sc < sub_cols; ++sc) {
+        if (modes[sc] != kCoded) continue;
+        uint32_t sc_end = sc + 1;
+        while (sc_end < sub_cols && modes[sc_end] == kCoded) ++sc_end;
+        const uint32_t si = sc * kSub, sj = sr * kSub;
+        const uint32_t sw = std::min(sc_end * kSub, w) - si, sh = std::min(kSub, h - sj);
+        sc = sc_end;
+        // This light's plane: local rows sj .. sj+sh+1 (two above the run's first), columns si .. si+sw+3.
+        for (uint32_t r = sj; r < sj + sh + 2; ++r) {
+          const int64_t y = int64_t{by} + r - 2;
+          if (y < g_.y0 || y >= g_.y1) continue;  // other shards' rows: unknown, 0
+          // Known columns: inside the image, and left of the block's right edge in the current block row.
+          const int64_t x_begin = std::max<int64_t>(int64_t{bx} + si - 2, 0);
+          const int64_t x_end = std::min<int64_t>(
+              {int64_t{bx} + si + sw + 2, y >= by ? int64_t{bx1} : int64_t{bx1} + 2, int64_t{g_.width}});
+          const uint8_t* row = cur_ + static_cast<size_t>(y) * g_.width * mb;
+          if (x_begin < x_end)  // local column of image column x: x - bx + 2
+            extract_bits(row, x_begin, x_end - x_begin, l,
+                         &plane_[size_t{r} * lw + static_cast<size_t>(x_begin - bx + 2)]);
+        }
+        if (!inter) continue;
+        // The reference: local rows sj .. sj+sh+1, columns si .. si+sw+1.
+        for (uint32_t r = sj; r < sj + sh + 2; ++r) {
+          const int64_t y = int64_t{by} + r - 1 + plan.vector.y;
+          if (y < 0 || y >= g_.height) continue;  // outside the reference: 0
+          const int64_t x0 = int64_t{bx} - 1 + plan.vector.x;  // reference column of local column 0
+          const int64_t x_begin = std::max<int64_t>(x0 + si, 0), x_end = std::min<int64_t>(x0 + si + sw + 2, g_.width);
+          if (x_begin >= x_end) continue;
+          extract_bits(ref_ + static_cast<size_t>(y) * g_.width * mb, x_begin, x_end - x_begin, l,
+                       &ref_plane_[size_t{r} * (w + 2) + static_cast<size_t>(x_begin - x0)]);
+        }
       }
     }
     for (uint32_t j = 0; j < h; ++j) {

@@ -10,14 +10,54 @@
 namespace dhr::codec_detail {
 namespace {
 
+// Eight bytes of a row, little-endian as the buffers are (one load).
+inline uint64_t word_at(const uint8_t* p) {
+  uint64_t v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// `v` in every Mask-wide lane of a 64-bit word.
+template <typename Mask>
+constexpr uint64_t lanes(uint64_t v) {
+  uint64_t out = 0;
+  for (size_t i = 0; i < 8 / sizeof(Mask); ++i) out |= v << (8 * sizeof(Mask) * i);
+  return out;
+}
+
+// Nonzero Mask-wide lanes of x (SWAR: a lane's top bit is set after adding 0x7F.. to its low bits when any of them
+// is, or it was set already; the top bits, moved to each lane's bit 0, are summed into the top lane by one multiply).
+template <typename Mask>
+uint32_t nonzero_lanes(uint64_t x) {
+  constexpr uint32_t kBits = 8 * sizeof(Mask);
+  constexpr uint64_t kLow = lanes<Mask>(static_cast<Mask>(~Mask{0}) >> 1), kOne = lanes<Mask>(1);
+  const uint64_t top = ((((x & kLow) + kLow) | x) >> (kBits - 1)) & kOne;
+  return static_cast<uint32_t>((top * kOne) >> (64 - kBits));
+}
+
 // AND and OR of each 8-pixel sub-block's masks over one row (the bits above the mask's width stay set in `all`).
 template <typename Mask>
 void row_all_any(const uint8_t* row, uint32_t w, uint32_t sub_cols, uint32_t* all, uint32_t* any) {
   constexpr uint32_t kAbove = sizeof(Mask) == 4 ? 0u : ~uint32_t{0} << (8 * sizeof(Mask));
+  constexpr uint32_t kPerWord = 8 / sizeof(Mask);
   for (uint32_t sc = 0; sc < sub_cols; ++sc) {
     const uint32_t end = std::min(w, (sc + 1) * kSub);
     Mask a = static_cast<Mask>(~Mask{0}), o = 0;
-    for (uint32_t i = sc * kSub; i < end; ++i) {
+    uint32_t i = sc * kSub;
+    if (end - i == kSub) {  // a whole sub-block row: 8 masks in 64-bit words, then the words' lanes folded
+      uint64_t wa = ~uint64_t{0}, wo = 0;
+      for (uint32_t k = 0; k < kSub; k += kPerWord) {
+        const uint64_t v = word_at(row + (i + k) * sizeof(Mask));
+        wa &= v;
+        wo |= v;
+      }
+      for (uint32_t k = 0; k < kPerWord; ++k) {
+        a &= static_cast<Mask>(wa >> (8 * sizeof(Mask) * k));
+        o |= static_cast<Mask>(wo >> (8 * sizeof(Mask) * k));
+      }
+      i = end;
+    }
+    for (; i < end; ++i) {
       const Mask m = at<Mask>(row, i);
       a &= m;
       o |= m;
@@ -45,11 +85,14 @@ uint32_t row_diff(const uint8_t* a, const uint8_t* r, uint32_t w, uint32_t sub_c
 template <typename Mask>
 uint32_t row_cost(const uint8_t* a, const uint8_t* b, uint32_t w, uint32_t bits) {
   const Mask m = static_cast<Mask>(bits);
-  uint32_t n = 0;
-  for (uint32_t i = 0; i < w; ++i) n += ((at<Mask>(a, i) ^ at<Mask>(b, i)) & m) != 0 ? 1u : 0u;
+  constexpr uint32_t kPerWord = 8 / sizeof(Mask);
+  const uint64_t wm = lanes<Mask>(m);
+  uint32_t n = 0, i = 0;
+  for (; i + kPerWord <= w; i += kPerWord)
+    n += nonzero_lanes<Mask>((word_at(a + i * sizeof(Mask)) ^ word_at(b + i * sizeof(Mask))) & wm);
+  for (; i < w; ++i) n += ((at<Mask>(a, i) ^ at<Mask>(b, i)) & m) != 0 ? 1u : 0u;
   return n;
 }
-
 
 class Decider {
  public:
@@ -134,13 +177,17 @@ class Decider {
 
   // Pixels whose `bits` differ from the reference displaced by v; stops counting past `limit`.
   uint64_t cost(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t bits, Vector v, uint64_t limit) const {
+    return with_mask_type(mb_, [&]<typename Mask>() { return cost_at<Mask>(x0, y0, w, h, bits, v, limit); });
+  }
+  template <typename Mask>
+  uint64_t cost_at(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t bits, Vector v, uint64_t limit) const {
     uint64_t n = 0;
     for (uint32_t y = y0; y < y0 + h; ++y) {
       const int64_t ry = int64_t{y} + v.y, rx = int64_t{x0} + v.x;
       if (ry >= 0 && ry < ref_->height && rx >= 0 && rx + w <= ref_->width) {
-        const uint8_t* a = &cur_.data[(size_t{y} * cur_.width + x0) * mb_];
-        const uint8_t* b = &ref_->data[(static_cast<size_t>(ry) * ref_->width + static_cast<size_t>(rx)) * mb_];
-        n += with_mask_type(mb_, [&]<typename Mask>() { return row_cost<Mask>(a, b, w, bits); });
+        const uint8_t* a = &cur_.data[(size_t{y} * cur_.width + x0) * sizeof(Mask)];
+        const uint8_t* b = &ref_->data[(static_cast<size_t>(ry) * ref_->width + static_cast<size_t>(rx)) * sizeof(Mask)];
+        n += row_cost<Mask>(a, b, w, bits);
         if (n > limit) return n;
         continue;
       }

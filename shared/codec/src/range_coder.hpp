@@ -50,7 +50,8 @@ class BitEncoder {
 
   explicit BitEncoder(std::vector<uint8_t>& out) : out_(out) {}
 
-  bool bit(Probability& prob, bool value) {
+  // Inlined into the band coder's pixel loop (it was an out-of-line call per coded bit).
+  [[gnu::always_inline]] bool bit(Probability& prob, bool value) {
     const uint32_t bound = (range_ >> kProbabilityBits) * prob.p0;
     if (!value) {
       range_ = bound;
@@ -129,7 +130,7 @@ class BitDecoder {
     for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();
   }
 
-  bool bit(Probability& prob, bool /*value*/) {
+  [[gnu::always_inline]] bool bit(Probability& prob, bool /*value*/) {
     const uint32_t bound = (range_ >> kProbabilityBits) * prob.p0;
     bool value;
     if (code_ < bound) {
