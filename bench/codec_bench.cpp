@@ -1,7 +1,8 @@
 // codec_bench: the visibility codec on realistic buffers, printed as JSON (never asserts).
 //   codec_bench [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] [--threads N]
 //   codec_bench --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N]
-//               [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off]
+//               [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N]
+//               [--encode-threads N]
 //                                                               sequence mode, v1 against v2 (codec_sequence.hpp)
 // Buffer sets: "traced" (the scene traced by the server's Embree tracer from each camera bookmark, both
 // eyes; only when built with dhr_server) and always "synthetic" (make_room_visibility, same size and
@@ -74,7 +75,8 @@ int usage(const char* argv0, FILE* to = stderr) {
                "usage: %s [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] "
                "[--threads N]\n"
                "       %s --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N] "
-               "[--trace-start S] [--seed N] [--threads N] [--soft-levels on|off]\n",
+               "[--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N] "
+               "[--encode-threads N]\n",
                argv0, argv0);
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
@@ -123,6 +125,10 @@ bool parse_args(int argc, char** argv, Options& o) {
     } else if (a == "--soft-levels") {
       if (std::string(v) != "on" && std::string(v) != "off") return false;
       o.sequence.soft_levels = std::string(v) == "on";
+    } else if (a == "--encode-ranges" || a == "--encode-threads") {
+      const int n = std::atoi(v);
+      if (n < 1 || n > 64) return false;
+      (a == "--encode-ranges" ? o.sequence.encode_ranges : o.sequence.encode_threads) = static_cast<uint32_t>(n);
     } else if (a == "--seed") {
       o.sequence.seed = std::strtoull(v, nullptr, 10);
     } else {

@@ -25,6 +25,10 @@ struct SequenceOptions {
   // Soft levels (docs/protocol.md, "Mask layout"): lights with an extent get 3-bit Gray-coded level fields,
   // traced as a soft-capable session's (VisibilityTracer::trace_layout); off: one bit per light.
   bool soft_levels = false;
+  // The shipped encode's v2 row ranges and threads (EncodeOptions' defaults when 0); the one-range and one-thread
+  // encodes beside it stay as they are.
+  uint32_t encode_ranges = 0;
+  uint32_t encode_threads = 0;
 };
 
 // Prints progress on stderr and one JSON object as the last stdout line. Returns the exit code.

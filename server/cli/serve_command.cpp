@@ -56,6 +56,10 @@ int run_serve_command(const ServerOptions& options) {
   config.rate_control.enabled = options.rate_adapt;
   config.workers = options.workers;
   config.encode.threads = options.encode_threads;
+  // Ranges follow the threads, 2 to 4: beyond 4 each range's partly filled shard and restarted models cost more
+  // bytes than a thread saves time (docs/performance.md, "More ranges").
+  config.encode.v2_ranges =
+      options.encode_ranges != 0 ? options.encode_ranges : std::clamp(options.encode_threads, 2u, 4u);
   config.codec_v2 = options.codec_v2;
   config.soft_levels = options.soft_levels;
   const bool soft_scene = std::any_of(scene->lights.begin(), scene->lights.end(),

@@ -182,6 +182,11 @@ std::optional<int> parse_server_options(int argc, char** argv, ServerOptions& ou
       ->check(CLI::Range(1u, 64u))
       ->capture_default_str()
       ->group(kServeGroup);
+  app.add_option("--encode-ranges", out.encode_ranges,
+                 "row ranges each eye frame is cut into for codec v2, coded on their own, so that the threads can code "
+                 "them at once (each costs a partly filled shard; default: --encode-threads within 2..4)")
+      ->check(CLI::Range(1u, 64u))
+      ->group(kServeGroup);
   app.add_option("--metrics-port", out.metrics_port,
                  "serve the statistics in the Prometheus text format on http://BIND:PORT/metrics (0: off)")
       ->check(CLI::Range(0, 65535))

@@ -46,6 +46,7 @@ struct ServerOptions {
   bool adaptive_fov = shipped::kAdaptiveFov;            // widen the traced FOV from the measured shortfall (server/session/include/session/fov_margin.hpp)
   uint32_t workers = 2;                 // sessions traced in parallel (Embree; Vulkan: 1)
   uint32_t encode_threads = 2;          // threads coding one eye frame's v2 ranges (EncodeOptions::threads)
+  uint32_t encode_ranges = 0;           // v2 row ranges per eye frame (EncodeOptions::v2_ranges); 0: the threads, 2..4
   uint16_t metrics_port = 0;            // > 0: Prometheus text on http://BIND:PORT/metrics
   bool rate_adapt = true;               // cap a session's trace rate when its client reports loss (--no-rate-adapt)
   net::ImpairmentParams impairment;     // on everything the server sends

@@ -420,6 +420,7 @@ TEST(ServeCli, BadServingOptionsExitTwo) {
       {{"--port", "0", "--insecure", "--check"}, "--check"},
       {{"--port", "0", "--insecure", "--max-sessions", "0"}, "--max-sessions"},
       {{"--port", "0", "--insecure", "--encode-threads", "0"}, "--encode-threads"},
+      {{"--port", "0", "--insecure", "--encode-ranges", "65"}, "--encode-ranges"},
       {{"--port", "0", "--insecure", "--bind", "not-an-address"}, "not-an-address"},
       {{"--port", "0"}, "serving needs a key: --key-file FILE"},
       {{"--port", "0", "--insecure", "--key-file", "k"}, "--key-file and --insecure exclude each other"},
