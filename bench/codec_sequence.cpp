@@ -131,7 +131,9 @@ int run_sequence(const SequenceOptions& o) {
   double one_range_bytes = 0;
   // What ships (EncodeOptions{}: its ranges on its threads) and, on the same frames and references, one range on
   // one thread: the encoder before ranges, for the before/after in one run (alternating which goes first).
-  const EncodeOptions shipped{};
+  EncodeOptions shipped{};
+  if (o.encode_ranges != 0) shipped.v2_ranges = o.encode_ranges;
+  if (o.encode_threads != 0) shipped.threads = o.encode_threads;
   const EncodeOptions one_range{.v2_ranges = 1, .threads = 1};
   EncodeOptions one_thread = shipped;  // the shipped ranges on one thread: the same bytes, the threads' gain alone
   one_thread.threads = 1;
