@@ -35,35 +35,53 @@ uint32_t nonzero_lanes(uint64_t x) {
   return static_cast<uint32_t>((top * kOne) >> (64 - kBits));
 }
 
-// AND and OR of each 8-pixel sub-block's masks over one row (the bits above the mask's width stay set in `all`).
+// The lanes of a 64-bit word of Mask-wide masks folded into one mask by AND (or OR).
 template <typename Mask>
-void row_all_any(const uint8_t* row, uint32_t w, uint32_t sub_cols, uint32_t* all, uint32_t* any) {
+Mask fold_and(uint64_t v) {
+  for (uint32_t shift = 32; shift >= 8 * sizeof(Mask); shift /= 2) v &= v >> shift;
+  return static_cast<Mask>(v);
+}
+template <typename Mask>
+Mask fold_or(uint64_t v) {
+  for (uint32_t shift = 32; shift >= 8 * sizeof(Mask); shift /= 2) v |= v >> shift;
+  return static_cast<Mask>(v);
+}
+
+// AND and OR of each 8x8 sub-block's masks of the block at (x0, y0), w x h, in a buffer of `width` masks per row
+// (the bits above the mask's width set in `all`). Whole sub-block rows go 64 bits at a time and are folded once per
+// sub-block.
+template <typename Mask>
+void block_all_any(const uint8_t* data, size_t width, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
+                   uint32_t sub_cols, uint32_t* all, uint32_t* any) {
   constexpr uint32_t kAbove = sizeof(Mask) == 4 ? 0u : ~uint32_t{0} << (8 * sizeof(Mask));
   constexpr uint32_t kPerWord = 8 / sizeof(Mask);
-  for (uint32_t sc = 0; sc < sub_cols; ++sc) {
-    const uint32_t end = std::min(w, (sc + 1) * kSub);
-    Mask a = static_cast<Mask>(~Mask{0}), o = 0;
-    uint32_t i = sc * kSub;
-    if (end - i == kSub) {  // a whole sub-block row: 8 masks in 64-bit words, then the words' lanes folded
+  for (uint32_t sy = 0; sy * kSub < h; ++sy) {
+    const uint32_t rows = std::min(kSub, h - sy * kSub);
+    for (uint32_t sc = 0; sc < sub_cols; ++sc) {
+      const uint32_t i0 = sc * kSub, end = std::min(w, i0 + kSub);
+      Mask a = static_cast<Mask>(~Mask{0}), o = 0;
       uint64_t wa = ~uint64_t{0}, wo = 0;
-      for (uint32_t k = 0; k < kSub; k += kPerWord) {
-        const uint64_t v = word_at(row + (i + k) * sizeof(Mask));
-        wa &= v;
-        wo |= v;
+      for (uint32_t r = 0; r < rows; ++r) {
+        const uint8_t* row = data + (size_t{y0 + sy * kSub + r} * width + x0) * sizeof(Mask);
+        if (end - i0 == kSub) {
+          for (uint32_t k = 0; k < kSub; k += kPerWord) {
+            const uint64_t v = word_at(row + (i0 + k) * sizeof(Mask));
+            wa &= v;
+            wo |= v;
+          }
+          continue;
+        }
+        for (uint32_t i = i0; i < end; ++i) {  // a partial sub-block at the buffer's right edge
+          const Mask m = at<Mask>(row, i);
+          a &= m;
+          o |= m;
+        }
       }
-      for (uint32_t k = 0; k < kPerWord; ++k) {
-        a &= static_cast<Mask>(wa >> (8 * sizeof(Mask) * k));
-        o |= static_cast<Mask>(wo >> (8 * sizeof(Mask) * k));
-      }
-      i = end;
+      a &= fold_and<Mask>(wa);
+      o |= fold_or<Mask>(wo);
+      all[sy * sub_cols + sc] = kAbove | a;
+      any[sy * sub_cols + sc] = o;
     }
-    for (; i < end; ++i) {
-      const Mask m = at<Mask>(row, i);
-      a &= m;
-      o |= m;
-    }
-    all[sc] &= kAbove | a;
-    any[sc] |= o;
   }
 }
 
@@ -120,11 +138,9 @@ class Decider {
     const uint32_t sub_cols = (w + kSub - 1) / kSub, sub_rows = (h + kSub - 1) / kSub;
     std::array<uint32_t, kMaxSubBlocks> all{}, any{}, diff{};
     all.fill(0xFFFFFFFFu);
-    for (uint32_t y = y0; y < y0 + h; ++y) {
-      const uint32_t srow = ((y - y0) / kSub) * sub_cols;
-      const uint8_t* row = &cur_.data[(size_t{y} * cur_.width + x0) * mb_];
-      with_mask_type(mb_, [&]<typename Mask>() { row_all_any<Mask>(row, w, sub_cols, &all[srow], &any[srow]); });
-    }
+    with_mask_type(mb_, [&]<typename Mask>() {
+      block_all_any<Mask>(cur_.data.data(), cur_.width, x0, y0, w, h, sub_cols, all.data(), any.data());
+    });
     uint32_t block_all = 0xFFFFFFFFu, block_any = 0, block_diff = 0;
     for (uint32_t s = 0; s < sub_cols * sub_rows; ++s) {
       block_all &= all[s];
