@@ -74,6 +74,28 @@ SceneLight rect_light(const glm::vec3& c, float width, float height) {
   return l;
 }
 
+// A disk emitter facing down (as rect_light): diameter `width` along +X, `height` along -Z.
+SceneLight disk_light(const glm::vec3& c, float width, float height) {
+  SceneLight l = rect_light(c, width, height);
+  l.type = SceneLight::Type::kDisk;
+  return l;
+}
+
+// A disk sun shining along `direction`, 0.1 rad across.
+SceneLight sun_light(const glm::vec3& direction) {
+  SceneLight l = test::directional_light(direction);
+  l.angle = 0.1f;
+  return l;
+}
+
+// The floor and a double-sided plane x < 0 at y = 2 (its edge along z at x = 0), lit by `lights`.
+Scene edge_scene(std::vector<SceneLight> lights) {
+  return floor_scene([&](Scene& s) {
+    add_grid(s, {-10, 2, 10}, {10, 0, 0}, {0, 0, -20}, 2, test::kDoubleSided);
+    s.lights = std::move(lights);
+  });
+}
+
 // A floor point facing up, in the Embree scene's relative frame.
 SurfaceHit floor_hit(const EmbreeScene& es, const glm::dvec3& world) {
   SurfaceHit h;
@@ -96,10 +118,7 @@ constexpr float kLightRadius = 0.5f;
 // The occluder's edge (x = 0 at y = 2) and the light's centre lie in one plane through the floor point at the
 // origin: the plane x < 0 hides exactly half the cap (by symmetry), so the visible fraction is 0.5.
 TEST(SoftVisibility, SphereHalfHiddenBehindPlaneEdge) {
-  const Scene scene = floor_scene([](Scene& s) {
-    add_grid(s, {-10, 2, 10}, {10, 0, 0}, {0, 0, -20}, 2, test::kDoubleSided);
-    s.lights = {sphere_light(kLightCentre, kLightRadius)};
-  });
+  const Scene scene = edge_scene({sphere_light(kLightCentre, kLightRadius)});
   const auto es = EmbreeScene::create(scene);
   const SampledLight light = make_sampled_light(scene.lights[0], es->origin());
   const SurfaceHit hit = floor_hit(*es, {0, 0, 0});
@@ -118,14 +137,8 @@ TEST(SoftVisibility, SphereHalfHiddenBehindPlaneEdge) {
 // The same plane edge halves every shape whose centre lies in the plane through the point and the edge: a disk sun
 // straight overhead, and rect and disk emitters (uniform over their area, symmetric about that plane).
 TEST(SoftVisibility, EveryShapeHalfHiddenBehindPlaneEdge) {
-  SceneLight sun = test::directional_light({0.0f, -1.0f, 0.0f});
-  sun.angle = 0.1f;
-  SceneLight disk = rect_light({0, 4, 0}, 1.0f, 1.0f);
-  disk.type = SceneLight::Type::kDisk;
-  const Scene scene = floor_scene([&](Scene& s) {
-    add_grid(s, {-10, 2, 10}, {10, 0, 0}, {0, 0, -20}, 2, test::kDoubleSided);
-    s.lights = {sun, rect_light({0, 4, 0}, 1.0f, 0.5f), disk};
-  });
+  const Scene scene = edge_scene({sun_light({0.0f, -1.0f, 0.0f}), rect_light({0, 4, 0}, 1.0f, 0.5f),
+                                  disk_light({0, 4, 0}, 1.0f, 1.0f)});
   const auto es = EmbreeScene::create(scene);
   const SurfaceHit hit = floor_hit(*es, {0, 0, 0});
   for (const SceneLight& l : scene.lights) {
@@ -141,14 +154,8 @@ TEST(SoftVisibility, EveryShapeHalfHiddenBehindPlaneEdge) {
 // must be bit for bit those of preparing every sample of every pair (the per-pixel pattern's path), also when the
 // pairs interleave more seeds than the batch keeps (entries replaced, then made again and extended).
 TEST(SoftVisibility, SharedSamplePointsGiveTheSameResults) {
-  SceneLight sun = test::directional_light({0.3f, -1.0f, 0.2f});
-  sun.angle = 0.1f;
-  SceneLight disk = rect_light({0.4f, 4, 0.3f}, 1.0f, 0.7f);
-  disk.type = SceneLight::Type::kDisk;
-  const Scene scene = floor_scene([&](Scene& s) {
-    add_grid(s, {-10, 2, 10}, {10, 0, 0}, {0, 0, -20}, 2, test::kDoubleSided);
-    s.lights = {sphere_light(kLightCentre, kLightRadius), sun, rect_light({-0.3f, 4, 0}, 1.0f, 0.5f), disk};
-  });
+  const Scene scene = edge_scene({sphere_light(kLightCentre, kLightRadius), sun_light({0.3f, -1.0f, 0.2f}),
+                                  rect_light({-0.3f, 4, 0}, 1.0f, 0.5f), disk_light({0.4f, 4, 0.3f}, 1.0f, 0.7f)});
   const auto es = EmbreeScene::create(scene);
   std::vector<SampledLight> lights;
   for (const SceneLight& l : scene.lights) lights.push_back(make_sampled_light(l, es->origin()));
