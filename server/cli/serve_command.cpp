@@ -70,6 +70,9 @@ int run_serve_command(const ServerOptions& options) {
   if (config.reuse && !embree)
     std::fprintf(stderr, "dhr-server: warning: --reuse on: the %s tracer does not reuse (Embree only); every pixel is "
                  "traced\n", tracer_backend_name(tracer->backend()));
+  if (config.codec_v2)
+    std::fprintf(stderr, "codec v2: each eye frame in %zu row ranges, coded on up to %zu threads\n",
+                 config.encode.v2_ranges, config.encode.threads);
   std::fprintf(stderr, "reuse of earlier traces: %s\n",
                config.reuse                               ? "on"
                : options.reuse == ReuseChoice::kOff       ? "off (--reuse off)"

@@ -200,6 +200,25 @@ TEST(ServeCli, ServesAHelloAndStopsAfterMaxSeconds) {
   EXPECT_NE(server.err().find("session "), std::string::npos);
 }
 
+// The codec's row ranges follow --encode-threads from 2 to 4 unless --encode-ranges says otherwise; the serving
+// lines say what was set.
+TEST(ServeCli, EncodeRangesFollowTheThreadsUpToFour) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--encode-threads", "1"}, "in 2 row ranges, coded on up to 1 threads"},
+      {{"--encode-threads", "3"}, "in 3 row ranges, coded on up to 3 threads"},
+      {{"--encode-threads", "8"}, "in 4 row ranges, coded on up to 8 threads"},
+      {{"--encode-threads", "2", "--encode-ranges", "6"}, "in 6 row ranges, coded on up to 2 threads"},
+  };
+  for (const auto& [extra, expected] : cases) {
+    std::vector<std::string> args = {"--port", "0", "--bind", "127.0.0.1", "--max-seconds", "1", "--insecure"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    ServerProcess server(args);
+    ASSERT_TRUE(server.started());
+    ASSERT_EQ(server.wait_exit(std::chrono::seconds(60)), 0) << server.err();
+    EXPECT_NE(server.err().find("codec v2: each eye frame " + expected), std::string::npos) << server.err();
+  }
+}
+
 // A client offering soft levels, served the area-light scene: the Welcome grants them (2 of 3 lights: 7 bits), the
 // serving line names the layout, and the statistics count the soft session; --soft-levels off grants none.
 TEST(ServeCli, SoftLevelsAreGrantedOnTheAreaLightScene) {
