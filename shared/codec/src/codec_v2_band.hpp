@@ -183,27 +183,37 @@ class BandCoder {
   }
 
 
-  // ORs into [x0, x0+w) x [y0, y0+h): `one` bits everywhere, `copy` bits from the reference displaced by v.
-  void fill(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t one, uint32_t copy, Vector v) {
-    if ((one | copy) == 0) return;
-    with_mask_type(g_.mask_bytes, [&]<typename Mask>() { fill_rows<Mask>(x0, y0, w, h, one, copy, v); });
+  // ORs into [x0, x0+w) x [y0, y0+h): `one` bits everywhere, `copy` bits from the reference displaced by v. With
+  // `assign`, writes those bits instead (every other bit 0): a block's first fill, in place of clearing it.
+  void fill(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t one, uint32_t copy, Vector v,
+            bool assign = false) {
+    if ((one | copy) == 0 && !assign) return;
+    with_mask_type(g_.mask_bytes, [&]<typename Mask>() {
+      if (assign)
+        fill_rows<Mask, true>(x0, y0, w, h, one, copy, v);
+      else
+        fill_rows<Mask, false>(x0, y0, w, h, one, copy, v);
+    });
   }
-  template <typename Mask>
+  template <typename Mask, bool kAssign>
   void fill_rows(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t one, uint32_t copy, Vector v) {
     const Mask o = static_cast<Mask>(one), c = static_cast<Mask>(copy);
+    auto old = [](const uint8_t* dst, uint32_t i) { return kAssign ? Mask{0} : at<Mask>(dst, i); };
     for (uint32_t y = y0; y < y0 + h; ++y) {
       uint8_t* dst = cur_ + (size_t{y} * g_.width + x0) * sizeof(Mask);
       const int64_t ry = int64_t{y} + v.y, rx0 = int64_t{x0} + v.x;
-      if (copy == 0) {
-        for (uint32_t i = 0; i < w; ++i) put<Mask>(dst, i, static_cast<Mask>(at<Mask>(dst, i) | o));
+      if (kAssign && copy == 0 && one == 0) {
+        std::memset(dst, 0, size_t{w} * sizeof(Mask));
+      } else if (copy == 0) {
+        for (uint32_t i = 0; i < w; ++i) put<Mask>(dst, i, static_cast<Mask>(old(dst, i) | o));
       } else if (ry >= 0 && ry < g_.height && rx0 >= 0 && rx0 + w <= g_.width) {  // the row's source is inside
         const uint8_t* src = ref_ + (static_cast<size_t>(ry) * g_.width + static_cast<size_t>(rx0)) * sizeof(Mask);
         for (uint32_t i = 0; i < w; ++i)
-          put<Mask>(dst, i, static_cast<Mask>(at<Mask>(dst, i) | o | (at<Mask>(src, i) & c)));
+          put<Mask>(dst, i, static_cast<Mask>(old(dst, i) | o | (at<Mask>(src, i) & c)));
       } else {  // partly outside the reference: those pixels copy 0
         for (uint32_t i = 0; i < w; ++i) {
           const Mask r = static_cast<Mask>(load_ref(rx0 + i, ry) & copy);
-          put<Mask>(dst, i, static_cast<Mask>(at<Mask>(dst, i) | o | r));
+          put<Mask>(dst, i, static_cast<Mask>(old(dst, i) | o | r));
         }
       }
     }
@@ -312,10 +322,6 @@ class BandCoder {
 
   bool code_block(BlockPlan& plan, uint32_t bx, uint32_t by, uint32_t w, uint32_t h, Vector previous,
                   BandCounts& counts) {
-    if constexpr (Io::kDecoding) {
-      for (uint32_t y = by; y < by + h; ++y)
-        std::memset(cur_ + (size_t{y} * g_.width + bx) * g_.mask_bytes, 0, size_t{w} * g_.mask_bytes);
-    }
     // 1. A mode per light; 2. the vector; 3. sub-block modes of coded lights; 4. (decoder) everything that is
     // not coded pixel by pixel; 5. the coded pixels, light by light.
     uint8_t last_value = 0;
@@ -346,7 +352,7 @@ class BandCoder {
       }
     }
     if constexpr (Io::kDecoding) {
-      fill(bx, by, w, h, one, copy, plan.vector);
+      fill(bx, by, w, h, one, copy, plan.vector, true);  // the block's every pixel: nothing of an earlier frame stays
       for (uint32_t s = 0; s < subs; ++s) {
         const uint32_t sx = bx + (s % sub_cols) * kSub, sy = by + (s / sub_cols) * kSub;
         fill(sx, sy, std::min(kSub, bx + w - sx), std::min(kSub, by + h - sy), sub_one[s], sub_copy[s], plan.vector);
