@@ -52,7 +52,9 @@ State begin_pair(const EmbreeScene& scene, SoftPair& pair) {
   return hard();                     // inside a sphere light: no cap to sample; the ray toward its centre decides
 }
 
-constexpr size_t kPreparedEntries = 4;  // (seed, shape) entries kept: more than a batch's lights in a tile row
+// (seed, shape) entries kept. A batch is light-major, so one entry is in use at a time; a few keep each light's points
+// from the first round of queries to the second (more soft lights than this make them again: the same points).
+constexpr size_t kPreparedEntries = 4;
 
 // The first `count` sample points of `seed` prepared for `shape`, from the scratch's entries (made or extended here).
 const SamplePoint* prepared_points(SoftScratch& scratch, uint32_t seed, SampledLight::Shape shape, uint32_t count) {
