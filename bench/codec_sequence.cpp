@@ -129,8 +129,9 @@ int run_sequence(const SequenceOptions& o) {
   double v1_bytes = 0, v2_bytes = 0, v2_payload = 0, shards_v2 = 0;
   std::vector<double> encode_ms, decode_ms, one_range_encode_ms, one_thread_encode_ms;
   double one_range_bytes = 0;
-  // What ships (EncodeOptions{}: its ranges on its threads) and, on the same frames and references, one range on
-  // one thread: the encoder before ranges, for the before/after in one run (alternating which goes first).
+  // The shipped encode (EncodeOptions' defaults: its ranges on its threads; --encode-ranges and --encode-threads
+  // change them) and, on the same frames and references, one range on one thread: the encoder before ranges, for
+  // the before/after in one run (alternating which goes first).
   EncodeOptions shipped{};
   if (o.encode_ranges != 0) shipped.v2_ranges = o.encode_ranges;
   if (o.encode_threads != 0) shipped.threads = o.encode_threads;

@@ -266,12 +266,12 @@ TEST(CodecV2, GoldenIntraPayload) {
   EXPECT_EQ(decode_all(b, shards, nullptr, &e), b.data);
 }
 
-// Golden bytes of the wider masks, intra and inter: 96x128 rooms with 10 lights (16-bit masks) and 20 (32-bit), coded
-// intra and against the same room shifted by (3, -2) with a few pixels changed; the FNV-1a hash of every shard's
-// payload in order. The band coder's loops are specialized per mask width (extraction, fills, the decider's
-// costs); these pin their bytes as the 8-bit golden above pins its own. A failure means the bitstream changed:
-// bump kProtocolVersion and say so in docs/protocol.md.
-TEST(CodecV2, GoldenPayloadsOfWideMasks) {
+// Golden bytes at every mask width, intra and inter: 96x128 rooms with 3 lights (8-bit masks), 10 (16-bit) and 20
+// (32-bit), coded intra and against the same room shifted by (3, -2) with a few pixels changed (so the decider's
+// vector search runs); the FNV-1a hash of every shard's payload in order. The band coder's and the decider's loops
+// are specialized per mask width; these pin their bytes as the 16x8 golden above pins one intra payload. A failure
+// means the bitstream changed: bump kProtocolVersion and say so in docs/protocol.md.
+TEST(CodecV2, GoldenPayloadsAtEveryMaskWidth) {
   auto fnv = [](const std::vector<EncodedShard>& shards) {
     uint64_t h = 0xcbf29ce484222325ull;
     for (const EncodedShard& s : shards)
@@ -279,7 +279,7 @@ TEST(CodecV2, GoldenPayloadsOfWideMasks) {
     return h;
   };
   std::vector<std::string> got;
-  for (const uint32_t lights : {10u, 20u}) {
+  for (const uint32_t lights : {3u, 10u, 20u}) {
     const VisibilityBuffer b = make_room_visibility(96, 128, lights, 5);
     VisibilityBuffer ref = shifted(b, 3, -2);
     for (uint32_t i = 0; i < 40; ++i) {
@@ -300,7 +300,8 @@ TEST(CodecV2, GoldenPayloadsOfWideMasks) {
                   static_cast<unsigned long long>(fnv(inter)));
     got.push_back(text);
   }
-  EXPECT_EQ(got, (std::vector<std::string>{"10: fceaec7b28ea3371 c0c2340fccdf2941",
+  EXPECT_EQ(got, (std::vector<std::string>{"3: 4156a7951b11de71 fb75801bad782ea6",
+                                            "10: fceaec7b28ea3371 c0c2340fccdf2941",
                                             "20: a233d4a0f2235de0 e64138f8d82e0fa5"}));
 }
 

@@ -73,8 +73,8 @@ nlohmann::ordered_json to_json(const ServiceStats& s) {
           {"scene_update_ms_per_frame",
            s.frames_at_scene_time ? s.scene_update_ms / static_cast<double>(s.frames_at_scene_time) : 0.0},
           {"trace_ms", s.trace_ms},
-          // The GPU's share of trace_ms (Vulkan timestamps; 0 with Embree): far below trace_ms, the tracer waited
-          // on something else (another process's work on the same GPU, the readback).
+          // The traces' GPU time (Vulkan timestamps, summed; 0 with Embree). trace_ms less this is the host's share
+          // (set-up, submission, readback); the timestamps also count time the GPU spent on other processes' work.
           {"trace_gpu_ms", s.trace_gpu_ms},
           {"encode_ms", s.encode_ms}};
 }
