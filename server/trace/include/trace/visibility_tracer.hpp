@@ -6,6 +6,7 @@
 #include "math/projection.hpp"
 #include "trace/reuse/reuse_frame.hpp"
 #include "trace/soft/soft_options.hpp"
+#include "scene/light_slots.hpp"
 #include "scene/scene.hpp"
 #include "visibility/visibility.hpp"
 #include "visibility/visibility_layout.hpp"
@@ -97,7 +98,12 @@ class VisibilityTracer {
   // Device and driver, e.g. "Embree 3.13.5, 2 threads" or "llvmpipe (LLVM 15.0.6, 256 bits), Mesa 25.0.7".
   virtual std::string device_description() const = 0;
   virtual const AccelStats& accel_stats() const = 0;
+  // The fields of every mask: the scene's lights, or with more than kMaxLights lights the slots they share.
   virtual uint32_t light_count() const = 0;
+  // With more than kMaxLights lights, the slots they share (scene/light_slots.hpp): field f of a pixel's mask is
+  // the light slot f holds in the cell of the pixel's surface point. nullptr: field i is light i (and a backend
+  // without slots refuses such a scene).
+  virtual const LightSlots* light_slots() const { return nullptr; }
 
   // Traces one eye. `out` is (re)sized to camera.extent with the scene's light count.
   // Throws std::invalid_argument for an unusable camera (see validate_camera). The Embree backend allows

@@ -11,21 +11,25 @@ void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const T
   batch.clear();
   // A pair whose level reuse took (TileScratch::soft_known) is not sampled: its field is written as taken.
   auto taken = [&](uint32_t li, size_t h) { return !scratch.soft_known.empty() && (scratch.soft_known[h] >> li & 1u); };
+  // With light slots, a light's pairs are those of the hits whose cell holds it.
+  auto elsewhere = [&](uint32_t li, size_t h) { return frame.slots && scratch.cell_lights[h][frame.field[li]] != li; };
   for (uint32_t li : soft.active)
     for (size_t h = 0; h < hits; ++h) {
-      if (taken(li, h)) continue;
+      if (elsewhere(li, h) || taken(li, h)) continue;
       batch.push_back({&(*soft.sampled)[li], &scratch.hits[h],
                        soft.sampling.seed(scratch.hit_pixels[h].x, scratch.hit_pixels[h].y, li), {}});
     }
   soft_visibility_batch(*frame.scene, batch, soft.sampling, soft_scratch.soft);
   size_t k = 0;
   for (uint32_t li : soft.active) {
+    const uint32_t f = frame.field[li];
     for (size_t h = 0; h < hits; ++h) {
+      if (elsewhere(li, h)) continue;
       ++stats.soft_pairs;
       const HitPixel& px = scratch.hit_pixels[h];
       if (taken(li, h)) {
         ++stats.reused_pairs;
-        const uint32_t field = ((1u << soft.layout->bits[li]) - 1u) << soft.layout->offset[li];
+        const uint32_t field = ((1u << soft.layout->bits[f]) - 1u) << soft.layout->offset[f];
         out.set(px.x, px.y, (out.get(px.x, px.y) & ~field) | (scratch.soft_mask[h] & field));
         continue;
       }
@@ -38,7 +42,7 @@ void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const T
       stats.soft_shadow_rays += r.rays;
       stats.shadow_rays += r.rays;
       if (r.fraction <= 0.0f) continue;  // level 0 is Gray code 0: the field is already clear
-      out.set(px.x, px.y, soft.layout->with_visibility(out.get(px.x, px.y), li, r.fraction));
+      out.set(px.x, px.y, soft.layout->with_visibility(out.get(px.x, px.y), f, r.fraction));
     }
   }
 }

@@ -156,7 +156,7 @@ void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const Ligh
 }
 
 FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
-                            const SkipOptions& skip, uint32_t requested) {
+                            const SkipOptions& skip, uint32_t requested, const LightSlots* slots) {
   FrameSetup frame;
   frame.scene = &scene;
   frame.camera = &camera;
@@ -171,15 +171,57 @@ FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLig
   frame.ray_forward = R[2] * -1.0;
   frame.lights = pack_lights(lights, scene.origin());
   frame.skip = skip;
-  for (uint32_t i = 0; i < kMaxLights; ++i) frame.bit[i] = static_cast<uint8_t>(i);
-  const uint32_t traced = static_cast<uint32_t>(std::min<size_t>(requested, lights.size()));
-  for (uint32_t i = 0; i < traced; ++i) {
-    if (skip.cull_lights && !light_may_reach_view(lights[i], camera))
-      ++frame.culled_lights;
-    else
-      frame.active_lights.push_back(i);
+  if (slots && slots->is_identity()) slots = nullptr;
+  frame.slots = slots;
+  for (uint32_t i = 0; i < lights.size() && i < kMaxSlotLights; ++i)
+    frame.field[i] = frame.bit[i] = static_cast<uint8_t>(slots ? slots->slot_of(i) : i);
+  if (!slots) {
+    const uint32_t traced = static_cast<uint32_t>(std::min<size_t>(requested, lights.size()));
+    frame.fields = traced;
+    for (uint32_t i = 0; i < traced; ++i) {
+      if (skip.cull_lights && !light_may_reach_view(lights[i], camera))
+        ++frame.culled_lights;
+      else
+        frame.active_lights.push_back(i);
+    }
+    return frame;
+  }
+  // Slots: a light takes part when its field is requested (a dropped light never does); culled lights are counted
+  // per hit whose cell holds them (select_cell_lights), as a field.
+  frame.fields = std::min(requested, slots->slot_count());
+  frame.light_state.assign(lights.size(), kLightInactive);
+  for (uint32_t i = 0; i < lights.size(); ++i) {
+    if (slots->slot_of(i) == kNoSlotLight || slots->slot_of(i) >= frame.fields) continue;
+    if (skip.cull_lights && !light_may_reach_view(lights[i], camera)) continue;
+    frame.light_state[i] = kLightHard;
+    frame.active_lights.push_back(i);
   }
   return frame;
+}
+
+void select_cell_lights(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats) {
+  const size_t hits = scratch.hits.size();
+  scratch.cell_lights.resize(hits);
+  scratch.tile_lights.clear();
+  std::array<uint64_t, kMaxSlotLights / 64> seen{};
+  const glm::dvec3 origin = frame.scene->origin();
+  for (size_t h = 0; h < hits; ++h) {
+    const uint16_t* row = frame.slots->lights_at(glm::dvec3(scratch.hits[h].position) + origin);
+    scratch.cell_lights[h] = row;
+    for (uint32_t f = 0; f < frame.fields; ++f) {
+      const uint16_t li = row[f];
+      if (li == kNoSlotLight) {
+        ++stats.skipped_out_of_range;
+      } else if (frame.light_state[li] == kLightInactive) {
+        ++stats.skipped_culled_light;
+      } else {
+        seen[li / 64] |= uint64_t{1} << (li % 64);
+      }
+    }
+  }
+  for (uint32_t w = 0; w < seen.size(); ++w)
+    for (uint64_t bits = seen[w]; bits != 0; bits &= bits - 1)
+      scratch.tile_lights.push_back(w * 64 + static_cast<uint32_t>(__builtin_ctzll(bits)));
 }
 
 bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
@@ -224,16 +266,22 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   append_partial_hits(scratch);
   const uint32_t hits = static_cast<uint32_t>(scratch.hits.size());
   stats.skipped_culled_light += uint64_t{hits} * frame.culled_lights;
+  if (frame.slots) select_cell_lights(frame, scratch, stats);
 
   // 2. Per pixel-light pair: skip (counted by reason) or queue an occlusion ray. Light-major, then block by
   // block: runs of up to 16 neighbouring rays toward the same light, which packets and streams bundle.
   scratch.rays.clear();
   scratch.pending.clear();
   scratch.masks.assign(hits, 0u);
-  for (uint32_t li : frame.active_lights) {
+  // With slots: the tile's lights, each for the hits whose cell holds it (reuse is refused with slots, so the
+  // light bits below stay within 32).
+  const std::vector<uint32_t>& lights = frame.slots ? scratch.tile_lights : frame.active_lights;
+  for (uint32_t li : lights) {
+    if (frame.slots && frame.light_state[li] != kLightHard) continue;
     const PackedLight& light = frame.lights[li];
-    const uint32_t light_bit = 1u << li;
+    const uint32_t light_bit = li < 32 ? 1u << li : 0u;
     for (uint32_t h = 0; h < hits; ++h) {
+      if (frame.slots && scratch.cell_lights[h][frame.field[li]] != li) continue;
       RTCRay ray;
       bool contributes = false;
       if (!shadow_ray_for(frame, light, scratch.hits[h], stats, ray, contributes)) continue;

@@ -15,9 +15,19 @@ namespace dhr::server {
 
 EmbreeTracer::EmbreeTracer(const Scene& scene, const TracerOptions& options, const EmbreeTracerConfig& config)
     : lights_(scene.lights), options_(options), config_(config) {
-  if (lights_.size() > kMaxLights)
+  if (lights_.size() > kMaxSlotLights)
     throw std::runtime_error("embree tracer: " + std::to_string(lights_.size()) + " lights, at most " +
-                             std::to_string(kMaxLights) + " supported");
+                             std::to_string(kMaxSlotLights) + " supported");
+  // More than kMaxLights lights share the mask's fields (scene/light_slots.hpp), placed where they stand at rest.
+  try {
+    slots_ = LightSlots::assign(lights_);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("embree tracer: ") + e.what());
+  }
+  if (!slots_.is_identity() && !scene.animation.empty())
+    throw std::runtime_error("embree tracer: " + std::to_string(lights_.size()) +
+                             " lights share light slots, which need a scene without animation (more than " +
+                             std::to_string(kMaxLights) + " lights in a moving scene are not supported)");
   if (config_.tile_size == 0 || config_.tile_size % 4 != 0)
     throw std::runtime_error("embree tracer: tile size must be a positive multiple of 4");
   if (auto err = validate_soft_options(options_.soft)) throw std::runtime_error("embree tracer: " + *err);
@@ -57,16 +67,15 @@ EmbreeTracer::~EmbreeTracer() = default;
 
 std::string EmbreeTracer::device_description() const { return scene_->description(threads_); }
 const AccelStats& EmbreeTracer::accel_stats() const { return scene_->stats(); }
-uint32_t EmbreeTracer::light_count() const { return static_cast<uint32_t>(lights_.size()); }
+uint32_t EmbreeTracer::light_count() const { return slots_.slot_count(); }
+const LightSlots* EmbreeTracer::light_slots() const { return slots_.is_identity() ? nullptr : &slots_; }
 
 void EmbreeTracer::trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) {
   trace_lights(camera, light_count(), out, out_stats);
 }
 
 std::vector<bool> EmbreeTracer::light_extents() const {
-  std::vector<bool> out;
-  for (const SceneLight& l : lights_) out.push_back(l.has_extent());
-  return out;
+  return slots_.soft_slots();  // the identity's: each light's extent
 }
 
 void EmbreeTracer::trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out,
@@ -94,7 +103,9 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
   if (out.width != width || out.height != height || out.light_count != bits)
     out = VisibilityBuffer::create(width, height, bits);
 
-  detail::FrameSetup frame = detail::make_frame_setup(*scene_, lights_, camera, options_.skip, lights);
+  if (reuse && light_slots())
+    throw std::invalid_argument("embree tracer: reuse with light slots (more than 32 lights) is not supported");
+  detail::FrameSetup frame = detail::make_frame_setup(*scene_, lights_, camera, options_.skip, lights, light_slots());
   frame.primary_near = options_.primary_near;
   frame.primary_packets = config_.primary_packets;
   frame.shadow_query = config_.shadow_query;
@@ -106,9 +117,14 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
   soft.sampling = options_.soft;
   if (layout.any_soft()) {
     std::vector<uint32_t> hard;
-    for (uint32_t li : frame.active_lights) (layout.is_soft(li) ? soft.active : hard).push_back(li);
+    for (uint32_t li : frame.active_lights) {
+      const bool is_soft = layout.is_soft(frame.field[li]);
+      (is_soft ? soft.active : hard).push_back(li);
+      if (frame.slots) frame.light_state[li] = is_soft ? detail::kLightSoft : detail::kLightHard;
+    }
     frame.active_lights = std::move(hard);
-    for (uint32_t i = 0; i < lights; ++i) frame.bit[i] = layout.offset[i];
+    for (uint32_t i = 0; i < lights_.size(); ++i)
+      if (frame.field[i] < kMaxLights) frame.bit[i] = layout.offset[frame.field[i]];
   }
 
   detail::ReuseSetup reuse_setup;

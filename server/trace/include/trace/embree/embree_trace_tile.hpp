@@ -1,6 +1,7 @@
 // Internal to the Embree tracer: everything one tile needs, and the tile kernel (public for bench/trace_bench and
 // the primary-ray test, which replay exactly the tracer's rays). Includes go one way: the tracer includes this.
 #pragma once
+#include "scene/light_slots.hpp"
 #include "scene/lighting.hpp"
 #include "trace/embree/embree_scene.hpp"
 #include "trace/embree/shadow_query.hpp"
@@ -64,15 +65,23 @@ struct FrameSetup {
   double primary_near = kClipNearPlane;  // TracerOptions::primary_near
   std::vector<PackedLight> lights;      // all lights, relative frame
   std::vector<uint32_t> active_lights;  // indices of lights not culled for this view (trace_tile traces these)
-  // Where light i's bit goes in the mask: i (make_frame_setup), or its field's offset in a layout with level
-  // fields (trace_layout; soft lights are then traced by trace_soft_tile, not trace_tile).
-  std::array<uint8_t, kMaxLights> bit{};
+  // Where light i's bit goes in the mask: its field's first bit (make_frame_setup: field[i]; the tracer sets the
+  // offset in a layout with level fields, whose soft lights trace_soft_tile traces, not trace_tile).
+  std::array<uint8_t, kMaxSlotLights> bit{};
+  // Light slots (scene/light_slots.hpp): nullptr for at most kMaxLights lights, light i being field i. Else light
+  // i is field field[i], and a hit traces only the lights its cell holds (select_cell_lights).
+  const LightSlots* slots = nullptr;
+  std::array<uint8_t, kMaxSlotLights> field{};
+  uint32_t fields = 0;                     // fields traced (requested)
+  std::vector<uint8_t> light_state;        // with slots, per light: kLightInactive, kLightHard or kLightSoft
   uint32_t culled_lights = 0;
   SkipOptions skip;
   bool primary_packets = true;
   ShadowQuery shadow_query = ShadowQuery::kStream;
   const ReuseSetup* reuse = nullptr;  // nullptr: every pair traced, nothing recorded
 };
+
+inline constexpr uint8_t kLightInactive = 0, kLightHard = 1, kLightSoft = 2;
 
 // One queued occlusion ray's destination.
 struct PendingShadowRay {
@@ -112,6 +121,10 @@ struct TileScratch {
   std::vector<HitPixel> partial_pixels;
   std::vector<uint32_t> partial_known, partial_reached;
   uint32_t skip_x0 = 0, skip_y0 = 0, skip_width = 0;
+  // Light slots, parallel to hits: the lights of the hit's cell, one per field (LightSlots::lights_at); and the
+  // tile's active lights that some hit's cell holds, ascending.
+  std::vector<const uint16_t*> cell_lights;
+  std::vector<uint32_t> tile_lights;
   bool skipped(uint32_t x, uint32_t y) const {
     return !skip.empty() && skip[(y - skip_y0) * skip_width + (x - skip_x0)] != 0;
   }
@@ -120,8 +133,14 @@ struct TileScratch {
 // The frame constants for one camera: the eye in the scene's relative frame, the packed lights and which of
 // the first `requested` of them `skip.cull_lights` leaves active (lights past `requested` are never
 // tested or traced). Query kinds stay at their defaults (the tracer sets them).
+// With `slots` (not the identity), `requested` counts fields: every light of the first `requested` slots is tested.
 FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLight>& lights, const Camera& camera,
-                            const SkipOptions& skip, uint32_t requested = UINT32_MAX);
+                            const SkipOptions& skip, uint32_t requested = UINT32_MAX,
+                            const LightSlots* slots = nullptr);
+
+// Light slots: scratch.cell_lights and tile_lights for the tile's hits; a requested field whose cell holds no light
+// counts as skipped_out_of_range, one whose light is culled as skipped_culled_light.
+void select_cell_lights(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats);
 
 // Unit primary-ray direction through pixel (x, y)'s centre, relative frame (from the frame's tables).
 inline glm::vec3 primary_direction(const FrameSetup& frame, uint32_t x, uint32_t y) {

@@ -26,7 +26,8 @@ struct EmbreeTracerConfig {
 
 class EmbreeTracer final : public VisibilityTracer {
  public:
-  // Throws std::runtime_error when the scene has more than kMaxLights lights or Embree fails.
+  // More than kMaxLights lights share slots (light_slots()). Throws std::runtime_error when the scene has more than
+  // kMaxSlotLights lights, more than kMaxLights in a scene with animation, or Embree fails.
   EmbreeTracer(const Scene& scene, const TracerOptions& options, const EmbreeTracerConfig& config = {});
   ~EmbreeTracer() override;
 
@@ -34,6 +35,7 @@ class EmbreeTracer final : public VisibilityTracer {
   std::string device_description() const override;
   const AccelStats& accel_stats() const override;
   uint32_t light_count() const override;
+  const LightSlots* light_slots() const override;
   void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) override;
   void trace_lights(const Camera& camera, uint32_t lights, VisibilityBuffer& out, TraceStats& out_stats) override;
   std::vector<bool> light_extents() const override;
@@ -65,6 +67,7 @@ class EmbreeTracer final : public VisibilityTracer {
 
   std::vector<SceneLight> lights_;       // at the scene time
   std::vector<SceneLight> rest_lights_;  // as the Scene gives them
+  LightSlots slots_;                     // the identity for at most kMaxLights lights
   // An animated scene: its animation, lights and meshes without vertices (node, T_world_local): what
   // set_scene_time reads. Empty for a static scene.
   Scene motion_;

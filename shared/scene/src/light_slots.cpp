@@ -1,0 +1,212 @@
+#include "scene/light_slots.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "visibility/visibility_layout.hpp"
+
+namespace dhr {
+namespace {
+
+// Whole millimetres; positions beyond this are refused (their squares must stay far inside int64).
+constexpr double kMaxCoordinateMm = 1e9;
+
+int64_t to_mm(double metres, const char* what) {
+  const double mm = std::round(metres * 1000.0);
+  if (!std::isfinite(mm) || std::fabs(mm) > kMaxCoordinateMm) {
+    throw std::invalid_argument(std::string("light slots: ") + what + " is not finite or beyond 1e6 m");
+  }
+  return static_cast<int64_t>(mm);
+}
+
+// A light placed in the grid: its centre and reach (range + margin), mm.
+struct Reach {
+  std::array<int64_t, 3> centre{};
+  int64_t radius = 0;
+};
+
+int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// Squared distance from `c` to the box [lo, hi] along one axis.
+int64_t axis_gap(int64_t c, int64_t lo, int64_t hi) { return c < lo ? lo - c : c > hi ? c - hi : 0; }
+
+}  // namespace
+
+LightSlots LightSlots::identity(uint32_t light_count) {
+  if (light_count > kMaxLights) throw std::invalid_argument("light slots: the identity holds at most 32 lights");
+  LightSlots slots;
+  slots.slot_of_.resize(light_count);
+  slots.slot_soft_.assign(light_count, false);
+  slots.table_.resize(light_count);
+  for (uint32_t i = 0; i < light_count; ++i) slots.slot_of_[i] = slots.table_[i] = static_cast<uint16_t>(i);
+  slots.max_per_cell_ = light_count;
+  return slots;
+}
+
+LightSlots LightSlots::assign(std::span<const SceneLight> lights) {
+  if (lights.size() > kMaxSlotLights) {
+    throw std::invalid_argument("light slots: " + std::to_string(lights.size()) + " lights (at most " +
+                                std::to_string(kMaxSlotLights) + ")");
+  }
+  const uint32_t n = static_cast<uint32_t>(lights.size());
+  if (n <= kMaxLights) {
+    LightSlots slots = identity(n);
+    for (uint32_t i = 0; i < n; ++i) slots.slot_soft_[i] = lights[i].has_extent();
+    return slots;
+  }
+
+  LightSlots slots;
+  slots.slot_of_.assign(n, kNoSlotLight);
+  std::vector<Reach> reach(n);
+  std::vector<bool> gridded(n, false);
+  std::array<int64_t, 3> lo{}, hi{};
+  bool any = false;
+  for (uint32_t i = 0; i < n; ++i) {
+    const SceneLight& l = lights[i];
+    const bool placed = l.range > 0.0f && (l.type == SceneLight::Type::kPoint || l.type == SceneLight::Type::kSpot);
+    if (!placed) continue;
+    gridded[i] = true;
+    for (int a = 0; a < 3; ++a) reach[i].centre[a] = to_mm(l.position[a], "a light's position");
+    reach[i].radius = to_mm(l.range, "a light's range") + kSlotMarginMm;
+    for (int a = 0; a < 3; ++a) {
+      const int64_t a0 = reach[i].centre[a] - reach[i].radius, a1 = reach[i].centre[a] + reach[i].radius;
+      lo[a] = any ? std::min(lo[a], a0) : a0;
+      hi[a] = any ? std::max(hi[a], a1) : a1;
+    }
+    any = true;
+  }
+
+  // Global lights first, one slot each, in light order; the bits they take are gone for the rest.
+  uint32_t bits = 0;
+  const auto bits_of = [&](uint32_t i) { return lights[i].has_extent() ? kSoftLevelBits : 1u; };
+  for (uint32_t i = 0; i < n; ++i) {
+    if (gridded[i]) continue;
+    if (bits + bits_of(i) > 32) {
+      slots.dropped_.push_back(i);
+      continue;
+    }
+    bits += bits_of(i);
+    slots.slot_of_[i] = static_cast<uint16_t>(slots.slot_soft_.size());
+    slots.slot_soft_.push_back(lights[i].has_extent());
+    ++slots.global_;
+  }
+
+  // The grid: cells of kSlotCellMm, doubled until at most kMaxSlotCells cover every light's reach.
+  if (any) {
+    int64_t cell = kSlotCellMm;
+    std::array<uint32_t, 3> dims{};
+    for (;;) {
+      uint64_t total = 1;
+      for (int a = 0; a < 3; ++a) {
+        dims[a] = static_cast<uint32_t>((hi[a] - lo[a]) / cell + 1);
+        total *= dims[a];
+      }
+      if (total <= kMaxSlotCells) break;
+      cell *= 2;
+    }
+    slots.origin_mm_ = lo;
+    slots.cell_mm_ = cell;
+    slots.cells_ = dims;
+    slots.grid_cells_ = dims[0] * dims[1] * dims[2];
+  }
+
+  // Greedy colouring in light order: the lowest slot of the light's kind free in every cell it touches, else a new
+  // slot while the bits last. used[c] has bit s set when some light in cell c holds slot s.
+  std::vector<uint32_t> used(slots.grid_cells_, 0);
+  std::vector<std::vector<uint32_t>> touched(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!gridded[i]) continue;
+    const Reach& r = reach[i];
+    std::array<int64_t, 3> c0{}, c1{};
+    for (int a = 0; a < 3; ++a) {
+      c0[a] = floor_div(r.centre[a] - r.radius - slots.origin_mm_[a], slots.cell_mm_);
+      c1[a] = floor_div(r.centre[a] + r.radius - slots.origin_mm_[a], slots.cell_mm_);
+      c0[a] = std::max<int64_t>(c0[a], 0);
+      c1[a] = std::min<int64_t>(c1[a], slots.cells_[a] - 1);
+    }
+    uint32_t busy = 0;
+    for (int64_t z = c0[2]; z <= c1[2]; ++z) {
+      for (int64_t y = c0[1]; y <= c1[1]; ++y) {
+        for (int64_t x = c0[0]; x <= c1[0]; ++x) {
+          const std::array<int64_t, 3> c{x, y, z};
+          int64_t d2 = 0;
+          for (int a = 0; a < 3; ++a) {
+            const int64_t box_lo = slots.origin_mm_[a] + c[a] * slots.cell_mm_;
+            const int64_t g = axis_gap(r.centre[a], box_lo, box_lo + slots.cell_mm_);
+            d2 += g * g;
+          }
+          if (d2 > r.radius * r.radius) continue;
+          const uint32_t index = static_cast<uint32_t>((z * slots.cells_[1] + y) * slots.cells_[0] + x);
+          touched[i].push_back(index);
+          busy |= used[index];
+        }
+      }
+    }
+    const bool soft = lights[i].has_extent();
+    uint32_t slot = slots.slot_count();
+    for (uint32_t s = slots.global_; s < slots.slot_count(); ++s) {
+      if ((busy >> s & 1u) == 0 && slots.slot_soft_[s] == soft) {
+        slot = s;
+        break;
+      }
+    }
+    if (slot == slots.slot_count()) {
+      if (bits + bits_of(i) > 32) {
+        slots.dropped_.push_back(i);
+        touched[i].clear();
+        continue;
+      }
+      bits += bits_of(i);
+      slots.slot_soft_.push_back(soft);
+    }
+    slots.slot_of_[i] = static_cast<uint16_t>(slot);
+    for (uint32_t index : touched[i]) used[index] |= 1u << slot;
+  }
+  std::sort(slots.dropped_.begin(), slots.dropped_.end());
+
+  // The table: per cell, its light in each slot; global slots hold their light everywhere; the last row is outside.
+  const uint32_t w = slots.slot_count();
+  slots.table_.assign(static_cast<size_t>(slots.grid_cells_ + 1) * w, kNoSlotLight);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (slots.slot_of_[i] == kNoSlotLight) continue;
+    if (!gridded[i]) {
+      for (uint32_t c = 0; c <= slots.grid_cells_; ++c) slots.table_[static_cast<size_t>(c) * w + slots.slot_of_[i]] = static_cast<uint16_t>(i);
+    } else {
+      for (uint32_t c : touched[i]) slots.table_[static_cast<size_t>(c) * w + slots.slot_of_[i]] = static_cast<uint16_t>(i);
+    }
+  }
+  for (uint32_t c = 0; c <= slots.grid_cells_; ++c) {
+    uint32_t count = 0;
+    for (uint32_t s = 0; s < w; ++s) count += slots.table_[static_cast<size_t>(c) * w + s] != kNoSlotLight;
+    slots.max_per_cell_ = std::max(slots.max_per_cell_, count);
+  }
+  return slots;
+}
+
+uint32_t LightSlots::cell_index(const glm::dvec3& p) const {
+  uint32_t c[3];
+  for (int a = 0; a < 3; ++a) {
+    const double v = std::floor((p[a] * 1000.0 - static_cast<double>(origin_mm_[a])) / static_cast<double>(cell_mm_));
+    if (!(v >= 0.0 && v < static_cast<double>(cells_[a]))) return grid_cells_;  // outside (NaN too)
+    c[a] = static_cast<uint32_t>(v);
+  }
+  return (c[2] * cells_[1] + c[1]) * cells_[0] + c[0];
+}
+
+const uint16_t* LightSlots::lights_at(const glm::dvec3& p) const {
+  if (grid_cells_ == 0) return table_.data();
+  return table_.data() + static_cast<size_t>(cell_index(p)) * slot_count();
+}
+
+std::string LightSlots::describe() const {
+  if (is_identity()) return std::to_string(light_count()) + " lights, one slot each";
+  std::string s = std::to_string(light_count()) + " lights in " + std::to_string(slot_count()) + " slots (" +
+                  std::to_string(global_) + " global, grid " + std::to_string(cells_[0]) + " x " +
+                  std::to_string(cells_[1]) + " x " + std::to_string(cells_[2]) + " cells of " +
+                  std::to_string(cell_mm_) + " mm, at most " + std::to_string(max_per_cell_) + " lights per cell)";
+  if (!dropped_.empty()) s += ", " + std::to_string(dropped_.size()) + " left without a slot";
+  return s;
+}
+
+}  // namespace dhr

@@ -1,0 +1,176 @@
+// The Embree tracer with more than 32 lights (light slots, scene/light_slots.hpp): every field of every pixel
+// equals the exhaustive reference, i.e. the bit that light has in a trace of that light's group of at most 32
+// lights (the identity layout), for the light slot f holds in the cell of the pixel's surface point (0 where none).
+// Plus the counts (traced + skipped pairs = hit pixels x fields), determinism over threads, a soft light in a slot,
+// and the refusals (reuse, animation, too many lights).
+#include "trace/embree/embree_trace_tile.hpp"
+#include "trace/embree/embree_tracer.hpp"
+#include "test_animated_scene.hpp"
+#include "test_scenes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+namespace dhr::server {
+namespace {
+
+TracerOptions threads(uint32_t n) {
+  TracerOptions o;
+  o.threads = n;
+  return o;
+}
+
+// An 8 x 8 m floor with a few low boxes, and n x n point lights 1 m apart at 0.7 m, each reaching `range`.
+Scene lit_floor(int n, float range, bool soft_first = false) {
+  Scene s = test::make_empty_scene();
+  test::add_grid(s, glm::vec3(-1, 0, -1), glm::vec3(0, 0, 9), glm::vec3(9, 0, 0), 9, test::kSingleSided);
+  for (int i = 0; i < 5; ++i) {
+    const float x = 0.3f + 1.4f * i, z = 0.7f + 1.1f * i;
+    test::add_box(s, glm::vec3(x, 0.0f, z), glm::vec3(x + 0.35f, 0.25f + 0.05f * i, z + 0.3f), test::kSingleSided);
+  }
+  for (int z = 0; z < n; ++z)
+    for (int x = 0; x < n; ++x) s.lights.push_back(test::point_light(glm::vec3(x, 0.7f, z), 5.0f, range));
+  if (soft_first) s.lights[0].radius = 0.1f;
+  test::finalize(s);
+  return s;
+}
+
+Camera overhead(uint32_t w, uint32_t h) {
+  return test::look_camera(glm::dvec3(3.5, 7.0, 9.0), glm::dvec3(3.5, 0.0, 3.5), w, h);
+}
+
+// Per pixel, the world surface point of its primary ray (nullopt: background), as the tracer finds it.
+std::vector<std::optional<glm::dvec3>> surface_points(const Scene& scene, const Camera& camera) {
+  auto embree = EmbreeScene::create(scene, {});
+  const detail::FrameSetup frame = detail::make_frame_setup(*embree, scene.lights, camera, SkipOptions{});
+  detail::TileScratch scratch;
+  TraceStats stats;
+  detail::trace_primary_tile(frame, 0, 0, camera.extent.width, camera.extent.height, scratch, stats);
+  std::vector<std::optional<glm::dvec3>> out(static_cast<size_t>(camera.extent.width) * camera.extent.height);
+  for (size_t h = 0; h < scratch.hits.size(); ++h) {
+    const auto& px = scratch.hit_pixels[h];
+    out[size_t{px.y} * camera.extent.width + px.x] = glm::dvec3(scratch.hits[h].position) + embree->origin();
+  }
+  return out;
+}
+
+// Each light's bit per pixel from identity traces of groups of 32 lights: [light][pixel].
+std::vector<std::vector<uint8_t>> reference_bits(const Scene& scene, const Camera& camera) {
+  std::vector<std::vector<uint8_t>> bits(scene.lights.size());
+  for (size_t first = 0; first < scene.lights.size(); first += kMaxLights) {
+    Scene group = scene;
+    group.lights.assign(scene.lights.begin() + first,
+                        scene.lights.begin() + std::min(scene.lights.size(), first + kMaxLights));
+    for (SceneLight& l : group.lights) l.radius = 0.0f;  // hard reference (the soft test compares levels itself)
+    EmbreeTracer tracer(group, threads(2));
+    VisibilityBuffer out;
+    TraceStats stats;
+    tracer.trace(camera, out, stats);
+    for (size_t i = 0; i < group.lights.size(); ++i) {
+      bits[first + i].resize(out.pixel_count());
+      for (size_t p = 0; p < out.pixel_count(); ++p) bits[first + i][p] = (out.mask_at(p) >> i) & 1u;
+    }
+  }
+  return bits;
+}
+
+TEST(LightSlotsTrace, EveryFieldIsItsCellLightsExhaustiveBit) {
+  const Scene scene = lit_floor(8, 1.0f);  // 64 lights
+  EmbreeTracer tracer(scene, threads(2));
+  const LightSlots* slots = tracer.light_slots();
+  ASSERT_NE(slots, nullptr);
+  EXPECT_EQ(tracer.light_count(), slots->slot_count());
+  EXPECT_LT(slots->slot_count(), 16u) << slots->describe();
+  const Camera camera = overhead(96, 72);
+  VisibilityBuffer out;
+  TraceStats stats;
+  tracer.trace(camera, out, stats);
+  ASSERT_EQ(out.light_count, slots->slot_count());
+
+  const auto points = surface_points(scene, camera);
+  const auto reference = reference_bits(scene, camera);
+  uint64_t hit_pixels = 0, lit_fields = 0;
+  for (size_t p = 0; p < out.pixel_count(); ++p) {
+    if (!points[p]) {
+      EXPECT_EQ(out.mask_at(p), 0u) << "background pixel " << p;
+      continue;
+    }
+    ++hit_pixels;
+    const uint16_t* row = slots->lights_at(*points[p]);
+    for (uint32_t f = 0; f < slots->slot_count(); ++f) {
+      const uint32_t expected = row[f] == kNoSlotLight ? 0u : reference[row[f]][p];
+      ASSERT_EQ((out.mask_at(p) >> f) & 1u, expected) << "pixel " << p << " field " << f << " light " << row[f];
+      lit_fields += expected;
+    }
+  }
+  EXPECT_GT(hit_pixels, out.pixel_count() / 3);
+  EXPECT_GT(lit_fields, hit_pixels);  // most points see more than one light
+  // Every pair is traced or skipped for a reason: hit pixels x fields.
+  const uint64_t pairs = stats.shadow_rays + stats.skipped_out_of_range + stats.skipped_backfacing +
+                         stats.skipped_culled_light + stats.reused_pairs;
+  EXPECT_EQ(pairs, hit_pixels * slots->slot_count());
+  EXPECT_EQ(stats.primary_rays, out.pixel_count());
+}
+
+TEST(LightSlotsTrace, ThreadsDoNotChangeABit) {
+  const Scene scene = lit_floor(10, 0.9f);  // 100 lights
+  const Camera camera = overhead(80, 60);
+  VisibilityBuffer one, two;
+  TraceStats s1, s2;
+  EmbreeTracer(scene, threads(1)).trace(camera, one, s1);
+  EmbreeTracer(scene, threads(2)).trace(camera, two, s2);
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(s1.shadow_rays, s2.shadow_rays);
+}
+
+TEST(LightSlotsTrace, ASoftLightTakesALevelFieldInItsSlot) {
+  const Scene scene = lit_floor(7, 1.0f, /*soft_first=*/true);  // 49 lights, light 0 a sphere
+  EmbreeTracer tracer(scene, threads(2));
+  const LightSlots* slots = tracer.light_slots();
+  ASSERT_NE(slots, nullptr);
+  const uint32_t soft_slot = slots->slot_of(0);
+  ASSERT_TRUE(slots->soft_slots()[soft_slot]);
+  const VisibilityLayout layout = layout_for_lights(tracer.light_extents(), tracer.light_count());
+  EXPECT_TRUE(layout.is_soft(soft_slot));
+  const Camera camera = overhead(64, 48);
+  VisibilityBuffer out;
+  TraceStats stats;
+  tracer.trace_layout(camera, layout, out, stats);
+  EXPECT_EQ(out.light_count, layout.total_bits());
+  EXPECT_GT(stats.soft_pairs, 0u);
+  // Where light 0's cell holds it the field is a level; a point lit by it somewhere, fully.
+  const auto points = surface_points(scene, camera);
+  uint32_t full = 0;
+  for (size_t p = 0; p < out.pixel_count(); ++p) {
+    if (!points[p]) continue;
+    const uint16_t light = slots->light_at(soft_slot, *points[p]);
+    const float k = layout.visibility(out.mask_at(p), soft_slot);
+    if (light == kNoSlotLight) {
+      EXPECT_EQ(k, 0.0f) << "pixel " << p;
+    }
+    full += light == 0 && k == 1.0f;
+  }
+  EXPECT_GT(full, 0u);
+}
+
+TEST(LightSlotsTrace, RefusesWhatSlotsCannotDo) {
+  Scene scene = lit_floor(6, 0.9f);  // 36 lights
+  EmbreeTracer tracer(scene, threads(1));
+  ReuseFrame record;
+  ReuseRequest request;
+  request.record = &record;
+  VisibilityBuffer out;
+  TraceStats stats;
+  EXPECT_THROW(tracer.trace_reusing(overhead(32, 24), VisibilityLayout::hard(tracer.light_count()), request, out, stats),
+               std::invalid_argument);
+  Scene moving = scene;
+  test::animate_translation(moving, 0, glm::vec3(0.0f), glm::vec3(1, 0, 0), 2.0);
+  EXPECT_THROW(EmbreeTracer(moving, threads(1)), std::runtime_error);
+  Scene crowded = scene;
+  while (crowded.lights.size() <= kMaxSlotLights) crowded.lights.push_back(crowded.lights.back());
+  EXPECT_THROW(EmbreeTracer(crowded, threads(1)), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace dhr::server
