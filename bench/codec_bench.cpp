@@ -1,7 +1,7 @@
 // codec_bench: the visibility codec on realistic buffers, printed as JSON (never asserts).
 //   codec_bench [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] [--threads N]
 //   codec_bench --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N]
-//               [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N]
+//               [--light-range M] [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N]
 //               [--encode-threads N]
 //                                                               sequence mode, v1 against v2 (codec_sequence.hpp)
 // Buffer sets: "traced" (the scene traced by the server's Embree tracer from each camera bookmark, both
@@ -10,6 +10,7 @@
 // frame (sharded scheme vs whole-frame LZ4), shard count, Mbit/s at 90 Hz stereo, and `lz4 -b1` on the
 // same bytes as the reference. docs/performance.md ("Codec") has measured numbers.
 #include "cli/exit_codes.hpp"
+#include "scene/light_slots.hpp"
 #include "cli/help_flag.hpp"
 #include "codec_measure.hpp"
 #include "protocol/protocol.hpp"
@@ -75,7 +76,7 @@ int usage(const char* argv0, FILE* to = stderr) {
                "usage: %s [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] "
                "[--threads N]\n"
                "       %s --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N] "
-               "[--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N] "
+               "[--light-range M] [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N] "
                "[--encode-threads N]\n",
                argv0, argv0);
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
@@ -120,8 +121,13 @@ bool parse_args(int argc, char** argv, Options& o) {
       (a == "--rtt-ms" ? o.sequence.rtt_ms : a == "--loss" ? o.sequence.loss : o.sequence.trace_start_s) = x;
     } else if (a == "--lights") {
       const int n = std::atoi(v);
-      if (n < 1 || n > static_cast<int>(kMaxLights)) return false;
+      if (n < 1 || n > static_cast<int>(kMaxSlotLights)) return false;
       o.sequence.lights = static_cast<uint32_t>(n);
+    } else if (a == "--light-range") {
+      char* end = nullptr;
+      const double x = std::strtod(v, &end);
+      if (end == v || *end != '\0' || !std::isfinite(x) || x < 0.0 || x > 1000.0) return false;
+      o.sequence.light_range = x;
     } else if (a == "--soft-levels") {
       if (std::string(v) != "on" && std::string(v) != "off") return false;
       o.sequence.soft_levels = std::string(v) == "on";

@@ -1,5 +1,6 @@
 #include "codec_sequence.hpp"
 
+#include "bench_lights.hpp"
 #include "bench_timing.hpp"
 
 #include "codec/codec.hpp"
@@ -26,24 +27,6 @@ namespace {
 
 constexpr double kFramePeriodS = 1.0 / 90.0;
 constexpr size_t kClientHeldFrames = 32;  // complete frames the client keeps per eye as references
-
-// Point lights spread over the scene's bounds below its top (many-light runs): added after the scene's own.
-void add_lights(Scene& scene, uint32_t total) {
-  const SceneBounds& b = scene.bounds;
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<float> u(0.1f, 0.9f);
-  while (scene.lights.size() < total) {
-    SceneLight l;
-    l.name = "bench light " + std::to_string(scene.lights.size());
-    // One draw per statement, z first: the order x86-64's GCC evaluated them in as a call's arguments (which
-    // C++ leaves unspecified, and aarch64's GCC takes left to right), so the lights measured so far stay.
-    const float z = u(rng), y = u(rng), x = u(rng);
-    l.position = glm::vec3(b.min.x + x * (b.max.x - b.min.x), b.min.y + (0.6f + 0.3f * y) * (b.max.y - b.min.y),
-                           b.min.z + z * (b.max.z - b.min.z));
-    l.intensity = 20.0f;
-    scene.lights.push_back(l);
-  }
-}
 
 // The writer's indented JSON on one line (the sequence mode's contract: the last stdout line is the object).
 std::string one_line(const std::string& json) {
@@ -82,7 +65,9 @@ int run_sequence(const SequenceOptions& o) {
     return 1;
   }
   Scene& scene = *loaded.scene;
-  if (o.lights > scene.lights.size()) add_lights(scene, std::min<uint32_t>(o.lights, kMaxLights));
+  const uint32_t scene_lights = static_cast<uint32_t>(scene.lights.size());
+  const double light_range = o.light_range >= 0.0 ? o.light_range : default_bench_light_range(scene, o.lights);
+  if (o.lights > scene.lights.size()) add_bench_lights(scene, o.lights, light_range);
   TraceReadResult read = read_pose_trace(o.trace);
   if (!read || read.trace->empty()) {
     std::fprintf(stderr, "codec_bench: %s\n", read ? (o.trace + ": empty trace").c_str() : read.error.c_str());
@@ -247,6 +232,15 @@ int run_sequence(const SequenceOptions& o) {
   j.value("frames", o.frames).value("width", o.size.width).value("height", o.size.height);
   j.value("display", std::to_string(display.width) + "x" + std::to_string(display.height));
   j.value("lights", layout.light_count).value("soft_levels", o.soft_levels).value("mask_bits_used", lights);
+  // With more than 32 lights "lights" counts the mask's fields, the slots the scene's lights share.
+  j.value("scene_lights", static_cast<unsigned long>(scene.lights.size()));
+  j.value("scene_lights_own", static_cast<unsigned long>(scene_lights));
+  j.value("added_light_range_m", scene.lights.size() > scene_lights ? light_range : 0.0, 2);
+  if (const LightSlots* slots = tracer->light_slots()) {
+    j.value("light_slots", static_cast<unsigned long>(slots->slot_count()));
+    j.value("lights_per_cell_max", static_cast<unsigned long>(slots->max_lights_per_cell()));
+    j.value("lights_without_slot", static_cast<unsigned long>(slots->dropped().size()));
+  }
   j.value("rtt_ms", o.rtt_ms, 1).value("ack_delay_frames", ack_delay);
   j.value("loss", o.loss, 4).value("seed", static_cast<unsigned long long>(o.seed));
   j.value("v1_bytes_per_eye_frame", v1_bytes / eye_frames, 1);

@@ -20,6 +20,7 @@ struct SequenceOptions {
   double loss = 0.0;          // probability that a shard is lost
   double trace_start_s = 2.0;
   uint32_t lights = 0;        // 0: the scene's lights; more: point lights added around the scene (many-light runs)
+  double light_range = -1.0;  // the added lights' range, m (0: infinite; < 0: default_bench_light_range)
   unsigned threads = 0;       // tracer threads (the codec runs on one)
   uint64_t seed = 1;
   // Soft levels (docs/protocol.md, "Mask layout"): lights with an extent get 3-bit Gray-coded level fields,

@@ -1,6 +1,7 @@
 // The Embree tracer with more than 32 lights (light slots, scene/light_slots.hpp): every field of every pixel
 // equals the exhaustive reference, i.e. the bit that light has in a trace of that light's group of at most 32
-// lights (the identity layout), for the light slot f holds in the cell of the pixel's surface point (0 where none).
+// lights (the identity layout), for the light slot f holds in the cell of the pixel's surface point where that
+// light contributes, and 1 (FrameSetup::idle_lit) where the cell holds no light or its light cannot contribute.
 // Plus the counts (traced + skipped pairs = hit pixels x fields), determinism over threads, a soft light in a slot,
 // and the refusals (reuse, animation, too many lights).
 #include "trace/embree/embree_trace_tile.hpp"
@@ -21,13 +22,13 @@ TracerOptions threads(uint32_t n) {
   return o;
 }
 
-// An 8 x 8 m floor with a few low boxes, and n x n point lights 1 m apart at 0.7 m, each reaching `range`.
+// An 8 x 8 m floor with 12 posts, and n x n point lights 1 m apart at 0.7 m, each reaching `range`.
 Scene lit_floor(int n, float range, bool soft_first = false) {
   Scene s = test::make_empty_scene();
   test::add_grid(s, glm::vec3(-1, 0, -1), glm::vec3(0, 0, 9), glm::vec3(9, 0, 0), 9, test::kSingleSided);
-  for (int i = 0; i < 5; ++i) {
-    const float x = 0.3f + 1.4f * i, z = 0.7f + 1.1f * i;
-    test::add_box(s, glm::vec3(x, 0.0f, z), glm::vec3(x + 0.35f, 0.25f + 0.05f * i, z + 0.3f), test::kSingleSided);
+  for (int i = 0; i < 12; ++i) {  // posts 0.25 m beside some lights (which stand at whole metres), taller than them
+    const float x = 0.25f + static_cast<float>(i * 3 % 7), z = static_cast<float>(i * 5 % 7);
+    test::add_box(s, glm::vec3(x - 0.05f, 0.0f, z - 0.1f), glm::vec3(x + 0.05f, 1.0f, z + 0.1f), test::kSingleSided);
   }
   for (int z = 0; z < n; ++z)
     for (int x = 0; x < n; ++x) s.lights.push_back(test::point_light(glm::vec3(x, 0.7f, z), 5.0f, range));
@@ -37,20 +38,30 @@ Scene lit_floor(int n, float range, bool soft_first = false) {
 }
 
 Camera overhead(uint32_t w, uint32_t h) {
-  return test::look_camera(glm::dvec3(3.5, 7.0, 9.0), glm::dvec3(3.5, 0.0, 3.5), w, h);
+  return test::look_camera(glm::dvec3(3.5, 4.5, 7.0), glm::dvec3(3.5, 0.0, 3.0), w, h);
 }
 
-// Per pixel, the world surface point of its primary ray (nullopt: background), as the tracer finds it.
-std::vector<std::optional<glm::dvec3>> surface_points(const Scene& scene, const Camera& camera) {
+// Per pixel, its primary ray's surface point (nullopt: background) and whether each light contributes there
+// (in range, facing it: light_test), as the tracer finds them.
+struct PixelSurface {
+  glm::dvec3 world{0.0};
+  std::vector<bool> contributes;  // per light
+};
+std::vector<std::optional<PixelSurface>> surfaces(const Scene& scene, const Camera& camera) {
   auto embree = EmbreeScene::create(scene, {});
   const detail::FrameSetup frame = detail::make_frame_setup(*embree, scene.lights, camera, SkipOptions{});
   detail::TileScratch scratch;
   TraceStats stats;
   detail::trace_primary_tile(frame, 0, 0, camera.extent.width, camera.extent.height, scratch, stats);
-  std::vector<std::optional<glm::dvec3>> out(static_cast<size_t>(camera.extent.width) * camera.extent.height);
+  std::vector<std::optional<PixelSurface>> out(static_cast<size_t>(camera.extent.width) * camera.extent.height);
   for (size_t h = 0; h < scratch.hits.size(); ++h) {
     const auto& px = scratch.hit_pixels[h];
-    out[size_t{px.y} * camera.extent.width + px.x] = glm::dvec3(scratch.hits[h].position) + embree->origin();
+    const SurfaceHit& hit = scratch.hits[h];
+    PixelSurface s;
+    s.world = glm::dvec3(hit.position) + embree->origin();
+    for (const PackedLight& l : frame.lights)
+      s.contributes.push_back(sample_light(l, hit.position, hit.shading_normal).test == LightTest::kContributes);
+    out[size_t{px.y} * camera.extent.width + px.x] = std::move(s);
   }
   return out;
 }
@@ -82,30 +93,33 @@ TEST(LightSlotsTrace, EveryFieldIsItsCellLightsExhaustiveBit) {
   ASSERT_NE(slots, nullptr);
   EXPECT_EQ(tracer.light_count(), slots->slot_count());
   EXPECT_LT(slots->slot_count(), 16u) << slots->describe();
-  const Camera camera = overhead(96, 72);
+  const Camera camera = overhead(160, 120);
   VisibilityBuffer out;
   TraceStats stats;
   tracer.trace(camera, out, stats);
   ASSERT_EQ(out.light_count, slots->slot_count());
 
-  const auto points = surface_points(scene, camera);
+  const auto points = surfaces(scene, camera);
   const auto reference = reference_bits(scene, camera);
-  uint64_t hit_pixels = 0, lit_fields = 0;
+  uint64_t hit_pixels = 0, lit_fields = 0, shadowed_fields = 0;
   for (size_t p = 0; p < out.pixel_count(); ++p) {
     if (!points[p]) {
       EXPECT_EQ(out.mask_at(p), 0u) << "background pixel " << p;
       continue;
     }
     ++hit_pixels;
-    const uint16_t* row = slots->lights_at(*points[p]);
+    const uint16_t* row = slots->lights_at(points[p]->world);
     for (uint32_t f = 0; f < slots->slot_count(); ++f) {
-      const uint32_t expected = row[f] == kNoSlotLight ? 0u : reference[row[f]][p];
+      const bool contributes = row[f] != kNoSlotLight && points[p]->contributes[row[f]];
+      const uint32_t expected = contributes ? reference[row[f]][p] : 1u;
       ASSERT_EQ((out.mask_at(p) >> f) & 1u, expected) << "pixel " << p << " field " << f << " light " << row[f];
-      lit_fields += expected;
+      lit_fields += contributes && expected;
+      shadowed_fields += contributes && !expected;
     }
   }
   EXPECT_GT(hit_pixels, out.pixel_count() / 3);
   EXPECT_GT(lit_fields, hit_pixels);  // most points see more than one light
+  EXPECT_GT(shadowed_fields, 100u);   // and the posts shadow some
   // Every pair is traced or skipped for a reason: hit pixels x fields.
   const uint64_t pairs = stats.shadow_rays + stats.skipped_out_of_range + stats.skipped_backfacing +
                          stats.skipped_culled_light + stats.reused_pairs;
@@ -140,11 +154,11 @@ TEST(LightSlotsTrace, ASoftLightTakesALevelFieldInItsSlot) {
   EXPECT_EQ(out.light_count, layout.total_bits());
   EXPECT_GT(stats.soft_pairs, 0u);
   // Where light 0's cell holds it the field is a level; a point lit by it somewhere, fully.
-  const auto points = surface_points(scene, camera);
+  const auto points = surfaces(scene, camera);
   uint32_t full = 0;
   for (size_t p = 0; p < out.pixel_count(); ++p) {
     if (!points[p]) continue;
-    const uint16_t light = slots->light_at(soft_slot, *points[p]);
+    const uint16_t light = slots->light_at(soft_slot, points[p]->world);
     const float k = layout.visibility(out.mask_at(p), soft_slot);
     if (light == kNoSlotLight) {
       EXPECT_EQ(k, 0.0f) << "pixel " << p;

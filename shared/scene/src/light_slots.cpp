@@ -111,21 +111,18 @@ LightSlots LightSlots::assign(std::span<const SceneLight> lights) {
     slots.grid_cells_ = dims[0] * dims[1] * dims[2];
   }
 
-  // Greedy colouring in light order: the lowest slot of the light's kind free in every cell it touches, else a new
-  // slot while the bits last. used[c] has bit s set when some light in cell c holds slot s.
-  std::vector<uint32_t> used(slots.grid_cells_, 0);
+  // The cells each light's reach touches (integer sphere-box test), and per cell the lights touching it.
   std::vector<std::vector<uint32_t>> touched(n);
+  std::vector<std::vector<uint16_t>> in_cell(slots.grid_cells_);
   for (uint32_t i = 0; i < n; ++i) {
     if (!gridded[i]) continue;
     const Reach& r = reach[i];
     std::array<int64_t, 3> c0{}, c1{};
     for (int a = 0; a < 3; ++a) {
-      c0[a] = floor_div(r.centre[a] - r.radius - slots.origin_mm_[a], slots.cell_mm_);
-      c1[a] = floor_div(r.centre[a] + r.radius - slots.origin_mm_[a], slots.cell_mm_);
-      c0[a] = std::max<int64_t>(c0[a], 0);
-      c1[a] = std::min<int64_t>(c1[a], slots.cells_[a] - 1);
+      c0[a] = std::max<int64_t>(floor_div(r.centre[a] - r.radius - slots.origin_mm_[a], slots.cell_mm_), 0);
+      c1[a] = std::min<int64_t>(floor_div(r.centre[a] + r.radius - slots.origin_mm_[a], slots.cell_mm_),
+                                slots.cells_[a] - 1);
     }
-    uint32_t busy = 0;
     for (int64_t z = c0[2]; z <= c1[2]; ++z) {
       for (int64_t y = c0[1]; y <= c1[1]; ++y) {
         for (int64_t x = c0[0]; x <= c1[0]; ++x) {
@@ -139,29 +136,63 @@ LightSlots LightSlots::assign(std::span<const SceneLight> lights) {
           if (d2 > r.radius * r.radius) continue;
           const uint32_t index = static_cast<uint32_t>((z * slots.cells_[1] + y) * slots.cells_[0] + x);
           touched[i].push_back(index);
-          busy |= used[index];
+          in_cell[index].push_back(static_cast<uint16_t>(i));
         }
       }
     }
-    const bool soft = lights[i].has_extent();
+  }
+  // Two lights conflict when some cell holds both.
+  using LightSet = std::array<uint64_t, kMaxSlotLights / 64>;
+  std::vector<LightSet> conflicts(n, LightSet{});
+  for (const std::vector<uint16_t>& cell : in_cell)
+    for (uint16_t a : cell)
+      for (uint16_t b : cell)
+        if (a != b) conflicts[a][b / 64] |= uint64_t{1} << (b % 64);
+  std::vector<uint32_t> degree(n, 0);
+  for (uint32_t i = 0; i < n; ++i)
+    for (uint64_t word : conflicts[i]) degree[i] += static_cast<uint32_t>(__builtin_popcountll(word));
+
+  // DSatur colouring: next, the uncoloured light whose conflicts hold the most distinct slots (then the most
+  // conflicts, then the lowest index); it takes the lowest slot of its kind none of them holds, else a new slot
+  // while the 32 bits last, else it is dropped. saturation[i]: the slots i's coloured conflicts hold.
+  std::vector<uint32_t> saturation(n, 0);
+  std::vector<bool> done(n, true);
+  uint32_t left = 0;
+  for (uint32_t i = 0; i < n; ++i)
+    if (gridded[i]) done[i] = false, ++left;
+  for (; left > 0; --left) {
+    uint32_t next = n;
+    for (uint32_t i = 0; i < n; ++i) {
+      if (done[i]) continue;
+      if (next == n) {
+        next = i;
+        continue;
+      }
+      const int si = __builtin_popcount(saturation[i]), sn = __builtin_popcount(saturation[next]);
+      if (si > sn || (si == sn && degree[i] > degree[next])) next = i;
+    }
+    done[next] = true;
+    const bool soft = lights[next].has_extent();
     uint32_t slot = slots.slot_count();
     for (uint32_t s = slots.global_; s < slots.slot_count(); ++s) {
-      if ((busy >> s & 1u) == 0 && slots.slot_soft_[s] == soft) {
+      if ((saturation[next] >> s & 1u) == 0 && slots.slot_soft_[s] == soft) {
         slot = s;
         break;
       }
     }
     if (slot == slots.slot_count()) {
-      if (bits + bits_of(i) > 32) {
-        slots.dropped_.push_back(i);
-        touched[i].clear();
+      if (bits + bits_of(next) > 32) {
+        slots.dropped_.push_back(next);
+        touched[next].clear();
         continue;
       }
-      bits += bits_of(i);
+      bits += bits_of(next);
       slots.slot_soft_.push_back(soft);
     }
-    slots.slot_of_[i] = static_cast<uint16_t>(slot);
-    for (uint32_t index : touched[i]) used[index] |= 1u << slot;
+    slots.slot_of_[next] = static_cast<uint16_t>(slot);
+    for (uint32_t w = 0; w < conflicts[next].size(); ++w)
+      for (uint64_t word = conflicts[next][w]; word != 0; word &= word - 1)
+        saturation[w * 64 + static_cast<uint32_t>(__builtin_ctzll(word))] |= 1u << slot;
   }
   std::sort(slots.dropped_.begin(), slots.dropped_.end());
 

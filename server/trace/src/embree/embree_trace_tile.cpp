@@ -189,6 +189,7 @@ FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLig
   // Slots: a light takes part when its field is requested (a dropped light never does); culled lights are counted
   // per hit whose cell holds them (select_cell_lights), as a field.
   frame.fields = std::min(requested, slots->slot_count());
+  frame.idle_lit = frame.fields >= 32 ? 0xFFFFFFFFu : (1u << frame.fields) - 1u;  // the hard layout's fields
   frame.light_state.assign(lights.size(), kLightInactive);
   for (uint32_t i = 0; i < lights.size(); ++i) {
     if (slots->slot_of(i) == kNoSlotLight || slots->slot_of(i) >= frame.fields) continue;
@@ -272,7 +273,7 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   // block: runs of up to 16 neighbouring rays toward the same light, which packets and streams bundle.
   scratch.rays.clear();
   scratch.pending.clear();
-  scratch.masks.assign(hits, 0u);
+  scratch.masks.assign(hits, frame.slots ? frame.idle_lit : 0u);
   // With slots: the tile's lights, each for the hits whose cell holds it (reuse is refused with slots, so the
   // light bits below stay within 32).
   const std::vector<uint32_t>& lights = frame.slots ? scratch.tile_lights : frame.active_lights;
@@ -305,6 +306,10 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
     const bool reached = scratch.rays[r].tfar >= 0.0f;  // Embree sets tfar = -inf when occluded
     const PendingShadowRay& p = scratch.pending[r];
     if (!p.contributes) continue;
+    if (frame.slots) {  // the bit is set: cleared where the contributing light is occluded
+      if (!reached) scratch.masks[p.hit] &= ~(1u << frame.bit[p.light]);
+      continue;
+    }
     if (reached) scratch.masks[p.hit] |= 1u << frame.bit[p.light];
     if (frame.reuse) {  // what the record keeps: this pair's occlusion is known now
       scratch.reuse_known[p.hit] |= 1u << p.light;
