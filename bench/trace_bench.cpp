@@ -1,15 +1,19 @@
 // trace_bench: the server's visibility tracer on real scenes; one JSON object per line, never asserts.
 //   trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] [--threads N]
-//               [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels]
+//               [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels] [--lights N]
+//               [--light-range M]
 //   trace_bench --trace PATH ... : the sequence mode, with and without reuse (trace_sequence.hpp)
 // Every scene is traced from each camera bookmark (both eyes, IPD 63 mm, 90 degree horizontal FOV plus
 // the server's default guard band) at each size, by Embree with skipping on and with SkipOptions::none(),
 // then its skipping-on rays are replayed by a bare rtcIntersect1 + rtcOccluded1 loop (bare_embree.hpp),
 // and the Vulkan backend traces it on lavapipe at a small size. --soft-levels: every tracer traces in the scene's
 // soft layout (trace_layout: each light with an extent sampled into its level field, as a session granted soft
-// levels is traced) instead of one bit per light; no bare loop then. Records, by their "record" field:
+// levels is traced) instead of one bit per light; no bare loop then. --lights N adds bench lights up to N (at most
+// 256; bench_lights.hpp): beyond 32 the lights share slots (scene/light_slots.hpp), traced by Embree only (no bare
+// loop, no Vulkan). Records, by their "record" field:
 //   run      machine, build and settings
 //   accel    one per tracer built: backend, device, driver, triangles, lights, scene load and AS build ms, bytes
+//   light_slots  with more than 32 lights: the slots they share
 //   trace    one per scene, backend, size, skip setting, bookmark and eye: statistics of the median trace,
 //            trace ms (median, min of --repeat), Mrays/s (primary + shadow rays / median trace time)
 //   bare     one per scene, size, bookmark and eye: the bare loop's ms and Mrays/s vs the tracer's
@@ -20,6 +24,7 @@
 #include "cli/exit_codes.hpp"
 #include "cli/help_flag.hpp"
 #include "bench_views.hpp"
+#include "bench_lights.hpp"
 #include "trace_sequence.hpp"
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/stats_json.hpp"
@@ -57,6 +62,8 @@ struct Options {
   bool bare = true;
   bool quick = false;
   bool soft_levels = false;  // trace_layout in the scene's soft layout instead of trace()
+  uint32_t lights = 0;       // more than the scene's: bench lights added (bench_lights.hpp)
+  double light_range = -1.0; // their range, m (< 0: default_bench_light_range)
 };
 
 double round3(double v) { return std::round(v * 1000.0) / 1000.0; }
@@ -103,7 +110,8 @@ std::optional<Extent> parse_size(const std::string& text) {
 int usage(FILE* to = stderr) {
   std::fprintf(to,
                "usage: trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] "
-               "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels]\n"
+               "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels] [--lights N] "
+               "[--light-range M]\n"
                "       trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
                "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N]] [--no-shared] [--no-refresh] [--no-blocks] "
                "[--no-pairs]\n");
@@ -149,6 +157,15 @@ bool parse_args(int argc, char** argv, Options& o) {
       const int n = std::atoi(v.c_str());
       if (n < 0 || n > 1024) return false;
       o.threads = static_cast<unsigned>(n);
+    } else if (a == "--lights") {
+      const int n = std::atoi(v.c_str());
+      if (n < 1 || n > static_cast<int>(kMaxSlotLights)) return false;
+      o.lights = static_cast<uint32_t>(n);
+    } else if (a == "--light-range") {
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !std::isfinite(x) || x < 0.0 || x > 1000.0) return false;
+      o.light_range = x;
     } else {
       return false;
     }
@@ -403,6 +420,9 @@ void bench_scene(const std::string& path, const Options& o, unsigned threads) {
   s.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (!loaded) return emit_error(path, "load", loaded.error);
   s.scene = std::move(*loaded.scene);
+  const size_t own_lights = s.scene.lights.size();
+  const double light_range = o.light_range >= 0.0 ? o.light_range : bench::default_bench_light_range(s.scene, o.lights);
+  if (o.lights > own_lights) bench::add_bench_lights(s.scene, o.lights, light_range);
   try {
     s.bookmarks = bench_bookmarks(path, s.scene, s.bookmark_source);
   } catch (const std::exception& e) {
@@ -413,6 +433,10 @@ void bench_scene(const std::string& path, const Options& o, unsigned threads) {
   info["triangles"] = s.scene.triangle_count;
   info["meshes"] = s.scene.meshes.size();
   info["lights"] = s.scene.lights.size();
+  if (s.scene.lights.size() > own_lights) {
+    info["lights_own"] = own_lights;
+    info["added_light_range_m"] = light_range;
+  }
   info["load_ms"] = round3(s.load_ms);
   info["bookmarks_from"] = s.bookmark_source;
   Json names = Json::array();
@@ -426,15 +450,30 @@ void bench_scene(const std::string& path, const Options& o, unsigned threads) {
   try {
     auto with_skip = build_tracer(server::TracerBackend::kEmbree, s, skip_on);
     auto without_skip = build_tracer(server::TracerBackend::kEmbree, s, skip_off);
+    if (const LightSlots* slots = with_skip->light_slots()) {
+      Json j = base_record("light_slots", s);
+      j["slots"] = slots->slot_count();
+      j["global"] = slots->global_lights();
+      j["lights_per_cell_max"] = slots->max_lights_per_cell();
+      j["dropped"] = slots->dropped().size();
+      j["describe"] = slots->describe();
+      emit(j);
+    }
     for (const Extent& size : o.sizes) {
       const auto eyes = trace_views(*with_skip, s, size, skip_on.skip, o);
       trace_views(*without_skip, s, size, skip_off.skip, o);
-      if (o.bare) bare_views(dynamic_cast<const server::EmbreeTracer&>(*with_skip), s, size, eyes, threads, o);
+      // The bare loop replays one ray per pixel and light, without light slots.
+      if (o.bare && !with_skip->light_slots()) bare_views(dynamic_cast<const server::EmbreeTracer&>(*with_skip), s, size, eyes, threads, o);
     }
   } catch (const std::exception& e) {
     emit_error(path, "embree", e.what());
   }
   if (!o.vulkan) return;
+  if (s.scene.lights.size() > kMaxLights) {  // said, not an error: the Vulkan backend has no light slots yet
+    std::fprintf(stderr, "trace_bench: %s: %zu lights: the Vulkan tracer has no light slots yet; Embree only\n",
+                 path.c_str(), s.scene.lights.size());
+    return;
+  }
   try {
     for (const server::TracerOptions* base : {&skip_on, &skip_off}) {
       server::TracerOptions vk = *base;
