@@ -9,8 +9,8 @@
 // and the Vulkan backend traces it on lavapipe at a small size. --soft-levels: every tracer traces in the scene's
 // soft layout (trace_layout: each light with an extent sampled into its level field, as a session granted soft
 // levels is traced) instead of one bit per light; no bare loop then. --lights N adds bench lights up to N (at most
-// 256; bench_lights.hpp): beyond 32 the lights share slots (scene/light_slots.hpp), traced by Embree only (no bare
-// loop, no Vulkan). Records, by their "record" field:
+// 256; bench_lights.hpp): beyond 32 the lights share slots (scene/light_slots.hpp; no bare loop then). Records, by
+// their "record" field:
 //   run      machine, build and settings
 //   accel    one per tracer built: backend, device, driver, triangles, lights, scene load and AS build ms, bytes
 //   light_slots  with more than 32 lights: the slots they share
@@ -469,11 +469,6 @@ void bench_scene(const std::string& path, const Options& o, unsigned threads) {
     emit_error(path, "embree", e.what());
   }
   if (!o.vulkan) return;
-  if (s.scene.lights.size() > kMaxLights) {  // said, not an error: the Vulkan backend has no light slots yet
-    std::fprintf(stderr, "trace_bench: %s: %zu lights: the Vulkan tracer has no light slots yet; Embree only\n",
-                 path.c_str(), s.scene.lights.size());
-    return;
-  }
   try {
     for (const server::TracerOptions* base : {&skip_on, &skip_off}) {
       server::TracerOptions vk = *base;

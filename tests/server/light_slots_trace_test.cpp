@@ -22,25 +22,6 @@ TracerOptions threads(uint32_t n) {
   return o;
 }
 
-// An 8 x 8 m floor with 12 posts, and n x n point lights 1 m apart at 0.7 m, each reaching `range`.
-Scene lit_floor(int n, float range, bool soft_first = false) {
-  Scene s = test::make_empty_scene();
-  test::add_grid(s, glm::vec3(-1, 0, -1), glm::vec3(0, 0, 9), glm::vec3(9, 0, 0), 9, test::kSingleSided);
-  for (int i = 0; i < 12; ++i) {  // posts 0.25 m beside some lights (which stand at whole metres), taller than them
-    const float x = 0.25f + static_cast<float>(i * 3 % 7), z = static_cast<float>(i * 5 % 7);
-    test::add_box(s, glm::vec3(x - 0.05f, 0.0f, z - 0.1f), glm::vec3(x + 0.05f, 1.0f, z + 0.1f), test::kSingleSided);
-  }
-  for (int z = 0; z < n; ++z)
-    for (int x = 0; x < n; ++x) s.lights.push_back(test::point_light(glm::vec3(x, 0.7f, z), 5.0f, range));
-  if (soft_first) s.lights[0].radius = 0.1f;
-  test::finalize(s);
-  return s;
-}
-
-Camera overhead(uint32_t w, uint32_t h) {
-  return test::look_camera(glm::dvec3(3.5, 4.5, 7.0), glm::dvec3(3.5, 0.0, 3.0), w, h);
-}
-
 // Per pixel, its primary ray's surface point (nullopt: background) and whether each light contributes there
 // (in range, facing it: light_test), as the tracer finds them.
 struct PixelSurface {
@@ -87,13 +68,13 @@ std::vector<std::vector<uint8_t>> reference_bits(const Scene& scene, const Camer
 }
 
 TEST(LightSlotsTrace, EveryFieldIsItsCellLightsExhaustiveBit) {
-  const Scene scene = lit_floor(8, 1.0f);  // 64 lights
+  const Scene scene = test::many_lights_floor(8, 1.0f);  // 64 lights
   EmbreeTracer tracer(scene, threads(2));
   const LightSlots* slots = tracer.light_slots();
   ASSERT_NE(slots, nullptr);
   EXPECT_EQ(tracer.light_count(), slots->slot_count());
   EXPECT_LT(slots->slot_count(), 16u) << slots->describe();
-  const Camera camera = overhead(160, 120);
+  const Camera camera = test::many_lights_camera(160, 120);
   VisibilityBuffer out;
   TraceStats stats;
   tracer.trace(camera, out, stats);
@@ -128,8 +109,8 @@ TEST(LightSlotsTrace, EveryFieldIsItsCellLightsExhaustiveBit) {
 }
 
 TEST(LightSlotsTrace, ThreadsDoNotChangeABit) {
-  const Scene scene = lit_floor(10, 0.9f);  // 100 lights
-  const Camera camera = overhead(80, 60);
+  const Scene scene = test::many_lights_floor(10, 0.9f);  // 100 lights
+  const Camera camera = test::many_lights_camera(80, 60);
   VisibilityBuffer one, two;
   TraceStats s1, s2;
   EmbreeTracer(scene, threads(1)).trace(camera, one, s1);
@@ -139,7 +120,7 @@ TEST(LightSlotsTrace, ThreadsDoNotChangeABit) {
 }
 
 TEST(LightSlotsTrace, ASoftLightTakesALevelFieldInItsSlot) {
-  const Scene scene = lit_floor(7, 1.0f, /*soft_first=*/true);  // 49 lights, light 0 a sphere
+  const Scene scene = test::many_lights_floor(7, 1.0f, /*soft_first=*/true);  // 49 lights, light 0 a sphere
   EmbreeTracer tracer(scene, threads(2));
   const LightSlots* slots = tracer.light_slots();
   ASSERT_NE(slots, nullptr);
@@ -147,7 +128,7 @@ TEST(LightSlotsTrace, ASoftLightTakesALevelFieldInItsSlot) {
   ASSERT_TRUE(slots->soft_slots()[soft_slot]);
   const VisibilityLayout layout = layout_for_lights(tracer.light_extents(), tracer.light_count());
   EXPECT_TRUE(layout.is_soft(soft_slot));
-  const Camera camera = overhead(64, 48);
+  const Camera camera = test::many_lights_camera(64, 48);
   VisibilityBuffer out;
   TraceStats stats;
   tracer.trace_layout(camera, layout, out, stats);
@@ -169,14 +150,14 @@ TEST(LightSlotsTrace, ASoftLightTakesALevelFieldInItsSlot) {
 }
 
 TEST(LightSlotsTrace, RefusesWhatSlotsCannotDo) {
-  Scene scene = lit_floor(6, 0.9f);  // 36 lights
+  Scene scene = test::many_lights_floor(6, 0.9f);  // 36 lights
   EmbreeTracer tracer(scene, threads(1));
   ReuseFrame record;
   ReuseRequest request;
   request.record = &record;
   VisibilityBuffer out;
   TraceStats stats;
-  EXPECT_THROW(tracer.trace_reusing(overhead(32, 24), VisibilityLayout::hard(tracer.light_count()), request, out, stats),
+  EXPECT_THROW(tracer.trace_reusing(test::many_lights_camera(32, 24), VisibilityLayout::hard(tracer.light_count()), request, out, stats),
                std::invalid_argument);
   Scene moving = scene;
   test::animate_translation(moving, 0, glm::vec3(0.0f), glm::vec3(1, 0, 0), 2.0);

@@ -112,6 +112,25 @@ Camera look_camera(const glm::dvec3& eye, const glm::dvec3& target, uint32_t wid
   return Camera::with_guard_band(View{pose.value(), symmetric_fov(hfov_deg, extent)}, extent, GuardBand{});
 }
 
+Scene many_lights_floor(int n, float range, bool soft_first) {
+  Scene s = make_empty_scene();
+  add_grid(s, glm::vec3(-1, 0, -1), glm::vec3(0, 0, 9), glm::vec3(9, 0, 0), 9, kSingleSided);
+  for (int i = 0; i < 12; ++i) {  // posts 0.25 m beside some lights (which stand at whole metres), taller than them
+    const float x = 0.25f + static_cast<float>(i * 3 % 7), z = static_cast<float>(i * 5 % 7);
+    add_box(s, glm::vec3(x - 0.05f, 0.0f, z - 0.1f), glm::vec3(x + 0.05f, 1.0f, z + 0.1f), kSingleSided);
+  }
+  for (int z = 0; z < n; ++z)
+    for (int x = 0; x < n; ++x)
+      s.lights.push_back(point_light(glm::vec3(static_cast<float>(x), 0.7f, static_cast<float>(z)), 5.0f, range));
+  if (soft_first) s.lights[0].radius = 0.1f;
+  finalize(s);
+  return s;
+}
+
+Camera many_lights_camera(uint32_t width, uint32_t height) {
+  return look_camera(glm::dvec3(3.5, 4.5, 7.0), glm::dvec3(3.5, 0.0, 3.0), width, height);
+}
+
 std::optional<double> ray_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi) {
   double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a) {

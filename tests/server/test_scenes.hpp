@@ -37,6 +37,11 @@ SceneLight directional_light(const glm::vec3& direction, float lux = 3.0f);
 Camera look_camera(const glm::dvec3& eye, const glm::dvec3& target, uint32_t width, uint32_t height,
                    double hfov_deg = 90.0);
 
+// Light slots (more than 32 lights): an 8 x 8 m floor with 12 posts, and n x n point lights 1 m apart at 0.7 m, each
+// reaching `range` (light 0 a 0.1 m sphere with soft_first); many_lights_camera looks down at it.
+Scene many_lights_floor(int n, float range, bool soft_first = false);
+Camera many_lights_camera(uint32_t width, uint32_t height);
+
 // Analytic geometry in double. Entry distance of ray o + t d (t >= 0) into the box, if any.
 std::optional<double> ray_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& min, const glm::dvec3& max);
 // Whether the segment p -> q crosses the box.

@@ -56,8 +56,14 @@ TEST(TracerFactory, VulkanWithoutADriverFailsWithAReason) {
 
 TEST(TracerFactory, TooManyLightsIsAnError) {
   Scene scene = small_scene();
-  scene.lights.assign(kMaxLights + 1, test::point_light({0.0f, 1.0f, 0.0f}, 1.0f));
+  scene.lights.assign(kMaxSlotLights + 1, test::point_light({0.0f, 1.0f, 0.0f}, 1.0f));
   EXPECT_THROW(create_tracer(TracerBackend::kEmbree, scene), std::runtime_error);
+  // 33 lights without a range all reach every point: 32 take a slot each, the last is left out and named.
+  scene.lights.resize(kMaxLights + 1);
+  const auto tracer = create_tracer(TracerBackend::kEmbree, scene);
+  ASSERT_NE(tracer->light_slots(), nullptr);
+  EXPECT_EQ(tracer->light_count(), kMaxLights);
+  EXPECT_EQ(tracer->light_slots()->dropped(), std::vector<uint32_t>{kMaxLights});
 }
 
 TEST(TracerFactory, BadGeometryIsAnErrorNotACrash) {

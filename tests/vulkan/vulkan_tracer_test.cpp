@@ -255,7 +255,7 @@ TEST_F(VulkanTracerTest, EmptySceneAndBadInput) {
   EXPECT_THROW(tracer.trace(bad, vis, stats), std::invalid_argument);
 
   Scene too_many = empty;
-  too_many.lights.assign(kMaxLights + 1, test::point_light({0, 1, 0}, 1.0f));
+  too_many.lights.assign(kMaxSlotLights + 1, test::point_light({0, 1, 0}, 1.0f));
   EXPECT_THROW(VulkanTracer(too_many, vk_options()), std::runtime_error);
 
   Scene broken = empty;

@@ -50,6 +50,12 @@ DHR_CONST uint kVisBindingPermutation = 6;  // uint[] BLAS primitive -> original
 DHR_CONST uint kVisBindingMasks = 7;        // uint[width * height]: one 32-bit light mask per pixel
 DHR_CONST uint kVisBindingCounters = 8;     // uint[kVisCounterSlots * kVisCounterStride]
 DHR_CONST uint kVisBindingSoftLights = 9;   // VisSoftLight[], one per scene light (its extent), scene-relative
+// uint[]: with kVisLightSlots, the light slots (scene/light_slots.hpp): kVisSlotHeaderWords of header (the grid's
+// origin, scene-relative, and cell edge in mm as float bits; its cells per axis; the fields per row), then per cell
+// (x fastest) and one row for outside the grid, the light of each field (kVisNoSlotLight: none).
+DHR_CONST uint kVisBindingLightSlots = 10;
+DHR_CONST uint kVisSlotHeaderWords = 8u;
+DHR_CONST uint kVisNoSlotLight = 0xFFFFu;
 
 // Statistics counters; each pixel adds to slot (x % kVisCounterSlots) so atomics rarely collide.
 DHR_CONST uint kVisCounterPrimary = 0;
@@ -77,6 +83,9 @@ DHR_CONST float kVisShadowTfarScale = 1.0f - 1e-5f;
 // VisPushConstants::flags
 DHR_CONST uint kVisSkipBackfacing = 1u;
 DHR_CONST uint kVisSkipOutOfRange = 2u;
+// Fields are light slots: field f of a pixel holds the light its cell gives slot f, and a hard field is 1 where
+// that light cannot contribute (or there is none), 0 only where it contributes and its ray is occluded.
+DHR_CONST uint kVisLightSlots = 4u;
 // VisMesh::flags
 DHR_CONST uint kVisMeshDoubleSided = 1u;
 

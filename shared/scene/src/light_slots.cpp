@@ -57,6 +57,7 @@ LightSlots LightSlots::assign(std::span<const SceneLight> lights) {
   }
 
   LightSlots slots;
+  slots.identity_ = false;
   slots.slot_of_.assign(n, kNoSlotLight);
   std::vector<Reach> reach(n);
   std::vector<bool> gridded(n, false);

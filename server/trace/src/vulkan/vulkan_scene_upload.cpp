@@ -34,7 +34,8 @@ vk::Buffer storage_buffer(const vk::Context& context, const std::vector<T>& data
 }  // namespace
 
 GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std::span<const PackedLight> lights,
-                          std::span<const shader::VisSoftLight> soft_lights, const VulkanTracerConfig& config) {
+                          std::span<const shader::VisSoftLight> soft_lights, std::span<const uint32_t> light_slots,
+                          const VulkanTracerConfig& config) {
   const auto t0 = std::chrono::steady_clock::now();
   VkPhysicalDeviceProperties properties{};
   vkGetPhysicalDeviceProperties(context.physical_device(), &properties);
@@ -44,6 +45,8 @@ GpuScene upload_gpu_scene(const vk::Context& context, const ScenePlan& plan, std
   gpu.lights = storage_buffer(context, std::vector<PackedLight>(lights.begin(), lights.end()), max_range, "lights");
   gpu.soft_lights = storage_buffer(context, std::vector<shader::VisSoftLight>(soft_lights.begin(), soft_lights.end()),
                                    max_range, "light extents");
+  gpu.light_slots = storage_buffer(context, std::vector<uint32_t>(light_slots.begin(), light_slots.end()), max_range,
+                                   "light slots");
   gpu.meshes = storage_buffer(context, plan.meshes, max_range, "mesh records");
   gpu.positions = storage_buffer(context, plan.positions, max_range, "vertex positions");
   gpu.normals = storage_buffer(context, plan.normals, max_range, "vertex normals");

@@ -111,6 +111,7 @@ struct VulkanTracer::Impl {
   TracerOptions options;
   VulkanTracerConfig config;
   std::vector<SceneLight> lights;
+  LightSlots slots;  // the identity for at most kMaxLights lights
   SoftOptions soft;  // the soft fields' sampling: the defaults (the shader implements SoftPattern::kPerLight only)
   glm::dvec3 origin{0.0};
   float ray_offset_scale = 1.0f;  // ray_offset.hpp, for the scene's bounds
@@ -174,10 +175,20 @@ void VulkanTracer::Impl::record(VkCommandBuffer cmd, const shader::VisPushConsta
 
 VulkanTracer::VulkanTracer(const Scene& scene, const TracerOptions& options, const VulkanTracerConfig& config)
     : impl_(std::make_unique<Impl>()) {
-  if (scene.lights.size() > kMaxLights)
+  if (scene.lights.size() > kMaxSlotLights)
     throw std::runtime_error("vulkan tracer: " + std::to_string(scene.lights.size()) + " lights, at most " +
-                             std::to_string(kMaxLights) + " supported");
+                             std::to_string(kMaxSlotLights) + " supported");
   Impl& im = *impl_;
+  // More than kMaxLights lights share the mask's fields (scene/light_slots.hpp), placed where they stand at rest.
+  try {
+    im.slots = LightSlots::assign(scene.lights);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("vulkan tracer: ") + e.what());
+  }
+  if (!im.slots.is_identity() && !scene.animation.empty())
+    throw std::runtime_error("vulkan tracer: " + std::to_string(scene.lights.size()) +
+                             " lights share light slots, which need a scene without animation (more than " +
+                             std::to_string(kMaxLights) + " lights in a moving scene are not supported)");
   im.options = options;
   im.config = config;
   im.lights = scene.lights;
@@ -192,7 +203,8 @@ VulkanTracer::VulkanTracer(const Scene& scene, const TracerOptions& options, con
   im.ray_offset_scale = ray_offset_scale(scene.bounds);
   const std::vector<PackedLight> packed = pack_lights(im.lights, im.origin);
   const std::vector<shader::VisSoftLight> extents = detail::soft_light_records(im.lights, im.origin, im.soft.salt);
-  im.scene = detail::upload_gpu_scene(*im.context, plan, packed, extents, config);
+  im.scene = detail::upload_gpu_scene(*im.context, plan, packed, extents, detail::light_slot_words(im.slots, im.origin),
+                                      config);
   im.scene.stats.build_ms += plan_ms;  // the spatial sort is part of building
   im.motion = detail::plan_gpu_motion(scene, plan);
   log::debug("vulkan tracer: scene plan (validation, instancing, Morton sort) %.1f ms", plan_ms);
@@ -206,12 +218,11 @@ VulkanTracer::~VulkanTracer() = default;
 
 std::string VulkanTracer::device_description() const { return impl_->description; }
 const AccelStats& VulkanTracer::accel_stats() const { return impl_->scene.stats; }
-uint32_t VulkanTracer::light_count() const { return static_cast<uint32_t>(impl_->lights.size()); }
+uint32_t VulkanTracer::light_count() const { return impl_->slots.slot_count(); }
+const LightSlots* VulkanTracer::light_slots() const { return impl_->slots.is_identity() ? nullptr : &impl_->slots; }
 
 std::vector<bool> VulkanTracer::light_extents() const {
-  std::vector<bool> out;
-  for (const SceneLight& l : impl_->lights) out.push_back(l.has_extent());
-  return out;
+  return impl_->slots.soft_slots();  // the identity's: each light's extent
 }
 void VulkanTracer::set_scene_time(double t, const NodeOverrides* overrides) {
   Impl& im = *impl_;
@@ -271,14 +282,18 @@ void VulkanTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
   TraceStats stats;
   stats.pixels = pixels;
   stats.lights_unrequested = light_count() - lights;
+  // With light slots every requested field is traced (a light its view cannot reach is out of range or
+  // back-facing at every pixel, so its field is 1 as the Embree backend's culled light's is; only the counts
+  // differ: rays or out-of-range skips here where Embree counts skipped_culled_light).
+  const bool slots = !im.slots.is_identity();
   for (uint32_t i = 0; i < lights; ++i) {
-    if (im.options.skip.cull_lights && !light_may_reach_view(im.lights[i], camera))
+    if (!slots && im.options.skip.cull_lights && !light_may_reach_view(im.lights[i], camera))
       ++stats.lights_culled;
     else
       pc.active_lights |= 1u << i;
   }
   pc.flags = (im.options.skip.backfacing ? shader::kVisSkipBackfacing : 0u) |
-             (im.options.skip.out_of_range ? shader::kVisSkipOutOfRange : 0u);
+             (im.options.skip.out_of_range ? shader::kVisSkipOutOfRange : 0u) | (slots ? shader::kVisLightSlots : 0u);
 
   if (!im.scene.tlas) {  // no triangles: every primary ray misses
     std::fill(out.data.begin(), out.data.end(), uint8_t{0});

@@ -14,12 +14,13 @@ TracerPipeline create_tracer_pipeline(const vk::Context& context) {
   const VkDevice device = context.device();
   TracerPipeline out;
   constexpr VkShaderStageFlags kStage = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
-  std::array<VkDescriptorSetLayoutBinding, 10> bindings{};
-  const uint32_t binding_ids[10] = {shader::kVisBindingTlas,        shader::kVisBindingLights,
+  std::array<VkDescriptorSetLayoutBinding, 11> bindings{};
+  const uint32_t binding_ids[11] = {shader::kVisBindingTlas,        shader::kVisBindingLights,
                                     shader::kVisBindingMeshes,      shader::kVisBindingPositions,
                                     shader::kVisBindingNormals,     shader::kVisBindingIndices,
                                     shader::kVisBindingPermutation, shader::kVisBindingMasks,
-                                    shader::kVisBindingCounters,    shader::kVisBindingSoftLights};
+                                    shader::kVisBindingCounters,    shader::kVisBindingSoftLights,
+                                    shader::kVisBindingLightSlots};
   for (size_t i = 0; i < bindings.size(); ++i) {
     bindings[i].binding = binding_ids[i];
     const bool tlas = binding_ids[i] == shader::kVisBindingTlas;
@@ -33,7 +34,7 @@ TracerPipeline create_tracer_pipeline(const vk::Context& context) {
   out.layout = vk::create_pipeline_layout(device, std::span<const VkDescriptorSetLayout>(&set_layout, 1),
                                           std::span<const VkPushConstantRange>(&push, 1));
   const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
-                                        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 9}};
+                                        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 10}};
   out.pool = vk::create_descriptor_pool(device, 1, sizes);
   out.set = vk::allocate_descriptor_set(device, out.pool.get(), set_layout);
 
@@ -55,7 +56,7 @@ void write_scene_descriptors(const vk::Context& context, const TracerPipeline& p
       {shader::kVisBindingLights, &scene.lights},       {shader::kVisBindingMeshes, &scene.meshes},
       {shader::kVisBindingPositions, &scene.positions}, {shader::kVisBindingNormals, &scene.normals},
       {shader::kVisBindingIndices, &scene.indices},     {shader::kVisBindingPermutation, &scene.permutation},
-      {shader::kVisBindingSoftLights, &scene.soft_lights}};
+      {shader::kVisBindingSoftLights, &scene.soft_lights}, {shader::kVisBindingLightSlots, &scene.light_slots}};
   for (const auto& [binding, buffer] : buffers)
     vk::write_buffer_descriptor(device, pipeline.set, binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer->handle());
 }

@@ -42,7 +42,7 @@ class LightSlots {
   // or range.
   static LightSlots assign(std::span<const SceneLight> lights);
 
-  bool is_identity() const { return grid_cells_ == 0; }
+  bool is_identity() const { return identity_; }
   uint32_t light_count() const { return static_cast<uint32_t>(slot_of_.size()); }
   uint32_t slot_count() const { return static_cast<uint32_t>(slot_soft_.size()); }
   // Light i's slot; kNoSlotLight for a dropped light.
@@ -77,6 +77,7 @@ class LightSlots {
  private:
   uint32_t cell_index(const glm::dvec3& p) const;  // grid_cells_ when outside
 
+  bool identity_ = true;
   std::vector<uint16_t> slot_of_;
   std::vector<bool> slot_soft_;
   std::vector<uint32_t> dropped_;

@@ -31,7 +31,8 @@ class VulkanTracer final : public VisibilityTracer {
  public:
   // Creates its own Vulkan context (TracerOptions::vk_device, vk_validation; DHR_VK_DEVICE and
   // DHR_VK_VALIDATION override them) and builds the acceleration structures. Throws std::runtime_error
-  // with a one-line reason: no device with ray tracing, more than kMaxLights lights, a scene too large for
+  // with a one-line reason: no device with ray tracing, more than kMaxSlotLights lights (more than
+  // kMaxLights share light slots, light_slots(), and refuse a scene with animation), a scene too large for
   // the device's storage-buffer range, a bad mesh (index out of range, non-finite vertex).
   VulkanTracer(const Scene& scene, const TracerOptions& options, const VulkanTracerConfig& config = {});
   ~VulkanTracer() override;
@@ -42,6 +43,7 @@ class VulkanTracer final : public VisibilityTracer {
   std::string device_description() const override;
   const AccelStats& accel_stats() const override;
   uint32_t light_count() const override;
+  const LightSlots* light_slots() const override;
   // Concurrent calls are serialized (one queue, one set of frame buffers).
   void trace(const Camera& camera, VisibilityBuffer& out, TraceStats& out_stats) override;
   // Lights past `lights` are neither tested nor traced by the shader (push constant light_count).
