@@ -37,4 +37,44 @@ vec3 shade_radiance(vec3 p, vec3 n, vec3 albedo, uint mask, uint light_count, ui
   return albedo * 0.31830988618379067 * sum;
 }
 
+#ifdef DHR_LIGHT_SLOTS_BINDING
+// Light slots (more than 32 lights; scene/light_slots.hpp): the table the shader defines DHR_LIGHT_SLOTS_BINDING for
+// (in DHR_LIGHT_BUFFER_SET), in LightSlots::gpu_words' format.
+layout(set = DHR_LIGHT_BUFFER_SET, binding = DHR_LIGHT_SLOTS_BINDING, std430) readonly buffer LightSlotTable {
+  uint light_slot_table[];
+};
+
+// Where the lights of the cell holding p start in light_slot_table (p and origin_mm relative to the eye, world axes;
+// binned in float: a point within the margin of a cell boundary may fall in either cell, and a light reaching it
+// is registered in both, in the same slot).
+uint light_slot_row(vec3 p, vec3 origin_mm) {
+  const float cell = uintBitsToFloat(light_slot_table[3]);
+  const uvec3 cells = uvec3(light_slot_table[4], light_slot_table[5], light_slot_table[6]);
+  const vec3 c = floor((p * 1000.0 - origin_mm) / cell);
+  uint index = cells.x * cells.y * cells.z;  // the row outside the grid
+  if (all(greaterThanEqual(c, vec3(0.0))) && all(lessThan(c, vec3(cells))))
+    index = (uint(c.z) * cells.y + uint(c.y)) * cells.x + uint(c.x);
+  return kVisSlotHeaderWords + index * light_slot_table[7];
+}
+
+// shade_radiance with the mask's fields as light slots: field f adds the light slot f holds where p is (none: 0).
+vec3 shade_radiance_slots(vec3 p, vec3 n, vec3 albedo, uint mask, uint fields, uint soft_fields, vec3 origin_mm) {
+  const uint row = light_slot_row(p, origin_mm);
+  vec3 sum = vec3(0.0);
+  uint offset = 0u;
+  for (uint f = 0u; f < fields; ++f) {
+    const uint bits = field_bits(soft_fields, f);
+    const uint at = offset;
+    offset += bits;
+    if (((mask >> at) & ((1u << bits) - 1u)) == 0u) continue;
+    const uint li = light_slot_table[row + f];
+    if (li == kVisNoSlotLight) continue;
+    vec3 term;
+    if (!shade_light_term(li, p, n, term)) continue;
+    sum += bits == 1u ? term : field_visibility(mask, at, bits) * term;
+  }
+  return albedo * 0.31830988618379067 * sum;
+}
+#endif
+
 #endif  // DHR_SHADE_H

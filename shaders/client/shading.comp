@@ -22,6 +22,7 @@ layout(push_constant, std430) uniform Push { ClientShadingPush pc; };
 // The lights are declared by the helper (client/light_buffer.h, through shade.h).
 #define DHR_LIGHT_BUFFER_SET 0
 #define DHR_LIGHT_BUFFER_BINDING kClientShadingBindingLights
+#define DHR_LIGHT_SLOTS_BINDING kClientShadingBindingLightSlots
 #include "client/shade.h"
 
 void main() {
@@ -36,7 +37,10 @@ void main() {
   const vec3 albedo = texelFetch(albedo_texture, pixel, 0).rgb;
   const uint mask = imageLoad(mask_image, pixel).x;
 
-  const vec3 radiance = shade_radiance(p, n, albedo, mask, pc.light_count, pc.soft_lights);
+  const vec3 radiance = (pc.flags & kClientShadingLightSlots) != 0u
+                            ? shade_radiance_slots(p, n, albedo, mask, pc.light_count, pc.soft_lights,
+                                                   v3(pc.slot_origin_mm))
+                            : shade_radiance(p, n, albedo, mask, pc.light_count, pc.soft_lights);
   vec3 display = encode_radiance(radiance, pc.exposure);
 
   if (pc.view_mode != kClientViewShaded) {

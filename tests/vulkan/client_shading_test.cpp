@@ -16,6 +16,7 @@
 #include "render/warp_pass.hpp"
 #include "render/render_camera.hpp"
 #include "render/shading_pass.hpp"
+#include "scene/light_slots.hpp"
 #include "shaders/display_encode.h"
 #include "vulkan_test_fixture.hpp"
 
@@ -94,11 +95,11 @@ View room_view() {
 }
 
 struct ShadingRig {
-  ShadingRig(vk::Context& ctx, const Scene& scene)
+  ShadingRig(vk::Context& ctx, const Scene& scene, const LightSlots* slots = nullptr)
       : gpu_scene(ctx, scene),
         gbuffer_pass(ctx, gpu_scene),
         warp_pass(ctx),
-        shading_pass(ctx),
+        shading_pass(ctx, 1, slots),
         gbuffer(GBuffer::create(ctx, kExtent)),
         warp(WarpTargets::create(ctx, kExtent, WarpOutputs{true, false})),
         output(create_shading_output(ctx, kExtent)) {}
@@ -129,16 +130,22 @@ struct ShadingRig {
 uint8_t to_byte(float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 
 // The shading pass's output against the shading equation evaluated on the CPU (light_eval.h, the same header).
-void expect_cpu_shading(vk::Context& context, const Scene& scene) {
+// With `slots`, field f is the light slot f holds at the pixel's world point (LightSlots::light_at, in double).
+void expect_cpu_shading(vk::Context& context, const Scene& scene, const LightSlots* slots = nullptr) {
   const View view = room_view();
   const Camera camera = display_camera(view, kExtent);
   const Camera traced = Camera::with_guard_band(view, kExtent, kGuard);
-  // The mask's fields follow the lights (light_layout.hpp): a soft light's three bits hold its Gray-coded level;
-  // random bits over every field give every level.
-  const VisibilityLayout layout = layout_for_lights(scene.lights);
+  // The mask's fields follow the lights (light_layout.hpp) or their slots: a soft field's three bits hold its
+  // Gray-coded level; random bits over every field give every level.
+  bool slot_soft[kMaxLights] = {};
+  if (slots)
+    for (uint32_t f = 0; f < slots->slot_count(); ++f) slot_soft[f] = slots->soft_slots()[f];
+  const VisibilityLayout layout =
+      slots ? VisibilityLayout::for_lights(std::span<const bool>(slot_soft, slots->slot_count()))
+            : layout_for_lights(scene.lights);
   const VisibilityBuffer vis =
       make_random_visibility(traced.extent.width, traced.extent.height, layout.total_bits(), 42);
-  ShadingRig rig(context, scene);
+  ShadingRig rig(context, scene, slots);
   ShadingSettings settings;
   settings.exposure = 1.3f;
   rig.run(context, view, VisibilityInput{&vis, traced, {}, 0}, settings);
@@ -150,7 +157,7 @@ void expect_cpu_shading(vk::Context& context, const Scene& scene) {
   const std::vector<uint8_t> out = test::read_pixels<uint8_t>(context, rig.output, 4);
   const std::vector<PackedLight> lights = pack_lights(scene.lights, camera.T_world_eye.position);
 
-  size_t surface = 0, lit = 0, worst = 0;
+  size_t surface = 0, lit = 0, worst = 0, slot_lights_shaded = 0;
   std::array<size_t, kDefaultSoftLevels> soft_levels{};
   for (uint32_t j = 0; j < kExtent.height; ++j) {
     for (uint32_t i = 0; i < kExtent.width; ++i) {
@@ -166,11 +173,15 @@ void expect_cpu_shading(vk::Context& context, const Scene& scene) {
                                                                                   depth[p]));
         const glm::vec3 n = glm::normalize(glm::vec3(normal[p * 4], normal[p * 4 + 1], normal[p * 4 + 2]));
         glm::vec3 sum(0.0f);
-        for (uint32_t l = 0; l < lights.size(); ++l) {
-          const float k = layout.visibility(mask[p], l);  // the bit, or level / 7
+        const glm::dvec3 world = glm::dvec3(pos) + camera.T_world_eye.position;
+        for (uint32_t f = 0; f < layout.light_count; ++f) {
+          const float k = layout.visibility(mask[p], f);  // the bit, or level / 7
           if (k == 0.0f) continue;
-          if (layout.is_soft(l)) {
-            ++soft_levels[gray_decode(layout.field(mask[p], l))];
+          const uint32_t l = slots ? slots->light_at(f, world) : f;
+          if (l == kNoSlotLight) continue;
+          if (slots) ++slot_lights_shaded;
+          if (layout.is_soft(f)) {
+            ++soft_levels[gray_decode(layout.field(mask[p], f))];
             sum += k * light_contribution(lights[l], sample_light(lights[l], pos, n), n);
           } else {
             sum += light_contribution(lights[l], sample_light(lights[l], pos, n), n);
@@ -192,12 +203,36 @@ void expect_cpu_shading(vk::Context& context, const Scene& scene) {
   EXPECT_GT(surface, kExtent.width * kExtent.height / 2);
   EXPECT_GT(lit, surface / 4) << "the test scene should be mostly lit";
   EXPECT_LE(worst, 1u);
+  if (slots) {
+    EXPECT_GT(slot_lights_shaded, surface) << "the test should shade more than one slot's light per pixel";
+  }
   if (layout.any_soft()) {
     for (uint32_t level = 1; level < kDefaultSoftLevels; ++level) EXPECT_GT(soft_levels[level], 0u) << level;
   }
 }
 
 TEST_F(ClientShadingTest, MatchesTheCpuShadingEquation) { expect_cpu_shading(ctx(), lit_room()); }
+
+// More than 32 lights (light slots): 60 point lights with a 1.5 m range over the room, in about 15 slots; each
+// pixel's fields shade the lights its cell holds, as on the CPU.
+TEST_F(ClientShadingTest, LightSlotsMatchTheCpuShadingEquation) {
+  Scene scene = lit_room();
+  scene.lights.clear();
+  for (int i = 0; i < 60; ++i) {
+    SceneLight l;
+    l.type = SceneLight::Type::kPoint;
+    l.position = {-3.5f + 7.0f * static_cast<float>(i % 6) / 5.0f, 0.6f + 0.5f * static_cast<float>(i % 4),
+                  0.5f - 6.0f * static_cast<float>(i / 6) / 9.0f};
+    l.color = {1.0f, 0.8f + 0.02f * static_cast<float>(i % 10), 0.7f};
+    l.intensity = 3.0f;
+    l.range = 1.5f;
+    scene.lights.push_back(l);
+  }
+  const LightSlots slots = LightSlots::assign(scene.lights);
+  ASSERT_FALSE(slots.is_identity());
+  ASSERT_TRUE(slots.dropped().empty()) << slots.describe();
+  expect_cpu_shading(ctx(), scene, &slots);
+}
 
 // Rect and disk lights: one-sided, cosine-weighted, identically on the GPU and the CPU. Both have an extent, so
 // each has a soft field (three Gray-coded bits) and shades with k = level / 7.

@@ -45,10 +45,12 @@ vk::Image create_shading_output(const vk::Context& context, Extent extent) {
                    VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
 }
 
-ShadingPass::ShadingPass(const vk::Context& context, uint32_t slots) : context_(&context) {
+ShadingPass::ShadingPass(const vk::Context& context, uint32_t slots, const LightSlots* light_slots)
+    : context_(&context) {
   if (slots == 0) throw std::invalid_argument("ShadingPass needs at least one slot");
+  if (light_slots && !light_slots->is_identity()) light_slots_ = *light_slots;
   const VkDevice device = context.device();
-  const std::array<ComputeBinding, 8> bindings = {{
+  const std::array<ComputeBinding, 9> bindings = {{
       {kClientShadingBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
       {kClientShadingBindingNormal, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
       {kClientShadingBindingAlbedo, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
@@ -57,11 +59,19 @@ ShadingPass::ShadingPass(const vk::Context& context, uint32_t slots) : context_(
       {kClientShadingBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
       {kClientShadingBindingLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       {kClientShadingBindingOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {kClientShadingBindingLightSlots, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
   }};
   core_ = ComputePassCore::create(device, bindings, sizeof(ClientShadingPush), "shading.comp", slots);
   slots_.resize(slots);
+  // The grid's origin words are not read: the push constants give it relative to each frame's eye.
+  const std::vector<uint32_t> table =
+      light_slots_ ? light_slots_->gpu_words(glm::dvec3(0.0)) : LightSlots::identity(0).gpu_words(glm::dvec3(0.0));
+  light_slot_table = vk::create_buffer_with_data(context, std::span<const uint32_t>(table),
+                                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const size_t max_lights = light_slots_ ? light_slots_->light_count() : kMaxLights;
   for (Slot& s : slots_) {
-    s.lights = vk::Buffer(context, kMaxSceneLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+    s.lights = vk::Buffer(context, std::max<size_t>(max_lights, 1) * sizeof(PackedLight),
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     s.set = core_.allocate_set(device);
   }
 }
@@ -70,7 +80,10 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
                          const Camera& display, double near_plane, std::span<const SceneLight> lights,
                          const ShadingSettings& settings, vk::Image& output) {
   if (slot_index >= slots_.size()) throw std::invalid_argument("shading pass: slot out of range");
-  if (lights.size() > kMaxSceneLights) throw std::invalid_argument("shading pass: more than 32 lights");
+  const size_t max_lights = light_slots_ ? light_slots_->light_count() : kMaxLights;
+  if (lights.size() > max_lights)
+    throw std::invalid_argument("shading pass: " + std::to_string(lights.size()) + " lights, its fields hold " +
+                                std::to_string(max_lights));
   const Extent extent = display.extent;
   if (!same_extent(gbuffer.depth, extent) || !same_extent(warp.mask, extent) || !same_extent(output, extent)) {
     throw std::invalid_argument("shading pass: display camera, G-buffer, warp and output differ in size");
@@ -105,6 +118,8 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
                               slot.lights.handle());
   vk::write_image_descriptor(device, slot.set, kClientShadingBindingOutput, kStorage, output.view(),
                              VK_IMAGE_LAYOUT_GENERAL);
+  vk::write_buffer_descriptor(device, slot.set, kClientShadingBindingLightSlots, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                              light_slot_table.handle());
 
   for (vk::Image* image : {&gbuffer.depth, &gbuffer.normal, &gbuffer.albedo}) ensure_layout(cmd, *image, kRead);
   for (vk::Image* image : {&warp.mask, &warp.status, &warp.motion}) {
@@ -132,11 +147,22 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
   push.background_b = settings.background.b;
   push.width = extent.width;
   push.height = extent.height;
-  push.light_count = static_cast<uint32_t>(packed.size());
-  push.soft_lights = soft_light_mask(layout_for_lights(lights));
+  if (light_slots_) {  // fields are slots: their count and kinds; the grid's origin relative to this eye, in double
+    bool soft[kMaxLights] = {};
+    for (uint32_t f = 0; f < light_slots_->slot_count(); ++f) soft[f] = light_slots_->soft_slots()[f];
+    push.light_count = light_slots_->slot_count();
+    push.soft_lights = soft_light_mask(VisibilityLayout::for_lights(std::span<const bool>(soft, push.light_count)));
+    for (int a = 0; a < 3; ++a) {
+      push.slot_origin_mm[a] = static_cast<float>(static_cast<double>(light_slots_->origin_mm()[a]) -
+                                                  display.T_world_eye.position[a] * 1000.0);
+    }
+  } else {
+    push.light_count = static_cast<uint32_t>(packed.size());
+    push.soft_lights = soft_light_mask(layout_for_lights(lights));
+  }
   push.view_mode = static_cast<uint32_t>(settings.view);
   push.debug_light = std::min(settings.debug_light, 31u);
-  push.flags = settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u;
+  push.flags = (settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u) | (light_slots_ ? kClientShadingLightSlots : 0u);
 
   core_.dispatch(cmd, slot.set, &push, sizeof(push), extent.width, extent.height, kClientWarpGroupSize);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

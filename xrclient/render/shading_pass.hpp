@@ -10,10 +10,12 @@
 
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "math/projection.hpp"
+#include "scene/light_slots.hpp"
 #include "scene/scene.hpp"
 #include "render/pass_util.hpp"
 #include "render/warp_pass.hpp"
@@ -61,13 +63,17 @@ vk::Image create_shading_output(const vk::Context& context, Extent extent);
 
 class ShadingPass {
  public:
-  explicit ShadingPass(const vk::Context& context, uint32_t slots = 1);
+  // With `light_slots` (more than 32 lights, scene/light_slots.hpp; copied), the mask's fields are those slots and
+  // record() takes every light of the scene, shading each field with the light its slot holds where the pixel's
+  // surface is; null or the identity: field i is light i.
+  explicit ShadingPass(const vk::Context& context, uint32_t slots = 1, const LightSlots* light_slots = nullptr);
 
   // Writes the lights (packed relative to the eye, in double) into the slot's buffer (the GPU must have
   // finished the slot's previous use) and records the pass. The G-buffer must be in SHADER_READ_ONLY_OPTIMAL
   // and the warp targets in GENERAL (as their passes leave them); `output` ends in GENERAL with its
   // writes visible to later shaders and transfers. Throws std::invalid_argument for mismatched sizes,
-  // more than kMaxSceneLights lights, a bad slot, or a debug view whose warp outputs are placeholders.
+  // more lights than the fields hold (kMaxLights without light slots, the slots' light count with them), a bad slot,
+  // or a debug view whose warp outputs are placeholders.
   void record(VkCommandBuffer cmd, uint32_t slot, GBuffer& gbuffer, WarpTargets& warp,
               const Camera& display, double near_plane, std::span<const SceneLight> lights,
               const ShadingSettings& settings, vk::Image& output);
@@ -82,6 +88,8 @@ class ShadingPass {
   const vk::Context* context_;
   ComputePassCore core_;
   std::vector<Slot> slots_;
+  std::optional<LightSlots> light_slots_;  // set: fields are light slots
+  vk::Buffer light_slot_table;              // LightSlots::gpu_words (a header alone without slots)
 };
 
 }  // namespace dhr::render

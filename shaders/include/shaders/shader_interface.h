@@ -401,6 +401,9 @@ DHR_CONST uint kClientShadingBindingStatus = 4;  // r32ui image (kClientStatus*)
 DHR_CONST uint kClientShadingBindingMotion = 5;  // rg32f image (debug view only)
 DHR_CONST uint kClientShadingBindingLights = 6;  // storage buffer PackedLight[] (eye-relative positions)
 DHR_CONST uint kClientShadingBindingOutput = 7;  // rgba8 image (sRGB-encoded bytes in a UNORM image)
+// uint[]: with kClientShadingLightSlots, the light slots (LightSlots::gpu_words: the server's format; the origin
+// words are not read, ClientShadingPush::slot_origin_mm gives the grid's origin relative to the eye).
+DHR_CONST uint kClientShadingBindingLightSlots = 8;
 
 DHR_CONST uint kClientViewShaded = 0u;         // the shading equation, exposure, tonemap, sRGB
 DHR_CONST uint kClientViewLightVisibility = 1u;  // light debug_light: white lit, black shadowed, red unknown
@@ -410,6 +413,9 @@ DHR_CONST uint kClientViewNormal = 4u;         // world normal * 0.5 + 0.5
 DHR_CONST uint kClientViewMotion = 5u;         // motion vectors: red/green = +x/+y pixels (scaled)
 
 DHR_CONST uint kClientShadingSwapRedBlue = 1u;  // store (b, g, r): bytes for a B8G8R8A8 swapchain copy
+// The mask's fields are light slots (scene/light_slots.hpp): field f shades the light slot f holds in the cell of
+// the pixel's surface point (kClientShadingBindingLightSlots), light_count and soft_lights count fields.
+DHR_CONST uint kClientShadingLightSlots = 2u;
 
 // The surface point of pixel (i, j) with depth-buffer value d, relative to the eye in world axes:
 //   p = (near_plane / d) * (ray0 + (i + 0.5) * ray_dx + (j + 0.5) * ray_dy)
@@ -430,6 +436,7 @@ struct ClientShadingPush {
   uint debug_light;      // light index for kClientViewLightVisibility
   uint flags;            // kClientShading*
   uint soft_lights;      // bit i: light i has a soft field in the mask (client/visibility_field.h)
+  float slot_origin_mm[3];  // kClientShadingLightSlots: the slot grid's origin relative to the eye, mm (world axes)
 };
 
 // Forward (graphics, forward*.frag over client/forward_body.h; set 0 = the G-buffer's per-material set): rasterizes and shades in one pass.
@@ -479,7 +486,7 @@ static_assert(sizeof(ClientWarpMotion) == 3 * sizeof(ClientMotionSource) + 32 * 
               "ClientWarpMotion must match the std430 layout");
 static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 30, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
-static_assert(sizeof(ClientShadingPush) == 84, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientShadingPush) == 96, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
 static_assert(sizeof(VisSoftLight) == 64, "VisSoftLight must match the std430 array stride");

@@ -1,9 +1,11 @@
 #include "scene/light_slots.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 
+#include "shaders/shader_interface.h"
 #include "visibility/visibility_layout.hpp"
 
 namespace dhr {
@@ -229,6 +231,19 @@ uint32_t LightSlots::cell_index(const glm::dvec3& p) const {
 const uint16_t* LightSlots::lights_at(const glm::dvec3& p) const {
   if (grid_cells_ == 0) return table_.data();
   return table_.data() + static_cast<size_t>(cell_index(p)) * slot_count();
+}
+
+std::vector<uint32_t> LightSlots::gpu_words(const glm::dvec3& relative_to) const {
+  std::vector<uint32_t> out(shader::kVisSlotHeaderWords, 0u);
+  if (is_identity()) return out;  // never read: the shaders are told about slots only when there are some
+  for (int a = 0; a < 3; ++a)
+    out[a] = std::bit_cast<uint32_t>(static_cast<float>(static_cast<double>(origin_mm_[a]) - relative_to[a] * 1000.0));
+  out[3] = std::bit_cast<uint32_t>(static_cast<float>(cell_mm_));
+  for (int a = 0; a < 3; ++a) out[4 + a] = cells_[a];
+  out[7] = slot_count();
+  out.reserve(out.size() + table_.size());
+  for (uint16_t light : table_) out.push_back(light == kNoSlotLight ? shader::kVisNoSlotLight : light);
+  return out;
 }
 
 std::string LightSlots::describe() const {

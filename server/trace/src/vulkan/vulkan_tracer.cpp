@@ -203,7 +203,7 @@ VulkanTracer::VulkanTracer(const Scene& scene, const TracerOptions& options, con
   im.ray_offset_scale = ray_offset_scale(scene.bounds);
   const std::vector<PackedLight> packed = pack_lights(im.lights, im.origin);
   const std::vector<shader::VisSoftLight> extents = detail::soft_light_records(im.lights, im.origin, im.soft.salt);
-  im.scene = detail::upload_gpu_scene(*im.context, plan, packed, extents, detail::light_slot_words(im.slots, im.origin),
+  im.scene = detail::upload_gpu_scene(*im.context, plan, packed, extents, im.slots.gpu_words(im.origin),
                                       config);
   im.scene.stats.build_ms += plan_ms;  // the spatial sort is part of building
   im.motion = detail::plan_gpu_motion(scene, plan);

@@ -69,6 +69,11 @@ class LightSlots {
   // The most lights any cell holds (what a pixel can need traced or shaded).
   uint32_t max_lights_per_cell() const { return max_per_cell_; }
 
+  // What the shaders read (shaders/shader_interface.h, kVisSlotHeaderWords): the grid's origin in mm relative to
+  // `relative_to` (metres, subtracted in double, then float bits), its cell edge (float bits), its cells per axis,
+  // the fields per row, then the table, one uint per entry (kVisNoSlotLight: none). Just the header for the identity.
+  std::vector<uint32_t> gpu_words(const glm::dvec3& relative_to) const;
+
   // One line for logs: "N lights in S slots (G global, grid X x Y x Z cells of C mm, at most M per cell), D dropped".
   std::string describe() const;
 

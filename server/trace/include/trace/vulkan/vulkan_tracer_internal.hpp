@@ -69,9 +69,6 @@ void set_instance_transform(InstancePlan& instance, const glm::dmat4& T_world_bl
 std::vector<shader::VisSoftLight> soft_light_records(std::span<const SceneLight> lights, const glm::dvec3& origin,
                                                      uint32_t salt);
 
-// The light slots' words for kVisBindingLightSlots (just the header for the identity), scene-relative.
-std::vector<uint32_t> light_slot_words(const LightSlots& slots, const glm::dvec3& origin);
-
 // Validates the meshes (indices in range, finite positions) and plans BLASes and instances.
 // Throws std::runtime_error naming the mesh and the problem.
 ScenePlan plan_gpu_scene(const Scene& scene, const VulkanTracerConfig& config);
@@ -85,7 +82,7 @@ struct GpuScene {
   vk::Buffer indices;
   vk::Buffer permutation;
   vk::Buffer soft_lights;  // VisSoftLight[] (at least one element)
-  vk::Buffer light_slots;  // light_slot_words
+  vk::Buffer light_slots;  // LightSlots::gpu_words, scene-relative
   std::vector<vk::AccelerationStructure> blases;
   vk::AccelerationStructure tlas;
   std::vector<vk::AsInstance> instances;  // what the TLAS was built from (kept when it can be updated)
