@@ -11,6 +11,7 @@
 #include "scene/lighting.hpp"
 #include "metrics/visibility_synthetic.hpp"
 #include "render/client_scene.hpp"
+#include "render/eye_pipeline.hpp"
 #include "render/gbuffer_pass.hpp"
 #include "render/light_layout.hpp"
 #include "render/warp_pass.hpp"
@@ -213,9 +214,8 @@ void expect_cpu_shading(vk::Context& context, const Scene& scene, const LightSlo
 
 TEST_F(ClientShadingTest, MatchesTheCpuShadingEquation) { expect_cpu_shading(ctx(), lit_room()); }
 
-// More than 32 lights (light slots): 60 point lights with a 1.5 m range over the room, in about 15 slots; each
-// pixel's fields shade the lights its cell holds, as on the CPU.
-TEST_F(ClientShadingTest, LightSlotsMatchTheCpuShadingEquation) {
+// lit_room's geometry with 60 point lights of 1.5 m range over it (light slots: about 15 fields).
+Scene many_lit_room() {
   Scene scene = lit_room();
   scene.lights.clear();
   for (int i = 0; i < 60; ++i) {
@@ -228,10 +228,46 @@ TEST_F(ClientShadingTest, LightSlotsMatchTheCpuShadingEquation) {
     l.range = 1.5f;
     scene.lights.push_back(l);
   }
+  return scene;
+}
+
+// More than 32 lights: each pixel's fields shade the lights its cell holds, as on the CPU.
+TEST_F(ClientShadingTest, LightSlotsMatchTheCpuShadingEquation) {
+  const Scene scene = many_lit_room();
   const LightSlots slots = LightSlots::assign(scene.lights);
   ASSERT_FALSE(slots.is_identity());
   ASSERT_TRUE(slots.dropped().empty()) << slots.describe();
   expect_cpu_shading(ctx(), scene, &slots);
+}
+
+// The eye pipeline with light slots: the deferred path (the forward pass shades by light index), the warp given one
+// light per field, and the same pixels as the passes above; at most 32 lights stay the identity.
+TEST_F(ClientShadingTest, EyePipelineShadesLightSlotsOnTheDeferredPath) {
+  const Scene scene = many_lit_room();
+  const View view = room_view();
+  const Camera traced = Camera::with_guard_band(view, kExtent, kGuard);
+  ClientScene gpu_scene(ctx(), scene);
+  ASSERT_FALSE(gpu_scene.light_slots().is_identity());
+  ASSERT_EQ(gpu_scene.field_lights().size(), gpu_scene.light_slots().slot_count());
+  bool soft[kMaxLights] = {};
+  const VisibilityLayout layout =
+      VisibilityLayout::for_lights(std::span<const bool>(soft, gpu_scene.light_slots().slot_count()));
+  const VisibilityBuffer vis = make_random_visibility(traced.extent.width, traced.extent.height, layout.total_bits(), 7);
+  const VisibilityInput input{&vis, traced, {}, 0};
+
+  EyePipeline eye(ctx(), gpu_scene, kExtent);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input); });
+  EXPECT_FALSE(eye.read_stats(0).forward);
+  const std::vector<uint8_t> got = test::read_pixels<uint8_t>(ctx(), eye.output(), 4);
+
+  ShadingRig rig(ctx(), scene, &gpu_scene.light_slots());
+  rig.run(ctx(), view, input, ShadingSettings{});
+  EXPECT_EQ(got, test::read_pixels<uint8_t>(ctx(), rig.output, 4));
+
+  Scene few = lit_room();
+  ClientScene few_scene(ctx(), few);
+  EXPECT_TRUE(few_scene.light_slots().is_identity());
+  EXPECT_EQ(few_scene.field_lights().size(), few.lights.size());
 }
 
 // Rect and disk lights: one-sided, cosine-weighted, identically on the GPU and the CPU. Both have an extent, so

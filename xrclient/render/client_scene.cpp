@@ -61,7 +61,12 @@ std::pair<glm::dvec3, double> mesh_sphere(const SceneMesh& mesh) {
 }  // namespace
 
 ClientScene::ClientScene(const vk::Context& context, const Scene& scene)
-    : lights_(scene.lights), bounds_(scene.bounds) {
+    : lights_(scene.lights), light_slots_(LightSlots::assign(scene.lights)), bounds_(scene.bounds) {
+  if (!light_slots_.is_identity() && !scene.animation.empty()) {
+    throw std::invalid_argument("client scene: " + std::to_string(lights_.size()) +
+                                " lights share light slots, which need a scene without animation");
+  }
+  field_lights_ = light_slots_.field_lights(lights_);
   // Textures: index 0 is white for untextured materials; scene image i is texture i + 1.
   const std::array<uint8_t, 4> white = {255, 255, 255, 255};
   textures_.push_back(upload_texture(context, 1, 1, white.data()));

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "render/client_motion.hpp"
+#include "scene/light_slots.hpp"
 #include "scene/scene.hpp"
 #include "vk/buffer.hpp"
 #include "vk/handle.hpp"
@@ -48,7 +49,8 @@ struct ClientMaterial {
 class ClientScene {
  public:
   // Blocks while uploading. Throws std::invalid_argument for an inconsistent Scene (a mesh whose normals
-  // or texcoords do not match its positions, a bad material or index), dhr::vk::VulkanError on failure.
+  // or texcoords do not match its positions, a bad material or index), more than kMaxSlotLights lights or more
+  // than kMaxLights in a scene with animation (light slots are placed at rest), dhr::vk::VulkanError on failure.
   ClientScene(const vk::Context& context, const Scene& scene);
 
   // VERTEX_BUFFER: vec3 positions (mesh-relative), vec3 world normals, vec2 uvs; INDEX_BUFFER: uint32.
@@ -69,6 +71,10 @@ class ClientScene {
   const std::vector<vk::Image>& textures() const { return textures_; }  // R8G8B8A8_SRGB, SHADER_READ_ONLY
   const std::vector<vk::Sampler>& samplers() const { return samplers_; }
   const std::vector<SceneLight>& lights() const { return lights_; }
+  // The mask's fields (scene/light_slots.hpp): the identity for at most kMaxLights lights, else the slots the
+  // lights share, derived as the server derives them; field_lights() one light per field (LightSlots::field_lights).
+  const LightSlots& light_slots() const { return light_slots_; }
+  const std::vector<SceneLight>& field_lights() const { return field_lights_; }
   const SceneBounds& bounds() const { return bounds_; }  // at rest
   // Which meshes and lights move, their rest bounds, and sampling them at a scene time.
   const ClientMotion& motion() const { return motion_; }
@@ -84,6 +90,8 @@ class ClientScene {
   std::vector<vk::Image> textures_;
   std::vector<vk::Sampler> samplers_;
   std::vector<SceneLight> lights_;
+  LightSlots light_slots_;
+  std::vector<SceneLight> field_lights_;
   SceneBounds bounds_;
   ClientMotion motion_;
   uint64_t triangle_count_ = 0;

@@ -39,7 +39,7 @@ EyePipeline::EyePipeline(const vk::Context& context, const ClientScene& scene, E
       options_(options),
       gbuffer_pass_(context, scene),
       warp_pass_(context, checked_slots(options)),
-      shading_pass_(context, checked_slots(options)) {
+      shading_pass_(context, checked_slots(options), &scene.light_slots()) {
   if (extent.width == 0 || extent.height == 0) throw std::invalid_argument("EyePipeline: zero extent");
   if (options.forward) {  // made here: its constructor submits work, which record() (inside a recording) cannot
     ForwardOptions fo;
@@ -83,7 +83,8 @@ bool EyePipeline::uses_forward() const {
   const bool paper = !w.bilinear && !w.depth_test && !w.other_eye && !w.older_buffer && !w.neighbour_fill &&
                      !w.uses_shadow_maps();
   return options_.forward && (paper || w.is_server_edges()) && options_.shading.view == ShadingView::kShaded &&
-         !options_.motion_vectors && !options_.warp_status && scene_->lights().size() <= options_.forward_max_lights;
+         !options_.motion_vectors && !options_.warp_status && scene_->lights().size() <= options_.forward_max_lights &&
+         scene_->light_slots().is_identity();  // the forward pass shades lights by index, not by slot
 }
 
 vk::Image& EyePipeline::output() {
@@ -245,7 +246,12 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
         options_.warp.depth_test && older->buffer != nullptr ? traced_depth(older->traced) : nullptr;
   }
   frame.shadow_maps = shadow_maps;
-  frame.lights = lights;
+  // With light slots the warp blends fields: it is given one light per field (their count and kinds); the
+  // client's shadow maps hold at most kMaxLights lights and are not made for such a scene.
+  const bool slots = !scene_->light_slots().is_identity();
+  if (slots && shadow_maps != nullptr)
+    throw std::invalid_argument("EyePipeline::record: shadow maps for a scene whose lights share light slots");
+  frame.lights = slots ? std::span<const SceneLight>(scene_->field_lights()) : lights;
   frame.settings = options_.warp;
   frame.motion = motion;
   slot.visibility_used = warp_pass_.record(cmd, slot_index, frame, warp_) && visibility.buffer != nullptr;

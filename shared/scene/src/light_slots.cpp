@@ -233,6 +233,19 @@ const uint16_t* LightSlots::lights_at(const glm::dvec3& p) const {
   return table_.data() + static_cast<size_t>(cell_index(p)) * slot_count();
 }
 
+std::vector<SceneLight> LightSlots::field_lights(std::span<const SceneLight> lights) const {
+  if (lights.size() != slot_of_.size()) throw std::invalid_argument("light slots: field_lights of other lights");
+  std::vector<SceneLight> out(slot_count());
+  std::vector<bool> set(slot_count(), false);
+  for (uint32_t i = 0; i < lights.size(); ++i) {
+    const uint16_t s = slot_of_[i];
+    if (s == kNoSlotLight || set[s]) continue;
+    out[s] = lights[i];
+    set[s] = true;
+  }
+  return out;
+}
+
 std::vector<uint32_t> LightSlots::gpu_words(const glm::dvec3& relative_to) const {
   std::vector<uint32_t> out(shader::kVisSlotHeaderWords, 0u);
   if (is_identity()) return out;  // never read: the shaders are told about slots only when there are some

@@ -69,6 +69,10 @@ class LightSlots {
   // The most lights any cell holds (what a pixel can need traced or shaded).
   uint32_t max_lights_per_cell() const { return max_per_cell_; }
 
+  // One light per field, the lowest-indexed light slot f holds (its kind is the slot's): what a pass that only
+  // counts the fields and their kinds is given. For the identity: the lights. `lights`: those assign() was given.
+  std::vector<SceneLight> field_lights(std::span<const SceneLight> lights) const;
+
   // What the shaders read (shaders/shader_interface.h, kVisSlotHeaderWords): the grid's origin in mm relative to
   // `relative_to` (metres, subtracted in double, then float bits), its cell edge (float bits), its cells per axis,
   // the fields per row, then the table, one uint per entry (kVisNoSlotLight: none). Just the header for the identity.
