@@ -9,7 +9,8 @@
 // Forward: the G-buffer pass's material evaluation (gbuffer.frag: alpha mask, normal flipped on back faces),
 // then this fragment's light mask and the shading equation, in the raster pass: no G-buffer round trip. The mask
 // is, by mode (ClientForwardShading::mode, dynamically uniform):
-//   kClientForwardLambert     all lights (no shadows: the cost of not having shadows)
+//   kClientForwardLambert     all lights (no shadows: the cost of not having shadows); with light slots, each
+//                             field's light where the fragment is (clustered by the slots' grid)
 //   kClientForwardShadowMaps  the client's shadow maps (what a headset would do without DHR; PCSS for soft
 //                             lights, whose fraction is k_i unquantized)
 //   kClientForwardPaperWarp   the paper's warp of this eye's newest visibility (the DHR client)
@@ -52,6 +53,7 @@ layout(location = 2) out uint out_mask;
 #define DHR_MOTION_BUFFER_SET 1
 #define DHR_MOTION_BUFFER_BINDING kClientForwardBindingMoved
 #include "client/motion_rule.h"
+#define DHR_LIGHT_SLOTS_BINDING kClientForwardBindingLightSlots
 #include "client/shade.h"
 
 // kClientForwardShadowMaps: the shadow maps' mask (as shadow_lookup) and the shading with each light's share
@@ -169,7 +171,13 @@ void main() {
     radiance = shade_local(p, n, albedo, (pc.near_plane / d) * pc.pixel_tangent, mask);
     shaded = true;
   }
-  if (!shaded) radiance = shade_radiance(p, n, albedo, mask, shading.light_count, shading.soft_lights);
+  if (!shaded) {
+    radiance = (shading.flags & kClientShadingLightSlots) != 0u
+                   ? shade_radiance_slots(p, n, albedo, mask, shading.light_count, shading.soft_lights,
+                                          vec3(shading.slot_origin_mm[0], shading.slot_origin_mm[1],
+                                               shading.slot_origin_mm[2]))
+                   : shade_radiance(p, n, albedo, mask, shading.light_count, shading.soft_lights);
+  }
   vec3 display = encode_radiance(radiance, shading.exposure);
   if ((shading.flags & kClientShadingSwapRedBlue) != 0u) display = display.bgr;
   out_colour = vec4(display, 1.0);

@@ -12,6 +12,7 @@
 #include "metrics/visibility_synthetic.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
+#include "render/forward_pass.hpp"
 #include "render/gbuffer_pass.hpp"
 #include "render/light_layout.hpp"
 #include "render/warp_pass.hpp"
@@ -268,6 +269,47 @@ TEST_F(ClientShadingTest, EyePipelineShadesLightSlotsOnTheDeferredPath) {
   ClientScene few_scene(ctx(), few);
   EXPECT_TRUE(few_scene.light_slots().is_identity());
   EXPECT_EQ(few_scene.field_lights().size(), few.lights.size());
+}
+
+// The forward pass without shadows (Lambert) over many lights shades each field's light where the fragment is:
+// the shading pass's pixels for an all-lit mask, within 1/255. Its warp modes refuse light slots.
+TEST_F(ClientShadingTest, ForwardLambertShadesLightSlotsAsTheShadingPass) {
+  const Scene scene = many_lit_room();
+  const View view = room_view();
+  const Camera camera = display_camera(view, kExtent);
+  const Camera traced = Camera::with_guard_band(view, kExtent, kGuard);
+  ClientScene gpu_scene(ctx(), scene);
+  ForwardOptions options;
+  options.mode = ForwardMode::kLambert;
+  ForwardPass pass(ctx(), gpu_scene, options);
+  ForwardTargets targets = ForwardTargets::create(ctx(), kExtent, options);
+  ForwardFrame frame;
+  frame.display = camera;
+  frame.near_plane = kNear;
+  frame.lights = gpu_scene.lights();
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, 0, frame, targets); });
+  const std::vector<uint8_t> forward = test::read_pixels<uint8_t>(ctx(), targets.colour, 4);
+
+  VisibilityBuffer lit = VisibilityBuffer::create(traced.extent.width, traced.extent.height,
+                                                  gpu_scene.light_slots().slot_count());
+  for (size_t p = 0; p < lit.pixel_count(); ++p) lit.set_mask_at(p, lit.light_bits());
+  ShadingRig rig(ctx(), scene, &gpu_scene.light_slots());
+  rig.run(ctx(), view, VisibilityInput{&lit, traced, {}, 0}, ShadingSettings{});
+  const std::vector<uint8_t> deferred = test::read_pixels<uint8_t>(ctx(), rig.output, 4);
+  ASSERT_EQ(forward.size(), deferred.size());
+  size_t lit_pixels = 0;
+  for (size_t i = 0; i < forward.size(); ++i) {
+    ASSERT_LE(std::abs(int(forward[i]) - int(deferred[i])), 1) << "byte " << i;
+    lit_pixels += i % 4 == 0 && forward[i] > 40;
+  }
+  EXPECT_GT(lit_pixels, forward.size() / 4 / 4);
+
+  ForwardOptions paper = options;
+  paper.mode = ForwardMode::kPaperWarp;
+  ForwardPass warp_pass(ctx(), gpu_scene, paper);
+  ForwardTargets warp_targets = ForwardTargets::create(ctx(), kExtent, paper);
+  EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) { warp_pass.record(cmd, 0, frame, warp_targets); }),
+               std::invalid_argument);
 }
 
 // Rect and disk lights: one-sided, cosine-weighted, identically on the GPU and the CPU. Both have an extent, so

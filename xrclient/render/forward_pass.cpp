@@ -77,12 +77,12 @@ ForwardTargets ForwardTargets::create(const vk::Context& context, Extent extent,
   return t;
 }
 
-ForwardPass::Slot::Slot(const vk::Context& context)
+ForwardPass::Slot::Slot(const vk::Context& context, size_t max_lights)
     : source(context),
       params(context, sizeof(ClientWarpParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
       moved(context, sizeof(ClientWarpMotion), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
       shadow_lights(context, kMaxLights * sizeof(ClientShadowLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
-      lights(context, kMaxLights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
+      lights(context, max_lights * sizeof(PackedLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
       shading(context, sizeof(ClientForwardShading), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost),
       counters(context, 4, kCounterUsage, kHost) {}
 
@@ -94,7 +94,7 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
   materials_ = MaterialSets(device, scene);
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  const std::array<std::pair<uint32_t, VkDescriptorType>, 9> frame_bindings = {{
+  const std::array<std::pair<uint32_t, VkDescriptorType>, 10> frame_bindings = {{
       {kClientForwardBindingParams, kStorage},
       {kClientForwardBindingVisibility0, kStorage},
       {kClientForwardBindingRowValid0, kStorage},
@@ -104,13 +104,14 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
       {kClientForwardBindingShading, kStorage},
       {kClientForwardBindingTracedDepth0, kSampled},
       {kClientForwardBindingMoved, kStorage},
+      {kClientForwardBindingLightSlots, kStorage},
   }};
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   for (const auto& [binding, type] : frame_bindings) {
     bindings.push_back({binding, type, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr});
   }
   frame_layout_ = vk::create_descriptor_set_layout(device, bindings);
-  const std::array<VkDescriptorPoolSize, 2> sizes = {{{kStorage, 6 * options.slots}, {kSampled, 2 * options.slots}}};
+  const std::array<VkDescriptorPoolSize, 2> sizes = {{{kStorage, 7 * options.slots}, {kSampled, 2 * options.slots}}};
   frame_pool_ = vk::create_descriptor_pool(device, options.slots, sizes);
   const std::array<VkDescriptorSetLayout, 2> set_layouts = {materials_.layout(), frame_layout_.get()};
   const VkPushConstantRange push{kMaterialPushStages, 0, sizeof(ClientGBufferPush)};
@@ -138,8 +139,14 @@ ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, c
 
   const std::array<ComputeBinding, 2> count_bindings = {{{0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, {1, kStorage}}};
   count_ = ComputePassCore::create(device, count_bindings, 12, "status_count.comp", options.slots);
+  // With light slots (more than 32 lights) the Lambert mode shades every light by the slots' grid.
+  const LightSlots& light_slots = scene.light_slots();
+  const std::vector<uint32_t> table = light_slots.gpu_words(glm::dvec3(0.0));  // origin: per frame, relative to the eye
+  light_slot_table_ = vk::create_buffer_with_data(context, std::span<const uint32_t>(table),
+                                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const size_t max_lights = std::max<size_t>({light_slots.light_count(), kMaxLights, 1});
   for (uint32_t i = 0; i < options.slots; ++i) {
-    Slot& s = slots_.emplace_back(context);
+    Slot& s = slots_.emplace_back(context, max_lights);
     s.set = vk::allocate_descriptor_set(device, frame_pool_.get(), frame_layout_.get());
     s.count_set = count_.allocate_set(device);
   }
@@ -160,7 +167,13 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   const uint32_t attachments = attachment_count(options_);
   if (attachments >= 2 && !targets.has_status()) throw std::invalid_argument("forward pass: no status target");
   if (options_.write_mask && !targets.has_mask()) throw std::invalid_argument("forward pass: no mask target");
-  if (frame.lights.size() > kMaxLights) throw std::invalid_argument("forward pass: more than 32 lights");
+  const LightSlots& light_slots = scene_->light_slots();
+  const bool slotted = !light_slots.is_identity();
+  if (slotted && mode != ForwardMode::kLambert)
+    throw std::invalid_argument("forward pass: light slots (more than 32 lights) in the Lambert mode only");
+  if (frame.lights.size() > (slotted ? light_slots.light_count() : kMaxLights))
+    throw std::invalid_argument("forward pass: " + std::to_string(frame.lights.size()) + " lights, more than " +
+                                (slotted ? "the scene's" : std::string("32")));
   if (frame.shading.view != ShadingView::kShaded) {
     throw std::invalid_argument("forward pass: debug views need the G-buffer pipeline");
   }
@@ -181,7 +194,9 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   }
   ClientWarpParams params = make_warp_params(display, out.visibility_used ? &in->traced : nullptr, frame.near_plane);
   for (size_t s = 0; s < kClientWarpSourceCount; ++s) params.source[s] = make_warp_source(display, s == 0 && out.visibility_used ? &in->traced : nullptr);
-  params.unknown_mask = unknown_mask(out.visibility_used ? in->buffer : nullptr, frame.lights);
+  // The warp's fields: the lights, or one light per slot (their count and kinds).
+  const std::span<const SceneLight> fields = slotted ? std::span<const SceneLight>(scene_->field_lights()) : frame.lights;
+  params.unknown_mask = unknown_mask(out.visibility_used ? in->buffer : nullptr, fields);
   const vk::Image* traced_depth = &placeholder_atlas_;
   if (out.visibility_used) {
     slot.source.upload(*context_, display, *in, params.source[0]);
@@ -213,8 +228,8 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   }
   const std::vector<PackedLight> packed = pack_lights(frame.lights, display.T_world_eye.position);
   if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
-  params.light_count = static_cast<uint32_t>(packed.size());
-  params.soft_lights = soft_light_mask(layout_for_lights(frame.lights));  // the fields the bilinear vote blends
+  params.light_count = static_cast<uint32_t>(fields.size());
+  params.soft_lights = soft_light_mask(layout_for_lights(fields));  // the fields the bilinear vote blends
   slot.params.write(&params, sizeof(params));
   const ClientWarpMotion no_motion{};
   slot.moved.write((params.flags & kClientWarpMotion) != 0u ? frame.motion : &no_motion, sizeof(ClientWarpMotion));
@@ -222,8 +237,20 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   shading.exposure = frame.shading.exposure;
   shading.mode = static_cast<uint32_t>(mode);
   shading.flags = frame.shading.swap_red_blue ? kClientShadingSwapRedBlue : 0u;
-  shading.light_count = static_cast<uint32_t>(packed.size());
-  shading.soft_lights = soft_light_mask(layout_for_lights(frame.lights));
+  if (slotted) {  // fields are slots: their count and kinds, the grid's origin relative to this eye (in double)
+    bool soft[kMaxLights] = {};
+    for (uint32_t f = 0; f < light_slots.slot_count(); ++f) soft[f] = light_slots.soft_slots()[f];
+    shading.flags |= kClientShadingLightSlots;
+    shading.light_count = light_slots.slot_count();
+    shading.soft_lights = soft_light_mask(VisibilityLayout::for_lights(std::span<const bool>(soft, shading.light_count)));
+    for (int a = 0; a < 3; ++a) {
+      shading.slot_origin_mm[a] = static_cast<float>(static_cast<double>(light_slots.origin_mm()[a]) -
+                                                     display.T_world_eye.position[a] * 1000.0);
+    }
+  } else {
+    shading.light_count = static_cast<uint32_t>(packed.size());
+    shading.soft_lights = soft_light_mask(layout_for_lights(frame.lights));
+  }
   slot.shading.write(&shading, sizeof(shading));
 
   const VkDevice device = context_->device();
@@ -238,6 +265,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
                               slot.shadow_lights.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingLights, kStorage, slot.lights.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingShading, kStorage, slot.shading.handle());
+  vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingLightSlots, kStorage, light_slot_table_.handle());
   vk::write_buffer_descriptor(device, slot.set, kClientForwardBindingMoved, kStorage, slot.moved.handle());
   vk::write_image_descriptor(device, slot.set, kClientForwardBindingTracedDepth0,
                              VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, traced_depth->view(),

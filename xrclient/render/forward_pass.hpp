@@ -98,7 +98,8 @@ class ForwardPass {
   // Writes the slot's buffers (the GPU must have finished the slot's previous use) and records the pass (and,
   // for kPaperWarp, the count pass). An unusable visibility input is logged and treated as none; the return
   // value's `visibility_used` says whether it was used. Throws std::invalid_argument for mismatched sizes, a bad
-  // slot, more than kMaxLights lights, a debug view, or kShadowMaps without maps.
+  // slot, more than kMaxLights lights (with light slots: a mode other than kLambert), a debug view, or
+  // kShadowMaps without maps.
   struct Recorded {
     GBufferDrawStats draws;
     bool visibility_used = false;
@@ -119,14 +120,14 @@ class ForwardPass {
     vk::Buffer params;         // ClientWarpParams
     vk::Buffer moved;          // ClientWarpMotion
     vk::Buffer shadow_lights;  // ClientShadowLight[kMaxLights]
-    vk::Buffer lights;         // PackedLight[kMaxLights]
+    vk::Buffer lights;         // PackedLight[]: kMaxLights, or the scene's lights with light slots
     vk::Buffer shading;        // ClientForwardShading
     vk::Buffer counters;       // the warp modes: packed per-bucket counts, grown on demand
     uint32_t count_words = 0;
     bool counted = false;      // the last recorded pass counted
     VkDescriptorSet set = VK_NULL_HANDLE;
     VkDescriptorSet count_set = VK_NULL_HANDLE;
-    explicit Slot(const vk::Context& context);
+    Slot(const vk::Context& context, size_t max_lights);
   };
 
   const vk::Context* context_;
@@ -141,6 +142,7 @@ class ForwardPass {
   vk::Sampler sampler_;
   ComputePassCore count_;
   vk::Image placeholder_atlas_;  // 1x1 D32 bound without shadow maps, and as the traced depth without one
+  vk::Buffer light_slot_table_;  // LightSlots::gpu_words of the scene (a header alone without slots)
   std::vector<Slot> slots_;
 };
 

@@ -450,6 +450,7 @@ DHR_CONST uint kClientForwardBindingShadowLights = 4;  // storage buffer ClientS
 DHR_CONST uint kClientForwardBindingLights = 5;        // storage buffer PackedLight[] (display-eye-relative)
 DHR_CONST uint kClientForwardBindingShading = 6;       // storage buffer ClientForwardShading
 DHR_CONST uint kClientForwardBindingTracedDepth0 = 7;
+DHR_CONST uint kClientForwardBindingLightSlots = 9;    // storage buffer uint[]: LightSlots::gpu_words (kClientForwardLambert with light slots)
 DHR_CONST uint kClientForwardBindingMoved = 8;         // storage buffer ClientWarpMotion (kServerEdges, motion rule)  // sampler2D: source 0's traced depth (kServerEdges, depth test)
 DHR_CONST uint kClientForwardLambert = 0u;     // every light bit set: Lambert without shadows
 DHR_CONST uint kClientForwardShadowMaps = 1u;  // the mask of the client's shadow maps (shadow_lookup.h)
@@ -470,9 +471,7 @@ struct ClientForwardShading {
   uint flags;            // kClientShading* (swap red and blue)
   uint light_count;
   uint soft_lights;      // bit i: light i has a soft field in the mask (client/visibility_field.h)
-  uint pad0;
-  uint pad1;
-  uint pad2;
+  float slot_origin_mm[3];  // kClientShadingLightSlots: the slot grid's origin relative to the eye, mm (world axes)
 };
 
 #ifdef __cplusplus
