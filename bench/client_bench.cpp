@@ -48,7 +48,9 @@
 // (shadowmap_ms - forward_ms) (<= 0.5). The fixed view is the scene's first bookmark; the fixed visibility buffer
 // is the server's Embree trace for the pose one 90 Hz frame earlier (turning 60 deg/s). --lights N above the
 // scene's count adds point lights (copies of the scene's point lights, moved by a fixed pattern) so the light
-// count can be swept. Progress on stderr; the last stdout line is one JSON object.
+// count can be swept; beyond 32, trace_bench's bench lights, which share light slots (client_bench_many.hpp: no
+// `local`, DHR's deferred path against the forward render clustered by the slots). Progress on stderr; the last
+// stdout line is one JSON object.
 #include <CLI/CLI.hpp>
 #include "cli/finite_range.hpp"
 #include <nlohmann/json.hpp>
@@ -66,7 +68,10 @@
 #include <string>
 #include <vector>
 
+#include "bench_lights.hpp"
 #include "bench_timing.hpp"
+#include "client_bench_configs.hpp"
+#include "client_bench_many.hpp"
 #include "bench_views.hpp"
 #include "client_loop.hpp"
 #include "cli/exit_codes.hpp"
@@ -137,47 +142,15 @@ void add_lights(Scene& scene, uint32_t count) {
   }
 }
 
-// One configuration: renders frame i (submitted and waited for) and gives its GPU ms per eye (none without
-// timestamps).
-struct Config {
-  std::string name;
-  std::function<std::vector<double>(uint32_t)> run;
-  std::vector<double> samples;
-};
-
-// A configuration of one eye pipeline pass sequence: records a frame into a command buffer and, after the
-// submission completed, gives its GPU ms.
-Config single_eye_config(const vk::Context& context, std::string name,
-                         std::function<void(VkCommandBuffer, uint32_t)> record,
-                         std::function<std::optional<double>()> time_ms) {
-  return Config{std::move(name),
-                [&context, record = std::move(record), time_ms = std::move(time_ms)](uint32_t i) {
-                  context.submit_and_wait([&](VkCommandBuffer cmd) { record(cmd, i); });
-                  const std::optional<double> ms = time_ms();
-                  return ms ? std::vector<double>{*ms} : std::vector<double>{};
-                },
-                {}};
-}
-
-// Frame by frame, every configuration in turn, so that drifts of a shared machine touch them alike; the first
-// `warmup` frames are not kept.
-void measure(const Options& o, std::vector<Config>& configs) {
-  for (uint32_t i = 0; i < o.warmup + o.frames; ++i) {
-    for (Config& c : configs) {
-      const std::vector<double> ms = c.run(i);
-      if (i >= o.warmup) c.samples.insert(c.samples.end(), ms.begin(), ms.end());
-    }
-    if ((i + 1) % 10 == 0) std::fprintf(stderr, "client_bench: frame %u of %u\n", i + 1, o.warmup + o.frames);
-  }
-}
-
 int run(const Options& o) {
   const std::optional<Extent> size = parse_size(o.size);
   if (!size) throw cli::InputError("--size: expected WxH with 1..8192 per axis, got '" + o.size + "'");
   const SceneLoadResult loaded = load_scene(o.scene);
   if (!loaded) throw cli::InputError(loaded.error);  // names the file
   Scene scene = *loaded.scene;
-  if (o.lights > kMaxLights) throw cli::InputError("--lights: at most 32");
+  if (o.lights > kMaxSlotLights) throw cli::InputError("--lights: at most 256");
+  // Beyond 32 lights: the bench lights of trace_bench and codec_bench (they share light slots).
+  if (o.lights > kMaxLights) add_bench_lights(scene, o.lights, default_bench_light_range(scene, o.lights));
   if (o.lights > scene.lights.size()) add_lights(scene, o.lights);
   if (o.lights > 0 && o.lights < scene.lights.size()) scene.lights.resize(o.lights);
   const uint32_t light_count = static_cast<uint32_t>(scene.lights.size());
@@ -208,6 +181,7 @@ int run(const Options& o) {
   input.buffer = &buffer;
   input.traced = traced;
   input.key = 1;  // uploaded once
+  if (light_count > kMaxLights) return run_many_lights(o.scene, scene, *size, view, input, o.warmup, o.frames);
 
   vk::ContextOptions vk_options;
   vk_options.app_name = "client_bench";
@@ -367,7 +341,7 @@ int run(const Options& o) {
         }));
   }
   std::fprintf(stderr, "client_bench: %zu configurations, %u + %u frames each\n", configs.size(), o.warmup, o.frames);
-  measure(o, configs);
+  measure(o.warmup, o.frames, configs);
   for (const Config& c : configs) {
     if (c.samples.empty()) throw std::runtime_error("no GPU timestamps on " + context->info().name + ": nothing to measure");
     out[c.name] = median(c.samples, std::nan(""));
@@ -421,7 +395,8 @@ int main(int argc, char** argv) {
   app.add_option("--scene", o.scene, "glTF scene")->capture_default_str();
   app.add_option("--size", o.size, "eye size WxH")->capture_default_str();
   app.add_option("--lights", o.lights, "light count: fewer than the scene's drops lights, more adds copies of its point "
-                                       "lights (0: the scene's)")
+                                       "lights, beyond 32 the bench lights of trace_bench (light slots: no local, "
+                                       "DHR deferred against clustered forward; at most 256) (0: the scene's)")
       ->capture_default_str();
   app.add_option("--frames", o.frames, "measured frames per configuration (median)")
       ->capture_default_str()
