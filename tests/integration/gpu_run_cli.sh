@@ -17,7 +17,7 @@ out = sys.argv[1]
 summary = json.load(open(f"{out}/summary.json"))
 assert summary["all_passed"], summary
 assert [s["step"] for s in summary["steps"]] == ["vulkan_tracer", "vulkan_tests", "trace_bench"] + ["trace_many_lights"] * 3 + [
-    "client_bench", "dhr_eval", "end_to_end"], summary
+    "client_bench"] + ["client_bench_many_lights"] * 4 + ["dhr_eval", "end_to_end"], summary
 assert "llvmpipe" in summary["vulkan_device"], summary
 tracer = json.load(open(f"{out}/vulkan_tracer.json"))
 assert tracer["tests"] > 0 and tracer["failures"] == 0, "VulkanTracer tests did not all pass"
