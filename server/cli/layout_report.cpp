@@ -1,5 +1,6 @@
 #include "layout_report.hpp"
 
+#include "scene/light_slots.hpp"
 #include "visibility/visibility_layout.hpp"
 
 #include <algorithm>
@@ -21,6 +22,19 @@ std::string light_name(const std::vector<SceneLight>& lights, uint32_t i) {
 }  // namespace
 
 nlohmann::ordered_json layout_json(const std::vector<SceneLight>& lights) {
+  if (lights.size() > kMaxLights) {  // light slots (docs/server.md): the fields are the slots the lights share
+    const LightSlots slots = LightSlots::assign(lights);
+    bool soft[kMaxLights] = {};
+    for (uint32_t f = 0; f < slots.slot_count(); ++f) soft[f] = slots.soft_slots()[f];
+    const VisibilityLayout layout = VisibilityLayout::for_lights(std::span<const bool>(soft, slots.slot_count()));
+    nlohmann::ordered_json dropped = nlohmann::ordered_json::array();
+    for (const uint32_t i : slots.dropped()) dropped.push_back(light_name(lights, i));
+    return {{"bits", layout.total_bits()},
+            {"mask_bits", static_cast<uint32_t>(layout.mask_width())},
+            {"light_slots", slots.slot_count()},
+            {"light_slots_describe", slots.describe()},
+            {"lights_without_slot", dropped}};
+  }
   const VisibilityLayout layout = soft_layout(lights);
   nlohmann::ordered_json soft = nlohmann::ordered_json::array();
   for (uint32_t i = 0; i < layout.light_count; ++i) {

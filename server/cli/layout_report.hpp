@@ -11,7 +11,8 @@
 namespace dhr::server::cli {
 
 // {"bits": total bits per mask, "mask_bits": 8/16/32, "soft_lights": [{"name", "first_bit", "bits"}...],
-//  "demoted": [names]} for all the scene's lights (up to 32).
+//  "demoted": [names]} for all the scene's lights (up to 32); with more, the light slots they share: {"bits",
+//  "mask_bits", "light_slots", "light_slots_describe", "lights_without_slot": [names]}.
 nlohmann::ordered_json layout_json(const std::vector<SceneLight>& lights);
 // One line: "soft levels for clients that offer them: 'a' bits 0-2, 'b' bits 3-5; 7 bits per mask (8-bit masks)"
 // or "no light with an extent: one bit per light".

@@ -65,8 +65,13 @@ int run_serve_command(const ServerOptions& options) {
   const bool soft_scene = std::any_of(scene->lights.begin(), scene->lights.end(),
                                       [](const SceneLight& l) { return l.has_extent(); });
   const bool embree = tracer->backend() == TracerBackend::kEmbree;
-  config.reuse = options.reuse == ReuseChoice::kOn ||
-                 (options.reuse == ReuseChoice::kAuto && shipped::reuse_by_default(embree, config.soft_levels, soft_scene));
+  const LightSlots* slots = tracer->light_slots();
+  config.reuse = !slots && (options.reuse == ReuseChoice::kOn ||
+                            (options.reuse == ReuseChoice::kAuto &&
+                             shipped::reuse_by_default(embree, config.soft_levels, soft_scene)));
+  if (slots && options.reuse == ReuseChoice::kOn)
+    std::fprintf(stderr, "dhr-server: warning: --reuse on: the scene's lights share light slots, which reuse does not "
+                 "take yet; every pixel is traced\n");
   if (config.reuse && !embree)
     std::fprintf(stderr, "dhr-server: warning: --reuse on: the %s tracer does not reuse (Embree only); every pixel is "
                  "traced\n", tracer_backend_name(tracer->backend()));
@@ -75,6 +80,7 @@ int run_serve_command(const ServerOptions& options) {
                  config.encode.v2_ranges, config.encode.threads);
   std::fprintf(stderr, "reuse of earlier traces: %s\n",
                config.reuse                               ? "on"
+               : slots                                    ? "off (light slots)"
                : options.reuse == ReuseChoice::kOff       ? "off (--reuse off)"
                : !embree                                  ? "off (not the Embree tracer)"
                                                           : "off (no soft levels here; --reuse on to force)");
@@ -89,9 +95,16 @@ int run_serve_command(const ServerOptions& options) {
                config.predict ? "tracing the views predicted for display" : "tracing the poses as sent (--no-predict)",
                config.adaptive_fov.enabled ? ", adaptive FOV" : "", options.impairment.active() ? ", impairment on send: " : "",
                options.impairment.active() ? options.impairment.describe().c_str() : "");
-  std::fprintf(stderr, "mask layout: %s\n",
-               config.soft_levels ? layout_line(scene->lights).c_str() : "one bit per light (--soft-levels off)");
-  for (const std::string& name : config.soft_levels ? demoted_lights(scene->lights) : std::vector<std::string>{})
+  if (slots) {  // more than 32 lights: the mask's fields are slots the lights share (docs/server.md, "Light slots")
+    std::fprintf(stderr, "mask layout: light slots: %s; clients must offer them\n", slots->describe().c_str());
+    for (const uint32_t i : slots->dropped())
+      std::fprintf(stderr, "warning: light '%s' found no slot within the 32 mask bits: it is in no mask\n",
+                   scene->lights[i].name.empty() ? ("light " + std::to_string(i)).c_str() : scene->lights[i].name.c_str());
+  } else {
+    std::fprintf(stderr, "mask layout: %s\n",
+                 config.soft_levels ? layout_line(scene->lights).c_str() : "one bit per light (--soft-levels off)");
+  }
+  for (const std::string& name : config.soft_levels && !slots ? demoted_lights(scene->lights) : std::vector<std::string>{})
     std::fprintf(stderr, "warning: light '%s' has an extent but no room for its levels: one bit, traced to its centre\n",
                  name.c_str());
   try {

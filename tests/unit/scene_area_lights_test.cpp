@@ -250,16 +250,16 @@ TEST(SceneAreaLights, AreaLightsCountTowardTheLightLimit) {
   LightsGltf g;
   g.punctual({{"type", "point"}});
   g.area({{"type", "disk"}, {"size", 0.2}});
-  for (int i = 0; i < 20; ++i) {
+  for (int i = 0; i < 130; ++i) {
     g.punctual_node(0, {{"translation", {i, 0, 0}}});
     g.area_node(0, {{"translation", {i, 1, 0}}});
   }
   auto r = g.load();
   ASSERT_TRUE(r) << r.error;
   EXPECT_EQ(r.scene->lights.size(), dhr::kMaxSceneLights);
-  EXPECT_EQ(r.scene->stats.lights_dropped, 8u);
+  EXPECT_EQ(r.scene->stats.lights_dropped, 4u);
   EXPECT_EQ(r.scene->lights.back().type, Type::kDisk);
-  EXPECT_TRUE(has_warning(*r.scene, "keeping the first 32"));
+  EXPECT_TRUE(has_warning(*r.scene, "keeping the first 256"));
 }
 
 }  // namespace

@@ -98,9 +98,9 @@ TEST(SceneLightSpec, ParsesListsAndEnforcesTheLimit) {
   EXPECT_FALSE(dhr::parse_light_specs("point:0,2,0:1,1,1:10;point:oops", &error));
   EXPECT_NE(error.find("point:oops"), std::string::npos) << error;
   std::string many;
-  for (int i = 0; i < 33; ++i) many += "point:0,2,0:1,1,1:1;";
+  for (int i = 0; i < 257; ++i) many += "point:0,2,0:1,1,1:1;";
   EXPECT_FALSE(dhr::parse_light_specs(many, &error));
-  EXPECT_NE(error.find("too many lights: 33 (at most 32)"), std::string::npos) << error;
+  EXPECT_NE(error.find("too many lights: 257 (at most 256)"), std::string::npos) << error;
 }
 
 TEST(SceneDefaultRig, IsThreeDocumentedLightsInsideTheBox) {
@@ -156,7 +156,7 @@ TEST(SceneSetLights, ReplacesLightsOrExplainsWhyNot) {
   EXPECT_FALSE(dhr::set_scene_lights(scene, *lights).has_value());
   EXPECT_EQ(scene.lights.size(), 1u);
   EXPECT_FALSE(scene.default_lights);
-  std::vector<SceneLight> too_many(33, (*lights)[0]);
+  std::vector<SceneLight> too_many(dhr::kMaxSceneLights + 1, (*lights)[0]);
   auto problem = dhr::set_scene_lights(scene, too_many);
   ASSERT_TRUE(problem.has_value());
   EXPECT_NE(problem->find("too many lights"), std::string::npos);

@@ -334,20 +334,20 @@ TEST(SceneSynthetic, LightsFollowTheirNodes) {
   EXPECT_TRUE(has_warning(*r.scene, "no triangles"));
 }
 
-TEST(SceneSynthetic, KeepsTheFirst32LightsWithAWarning) {
+TEST(SceneSynthetic, KeepsTheFirst256LightsWithAWarning) {
   TestGltf g;
-  for (int i = 0; i < 33; ++i) {
+  for (int i = 0; i < 257; ++i) {
     g.doc["extensions"]["KHR_lights_punctual"]["lights"].push_back({{"type", "point"}});
     g.node({{"translation", {i, 0, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", i}}}}}});
   }
-  std::vector<int> roots(33);
-  for (int i = 0; i < 33; ++i) roots[static_cast<std::size_t>(i)] = i;
+  std::vector<int> roots(257);
+  for (int i = 0; i < 257; ++i) roots[static_cast<std::size_t>(i)] = i;
   auto r = load(g.text(roots));
   ASSERT_TRUE(r) << r.error;
   EXPECT_EQ(r.scene->lights.size(), dhr::kMaxSceneLights);
   EXPECT_EQ(r.scene->stats.lights_dropped, 1u);
-  EXPECT_FLOAT_EQ(r.scene->lights.back().position.x, 31.0f);
-  EXPECT_TRUE(has_warning(*r.scene, "keeping the first 32"));
+  EXPECT_FLOAT_EQ(r.scene->lights.back().position.x, 255.0f);
+  EXPECT_TRUE(has_warning(*r.scene, "keeping the first 256"));
 }
 
 TEST(SceneSynthetic, UsesTheDefaultRigOnlyWhenAskedAndNoLights) {

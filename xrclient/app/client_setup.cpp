@@ -1,5 +1,7 @@
 #include "app/client_setup.hpp"
 
+#include "render/light_layout.hpp"
+
 #include <chrono>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -32,7 +34,7 @@ std::unique_ptr<NodeScriptPlayer> load_node_script_player(const ClientOptions& o
 }
 
 std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard,
-                                                       uint64_t scene_hash, uint32_t soft_lights) {
+                                                       uint64_t scene_hash, const render::ClientScene& scene) {
   std::string host;
   uint16_t port = 0;
   if (!net::split_host_port(options.server, host, port)) {
@@ -45,7 +47,9 @@ std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& opti
     if (!config.key) throw InputError("--key-file: " + error);
   }
   config.scene_hash = scene_hash;
-  config.soft_lights = soft_lights;
+  // The fields the server sends: one per light, or the light slots both ends derive (a soft mask of the fields).
+  config.soft_lights = render::soft_light_mask(render::layout_for_lights(scene.field_lights()));
+  config.light_slots = scene.light_slots().is_identity() ? 0u : scene.light_slots().slot_count();
   config.format = TracedFormat{eye, guard};
   config.codec_v2 = options.codec_v2;
   config.hello_give_up_ns = static_cast<int64_t>(options.connect_timeout_s * 1e9);

@@ -12,6 +12,7 @@
 #include "scene/scene.hpp"
 #include "link/node_script.hpp"
 #include "link/udp_visibility_client.hpp"
+#include "render/client_scene.hpp"
 #include "pose/pose_guard.hpp"
 #include "pose/pose_source.hpp"
 #include "sink/png_sink.hpp"
@@ -26,9 +27,9 @@ Scene load_client_scene(const ClientOptions& options);
 // another scene than `scene_hash` (scene_content_hash of the client's scene) is refused. Throws with one line:
 // InputError (bad address, unusable key file), AuthenticationError, SceneMismatchError, or std::runtime_error
 // ("no dhr-server reachable at HOST:PORT: ...", a refusal).
-// soft_lights: render::soft_light_mask of the scene's layout (VisibilityClientConfig::soft_lights).
+// `scene`: its light slots and soft fields (VisibilityClientConfig::light_slots and soft_lights).
 std::unique_ptr<UdpVisibilityClient> connect_to_server(const ClientOptions& options, Extent eye, GuardBand guard,
-                                                       uint64_t scene_hash, uint32_t soft_lights);
+                                                       uint64_t scene_hash, const render::ClientScene& scene);
 
 // The client failed for good because the server (restarted, or answering late in offline mode) traces another
 // scene: the run stops and exits with kExitSceneMismatch.

@@ -72,7 +72,7 @@ int run_openxr(const ClientOptions& options) {
   const render::ClientScene client_scene(vulkan, scene);
   const GuardBand guard = options.guard.value_or(default_guard_band(eye));
   const std::unique_ptr<UdpVisibilityClient> link = connect_to_server(options, eye, guard, scene_content_hash(scene),
-                                                                       render::soft_light_mask(render::layout_for_lights(scene.lights)));
+                                                                       client_scene);
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
   source.set_node_script(node_script.get());
 

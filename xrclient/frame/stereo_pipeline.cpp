@@ -10,7 +10,14 @@ StereoPipeline::StereoPipeline(const vk::Context& context, const render::ClientS
                                const render::EyePipelineOptions& options,
                                const render::ShadowMapSettings& shadow_maps)
     : context_(&context), scene_(&scene), shadow_settings_(shadow_maps) {
-  for (auto& eye : eyes_) eye = std::make_unique<render::EyePipeline>(context, scene, eye_extent, options);
+  render::EyePipelineOptions eye_options = options;
+  if (!scene.light_slots().is_identity() && options.warp.uses_shadow_maps()) {
+    // The client's shadow maps hold at most 32 lights: none for a scene whose lights share light slots.
+    log::warn("%zu lights share light slots: no client shadow maps (undecided bits take the samples' vote, "
+              "unfilled pixels are lit)", scene.lights().size());
+    eye_options.warp = options.warp.without_shadow_maps();
+  }
+  for (auto& eye : eyes_) eye = std::make_unique<render::EyePipeline>(context, scene, eye_extent, eye_options);
   if (scene.motion().animated()) {
     shadow_slots_.resize(options.frames_in_flight);
     for (ShadowSlot& s : shadow_slots_) s.timestamps = vk::TimestampQueries(context, 2);
@@ -28,7 +35,8 @@ void StereoPipeline::ensure_shadow_maps() {
 }
 
 void StereoPipeline::set_warp_settings(const render::WarpSettings& settings) {
-  for (auto& eye : eyes_) eye->warp_settings() = settings;
+  const bool slots = !scene_->light_slots().is_identity();
+  for (auto& eye : eyes_) eye->warp_settings() = slots ? settings.without_shadow_maps() : settings;
 }
 
 void StereoPipeline::record(VkCommandBuffer cmd, uint32_t slot, const StereoInputs& inputs) {

@@ -103,7 +103,8 @@ void VisibilityClient::send_hello(int64_t now) {
   hello.scene_id = config_.scene_id;
   // Soft levels: offered when the scene has lights with an extent, whose fields the client shades from levels.
   hello.capabilities = kCapabilityLz4RowShards | (config_.codec_v2 ? kCapabilityCodecV2 : 0u) |
-                       (config_.soft_lights != 0 ? kCapabilitySoftLevels : 0u);
+                       (config_.soft_lights != 0 ? kCapabilitySoftLevels : 0u) |
+                       (config_.light_slots != 0 ? kCapabilityLightSlots : 0u);
   last_hello_ns_ = now;
   if (send(hello, 0)) ++stats_.hellos_sent;
 }

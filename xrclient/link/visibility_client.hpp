@@ -67,6 +67,10 @@ struct VisibilityClientConfig {
   // soft levels are offered, and the Welcome must grant them for exactly the soft lights among the lights it sends
   // (the client shades those lights from level fields; one bit per light would be read as levels).
   uint32_t soft_lights = 0;
+  // The fields of a scene whose lights share light slots (LightSlots::slot_count; soft_lights then marks soft
+  // fields); 0: one field per light. Non-zero: light slots are offered, and the Welcome must grant them with
+  // exactly this many fields; zero: a Welcome granting them is refused.
+  uint32_t light_slots = 0;
   int64_t hello_retry_ns = 250 * net::kNsPerMs;
   int64_t hello_give_up_ns = 5 * net::kNsPerSecond;
   // Offline mode: past hello_give_up_ns keep sending Hello, the interval doubling from hello_retry_ns up to

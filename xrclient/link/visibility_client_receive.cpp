@@ -131,6 +131,15 @@ void VisibilityClient::handle_welcome(const Datagram& datagram, int64_t now) {
   }
   if ((w.capabilities & kCapabilityCodecV2) && !config_.codec_v2)
     return fail("the server granted codec v2, which this client did not offer");
+  // Light slots: both ends derive them from the scene; the fields must be the same.
+  if ((w.capabilities & kCapabilityLightSlots) && config_.light_slots == 0)
+    return fail("the server's lights share light slots, this client's scene has at most 32 lights");
+  if (config_.light_slots != 0 && !(w.capabilities & kCapabilityLightSlots))
+    return fail("this scene's lights share light slots, the server sends one field per light (another scene, or a "
+                "server without light slots)");
+  if (config_.light_slots != 0 && w.light_count != config_.light_slots)
+    return fail("the server sends " + std::to_string(w.light_count) + " fields, this scene's lights share " +
+                std::to_string(config_.light_slots) + " slots");
   // The soft lights among those the server sends: the client's layout must be the server's.
   const uint32_t sent = w.light_count >= 32 ? 0xFFFFFFFFu : (1u << w.light_count) - 1u;
   const auto soft_sent = static_cast<uint32_t>(std::popcount(config_.soft_lights & sent));

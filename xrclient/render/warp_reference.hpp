@@ -116,6 +116,13 @@ struct WarpSettings {
   // The settings the forward pass runs (kServerEdges): server_edges(), with or without the depth test.
   bool is_server_edges() const;
   bool uses_shadow_maps() const { return shadow_fill || shadow_edges || shadow_first; }
+  // These settings with no ingredient that reads the client's shadow maps (a scene whose lights share light slots
+  // has none: undecided bits then take the samples' vote, unfilled pixels are lit).
+  WarpSettings without_shadow_maps() const {
+    WarpSettings w = *this;
+    w.shadow_fill = w.shadow_edges = w.shadow_first = false;
+    return w;
+  }
   bool operator==(const WarpSettings&) const = default;
 };
 

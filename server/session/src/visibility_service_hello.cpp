@@ -39,6 +39,18 @@ bool VisibilityService::reject_hello(const Hello& hello, std::string& out_reason
     out_reason = "more than 32 lights wanted";
     return true;
   }
+  if (const LightSlots* slots = tracer_.light_slots()) {
+    if (!(hello.capabilities & kCapabilityLightSlots)) {
+      out_reason = "the scene's " + std::to_string(slots->light_count()) +
+                   " lights share light slots, which the client did not offer";
+      return true;
+    }
+    if (hello.light_count_wanted != 0 && hello.light_count_wanted < slots->slot_count()) {
+      out_reason = "a scene whose lights share light slots is served whole (" + std::to_string(slots->slot_count()) +
+                   " fields), not its first " + std::to_string(hello.light_count_wanted);
+      return true;
+    }
+  }
   if (!scene_id_matches(hello.scene_id, config_.scene_id)) {
     out_bye = ByeReason::kUnknownScene;
     out_reason = "scene '" + hello.scene_id + "' is not served (serving '" + config_.scene_id + "')";
@@ -51,7 +63,8 @@ Welcome VisibilityService::make_welcome(const Hello& hello, VisibilityLayout& ou
   Welcome w;
   w.client_nonce = hello.client_nonce;
   w.capabilities = kCapabilityLz4RowShards |
-                   (config_.codec_v2 && (hello.capabilities & kCapabilityCodecV2) ? kCapabilityCodecV2 : 0u);
+                   (config_.codec_v2 && (hello.capabilities & kCapabilityCodecV2) ? kCapabilityCodecV2 : 0u) |
+                   (tracer_.light_slots() ? kCapabilityLightSlots : 0u);  // reject_hello checked the offer
   w.scene_hash = config_.scene_hash;
   const uint32_t wanted = hello.light_count_wanted == 0 ? scene_light_count_ : hello.light_count_wanted;
   w.light_count = static_cast<uint8_t>(std::min(wanted, scene_light_count_));

@@ -311,7 +311,7 @@ class Builder {
     if (out_->triangle_count == 0) warnings_.add("the scene has no triangles");
     if (lights_.size() > kMaxSceneLights) {
       stats.lights_dropped = static_cast<std::uint32_t>(lights_.size() - kMaxSceneLights);
-      warnings_.add(format("the scene has %zu lights; keeping the first %u (one shadow bit per light)", lights_.size(),
+      warnings_.add(format("the scene has %zu lights; keeping the first %u (beyond 32 they share light slots)", lights_.size(),
                            kMaxSceneLights));
       lights_.resize(kMaxSceneLights);
     }

@@ -58,6 +58,11 @@ inline constexpr uint32_t kCapabilityCodecV2 = 1u << 1;       // codec v2 (codec
 // levels) instead of one, as VisibilityLayout::for_lights says; both ends derive the layout from the scene's
 // lights. The server grants it only when the client offered it and the scene has such a light.
 inline constexpr uint32_t kCapabilitySoftLevels = 1u << 2;
+// Light slots: the scene has more than 32 lights, which share the mask's fields (scene/light_slots.hpp; field f is
+// the light slot f holds where the pixel's surface is). Both ends derive the slots from the scene's lights, so
+// nothing else travels: Welcome::light_count counts fields. A server whose scene needs them refuses a Hello
+// without the bit (kBadHello); a client refuses a Welcome that grants them to a scene that has none, or not.
+inline constexpr uint32_t kCapabilityLightSlots = 1u << 3;
 
 struct Hello {
   uint64_t client_nonce = 0;  // random per attempt; Welcome echoes it

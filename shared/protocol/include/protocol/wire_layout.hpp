@@ -132,7 +132,7 @@ inline constexpr auto kWelcomeLayout = message<Welcome>(
         field<kU64>(DHR_WIRE_MEMBER(client_nonce), "echo of the Hello answered"),
         field<kU32>(DHR_WIRE_MEMBER(capabilities), "kCapability* bits the server will use"),
         field<kU64>(DHR_WIRE_MEMBER(scene_hash), "identifies the traced scene content"),
-        field<kU8>(DHR_WIRE_MEMBER(light_count), "lights in every mask, 0..32"),
+        field<kU8>(DHR_WIRE_MEMBER(light_count), "fields in every mask, 0..32: lights, or the slots they share"),
         field<kU8>(DHR_WIRE_MEMBER(mask_bits), "8, 16 or 32: holds light_count + 2 soft_light_count bits"),
         field<kU8>(DHR_WIRE_MEMBER(soft_light_count), "lights with a 3-bit level field; 0 without soft levels"),
         field<kU16>(DHR_WIRE_MEMBER(buffer_width), "traced width per eye, guard band included"),

@@ -19,7 +19,7 @@
 namespace dhr {
 
 // The shadow mask carries one bit per light; more lights than this cannot be traced.
-inline constexpr std::uint32_t kMaxSceneLights = 32;
+inline constexpr std::uint32_t kMaxSceneLights = 256;  // beyond 32 they share light slots (light_slots.hpp)
 // The project's own scene, relative to the repository root (used when no scene is given).
 inline constexpr const char* kDefaultScenePath = "assets/scenes/default_room.gltf";
 // Limits of a light's extent: larger values are refused (a file's light loses its extent or is skipped, with a
