@@ -21,21 +21,8 @@ bool shade_light_term(uint i, vec3 p, vec3 n, out vec3 term) {
   return true;
 }
 
-vec3 shade_radiance(vec3 p, vec3 n, vec3 albedo, uint mask, uint light_count, uint soft_lights) {
-  vec3 sum = vec3(0.0);
-  uint offset = 0u;
-  for (uint i = 0u; i < light_count; ++i) {
-    const uint bits = field_bits(soft_lights, i);
-    const uint at = offset;
-    offset += bits;
-    if (((mask >> at) & ((1u << bits) - 1u)) == 0u) continue;  // shadowed: skipped when no invocation needs it
-    vec3 term;
-    if (!shade_light_term(i, p, n, term)) continue;
-    // A hard light adds its term as it is (k = 1), so masks without soft fields shade exactly as before.
-    sum += bits == 1u ? term : field_visibility(mask, at, bits) * term;
-  }
-  return albedo * 0.31830988618379067 * sum;
-}
+// No slot table row: field f is light f.
+const uint kNoSlotRow = 0xFFFFFFFFu;
 
 #ifdef DHR_LIGHT_SLOTS_BINDING
 // Light slots (more than 32 lights; scene/light_slots.hpp): the table the shader defines DHR_LIGHT_SLOTS_BINDING for
@@ -57,23 +44,39 @@ uint light_slot_row(vec3 p, vec3 origin_mm) {
   return kVisSlotHeaderWords + index * light_slot_table[7];
 }
 
-// shade_radiance with the mask's fields as light slots: field f adds the light slot f holds where p is (none: 0).
-vec3 shade_radiance_slots(vec3 p, vec3 n, vec3 albedo, uint mask, uint fields, uint soft_fields, vec3 origin_mm) {
-  const uint row = light_slot_row(p, origin_mm);
+// The light of field f: the one the row's cell gives slot f (kVisNoSlotLight: none), or f without a row.
+uint field_light(uint f, uint row) { return row == kNoSlotRow ? f : light_slot_table[row + f]; }
+#else
+uint field_light(uint f, uint row) { return f; }
+#endif
+
+// The sum over the mask's fields, field f shading field_light(f, row).
+vec3 shade_fields(vec3 p, vec3 n, vec3 albedo, uint mask, uint fields, uint soft_fields, uint row) {
   vec3 sum = vec3(0.0);
   uint offset = 0u;
   for (uint f = 0u; f < fields; ++f) {
     const uint bits = field_bits(soft_fields, f);
     const uint at = offset;
     offset += bits;
-    if (((mask >> at) & ((1u << bits) - 1u)) == 0u) continue;
-    const uint li = light_slot_table[row + f];
+    if (((mask >> at) & ((1u << bits) - 1u)) == 0u) continue;  // shadowed: skipped when no invocation needs it
+    const uint li = field_light(f, row);
     if (li == kVisNoSlotLight) continue;
     vec3 term;
     if (!shade_light_term(li, p, n, term)) continue;
+    // A hard light adds its term as it is (k = 1), so masks without soft fields shade exactly as before.
     sum += bits == 1u ? term : field_visibility(mask, at, bits) * term;
   }
   return albedo * 0.31830988618379067 * sum;
+}
+
+vec3 shade_radiance(vec3 p, vec3 n, vec3 albedo, uint mask, uint light_count, uint soft_lights) {
+  return shade_fields(p, n, albedo, mask, light_count, soft_lights, kNoSlotRow);
+}
+
+#ifdef DHR_LIGHT_SLOTS_BINDING
+// shade_radiance with the mask's fields as light slots: field f adds the light slot f holds where p is (none: 0).
+vec3 shade_radiance_slots(vec3 p, vec3 n, vec3 albedo, uint mask, uint fields, uint soft_fields, vec3 origin_mm) {
+  return shade_fields(p, n, albedo, mask, fields, soft_fields, light_slot_row(p, origin_mm));
 }
 #endif
 
