@@ -11,9 +11,9 @@
 // reaching the point is registered in every cell within the margin, in the same slot.
 //
 // With at most kMaxLights lights the slots are the identity (slot i = light i, no grid): masks are exactly those
-// of before. Lights that find no slot within 32 bits are left out of every mask and named (dropped()); moving
-// lights (on animated nodes) are not placed in slots yet and are refused by assign (the caller keeps the first
-// kMaxLights lights then, warning).
+// of before. Lights that find no slot within 32 bits are left out of every mask and named (dropped()). Slots are
+// placed where the lights stand at rest: the tracers and the client refuse a scene with more than kMaxLights lights
+// and animation.
 #pragma once
 #include <array>
 #include <cstdint>
