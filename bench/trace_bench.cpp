@@ -25,6 +25,7 @@
 #include "cli/help_flag.hpp"
 #include "bench_views.hpp"
 #include "bench_lights.hpp"
+#include "trace_bench_options.hpp"
 #include "trace_sequence.hpp"
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/stats_json.hpp"
@@ -50,21 +51,6 @@ namespace {
 using namespace dhr;
 using namespace dhr::bench;
 using Json = nlohmann::ordered_json;
-
-struct Options {
-  std::vector<std::string> scenes;
-  std::vector<Extent> sizes{{640, 360}, {1280, 720}, {1832, 1920}};
-  int repeat = 3;
-  size_t bookmarks = 0;  // 0: all
-  unsigned threads = 0;  // 0: all cores
-  Extent vulkan_size{160, 120};
-  bool vulkan = true;
-  bool bare = true;
-  bool quick = false;
-  bool soft_levels = false;  // trace_layout in the scene's soft layout instead of trace()
-  uint32_t lights = 0;       // more than the scene's: bench lights added (bench_lights.hpp)
-  double light_range = -1.0; // their range, m (< 0: default_bench_light_range)
-};
 
 double round3(double v) { return std::round(v * 1000.0) / 1000.0; }
 
@@ -98,88 +84,6 @@ std::string cpu_model() {
 }
 
 std::string size_text(Extent e) { return std::to_string(e.width) + "x" + std::to_string(e.height); }
-
-std::optional<Extent> parse_size(const std::string& text) {
-  unsigned w = 0, h = 0;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%ux%u%c", &w, &h, &tail) != 2 || w < 8 || h < 8 || w > 3800 || h > 3800)
-    return std::nullopt;  // 3800: room for the guard band under kMaxBufferDimension
-  return Extent{w, h};
-}
-
-int usage(FILE* to = stderr) {
-  std::fprintf(to,
-               "usage: trace_bench [--scene PATH]... [--sizes WxH,WxH...] [--repeat N] [--bookmarks N] "
-               "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels] [--lights N] "
-               "[--light-range M]\n"
-               "       trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
-               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N]] [--no-shared] [--no-refresh] [--no-blocks] "
-               "[--no-pairs]\n");
-  return to == stderr ? exit_code::kUsage : exit_code::kOk;
-}
-
-bool parse_args(int argc, char** argv, Options& o) {
-  bool sizes_given = false, repeat_given = false, bookmarks_given = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--no-vulkan") { o.vulkan = false; continue; }
-    if (a == "--no-bare") { o.bare = false; continue; }
-    if (a == "--quick") { o.quick = true; continue; }
-    if (a == "--soft-levels") { o.soft_levels = true; o.bare = false; continue; }
-    if (i + 1 >= argc) return false;
-    const std::string v = argv[++i];
-    if (a == "--scene") {
-      o.scenes.push_back(v);
-    } else if (a == "--sizes") {
-      o.sizes.clear();
-      std::stringstream ss(v);
-      for (std::string item; std::getline(ss, item, ',');) {
-        const auto e = parse_size(item);
-        if (!e) return false;
-        o.sizes.push_back(*e);
-      }
-      if (o.sizes.empty()) return false;
-      sizes_given = true;
-    } else if (a == "--vulkan-size") {
-      const auto e = parse_size(v);
-      if (!e) return false;
-      o.vulkan_size = *e;
-    } else if (a == "--repeat") {
-      o.repeat = std::atoi(v.c_str());
-      if (o.repeat < 1 || o.repeat > 1000) return false;
-      repeat_given = true;
-    } else if (a == "--bookmarks") {
-      const int n = std::atoi(v.c_str());
-      if (n < 1) return false;
-      o.bookmarks = static_cast<size_t>(n);
-      bookmarks_given = true;
-    } else if (a == "--threads") {
-      const int n = std::atoi(v.c_str());
-      if (n < 0 || n > 1024) return false;
-      o.threads = static_cast<unsigned>(n);
-    } else if (a == "--lights") {
-      const int n = std::atoi(v.c_str());
-      if (n < 1 || n > static_cast<int>(kMaxSlotLights)) return false;
-      o.lights = static_cast<uint32_t>(n);
-    } else if (a == "--light-range") {
-      char* end = nullptr;
-      const double x = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end != '\0' || !std::isfinite(x) || x < 0.0 || x > 1000.0) return false;
-      o.light_range = x;
-    } else {
-      return false;
-    }
-  }
-  if (o.quick) {  // smoke run: the project's own scene, one bookmark, one small size, Embree only
-    if (o.scenes.empty()) o.scenes.push_back(std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room.gltf");
-    if (!sizes_given) o.sizes = {{160, 120}};
-    if (!repeat_given) o.repeat = 1;
-    if (!bookmarks_given) o.bookmarks = 1;
-    o.vulkan = false;
-  }
-  if (o.scenes.empty()) o.scenes = default_trace_scenes(DHR_SHARED_DATA_DIR, DHR_SOURCE_DIR);
-  return true;
-}
 
 struct LoadedScene {
   std::string path;
@@ -248,7 +152,7 @@ std::unique_ptr<server::VisibilityTracer> build_tracer(server::TracerBackend bac
 // median trace (in bookmark, eye order) for the bare-loop comparison.
 std::vector<EyeResult> trace_views(server::VisibilityTracer& tracer, const LoadedScene& s,
                                                                Extent display, const server::SkipOptions& skip,
-                                                               const Options& o) {
+                                                               const TraceBenchOptions& o) {
   std::vector<EyeResult> per_eye;
   Totals totals;
   VisibilityBuffer vis;
@@ -333,7 +237,7 @@ std::vector<EyeResult> trace_views(server::VisibilityTracer& tracer, const Loade
 // The bare loop over each eye's skipping-on rays, against the tracer's median trace of the same view.
 void bare_views(const server::EmbreeTracer& tracer, const LoadedScene& s, Extent display,
                 const std::vector<EyeResult>& tracer_eyes, unsigned threads,
-                const Options& o) {
+                const TraceBenchOptions& o) {
   const RTCScene handle = tracer.embree_scene().handle();
   uint64_t tracer_rays = 0, bare_rays = 0;
   double tracer_ms = 0.0, bare_ms = 0.0, tracer_cpu_ms = 0.0, bare_cpu_ms = 0.0;
@@ -412,7 +316,7 @@ void emit_error(const std::string& scene, const std::string& what, const std::st
   ++(what == "load" || what == "scenes" || what == "bookmarks" ? g_input_errors : g_errors);
 }
 
-void bench_scene(const std::string& path, const Options& o, unsigned threads) {
+void bench_scene(const std::string& path, const TraceBenchOptions& o, unsigned threads) {
   LoadedScene s;
   s.path = path;
   const auto t0 = std::chrono::steady_clock::now();
@@ -484,8 +388,8 @@ void bench_scene(const std::string& path, const Options& o, unsigned threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  Options o;
-  if (cli::asks_for_help(argc, argv)) return usage(stdout);
+  TraceBenchOptions o;
+  if (cli::asks_for_help(argc, argv)) return trace_bench_usage(stdout);
   if (wants_trace_sequence(argc, argv)) {
     try {
       return run_trace_sequence(argc, argv);
@@ -494,7 +398,7 @@ int main(int argc, char** argv) {
       return exit_code::kFailure;
     }
   }
-  if (!parse_args(argc, argv, o)) return usage();
+  if (!parse_trace_bench_args(argc, argv, o)) return trace_bench_usage();
   const unsigned threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
   Json sizes = Json::array();
   for (const Extent& e : o.sizes) sizes.push_back(size_text(e));
