@@ -102,7 +102,6 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
   endpoint_config.port = options.port;
   endpoint_config.max_datagram_size = kMaxDatagramSize;
   endpoint.start(endpoint_config, [&service](const net::ReceivedDatagram& d) { service.on_datagram(d.bytes, d.from); });
-  std::fprintf(stderr, "listening on %s\n", endpoint.local_address().to_string().c_str());
   std::unique_ptr<MetricsServer> metrics;
   if (options.metrics_port > 0) {
     metrics = std::make_unique<MetricsServer>(options.bind_address, options.metrics_port,
@@ -110,6 +109,8 @@ int run_serve(const ServeOptions& options, VisibilityTracer& tracer) {
     std::fprintf(stderr, "metrics on http://%s:%u/metrics\n", options.bind_address.c_str(),
                  static_cast<unsigned>(options.metrics_port));
   }
+  // The last line of the start-up: whoever waits for the port (scripts, tests) has every line above it.
+  std::fprintf(stderr, "listening on %s\n", endpoint.local_address().to_string().c_str());
   std::fflush(stderr);
 
   std::atomic<bool> stopping{false};
