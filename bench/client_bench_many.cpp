@@ -11,6 +11,7 @@
 
 #include "bench_timing.hpp"
 #include "client_bench_configs.hpp"
+#include "plan/shipped_defaults.hpp"
 #include "render/client_scene.hpp"
 #include "render/eye_pipeline.hpp"
 #include "render/forward_pass.hpp"
@@ -42,10 +43,12 @@ int run_many_lights(const std::string& scene_path, const Scene& scene, Extent si
   std::fprintf(stderr, "client_bench: %s\n", slots.describe().c_str());
 
   std::vector<Config> configs;
-  // DHR: the eye pipeline (deferred with light slots), the paper's warp of the traced buffer.
+  // DHR: the eye pipeline (deferred with light slots) with the warp dhr-xrclient ships for such a scene: the shipped
+  // warp without the shadow maps it cannot have (StereoPipeline does the same).
   render::EyePipelineOptions deferred;
   deferred.frames_in_flight = 1;
   deferred.forward = false;
+  deferred.warp = render::warp_settings_for(client::shipped::kWarp, client::shipped::kDepthScale).without_shadow_maps();
   render::EyePipeline eye(*context, gpu_scene, size, deferred);
   render::EyeStats eye_stats;
   configs.push_back(single_eye_config(

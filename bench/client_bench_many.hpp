@@ -1,7 +1,8 @@
 // client_bench with more than 32 lights (light slots, docs/server.md "Light slots"): the client's shadow maps hold
 // at most 32 lights, so there is no `local` and no shipped (`--warp edges`) configuration; measured are the
 // unshadowed forward render, clustered by the slots' grid (forward_ms), and DHR's deferred path, which the eye
-// pipeline takes with light slots (dhr_deferred_ms; the paper's warp, the fields blended by the bilinear vote).
+// pipeline takes with light slots (dhr_deferred_ms), with the warp dhr-xrclient ships for such a scene (its shipped
+// warp without shadow maps: the fields blended by the bilinear vote).
 #pragma once
 #include <cstdint>
 #include <string>
