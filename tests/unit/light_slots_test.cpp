@@ -139,15 +139,20 @@ TEST(LightSlots, LightsBeyondThe32BitsAreDroppedAndNamed) {
   EXPECT_EQ(layout.demoted, 0u);
 }
 
-TEST(LightSlots, RefusesWhatItCannotPlace) {
+TEST(LightSlots, RefusesWhatItCannotPlaceAndMakesHugeRangesGlobal) {
   std::vector<SceneLight> lights = floor_grid(7, 1.0f, 0.5f);  // 49
   lights[10].position.x = std::numeric_limits<float>::quiet_NaN();
   EXPECT_THROW(LightSlots::assign(lights), std::invalid_argument);
   lights[10].position.x = 1.0f;
-  lights[11].range = std::numeric_limits<float>::infinity();
-  EXPECT_THROW(LightSlots::assign(lights), std::invalid_argument);
   EXPECT_THROW(LightSlots::assign(std::vector<SceneLight>(kMaxSlotLights + 1, point({0, 0, 0}, 1.0f))),
                std::invalid_argument);
+  // A range too large to place (legal in glTF), or infinite, makes the light global instead of refusing the scene.
+  for (const float range : {1e30f, std::numeric_limits<float>::infinity()}) {
+    lights[11].range = range;
+    const LightSlots far = LightSlots::assign(lights);
+    EXPECT_EQ(far.global_lights(), 1u);
+    EXPECT_EQ(far.slot_of(11), 0u);
+  }
   // A NaN point is outside the grid: global slots only.
   lights[11].range = 0.5f;
   const LightSlots slots = LightSlots::assign(lights);

@@ -11,6 +11,8 @@
 namespace dhr {
 namespace {
 
+constexpr float kMaxPlacedRangeM = 1e4f;
+
 // Whole millimetres; positions beyond this are refused (their squares must stay far inside int64).
 constexpr double kMaxCoordinateMm = 1e9;
 
@@ -67,7 +69,9 @@ LightSlots LightSlots::assign(std::span<const SceneLight> lights) {
   bool any = false;
   for (uint32_t i = 0; i < n; ++i) {
     const SceneLight& l = lights[i];
-    const bool placed = l.range > 0.0f && (l.type == SceneLight::Type::kPoint || l.type == SceneLight::Type::kSpot);
+    // A range beyond kMaxPlacedRangeM reaches as far as none: global (a legal glTF value must not refuse the scene).
+    const bool placed = l.range > 0.0f && l.range <= kMaxPlacedRangeM &&
+                        (l.type == SceneLight::Type::kPoint || l.type == SceneLight::Type::kSpot);
     if (!placed) continue;
     gridded[i] = true;
     for (int a = 0; a < 3; ++a) reach[i].centre[a] = to_mm(l.position[a], "a light's position");
