@@ -1,9 +1,11 @@
 #include "trace_sequence.hpp"
 
+#include "bench_lights.hpp"
 #include "bench_timing.hpp"
 #include "bench_views.hpp"
 #include "sequence_truth.hpp"
 #include "cli/exit_codes.hpp"
+#include "scene/light_slots.hpp"
 #include "scene/scene.hpp"
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/stats_json.hpp"
@@ -44,13 +46,15 @@ struct SequenceArgs {
   bool blocks = true;  // rule 1 (trace/reuse)
   bool pairs = true;   // rule 2
   uint32_t truth_every = 30;  // soft levels: the truth of every camera of every this many frames (0: none)
+  uint32_t lights = 0;        // --lights: point lights added up to this many (bench_lights.hpp); 0: the scene's
+  double light_range = -1.0;  // --light-range (metres); < 0: default_bench_light_range
 };
 
 int usage(FILE* to) {
   std::fprintf(to,
                "usage: trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
                "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N]] [--no-shared] [--no-refresh] "
-               "[--no-blocks] [--no-pairs]\n");
+               "[--no-blocks] [--no-pairs] [--lights N [--light-range M]]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
@@ -81,6 +85,13 @@ bool parse(int argc, char** argv, SequenceArgs& a) {
       const long n = std::strtol(v.c_str(), &end, 10);
       if (*end || n < 1 || n > 64) return false;
       a.sessions = static_cast<uint32_t>(n);
+    } else if (k == "--lights") {
+      const long n = std::strtol(v.c_str(), &end, 10);
+      if (*end || n < 1 || n > static_cast<long>(kMaxSlotLights)) return false;
+      a.lights = static_cast<uint32_t>(n);
+    } else if (k == "--light-range") {
+      a.light_range = std::strtod(v.c_str(), &end);
+      if (*end || !std::isfinite(a.light_range) || a.light_range < 0.0) return false;
     } else if (k == "--trace-start") {
       a.trace_start_s = std::strtod(v.c_str(), &end);
       if (*end || !std::isfinite(a.trace_start_s) || a.trace_start_s < 0.0) return false;
@@ -161,7 +172,11 @@ int run_trace_sequence(int argc, char** argv) {
     std::fprintf(stderr, "trace_bench: %s\n", loaded.error.c_str());
     return exit_code::kUsage;
   }
-  const Scene& scene = *loaded.scene;
+  Scene& scene = *loaded.scene;
+  const uint32_t own_lights = static_cast<uint32_t>(scene.lights.size());
+  const double light_range =
+      a.light_range >= 0.0 ? a.light_range : a.lights > own_lights ? default_bench_light_range(scene, a.lights) : 0.0;
+  if (a.lights > own_lights) add_bench_lights(scene, a.lights, light_range);
   std::vector<PoseTrace> traces;
   for (const std::string& path : a.traces) {
     TraceReadResult read = read_pose_trace(path);
@@ -307,7 +322,9 @@ int run_trace_sequence(int argc, char** argv) {
             {"blocks", a.blocks},
             {"pairs", a.pairs},
             {"soft_levels", a.soft_levels},
-            {"lights", tracer->light_count()}};
+            {"lights", tracer->light_count()},  // mask fields: with more than 32 lights, the slots they share
+            {"scene_lights", scene.lights.size()},
+            {"added_light_range_m", light_range}};
   for (auto& [k, v] : out.items()) head[k] = v;
   head["per_session"] = sessions;
   std::printf("%s\n", head.dump().c_str());

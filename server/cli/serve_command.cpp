@@ -66,12 +66,8 @@ int run_serve_command(const ServerOptions& options) {
                                       [](const SceneLight& l) { return l.has_extent(); });
   const bool embree = tracer->backend() == TracerBackend::kEmbree;
   const LightSlots* slots = tracer->light_slots();
-  config.reuse = !slots && (options.reuse == ReuseChoice::kOn ||
-                            (options.reuse == ReuseChoice::kAuto &&
-                             shipped::reuse_by_default(embree, config.soft_levels, soft_scene)));
-  if (slots && options.reuse == ReuseChoice::kOn)
-    std::fprintf(stderr, "dhr-server: warning: --reuse on: the scene's lights share light slots, which reuse does not "
-                 "take yet; every pixel is traced\n");
+  config.reuse = options.reuse == ReuseChoice::kOn ||
+                 (options.reuse == ReuseChoice::kAuto && shipped::reuse_by_default(embree, config.soft_levels, soft_scene));
   if (config.reuse && !embree)
     std::fprintf(stderr, "dhr-server: warning: --reuse on: the %s tracer does not reuse (Embree only); every pixel is "
                  "traced\n", tracer_backend_name(tracer->backend()));
@@ -80,7 +76,6 @@ int run_serve_command(const ServerOptions& options) {
                  config.encode.v2_ranges, config.encode.threads);
   std::fprintf(stderr, "reuse of earlier traces: %s\n",
                config.reuse                               ? "on"
-               : slots                                    ? "off (light slots)"
                : options.reuse == ReuseChoice::kOff       ? "off (--reuse off)"
                : !embree                                  ? "off (not the Embree tracer)"
                                                           : "off (no soft levels here; --reuse on to force)");

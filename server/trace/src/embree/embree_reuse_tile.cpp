@@ -34,6 +34,11 @@ ReuseBox box_of(const EmbreeMesh& mesh) {
   return box;
 }
 
+// The light-slot cell of a surface point (relative frame): ReuseFrame::region.
+uint32_t region_of(const FrameSetup& frame, const glm::vec3& position) {
+  return frame.slots->cell_of(glm::dvec3(position) + frame.scene->origin());
+}
+
 // Whether the shadow segments from `at` toward the lights in `lights` miss what moves (now, and in `source`).
 uint32_t lights_clear_of_motion(const FrameSetup& frame, const ReuseFrame& source, const glm::vec3& at,
                                 uint32_t lights, float margin) {
@@ -116,21 +121,26 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
   }
   setup.motion = !setup.moving_boxes.empty();
   const uint32_t all_lights = lights >= 32 ? 0xFFFFFFFFu : (1u << lights) - 1u;
+  // The answers' bits are the layout's fields. Without slots field i is light i; with slots a field holds several
+  // lights, and every light's state is recorded (a field whose light moved is not taken). Slots are placed at rest:
+  // with slots, nothing is reused while something moves.
+  const uint32_t entries = frame.slots ? static_cast<uint32_t>(frame.lights.size()) : lights;
 
-  if (request.options.enabled) {
+  if (request.options.enabled && !(frame.slots && setup.motion)) {
     std::vector<const ReuseFrame*> candidates;
     if (previous) candidates.push_back(previous);
     for (const ReuseFrame* f : request.shared)
       if (f && f != previous && f->valid()) candidates.push_back(f);
     for (const ReuseFrame* f : candidates) {
       if (f == request.record || f->lights != lights || f->mask_bits != mask_bits ||
-          f->light_state.size() != 2u * lights)
+          f->light_state.size() != 2u * entries || (frame.slots && !f->moving_boxes.empty()))
         continue;
       uint32_t unmoved = all_lights;
-      for (uint32_t li = 0; li < lights; ++li) {
+      for (uint32_t li = 0; li < entries; ++li) {
         const PackedLight& now = frame.lights[li];
-        if (f->light_state[2 * li] != now.position_type || f->light_state[2 * li + 1] != now.direction_range)
-          unmoved &= ~(1u << li);
+        if ((f->light_state[2 * li] != now.position_type || f->light_state[2 * li + 1] != now.direction_range) &&
+            frame.field[li] < 32)
+          unmoved &= ~(1u << frame.field[li]);
       }
       if (f == previous && request.options.whole_pixels) {
         setup.previous = f;
@@ -164,7 +174,8 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
 
   if (ReuseFrame* rec = request.record) {
     rec->reset(*frame.camera, frame.eye, lights, mask_bits, scene_time, setup.generation);
-    for (uint32_t li = 0; li < lights; ++li) {
+    if (frame.slots) rec->region.resize(rec->mesh.size());
+    for (uint32_t li = 0; li < entries; ++li) {
       rec->light_state.push_back(frame.lights[li].position_type);
       rec->light_state.push_back(frame.lights[li].direction_range);
     }
@@ -208,9 +219,11 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
   };
   const float near = static_cast<float>(frame.primary_near);
   // A pixel taken whole (`lights` = all) or with the other lights left to trace from its surface point.
-  auto take = [&](uint32_t x, uint32_t y, const GatheredPixel& pixel, uint32_t lights) {
+  auto take = [&](uint32_t x, uint32_t y, const GatheredPixel& pixel, uint32_t lights, uint32_t region) {
     // Beyond the near plane now (nearer, this trace's primary ray would pass it).
     if (!(glm::dot(pixel.position - frame.eye, reuse->now.w) > near)) return;
+    // With slots, in the found pixel's cell (whose lights its fields are).
+    if (frame.slots && region_of(frame, pixel.position) != region) return;
     scratch.skip[(y - y0) * scratch.skip_width + (x - x0)] = 1;
     ++taken;
     if (lights != all_lights) {
@@ -235,6 +248,7 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
     rec->mask[i] = pixel.mask;
     rec->known[i] = pixel.known;
     rec->reached[i] = pixel.reached;
+    if (!rec->region.empty()) rec->region[i] = region;
   };
   auto refreshed = [&](uint32_t x, uint32_t y) { return options.refresh && reuse_refresh_pixel(x, y, reuse->generation); };
 
@@ -276,7 +290,7 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
         if (refreshed(x, y)) continue;
         const glm::vec3& dir = dirs[(y - by) * 4 + (x - bx)];
         pixel.position = frame.eye + dir * (plane / glm::dot(n, dir));
-        take(x, y, pixel, lights);
+        take(x, y, pixel, lights, previous.region.empty() ? 0u : previous.region[source]);
       }
   }
 
@@ -319,6 +333,7 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
     query.normal = hit.geometric_normal;
     query.mesh = hit.mesh;
     query.spacing = glm::dot(hit.position - frame.eye, reuse->now.w) / reuse->now.focal;
+    if (frame.slots) query.region = region_of(frame, hit.position);
     uint32_t known = 0, reached = 0, soft_known = 0, soft_mask = 0;
     for (const ReuseSetup::Source& source : reuse->sources) {
       ReuseAnswer answer = reuse_lookup(*source.frame, query, source.lights & ~known, reuse->options);
@@ -362,6 +377,7 @@ void record_reuse_tile(const FrameSetup& frame, const TileScratch& scratch, cons
     rec->mask[i] = out.get(x, y);
     rec->known[i] = scratch.reuse_known[h];
     rec->reached[i] = scratch.reuse_reached[h];
+    if (!rec->region.empty()) rec->region[i] = region_of(frame, hit.position);
   }
 }
 

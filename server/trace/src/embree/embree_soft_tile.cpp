@@ -10,7 +10,9 @@ void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const T
   std::vector<SoftPair>& batch = soft_scratch.pairs;
   batch.clear();
   // A pair whose level reuse took (TileScratch::soft_known) is not sampled: its field is written as taken.
-  auto taken = [&](uint32_t li, size_t h) { return !scratch.soft_known.empty() && (scratch.soft_known[h] >> li & 1u); };
+  auto taken = [&](uint32_t li, size_t h) {
+    return !scratch.soft_known.empty() && (scratch.soft_known[h] >> frame.field[li] & 1u);
+  };
   // With light slots, a light's pairs are those of the hits whose cell holds it.
   auto elsewhere = [&](uint32_t li, size_t h) { return frame.slots && scratch.cell_lights[h][frame.field[li]] != li; };
   for (uint32_t li : soft.active)

@@ -274,13 +274,13 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   scratch.rays.clear();
   scratch.pending.clear();
   scratch.masks.assign(hits, frame.slots ? frame.idle_lit : 0u);
-  // With slots: the tile's lights, each for the hits whose cell holds it (reuse is refused with slots, so the
-  // light bits below stay within 32).
+  // With slots: the tile's lights, each for the hits whose cell holds it. Reuse's bits are fields (light i is field
+  // i without slots).
   const std::vector<uint32_t>& lights = frame.slots ? scratch.tile_lights : frame.active_lights;
   for (uint32_t li : lights) {
     if (frame.slots && frame.light_state[li] != kLightHard) continue;
     const PackedLight& light = frame.lights[li];
-    const uint32_t light_bit = li < 32 ? 1u << li : 0u;
+    const uint32_t light_bit = 1u << frame.field[li];
     for (uint32_t h = 0; h < hits; ++h) {
       if (frame.slots && scratch.cell_lights[h][frame.field[li]] != li) continue;
       RTCRay ray;
@@ -288,7 +288,9 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
       if (!shadow_ray_for(frame, light, scratch.hits[h], stats, ray, contributes)) continue;
       if (contributes && (scratch.reuse_known[h] & light_bit)) {
         ++stats.reused_pairs;
-        if (scratch.reuse_reached[h] & light_bit) scratch.masks[h] |= 1u << frame.bit[li];
+        const bool reached = (scratch.reuse_reached[h] & light_bit) != 0;
+        if (frame.slots && !reached) scratch.masks[h] &= ~(1u << frame.bit[li]);
+        if (!frame.slots && reached) scratch.masks[h] |= 1u << frame.bit[li];
         continue;
       }
       scratch.rays.push_back(ray);
@@ -308,12 +310,13 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
     if (!p.contributes) continue;
     if (frame.slots) {  // the bit is set: cleared where the contributing light is occluded
       if (!reached) scratch.masks[p.hit] &= ~(1u << frame.bit[p.light]);
-      continue;
+    } else if (reached) {
+      scratch.masks[p.hit] |= 1u << frame.bit[p.light];
     }
-    if (reached) scratch.masks[p.hit] |= 1u << frame.bit[p.light];
-    if (frame.reuse) {  // what the record keeps: this pair's occlusion is known now
-      scratch.reuse_known[p.hit] |= 1u << p.light;
-      if (reached) scratch.reuse_reached[p.hit] |= 1u << p.light;
+    if (frame.reuse) {  // what the record keeps: this pair's occlusion is known now (by field)
+      const uint32_t field_bit = 1u << frame.field[p.light];
+      scratch.reuse_known[p.hit] |= field_bit;
+      if (reached) scratch.reuse_reached[p.hit] |= field_bit;
     }
   }
   for (uint32_t h = 0; h < hits; ++h)

@@ -103,8 +103,6 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
   if (out.width != width || out.height != height || out.light_count != bits)
     out = VisibilityBuffer::create(width, height, bits);
 
-  if (reuse && light_slots())
-    throw std::invalid_argument("embree tracer: reuse with light slots (more than 32 lights) is not supported");
   detail::FrameSetup frame = detail::make_frame_setup(*scene_, lights_, camera, options_.skip, lights, light_slots());
   frame.primary_near = options_.primary_near;
   frame.primary_packets = config_.primary_packets;

@@ -69,6 +69,7 @@ void ReuseFrame::reset(const Camera& cam, const glm::vec3& eye, uint32_t light_c
   cell_depth.resize(static_cast<size_t>(cells_x) * cells_y);
   light_state.clear();
   moving_boxes.clear();
+  region.clear();  // the tracer sizes it when its scene has light slots
 }
 
 bool reuse_refresh_pixel(uint32_t x, uint32_t y, uint32_t generation) {
@@ -104,6 +105,7 @@ ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint3
   uint32_t known = candidates, all_reached = 0xFFFFFFFFu, any_reached = 0u, all_mask = 0xFFFFFFFFu, any_mask = 0u;
   for (const size_t i : corners) {
     if (frame.mesh[i] != query.mesh) return {};
+    if (!frame.region.empty() && frame.region[i] != query.region) return {};
     if (!reuse_same_surface(query.position, query.normal, frame.position[i], frame.normal[i], spacing, options))
       return {};
     known &= frame.known[i];

@@ -58,6 +58,9 @@ class LightSlots {
   // For the identity: 0, 1, ... everywhere.
   const uint16_t* lights_at(const glm::dvec3& p) const;
   uint16_t light_at(uint32_t slot, const glm::dvec3& p) const { return lights_at(p)[slot]; }
+  // The grid cell holding `p` (world, metres): points of one cell have the same lights_at. One id for every point
+  // outside the grid, and 0 everywhere for the identity.
+  uint32_t cell_of(const glm::dvec3& p) const { return grid_cells_ == 0 ? 0u : cell_index(p); }
 
   // The grid, for the client's shaders (which bin a point the same way, in float): cell c = (x, y, z) covers
   // [origin + c * cell, origin + (c + 1) * cell) in mm; table() has slot_count() entries per cell, x fastest, then

@@ -100,6 +100,10 @@ struct ReuseFrame {
   std::vector<uint32_t> mask;        // the traced mask (every field of the layout)
   std::vector<uint32_t> known;       // hard lights (bit = light index) whose occlusion is known here
   std::vector<uint32_t> reached;     // of those, the light is reached (not occluded)
+  // With light slots (known and reached then hold fields, not lights): per pixel, the grid cell of its surface
+  // point (LightSlots::cell_of), whose lights its fields are; empty without slots. Rule 2 takes answers only from
+  // pixels of the query's cell, rule 1 only pixels whose point lies in the found pixel's cell.
+  std::vector<uint32_t> region;
   // Per kReuseCell x kReuseCell cell: Chebyshev distance in cells to the nearest cell with a discontinuity
   // (0: this one has one; capped at 255), and its nearest surface depth (metres).
   uint32_t cells_x = 0, cells_y = 0;
@@ -146,6 +150,7 @@ struct ReuseQuery {
   glm::vec3 normal{0.0f};
   uint32_t mesh = 0;
   float spacing = 0.0f;
+  uint32_t region = 0;  // its light-slot cell, compared where the frame has regions (ReuseFrame::region)
 };
 
 // Whether two traced surface points (positions, unit normals) are one smooth surface at `spacing` metres per
