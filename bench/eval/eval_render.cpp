@@ -27,8 +27,8 @@ render::EyePipelineOptions pipeline_options(bool forward) {
 EyeRenderer::EyeRenderer(const vk::Context& context, const Scene& scene, Extent eye,
                          const render::ShadowMapSettings& shadow_maps, bool forward)
     : context_(&context), scene_(context, scene), stereo_(context, scene_, eye, pipeline_options(forward), shadow_maps),
-      light_count_(static_cast<uint32_t>(std::min<size_t>(scene.lights.size(), kMaxLights))),
-      layout_(render::layout_for_lights(std::span(scene.lights).first(light_count_))) {}
+      light_count_(static_cast<uint32_t>(scene_.field_lights().size())),
+      layout_(render::layout_for_lights(scene_.field_lights())) {}
 
 std::array<EyeRender, 2> EyeRenderer::render(const std::array<View, 2>& views,
                                              const std::array<VisibilityInput, 2>& inputs, int64_t scene_time_ns) {

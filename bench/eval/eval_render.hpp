@@ -47,8 +47,11 @@ class EyeRenderer {
   EyeRender read_back(uint32_t eye);
   client::StereoPipeline& pipeline() { return stereo_; }
   const vk::Context& context() const { return *context_; }
+  // The masks' fields: the lights, or with more than kMaxLights lights the light slots they share
+  // (ClientScene::field_lights; light_slots() then).
   uint32_t light_count() const { return light_count_; }
-  // The masks' layout (render::layout_for_lights of the scene's lights: a soft light's field holds its level).
+  bool light_slots() const { return !scene_.light_slots().is_identity(); }
+  // The masks' layout (render::layout_for_lights of the field lights: a soft light's field holds its level).
   const VisibilityLayout& layout() const { return layout_; }
 
  private:

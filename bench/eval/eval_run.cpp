@@ -11,6 +11,7 @@
 #include "trace/embree/embree_tracer.hpp"
 #include "snapshot_crops.hpp"
 #include "render/light_layout.hpp"
+#include "bench_lights.hpp"
 #include "json_writer.hpp"
 #include "pose/trace_pose_source.hpp"
 #include "vk/context.hpp"
@@ -103,22 +104,52 @@ PoseTrace load_input_trace(const std::string& path) {
   }
 }
 
+// The bit error of a headset that shades every light unshadowed: every surface pixel's every light fully lit,
+// against the truth's masks (visibility_bit_error's basis: display pixels x lights).
+double unshadowed_error(const Truth& truth, int eye, const VisibilityLayout& layout) {
+  uint32_t lit = 0;
+  for (uint32_t l = 0; l < layout.light_count; ++l) lit = layout.with_visibility(lit, l, 1.0f);
+  VisibilityBuffer all_lit = truth.mask[eye];
+  for (size_t p = 0; p < all_lit.pixel_count(); ++p)
+    if (truth.exact[eye].surface[p]) all_lit.set_mask_at(p, lit);
+  const std::optional<BitError> e = visibility_bit_error(all_lit, truth.mask[eye]);
+  return e ? e->fraction() : 0.0;
+}
+
 }  // namespace
 
 int run_eval(const RunOptions& options, const std::string& command_line) {
   const auto started = std::chrono::steady_clock::now();
   try {
-    const SceneLoadResult loaded = load_scene(options.scene);
+    SceneLoadResult loaded = load_scene(options.scene);
     if (!loaded) throw cli::InputError(loaded.error);
-    const Scene& scene = *loaded.scene;
-    if (scene.lights.size() > kMaxLights) throw cli::InputError(options.scene + ": more than 32 lights");
+    Scene& scene = *loaded.scene;
+    const double light_range = options.light_range >= 0.0 ? options.light_range
+                               : options.lights > scene.lights.size()
+                                   ? bench::default_bench_light_range(scene, options.lights)
+                                   : 0.0;
+    if (options.lights > scene.lights.size()) bench::add_bench_lights(scene, options.lights, light_range);
+    // More than kMaxLights lights share light slots (scene/light_slots.hpp): evaluated for hard lights in a static
+    // scene, by the methods that need no shadow maps (the client's maps hold at most kMaxLights lights).
+    const bool light_slots = scene.lights.size() > kMaxLights;
+    if (light_slots) {
+      const std::string many = options.scene + ": " + std::to_string(scene.lights.size()) + " lights share light slots";
+      if (std::any_of(scene.lights.begin(), scene.lights.end(), [](const SceneLight& l) { return l.has_extent(); }))
+        throw cli::InputError(many + ", and dhr-eval evaluates them for hard lights only (the scene has lights with "
+                              "an extent)");
+      for (const MethodSpec& m : options.methods)
+        if (!uses_server_visibility(m))
+          throw cli::InputError(many + ": --method " + method_name(m) + " needs the client's shadow maps, which hold "
+                                "at most 32 lights (unshadowed_bit_error in run.json is the headset without them)");
+    }
     if (options.truth_first_samples > options.truth_samples)
       throw cli::InputError("--truth-first-samples is above --truth-samples");
     if (options.server_soft.initial_samples > options.server_soft.max_samples)
       throw cli::InputError("--soft-first-samples is above --soft-samples");
+    // Every light with slots (the truth traces the fields), else the first kMaxLights.
     const std::span<const SceneLight> lights =
-        std::span(scene.lights).first(std::min<size_t>(scene.lights.size(), kMaxLights));
-    const uint32_t soft_lights = render::soft_light_mask(render::layout_for_lights(lights));
+        std::span(scene.lights).first(light_slots ? scene.lights.size() : std::min<size_t>(scene.lights.size(), kMaxLights));
+    const uint32_t soft_lights = light_slots ? 0u : render::soft_light_mask(render::layout_for_lights(lights));
     PoseTrace trace = load_input_trace(options.trace);
     if (options.trace_start_s >= trace.duration()) {
       throw cli::InputError(options.trace + ": --trace-start is past the end of the trace");
@@ -163,7 +194,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     tracer_options.threads = options.threads;
     tracer_options.soft = options.server_soft;
     const auto tracer = std::make_unique<server::EmbreeTracer>(scene, tracer_options);
-    const TruthScene truth_scene{tracer.get(), &scene, lights, renderer.layout()};
+    const TruthScene truth_scene{tracer.get(), &scene, lights, renderer.layout(), light_slots};
     TruthSampling truth_sampling;
     truth_sampling.first_samples = options.truth_first_samples;
     truth_sampling.samples = options.truth_samples;
@@ -172,7 +203,10 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     std::vector<FramePose> history;
     double truth_s = 0.0;  // wall time of the ground truth (trace and pictures)
     const uint64_t total = warmup + frames;
-    SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), soft_lights, &history, total};
+    SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), soft_lights, &history, total,
+                         light_slots ? renderer.light_count() : 0u};
+    double unshadowed_bit_error = 0.0;  // every light lit on every surface: the headset without shadows
+    uint64_t truth_eyes = 0;
 
     std::vector<std::unique_ptr<SettingSession>> sessions;
     for (const Setting& s : settings) {
@@ -197,6 +231,10 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
           const auto truth_start = std::chrono::steady_clock::now();
           truths[s.guard] =
               ground_truth(truth_scene, truth_sampling, renderer, options.eye, s.guard_band, sample);
+          if (truths.size() == 1) {
+            for (int eye = 0; eye < 2; ++eye) unshadowed_bit_error += unshadowed_error(truths[s.guard], eye, renderer.layout());
+            truth_eyes += 2;
+          }
           truth_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - truth_start).count();
         }
       }
@@ -218,6 +256,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.begin_object();
     meta.value("command", command_line);
     meta.value("scene", options.scene);
+    meta.value("added_light_range_m", options.lights > 0 ? light_range : 0.0, 3);
     meta.value("trace", options.trace);
     meta.value("trace_start_s", options.trace_start_s, 3);
     meta.value("placement", placement_note);
@@ -227,7 +266,10 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     meta.value("warmup_frames", static_cast<unsigned long long>(warmup));
     meta.value("frames", static_cast<unsigned long long>(frames));
     meta.value("render_path", options.shipped_path ? "shipped" : "deferred");
-    meta.value("lights", renderer.light_count());
+    meta.value("lights", renderer.light_count());  // mask fields: with light slots, the slots the lights share
+    meta.value("scene_lights", static_cast<unsigned long long>(scene.lights.size()));
+    meta.value("light_slots", light_slots);
+    meta.value("unshadowed_bit_error", truth_eyes ? unshadowed_bit_error / static_cast<double>(truth_eyes) : 0.0, 8);
     meta.value("soft_lights", std::popcount(soft_lights));
     // Per pixel and light with an extent (a punctual light: one ray): the server's, the truth's.
     meta.value("server_soft_first_samples", options.server_soft.initial_samples);

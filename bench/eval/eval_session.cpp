@@ -66,6 +66,7 @@ client::VisibilityClientConfig client_config(const Setting& setting, const RunOp
   c.format = TracedFormat{shared.eye, setting.guard_band};
   c.codec_v2 = options.codec_v2;
   c.soft_lights = shared.soft_lights;
+  c.light_slots = shared.light_slots;
   c.max_frames_in_flight = 8;
   c.nonce_seed = options.seed;
   return c;

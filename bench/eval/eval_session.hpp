@@ -92,6 +92,7 @@ struct SessionShared {
   uint32_t soft_lights = 0;  // bit i: light i has an extent (the client offers soft levels for them)
   const std::vector<FramePose>* history = nullptr;  // every frame so far, index = frame
   size_t frames_total = 0;                          // frames the run plays (the planner's history holds them all)
+  uint32_t light_slots = 0;  // the fields of a scene whose lights share light slots (offered in the Hello); 0: none
 };
 
 // Views as they arrive after one trip through the wire format (f32 quaternions, renormalized), iterated to a
@@ -122,6 +123,7 @@ class ModelledTimeTracer final : public server::VisibilityTracer {
   const server::AccelStats& accel_stats() const override { return inner_.accel_stats(); }
   uint32_t light_count() const override { return inner_.light_count(); }
   std::vector<bool> light_extents() const override { return inner_.light_extents(); }
+  const LightSlots* light_slots() const override { return inner_.light_slots(); }
   // Motion is the inner tracer's (shared with the truth, which moves it to each display's scene time: the service
   // moves it back to its frame's before every trace).
   const SceneAnimation* scene_animation() const override { return inner_.scene_animation(); }

@@ -69,6 +69,8 @@ std::string setting_label(const Setting& setting);
 
 struct RunOptions {
   std::string scene;
+  uint32_t lights = 0;        // --lights: point lights added up to this many (bench/bench_lights.hpp); 0: the scene's
+  double light_range = -1.0;  // --light-range, metres; < 0: default_bench_light_range
   std::string trace;
   std::string out_dir;
   std::vector<double> rtt_ms{0.0, 25.0, 50.0, 100.0, 200.0};

@@ -56,6 +56,15 @@ ExactVisibility crop_display(const server::SoftImage& image, Extent eye, GuardBa
   return e;
 }
 
+// Light slots: each hard field's bit as its fraction, in `image` (whose surfaces a trace without lights found).
+void fields_as_fractions(const VisibilityBuffer& masks, const VisibilityLayout& layout, server::SoftImage& image) {
+  image.lights = layout.light_count;
+  image.fraction.assign(masks.pixel_count() * layout.light_count, 0.0f);
+  for (size_t p = 0; p < masks.pixel_count(); ++p)
+    for (uint32_t l = 0; l < layout.light_count; ++l)
+      image.fraction[p * layout.light_count + l] = layout.visibility(masks.mask_at(p), l);
+}
+
 // Per display pixel: how far light `light`'s exact fraction lies from its nearest level toward the stepped one.
 std::vector<float> step_weights(const ExactVisibility& exact, uint32_t light) {
   std::vector<float> w(exact.surface.size());
@@ -80,16 +89,25 @@ Truth ground_truth(const TruthScene& scene, const TruthSampling& sampling, EyeRe
   Truth truth;
   std::array<server::SoftImage, 2> images;
   std::array<Camera, 2> cameras;
+  std::array<VisibilityBuffer, 2> slot_masks;  // with light slots: the exhaustive trace of the fields
   for (int eye = 0; eye < 2; ++eye) {
     cameras[eye] = Camera::with_guard_band(views[eye], eye_size, guard);
-    server::trace_soft_image(scene.tracer->embree_scene(), lights, cameras[eye], options, images[eye]);
+    if (scene.light_slots) {
+      // The surfaces from a trace without lights, the fields' bits from the tracer.
+      server::trace_soft_image(scene.tracer->embree_scene(), {}, cameras[eye], options, images[eye]);
+      server::TraceStats stats;
+      scene.tracer->trace_layout(cameras[eye], scene.layout, slot_masks[eye], stats);
+      fields_as_fractions(slot_masks[eye], scene.layout, images[eye]);
+    } else {
+      server::trace_soft_image(scene.tracer->embree_scene(), lights, cameras[eye], options, images[eye]);
+    }
     truth.exact[eye] = crop_display(images[eye], eye_size, guard);
   }
   std::array<VisibilityBuffer, 2> buffers;
   const auto render = [&](int step_light) {
     std::array<VisibilityInput, 2> inputs;
     for (int eye = 0; eye < 2; ++eye) {
-      buffers[eye] = level_masks(images[eye], scene.layout, step_light);
+      buffers[eye] = scene.light_slots ? slot_masks[eye] : level_masks(images[eye], scene.layout, step_light);
       inputs[eye].buffer = &buffers[eye];
       inputs[eye].traced = cameras[eye];
       inputs[eye].scene_time_ns = pose.scene_time_ns;

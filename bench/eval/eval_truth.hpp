@@ -38,12 +38,15 @@ struct Truth {
 };
 
 // What the truth traces: the run's Embree tracer (its scene, moved to the display's scene time before each truth)
-// and the scene's lights at rest (at most kMaxLights, the layout's), moved with light_at.
+// and the scene's lights at rest (at most kMaxLights, the layout's), moved with light_at. With more lights
+// (light_slots; hard lights only, a static scene) the fields are the slots the lights share: the truth is the
+// tracer's exhaustive trace of them (one ray per pair is exact for a point light), each field's k its bit.
 struct TruthScene {
   server::EmbreeTracer* tracer = nullptr;
   const Scene* scene = nullptr;  // the loaded scene (its animation moves the lights)
   std::span<const SceneLight> lights;
-  VisibilityLayout layout;  // render::layout_for_lights of `lights`, as the client derives it
+  VisibilityLayout layout;  // render::layout_for_lights of `lights` (of the field lights with slots), as the client
+  bool light_slots = false;
 };
 
 // The truth of the frame `pose` displays: traced at its views and at its scene time (the scene and its lights as
