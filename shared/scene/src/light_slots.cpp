@@ -223,9 +223,13 @@ LightSlots LightSlots::assign(std::span<const SceneLight> lights) {
 }
 
 uint32_t LightSlots::cell_index(const glm::dvec3& p) const {
+  // Per hit of the tracer: a multiply by the cell's inverse and a truncation (the value is checked non-negative
+  // first), not a division and a floor. Rounding at a cell boundary may differ from the exact quotient's, which the
+  // margin makes harmless (a light reaching the point is registered in both cells).
+  const double per_mm = 1.0 / static_cast<double>(cell_mm_);
   uint32_t c[3];
   for (int a = 0; a < 3; ++a) {
-    const double v = std::floor((p[a] * 1000.0 - static_cast<double>(origin_mm_[a])) / static_cast<double>(cell_mm_));
+    const double v = (p[a] * 1000.0 - static_cast<double>(origin_mm_[a])) * per_mm;
     if (!(v >= 0.0 && v < static_cast<double>(cells_[a]))) return grid_cells_;  // outside (NaN too)
     c[a] = static_cast<uint32_t>(v);
   }

@@ -206,19 +206,28 @@ void select_cell_lights(const FrameSetup& frame, TileScratch& scratch, TraceStat
   scratch.tile_lights.clear();
   std::array<uint64_t, kMaxSlotLights / 64> seen{};
   const glm::dvec3 origin = frame.scene->origin();
+  // Neighbouring hits mostly share a cell: a row is looked through once per run of hits in it.
+  const uint16_t* last = nullptr;
+  uint64_t out_of_range = 0, culled = 0;  // per hit in `last`'s cell
   for (size_t h = 0; h < hits; ++h) {
     const uint16_t* row = frame.slots->lights_at(glm::dvec3(scratch.hits[h].position) + origin);
     scratch.cell_lights[h] = row;
-    for (uint32_t f = 0; f < frame.fields; ++f) {
-      const uint16_t li = row[f];
-      if (li == kNoSlotLight) {
-        ++stats.skipped_out_of_range;
-      } else if (frame.light_state[li] == kLightInactive) {
-        ++stats.skipped_culled_light;
-      } else {
-        seen[li / 64] |= uint64_t{1} << (li % 64);
+    if (row != last) {
+      last = row;
+      out_of_range = culled = 0;
+      for (uint32_t f = 0; f < frame.fields; ++f) {
+        const uint16_t li = row[f];
+        if (li == kNoSlotLight) {
+          ++out_of_range;
+        } else if (frame.light_state[li] == kLightInactive) {
+          ++culled;
+        } else {
+          seen[li / 64] |= uint64_t{1} << (li % 64);
+        }
       }
     }
+    stats.skipped_out_of_range += out_of_range;
+    stats.skipped_culled_light += culled;
   }
   for (uint32_t w = 0; w < seen.size(); ++w)
     for (uint64_t bits = seen[w]; bits != 0; bits &= bits - 1)
