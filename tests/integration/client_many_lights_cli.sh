@@ -4,14 +4,9 @@
 # (offscreen), which derives the same slots, offers them and shades every frame from the server's fields.
 # Usage: client_many_lights_cli.sh DHR_SERVER DHR_XRCLIENT SOURCE_DIR
 set -euo pipefail
-server_exe="$1" client_exe="$2" src="$3"
-tmp="$(mktemp -d)"
-here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-export DHR_TEST_LIB="$here"
-. "$here/server_lib.sh"
+. "$(dirname "${BASH_SOURCE[0]}")/client_lib.sh" "$@"
 scene="$tmp/many_lights_room.gltf"
-trace="$src/assets/traces/synthetic_6dof.csv"
-export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json DHR_LOG=info
+export DHR_LOG=info
 
 python3 - "$src/assets/scenes/default_room.gltf" "$scene" <<'PY'
 import json, sys

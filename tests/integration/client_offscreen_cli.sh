@@ -4,15 +4,10 @@
 # view (--view light:N), --guard as both sides together, and clear errors for a bad --view or an odd --guard.
 # Usage: client_offscreen_cli.sh DHR_SERVER DHR_XRCLIENT SOURCE_DIR
 set -euo pipefail
-server_exe="$1" client_exe="$2" src="$3"
-tmp="$(mktemp -d)"
-here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-export DHR_TEST_LIB="$here"
-. "$here/server_lib.sh"
+. "$(dirname "${BASH_SOURCE[0]}")/client_lib.sh" "$@"
 scene="$src/assets/scenes/default_room.gltf"
-trace="$src/assets/traces/synthetic_6dof.csv"
 start_server "$server_exe" "$scene" "$tmp"
-export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json DHR_LOG=warn
+export DHR_LOG=warn
 
 run_client() {  # name, then extra arguments
   local name="$1"; shift

@@ -5,14 +5,9 @@
 # client refuses the session with a reason instead of reading bits as levels.
 # Usage: client_soft_levels_cli.sh DHR_SERVER DHR_XRCLIENT SOURCE_DIR
 set -euo pipefail
-server_exe="$1" client_exe="$2" src="$3"
-tmp="$(mktemp -d)"
-here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-export DHR_TEST_LIB="$here"
-. "$here/server_lib.sh"
+. "$(dirname "${BASH_SOURCE[0]}")/client_lib.sh" "$@"
 scene="$src/assets/scenes/default_room_area.gltf"
-trace="$src/assets/traces/synthetic_6dof.csv"
-export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json DHR_LOG=info
+export DHR_LOG=info
 
 run_client() {  # name
   mkdir -p "$tmp/$1"

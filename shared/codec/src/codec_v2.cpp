@@ -226,9 +226,23 @@ RangeResult encode_range(const VisibilityBuffer& buffer, const V2Reference* refe
 }
 
 // Where the ranges start: row 0, then at 32-row boundaries that split the buffer's expected coding work evenly.
-// The work is estimated from a sample (every 2nd row, every 4th pixel) of where a mask differs from the sampled
-// one left of it or above it: uniform areas cost next to nothing, coded pixels lie at such changes. Each range
-// holds at least 32 rows; a buffer without changes is cut into equal ranges.
+// The work is estimated from a sample (every 2nd row, every 4th pixel): each sampled pixel costs 1 (every block is
+// decided, uniform or not) and each bit in which its mask differs from the sampled one left of it or above it
+// kChangeWeight (coded pixels lie at such changes, and every differing light's plane is coded there). Each range
+// holds at least 32 rows. The weight was chosen by timing each of two ranges on one thread: 40 split the living
+// room, its dense version, 64 lights and the area room's levels within 10 % of even; counting changed masks alone
+// (before) left one thread more of the hard scenes' work (docs/performance.md, "Encoding in one pass, on two
+// threads").
+constexpr uint64_t kChangeWeight = 40;
+
+// The bits set in x, in a few instructions: std::popcount is a library call without the POPCNT instruction, which
+// the baseline x86-64 this builds for lacks (it made the estimate cost more than the balance saved).
+uint32_t bits_set(uint32_t x) {
+  x -= (x >> 1) & 0x55555555u;
+  x = (x & 0x33333333u) + ((x >> 2) & 0x33333333u);
+  return (((x + (x >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24;
+}
+
 std::vector<uint32_t> range_starts(const VisibilityBuffer& buffer, size_t ranges) {
   std::vector<uint32_t> starts{0};
   ranges = std::clamp<size_t>(ranges, 1, 64);
@@ -243,9 +257,11 @@ std::vector<uint32_t> range_starts(const VisibilityBuffer& buffer, size_t ranges
       uint64_t changes = 0;
       for (size_t x = 4; x < buffer.width; x += 4) {
         const Mask m = at<Mask>(cur, x);
-        changes += (m != at<Mask>(cur, x - 4)) | (m != at<Mask>(up, x));
+        const uint32_t left = static_cast<uint32_t>(m ^ at<Mask>(cur, x - 4));
+        const uint32_t above = static_cast<uint32_t>(m ^ at<Mask>(up, x));
+        if ((left | above) != 0) changes += bits_set(left) + bits_set(above);
       }
-      work[y / 32] += changes;
+      work[y / 32] += changes * kChangeWeight + buffer.width / 4;
     }
   });
   uint64_t total = 0;

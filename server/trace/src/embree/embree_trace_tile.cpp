@@ -234,17 +234,22 @@ void select_cell_lights(const FrameSetup& frame, TileScratch& scratch, TraceStat
       scratch.tile_lights.push_back(w * 64 + static_cast<uint32_t>(__builtin_ctzll(bits)));
 }
 
-bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
-                    RTCRay& out_ray, bool& out_contributes) {
-  const LightSample sample = sample_light(light, hit.position, hit.shading_normal);
+bool pair_skipped(const FrameSetup& frame, const LightSample& sample, TraceStats& stats) {
   if (sample.test == LightTest::kOutOfRange && frame.skip.out_of_range) {
     ++stats.skipped_out_of_range;
-    return false;
+    return true;
   }
   if (sample.test == LightTest::kBackfacing && frame.skip.backfacing) {
     ++stats.skipped_backfacing;
-    return false;
+    return true;
   }
+  return false;
+}
+
+bool shadow_ray_for(const FrameSetup& frame, const PackedLight& light, const SurfaceHit& hit, TraceStats& stats,
+                    RTCRay& out_ray, bool& out_contributes) {
+  const LightSample sample = sample_light(light, hit.position, hit.shading_normal);
+  if (pair_skipped(frame, sample, stats)) return false;
   make_shadow_ray(light, hit, sample, frame.scene->ray_offset(), out_ray);
   out_contributes = sample.test == LightTest::kContributes;
   return true;
@@ -292,9 +297,11 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
     const uint32_t light_bit = 1u << frame.field[li];
     for (uint32_t h = 0; h < hits; ++h) {
       if (frame.slots && scratch.cell_lights[h][frame.field[li]] != li) continue;
-      RTCRay ray;
-      bool contributes = false;
-      if (!shadow_ray_for(frame, light, scratch.hits[h], stats, ray, contributes)) continue;
+      // shadow_ray_for's steps, the ray made only for a pair that reuse does not answer.
+      const SurfaceHit& hit = scratch.hits[h];
+      const LightSample sample = sample_light(light, hit.position, hit.shading_normal);
+      if (pair_skipped(frame, sample, stats)) continue;
+      const bool contributes = sample.test == LightTest::kContributes;
       if (contributes && (scratch.reuse_known[h] & light_bit)) {
         ++stats.reused_pairs;
         const bool reached = (scratch.reuse_reached[h] & light_bit) != 0;
@@ -302,6 +309,8 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
         if (!frame.slots && reached) scratch.masks[h] |= 1u << frame.bit[li];
         continue;
       }
+      RTCRay ray;
+      make_shadow_ray(light, hit, sample, frame.scene->ray_offset(), ray);
       scratch.rays.push_back(ray);
       scratch.pending.push_back({scratch.hit_pixels[h].slot, h, li, contributes});
     }

@@ -175,6 +175,9 @@ void make_shadow_ray(const PackedLight& light, const SurfaceHit& hit, const Ligh
 void trace_primary_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1,
                         TileScratch& scratch, TraceStats& stats);
 
+// One surface point and light's test: true when frame.skip skips the pair (counted in `stats` by reason).
+bool pair_skipped(const FrameSetup& frame, const LightSample& sample, TraceStats& stats);
+
 // One surface point and light: true with the occlusion ray to trace (and whether the light contributes, else
 // the ray is traced only because a skip is off), or false when frame.skip skips the pair (counted in `stats`
 // by reason). bench/trace_bench uses it to replay exactly the tracer's rays.
