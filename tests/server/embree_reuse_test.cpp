@@ -9,6 +9,7 @@
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/reuse/reuse_frame.hpp"
 #include "test_animated_scene.hpp"
+#include "reuse_pair.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>
@@ -52,31 +53,6 @@ Scene room(bool moving_box, bool moving_light) {
   test::finalize(s);
   if (moving_box || moving_light) test::animate_translation(s, kMovingNode, glm::vec3(0.0f), glm::vec3(2, 0, 0), 2.0);
   return s;
-}
-
-struct Pair {
-  VisibilityBuffer exact, reused;
-  TraceStats exact_stats, reused_stats;
-};
-
-// Traces `camera` both ways; the reusing trace takes from `previous` and records into `record`.
-Pair trace_both(VisibilityTracer& tracer, const Camera& camera, const ReuseFrame* previous, ReuseFrame& record,
-                const ReuseOptions& options = {}) {
-  Pair p;
-  const VisibilityLayout layout = VisibilityLayout::hard(tracer.light_count());
-  tracer.trace_layout(camera, layout, p.exact, p.exact_stats);
-  ReuseRequest request;
-  request.previous = previous;
-  request.record = &record;
-  request.options = options;
-  tracer.trace_reusing(camera, layout, request, p.reused, p.reused_stats);
-  return p;
-}
-
-uint64_t differing_bits(const VisibilityBuffer& a, const VisibilityBuffer& b) {
-  uint64_t n = 0;
-  for (size_t i = 0; i < a.pixel_count(); ++i) n += static_cast<uint64_t>(__builtin_popcount(a.mask_at(i) ^ b.mask_at(i)));
-  return n;
 }
 
 Camera camera_at(double x, double y, double z, uint32_t w = 384, uint32_t h = 256) {
@@ -143,12 +119,12 @@ TEST(EmbreeReuse, StillCameraGivesIdenticalBitsMostlyWithoutRays) {
   EmbreeTracer tracer(room(false, false), threads(2));
   const Camera camera = camera_at(0.3, 1.6, 3.0);
   std::array<ReuseFrame, 2> frames;
-  Pair first = trace_both(tracer, camera, nullptr, frames[0]);
+  ReusePair first = trace_both(tracer, camera, nullptr, frames[0]);
   EXPECT_EQ(first.reused, first.exact);
   EXPECT_EQ(first.reused_stats.reused_pixels, 0u);  // nothing to take from yet
   ASSERT_TRUE(frames[0].valid());
   for (int i = 1; i < 4; ++i) {
-    Pair p = trace_both(tracer, camera, &frames[(i + 1) % 2], frames[i % 2]);
+    ReusePair p = trace_both(tracer, camera, &frames[(i + 1) % 2], frames[i % 2]);
     EXPECT_EQ(p.reused, p.exact) << "frame " << i;
     const uint64_t hits = p.exact_stats.pixels - p.exact_stats.background_pixels;
     EXPECT_GT(p.reused_stats.reused_pixels, hits / 2) << "frame " << i;
@@ -164,7 +140,7 @@ TEST(EmbreeReuse, MovingCameraStaysWithinTheBoundAndReuses) {
   for (int i = 0; i < 24; ++i) {
     // A head drifting sideways and forward at about 0.5 m/s (90 Hz), turning a little.
     const Camera camera = camera_at(0.3 + 0.006 * i, 1.6 - 0.001 * i, 3.0 - 0.004 * i);
-    Pair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
+    ReusePair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
     const uint64_t hits = p.exact_stats.pixels - p.exact_stats.background_pixels;
     bits += hits * tracer.light_count();
     differing += differing_bits(p.exact, p.reused);
@@ -187,7 +163,7 @@ TEST(EmbreeReuse, MovingOccluderAndLightAreTracedAgain) {
     uint64_t reused = 0;
     for (int i = 0; i < 12; ++i) {
       tracer.set_scene_time(0.05 * i);
-      Pair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
+      ReusePair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
       EXPECT_EQ(p.reused, p.exact) << "frame " << i << (light ? " with the moving light" : "");
       reused += p.reused_stats.reused_pixels;
     }
@@ -203,7 +179,7 @@ TEST(EmbreeReuse, GeometryAtTheNearPlaneTurnsBlocksOff) {
   for (int i = 0; i < 3; ++i) {
     const Camera camera = test::look_camera(glm::dvec3(1.0, 1.5, -3.97 + 0.01 * (1 - i)),
                                             glm::dvec3(1.0, 1.5, -5.0), 96, 64, 100.0);
-    Pair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
+    ReusePair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
     EXPECT_EQ(p.reused, p.exact) << "frame " << i;
     if (i > 0) {
       EXPECT_EQ(p.reused_stats.reused_pixels, 0u) << "frame " << i;
@@ -244,7 +220,7 @@ TEST(EmbreeReuse, SameBitsOnOneAndTwoThreads) {
     EmbreeTracer tracer(scene, threads(n));
     std::array<ReuseFrame, 2> frames;
     for (int i = 0; i < 5; ++i) {
-      Pair p = trace_both(tracer, camera_at(0.3 + 0.01 * i, 1.6, 3.0), i ? &frames[(i + 1) % 2] : nullptr,
+      ReusePair p = trace_both(tracer, camera_at(0.3 + 0.01 * i, 1.6, 3.0), i ? &frames[(i + 1) % 2] : nullptr,
                           frames[i % 2]);
       last[n - 1] = p.reused;
     }
@@ -268,7 +244,7 @@ TEST(EmbreeReuse, RecordIsLeftInvalidByTheDefaultImplementation) {
   ReuseFrame record;
   record.mesh.assign(4, 0);
   record.edge_distance.assign(1, 0);
-  Pair p = trace_both(wrapped, camera_at(0.3, 1.6, 3.0), nullptr, record);
+  ReusePair p = trace_both(wrapped, camera_at(0.3, 1.6, 3.0), nullptr, record);
   EXPECT_EQ(p.reused, p.exact);
   EXPECT_FALSE(record.valid());
 }

@@ -6,6 +6,7 @@
 // reuse per field within a cell, and the refusals (animation, too many lights).
 #include "trace/embree/embree_trace_tile.hpp"
 #include "trace/embree/embree_tracer.hpp"
+#include "reuse_pair.hpp"
 #include "test_animated_scene.hpp"
 #include "test_scenes.hpp"
 
@@ -157,7 +158,6 @@ TEST(LightSlotsTrace, ReuseTakesAnswersPerFieldWithinACell) {
   const Scene scene = test::many_lights_floor(8, 1.0f);  // 64 lights
   EmbreeTracer tracer(scene, threads(2));
   ASSERT_NE(tracer.light_slots(), nullptr);
-  const VisibilityLayout layout = VisibilityLayout::hard(tracer.light_count());
   std::array<ReuseFrame, 2> frames;
   uint64_t bits = 0, differing = 0, reused_pixels = 0, reused_pairs = 0, pixels = 0, rays = 0, exhaustive_rays = 0;
   uint64_t regions = 0;
@@ -166,25 +166,18 @@ TEST(LightSlotsTrace, ReuseTakesAnswersPerFieldWithinACell) {
     const double t = still ? 11.0 : static_cast<double>(i);
     const Camera camera = test::look_camera(glm::dvec3(3.5 + 0.01 * t, 4.5 - 0.004 * t, 7.0 - 0.006 * t),
                                             glm::dvec3(3.5, 0.0, 3.0), 384, 288, 60.0);
-    VisibilityBuffer exact, reused;
-    TraceStats exact_stats, reused_stats;
-    tracer.trace_layout(camera, layout, exact, exact_stats);
-    ReuseRequest request;
-    request.previous = i ? &frames[(i + 1) % 2] : nullptr;
-    request.record = &frames[i % 2];
-    tracer.trace_reusing(camera, layout, request, reused, reused_stats);
+    const ReusePair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
     ASSERT_EQ(frames[i % 2].region.size(), frames[i % 2].mesh.size());
     if (still && i > 12) {
-      EXPECT_EQ(reused, exact) << "frame " << i << " (still)";
+      EXPECT_EQ(p.reused, p.exact) << "frame " << i << " (still)";
     }
-    for (size_t p = 0; p < exact.pixel_count(); ++p)
-      differing += static_cast<uint64_t>(__builtin_popcount(exact.mask_at(p) ^ reused.mask_at(p)));
-    bits += (exact_stats.pixels - exact_stats.background_pixels) * tracer.light_count();
-    reused_pixels += reused_stats.reused_pixels;
-    reused_pairs += reused_stats.reused_pairs;
-    pixels += exact_stats.pixels;
-    rays += reused_stats.primary_rays + reused_stats.shadow_rays;
-    exhaustive_rays += exact_stats.primary_rays + exact_stats.shadow_rays;
+    differing += differing_bits(p.exact, p.reused);
+    bits += (p.exact_stats.pixels - p.exact_stats.background_pixels) * tracer.light_count();
+    reused_pixels += p.reused_stats.reused_pixels;
+    reused_pairs += p.reused_stats.reused_pairs;
+    pixels += p.exact_stats.pixels;
+    rays += p.reused_stats.primary_rays + p.reused_stats.shadow_rays;
+    exhaustive_rays += p.exact_stats.primary_rays + p.exact_stats.shadow_rays;
     std::vector<uint32_t> seen(frames[i % 2].region);
     std::sort(seen.begin(), seen.end());
     regions = std::max<uint64_t>(regions, static_cast<uint64_t>(std::unique(seen.begin(), seen.end()) - seen.begin()));
