@@ -91,7 +91,7 @@ bool parse(int argc, char** argv, SequenceArgs& a) {
       a.lights = static_cast<uint32_t>(n);
     } else if (k == "--light-range") {
       a.light_range = std::strtod(v.c_str(), &end);
-      if (*end || !std::isfinite(a.light_range) || a.light_range < 0.0) return false;
+      if (*end || !std::isfinite(a.light_range) || a.light_range < 0.0 || a.light_range > 1000.0) return false;
     } else if (k == "--trace-start") {
       a.trace_start_s = std::strtod(v.c_str(), &end);
       if (*end || !std::isfinite(a.trace_start_s) || a.trace_start_s < 0.0) return false;

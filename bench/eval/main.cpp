@@ -30,11 +30,11 @@ int main(int argc, char** argv) {
   run->add_option("--scene", options.scene, "scene file (.gltf/.glb)")->required();
   run->add_option("--lights", options.lights,
                   "add point lights to the scene until it has this many (at most 256; beyond 32 they share light "
-                  "slots: hard lights, methods without shadow maps)")
+                  "slots: hard lights only, and the client has no shadow maps: local is unshadowed)")
       ->check(CLI::Range(1, 256));
   run->add_option("--light-range", options.light_range,
                   "range of the added lights, metres (default: about six reach a point; infinite up to 32 lights)")
-      ->check(CLI::Range(0.0, 1.0e4));
+      ->check(dhr::cli::FiniteRange(0.0, 1000.0));
   run->add_option("--trace", options.trace, "head-pose trace (any supported format, docs/traces.md)")->required();
   run->add_option("--out", options.out_dir, "output directory")->required();
   run->add_option("--rtt-ms", rtt, "round-trip times, ms (comma list)")->capture_default_str();

@@ -417,6 +417,11 @@ TEST(EvalCliManyLightsTest, LightSlotsAreEvaluatedAgainstTheUnshadowedHeadset) {
     EXPECT_NEAR(results.at(local)["bit_error"].get<double>(), unshadowed, 1e-7) << local;
   EXPECT_LT(results.at("default@100")["bit_error"].get<double>(), unshadowed);
   EXPECT_LT(results.at("default@100")["flip"].get<double>(), results.at("local@100")["flip"].get<double>());
+  for (const char* bad : {"--lights 300", "--lights 0", "--lights 40 --light-range nan", "--lights 40 --light-range -1"}) {
+    const CliRun refused = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+                                   " --frames 2 --no-progress " + bad);
+    EXPECT_EQ(refused.exit_code, 2) << bad << ": " << refused.output;
+  }
   fs::remove_all(out);
 }
 
