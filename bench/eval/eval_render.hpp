@@ -48,9 +48,8 @@ class EyeRenderer {
   client::StereoPipeline& pipeline() { return stereo_; }
   const vk::Context& context() const { return *context_; }
   // The masks' fields: the lights, or with more than kMaxLights lights the light slots they share
-  // (ClientScene::field_lights; light_slots() then).
+  // (ClientScene::field_lights).
   uint32_t light_count() const { return light_count_; }
-  bool light_slots() const { return !scene_.light_slots().is_identity(); }
   // The masks' layout (render::layout_for_lights of the field lights: a soft light's field holds its level).
   const VisibilityLayout& layout() const { return layout_; }
 

@@ -236,10 +236,7 @@ uint32_t LightSlots::cell_index(const glm::dvec3& p) const {
   return (c[2] * cells_[1] + c[1]) * cells_[0] + c[0];
 }
 
-const uint16_t* LightSlots::lights_at(const glm::dvec3& p) const {
-  if (grid_cells_ == 0) return table_.data();
-  return table_.data() + static_cast<size_t>(cell_index(p)) * slot_count();
-}
+const uint16_t* LightSlots::lights_at(const glm::dvec3& p) const { return lights_in(cell_of(p)); }
 
 std::vector<SceneLight> LightSlots::field_lights(std::span<const SceneLight> lights) const {
   if (lights.size() != slot_of_.size()) throw std::invalid_argument("light slots: field_lights of other lights");

@@ -333,7 +333,7 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
     query.normal = hit.geometric_normal;
     query.mesh = hit.mesh;
     query.spacing = glm::dot(hit.position - frame.eye, reuse->now.w) / reuse->now.focal;
-    if (frame.slots) query.region = region_of(frame, hit.position);
+    if (frame.slots) query.region = scratch.cells[h];
     uint32_t known = 0, reached = 0, soft_known = 0, soft_mask = 0;
     for (const ReuseSetup::Source& source : reuse->sources) {
       ReuseAnswer answer = reuse_lookup(*source.frame, query, source.lights & ~known, reuse->options);
@@ -377,7 +377,7 @@ void record_reuse_tile(const FrameSetup& frame, const TileScratch& scratch, cons
     rec->mask[i] = out.get(x, y);
     rec->known[i] = scratch.reuse_known[h];
     rec->reached[i] = scratch.reuse_reached[h];
-    if (!rec->region.empty()) rec->region[i] = region_of(frame, hit.position);
+    if (!rec->region.empty()) rec->region[i] = scratch.cells[h];
   }
 }
 

@@ -200,17 +200,23 @@ FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLig
   return frame;
 }
 
+void find_hit_cells(const FrameSetup& frame, TileScratch& scratch, size_t from) {
+  const glm::dvec3 origin = frame.scene->origin();
+  scratch.cells.resize(scratch.hits.size());
+  for (size_t h = from; h < scratch.hits.size(); ++h)
+    scratch.cells[h] = frame.slots->cell_of(glm::dvec3(scratch.hits[h].position) + origin);
+}
+
 void select_cell_lights(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats) {
   const size_t hits = scratch.hits.size();
   scratch.cell_lights.resize(hits);
   scratch.tile_lights.clear();
   std::array<uint64_t, kMaxSlotLights / 64> seen{};
-  const glm::dvec3 origin = frame.scene->origin();
   // Neighbouring hits mostly share a cell: a row is looked through once per run of hits in it.
   const uint16_t* last = nullptr;
   uint64_t out_of_range = 0, culled = 0;  // per hit in `last`'s cell
   for (size_t h = 0; h < hits; ++h) {
-    const uint16_t* row = frame.slots->lights_at(glm::dvec3(scratch.hits[h].position) + origin);
+    const uint16_t* row = frame.slots->lights_in(scratch.cells[h]);
     scratch.cell_lights[h] = row;
     if (row != last) {
       last = row;
@@ -275,10 +281,13 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
     std::memset(out.data.data() + (size_t{y} * out.width + x0) * mask_bytes, 0, (x1 - x0) * mask_bytes);
   gather_tile(frame, x0, y0, x1, y1, scratch, out, stats);
   trace_primary_tile(frame, x0, y0, x1, y1, scratch, stats);
+  if (frame.slots) find_hit_cells(frame, scratch, 0);
   // With reuse, a contributing pair whose occlusion a source answers takes that answer instead of a ray (rule 2);
   // then rule 1's blocks with lights left to trace join the hits.
   reuse_tile_hits(frame, scratch, stats);
+  const size_t primary_hits = scratch.hits.size();
   append_partial_hits(scratch);
+  if (frame.slots) find_hit_cells(frame, scratch, primary_hits);
   const uint32_t hits = static_cast<uint32_t>(scratch.hits.size());
   stats.skipped_culled_light += uint64_t{hits} * frame.culled_lights;
   if (frame.slots) select_cell_lights(frame, scratch, stats);

@@ -61,6 +61,8 @@ class LightSlots {
   // The grid cell holding `p` (world, metres): points of one cell have the same lights_at. One id for every point
   // outside the grid, and 0 everywhere for the identity.
   uint32_t cell_of(const glm::dvec3& p) const { return grid_cells_ == 0 ? 0u : cell_index(p); }
+  // lights_at for a point of cell `cell` (cell_of's).
+  const uint16_t* lights_in(uint32_t cell) const { return table_.data() + static_cast<size_t>(cell) * slot_count(); }
 
   // The grid, for the client's shaders (which bin a point the same way, in float): cell c = (x, y, z) covers
   // [origin + c * cell, origin + (c + 1) * cell) in mm; table() has slot_count() entries per cell, x fastest, then

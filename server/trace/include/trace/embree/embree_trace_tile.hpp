@@ -126,8 +126,10 @@ struct TileScratch {
   std::vector<HitPixel> partial_pixels;
   std::vector<uint32_t> partial_known, partial_reached;
   uint32_t skip_x0 = 0, skip_y0 = 0, skip_width = 0;
-  // Light slots, parallel to hits: the lights of the hit's cell, one per field (LightSlots::lights_at); and the
-  // tile's active lights that some hit's cell holds, ascending.
+  // Light slots, parallel to hits: the hit's grid cell (LightSlots::cell_of, found once: reuse, the record and
+  // select_cell_lights read it), the lights of that cell, one per field (LightSlots::lights_in); and the tile's
+  // active lights that some hit's cell holds, ascending.
+  std::vector<uint32_t> cells;
   std::vector<const uint16_t*> cell_lights;
   std::vector<uint32_t> tile_lights;
   bool skipped(uint32_t x, uint32_t y) const {
@@ -143,7 +145,10 @@ FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLig
                             const SkipOptions& skip, uint32_t requested = UINT32_MAX,
                             const LightSlots* slots = nullptr);
 
-// Light slots: scratch.cell_lights and tile_lights for the tile's hits; a requested field whose cell holds no light
+// Light slots: scratch.cells for hits [from, end) (the surface points' grid cells).
+void find_hit_cells(const FrameSetup& frame, TileScratch& scratch, size_t from);
+
+// Light slots: scratch.cell_lights and tile_lights for the tile's hits (their scratch.cells); a requested field whose cell holds no light
 // counts as skipped_out_of_range, one whose light is culled as skipped_culled_light.
 void select_cell_lights(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats);
 
