@@ -8,3 +8,15 @@ export DHR_TEST_LIB="$here"
 . "$here/server_lib.sh"
 trace="$src/assets/traces/synthetic_6dof.csv"
 export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json
+
+# expect_served OUT LABEL MIN: the client's summary (the last stdout line of OUT, one JSON object) says a clean exit
+# and at least MIN frames shaded from the server's visibility; prints "LABEL: N of M frames from the server".
+expect_served() {
+  python3 - "$1" "$2" "$3" <<'PY'
+import json, sys
+s = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])
+assert s["exit"] == "clean", s
+assert s["frames_with_visibility"] >= int(sys.argv[3]), s
+print("%s: %d of %d frames from the server" % (sys.argv[2], s["frames_with_visibility"], s["frames"]))
+PY
+}
