@@ -135,6 +135,8 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     const bool light_slots = scene.lights.size() > kMaxLights;
     if (light_slots) {
       const std::string many = options.scene + ": " + std::to_string(scene.lights.size()) + " lights share light slots";
+      if (!scene.animation.empty())
+        throw cli::InputError(many + ", which need a scene without animation (the scene has animations)");
       if (std::any_of(scene.lights.begin(), scene.lights.end(), [](const SceneLight& l) { return l.has_extent(); }))
         throw cli::InputError(many + ", and dhr-eval evaluates them for hard lights only (the scene has lights with "
                               "an extent)");

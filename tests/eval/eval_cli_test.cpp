@@ -10,6 +10,8 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 #include <unistd.h>
 
 #include "image/png_reader.hpp"
@@ -417,10 +419,15 @@ TEST(EvalCliManyLightsTest, LightSlotsAreEvaluatedAgainstTheUnshadowedHeadset) {
     EXPECT_NEAR(results.at(local)["bit_error"].get<double>(), unshadowed, 1e-7) << local;
   EXPECT_LT(results.at("default@100")["bit_error"].get<double>(), unshadowed);
   EXPECT_LT(results.at("default@100")["flip"].get<double>(), results.at("local@100")["flip"].get<double>());
-  for (const char* bad : {"--lights 300", "--lights 0", "--lights 40 --light-range nan", "--lights 40 --light-range -1"}) {
-    const CliRun refused = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+  // Refused with exit 2: bad counts and ranges, and a scene whose lights have an extent (the area room).
+  const std::string area_scene = std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf";
+  const std::vector<std::pair<std::string, std::string>> refusals{
+      {kScene, "--lights 300"}, {kScene, "--lights 0"}, {kScene, "--lights 40 --light-range nan"},
+      {kScene, "--lights 40 --light-range -1"}, {area_scene, "--lights 40"}};
+  for (const auto& [scene, bad] : refusals) {
+    const CliRun refused = run_cli("run --scene " + scene + " --trace " + kTrace + " --out " + out.string() +
                                    " --frames 2 --no-progress " + bad);
-    EXPECT_EQ(refused.exit_code, 2) << bad << ": " << refused.output;
+    EXPECT_EQ(refused.exit_code, 2) << scene << " " << bad << ": " << refused.output;
   }
   fs::remove_all(out);
 }
