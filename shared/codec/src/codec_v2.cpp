@@ -230,9 +230,8 @@ RangeResult encode_range(const VisibilityBuffer& buffer, const V2Reference* refe
 // decided, uniform or not) and each bit in which its mask differs from the sampled one left of it or above it
 // kChangeWeight (coded pixels lie at such changes, and every differing light's plane is coded there). Each range
 // holds at least 32 rows. The weight was chosen by timing each of two ranges on one thread: 40 split the living
-// room, its dense version, 64 lights and the area room's levels within 10 % of even; counting changed masks alone
-// (before) left one thread more of the hard scenes' work (docs/performance.md, "Encoding in one pass, on two
-// threads").
+// room, its dense version, 64 lights and the area room's levels within 10 % of even (docs/performance.md,
+// "Encoding in one pass, on two threads").
 constexpr uint64_t kChangeWeight = 40;
 
 // The bits set in x, in a few instructions: std::popcount is a library call without the POPCNT instruction, which
