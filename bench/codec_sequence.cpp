@@ -85,6 +85,7 @@ int run_sequence(const SequenceOptions& o) {
 
   server::TracerOptions tracer_options;
   tracer_options.threads = o.threads;
+  tracer_options.soft = o.soft;
   const auto tracer = server::create_tracer(server::TracerBackend::kEmbree, scene, tracer_options);
   const VisibilityLayout layout = o.soft_levels
                                      ? server::layout_for_lights(tracer->light_extents(), tracer->light_count())
@@ -111,7 +112,7 @@ int run_sequence(const SequenceOptions& o) {
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::array<EyeState, 2> state;
-  double v1_bytes = 0, v2_bytes = 0, v2_payload = 0, shards_v2 = 0;
+  double v1_bytes = 0, v2_bytes = 0, v2_payload = 0, shards_v2 = 0, v2_intra_bytes = 0;
   std::vector<double> encode_ms, decode_ms, one_range_encode_ms, one_thread_encode_ms;
   double one_range_bytes = 0;
   // The shipped encode (EncodeOptions' defaults: its ranges on its threads; --encode-ranges and --encode-threads
@@ -173,6 +174,7 @@ int run_sequence(const SequenceOptions& o) {
       blocks_copied += s2.blocks_copied;
       blocks_coded += s2.blocks_coded;
       v2_bytes += static_cast<double>(s2.datagram_bytes);
+      if (!have_ref) v2_intra_bytes += static_cast<double>(s2.datagram_bytes);
       v2_payload += static_cast<double>(s2.payload_bytes);
       shards_v2 += static_cast<double>(s2.shards);
 
@@ -232,6 +234,7 @@ int run_sequence(const SequenceOptions& o) {
   j.value("frames", o.frames).value("width", o.size.width).value("height", o.size.height);
   j.value("display", std::to_string(display.width) + "x" + std::to_string(display.height));
   j.value("lights", layout.light_count).value("soft_levels", o.soft_levels).value("mask_bits_used", lights);
+  j.value("soft_first_samples", o.soft.initial_samples).value("soft_samples", o.soft.max_samples);
   // With more than 32 lights "lights" counts the mask's fields, the slots the scene's lights share.
   j.value("scene_lights", static_cast<unsigned long>(scene.lights.size()));
   j.value("scene_lights_own", static_cast<unsigned long>(scene_lights));
@@ -251,6 +254,10 @@ int run_sequence(const SequenceOptions& o) {
   j.value("v2_mbit_s", mbit(v2_bytes / eye_frames), 3);
   j.value("v2_bytes_per_light", layout.light_count > 0 ? v2_bytes / eye_frames / layout.light_count : 0.0, 1);
   j.value("v2_inter_frac", inter_frames / eye_frames, 3);
+  // The start-up's intra frames apart from the inter frames that follow (a longer sequence tends to the latter).
+  const double intra_frames = eye_frames - static_cast<double>(inter_frames);
+  j.value("v2_intra_bytes_per_intra_frame", intra_frames > 0 ? v2_intra_bytes / intra_frames : 0.0, 1);
+  j.value("v2_inter_bytes_per_inter_frame", inter_frames > 0 ? (v2_bytes - v2_intra_bytes) / inter_frames : 0.0, 1);
   j.value("v2_v1_fallback_rows", static_cast<unsigned long long>(fallback_rows));
   j.value("v2_pixel_bits_coded_per_eye_frame", static_cast<double>(pixels_coded) / eye_frames, 0);
   j.value("v2_block_lights_copied_frac", blocks > 0 ? static_cast<double>(blocks_copied) / blocks : 0.0, 4);

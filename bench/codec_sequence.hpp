@@ -5,6 +5,7 @@
 // never acknowledged, and every decoded shard is compared with the traced bits.
 #pragma once
 #include "math/projection.hpp"
+#include "trace/soft/soft_options.hpp"
 
 #include <cstdint>
 #include <string>
@@ -26,6 +27,7 @@ struct SequenceOptions {
   // Soft levels (docs/protocol.md, "Mask layout"): lights with an extent get 3-bit Gray-coded level fields,
   // traced as a soft-capable session's (VisibilityTracer::trace_layout); off: one bit per light.
   bool soft_levels = false;
+  server::SoftOptions soft;  // the tracer's sampling of lights with an extent (TracerOptions::soft)
   // The shipped encode's v2 row ranges and threads (EncodeOptions' defaults when 0); the one-range and one-thread
   // encodes beside it stay as they are.
   uint32_t encode_ranges = 0;

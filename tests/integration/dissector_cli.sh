@@ -61,7 +61,7 @@ python3 - "$port" <<'PY'
 import socket, struct, sys
 port = int(sys.argv[1])
 s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-def header(kind, flags=0, version=6, token=0, seq=0):  # version: kProtocolVersion
+def header(kind, flags=0, version=7, token=0, seq=0):  # version: kProtocolVersion
     return b"DHRX" + struct.pack("<BBHQI", version, kind, flags, token, seq)
 bad = [
     b"DHRX\x06\x01",                                              # shorter than the header

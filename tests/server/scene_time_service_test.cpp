@@ -154,12 +154,12 @@ TEST_F(VisibilityServiceTest, AStaticSceneIsNotMovedAndShardsNameThePosesSceneTi
   EXPECT_EQ(service_->stats().scene_update_ms, 0.0);
 }
 
-// A client of protocol version 4 (no scene time) or 5 (no NodeTransform) gets the version mismatch answer, as any
-// other version does.
-TEST_F(VisibilityServiceTest, AVersion5HelloGetsByeVersionMismatch) {
+// A client of protocol version 4 (no scene time), 5 (no NodeTransform) or 6 (codec v2's earlier contexts, whose
+// shards it could not decode) gets the version mismatch answer, as any other version does.
+TEST_F(VisibilityServiceTest, AVersion6HelloGetsByeVersionMismatch) {
   std::vector<uint8_t> old = encode_datagram(Datagram{0, 0, make_hello(5)});
-  ASSERT_EQ(kProtocolVersion, 6);
-  old[4] = 5;
+  ASSERT_EQ(kProtocolVersion, 7);
+  old[4] = 6;
   send_raw(old, peer(3));
   const auto byes = byes_of(drain()[peer(3)]);
   ASSERT_EQ(byes.size(), 1u);

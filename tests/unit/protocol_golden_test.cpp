@@ -92,7 +92,7 @@ TEST(ProtocolGolden, Hello) {
   m.scene_id = "room";
   const Bytes expected = {
       'D', 'H', 'R', 'X',                              // magic
-      0x06,                                            // version
+      0x07,                                            // version
       0x01,                                            // type Hello
       0x00, 0x00,                                      // reserved
       0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 0
@@ -124,7 +124,7 @@ TEST(ProtocolGolden, Welcome) {
   m.heartbeat_interval_ms = 1000;
   m.session_timeout_ms = 5000;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x06, 0x02, 0x00, 0x00,  // magic, version, type Welcome, reserved
+      'D',  'H',  'R',  'X',  0x07, 0x02, 0x00, 0x00,  // magic, version, type Welcome, reserved
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token 0x0123456789ABCDEF
       0x07, 0x00, 0x00, 0x00,                          // sequence 7
       0x88, 0x77, 0x66, 0x55, 0x44, 0x33, 0x22, 0x11,  // client nonce echo
@@ -151,7 +151,7 @@ TEST(ProtocolGolden, HelloOffersSoftLevels) {
   m.eye_width = 320;
   m.eye_height = 240;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x06, 0x01, 0x00, 0x00,  // magic, version 6, type Hello, flags
+      'D',  'H',  'R',  'X',  0x07, 0x01, 0x00, 0x00,  // magic, version 7, type Hello, flags
       0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 0
       0x00, 0x00, 0x00, 0x00,                          // sequence 0
       0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // client nonce 1
@@ -181,7 +181,7 @@ TEST(ProtocolGolden, WelcomeGrantsSoftLevels) {
   m.session_timeout_ms = 5000;
   EXPECT_EQ(m.used_mask_bits(), 7u);
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x06, 0x02, 0x00, 0x00,  // magic, version 6, type Welcome, flags
+      'D',  'H',  'R',  'X',  0x07, 0x02, 0x00, 0x00,  // magic, version 7, type Welcome, flags
       0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // token 1
       0x00, 0x00, 0x00, 0x00,                          // sequence 0
       0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // client nonce echo
@@ -207,7 +207,7 @@ TEST(ProtocolGolden, PoseUpdate) {
   m.views = {left_view(), right_view()};
   m.held_distance = {5, 0x0102};  // left holds frame 37, right frame 42 - 258: none (older than frame 0)
   const Bytes expected = cat({
-      {'D', 'H', 'R', 'X', 0x06, 0x03, 0x00, 0x00},      // version 6, type PoseUpdate
+      {'D', 'H', 'R', 'X', 0x07, 0x03, 0x00, 0x00},      // version 7, type PoseUpdate
       {0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01},  // token
       {0x08, 0x00, 0x00, 0x00},                          // sequence 8
       {0x2A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // frame 42
@@ -249,7 +249,7 @@ TEST(ProtocolGolden, VisibilityShard) {
   m.payload_size = sizeof(payload);
   std::copy(std::begin(payload), std::end(payload), m.payload.begin());
   const Bytes expected = cat({
-      {'D', 'H', 'R', 'X', 0x06, 0x04, 0x00, 0x00},      // type VisibilityShard
+      {'D', 'H', 'R', 'X', 0x07, 0x04, 0x00, 0x00},      // type VisibilityShard
       {0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01},  // token
       {0x09, 0x00, 0x00, 0x00},                          // sequence 9
       {0x2A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // frame 42
@@ -314,7 +314,7 @@ TEST(ProtocolGolden, Heartbeat) {
   m.frames_done = 4;
   m.frames_dropped = 5;
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x06, 0x05, 0x00, 0x00,  // type Heartbeat
+      'D',  'H',  'R',  'X',  0x07, 0x05, 0x00, 0x00,  // type Heartbeat
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0A, 0x00, 0x00, 0x00,                          // sequence 10
       0x00, 0xF2, 0x05, 0x2A, 0x01, 0x00, 0x00, 0x00,  // send time 5e9
@@ -332,7 +332,7 @@ TEST(ProtocolGolden, Heartbeat) {
 
 TEST(ProtocolGolden, Bye) {
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x06, 0x06, 0x00, 0x00,  // type Bye
+      'D',  'H',  'R',  'X',  0x07, 0x06, 0x00, 0x00,  // type Bye
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0B, 0x00, 0x00, 0x00,                          // sequence 11
       0x03,                                            // reason: shutdown
@@ -351,7 +351,7 @@ TEST(ProtocolGolden, NodeTransform) {
   m.scene_time_ns = 1500000000;
   m.trs = Trs{glm::dvec3(0.25, -1.5, 2.0), glm::dquat(0.8, 0.0, 0.6, 0.0), glm::dvec3(1.0, 2.0, 0.5)};
   const Bytes expected = {
-      'D',  'H',  'R',  'X',  0x06, 0x07, 0x00, 0x00,  // version 6, type NodeTransform
+      'D',  'H',  'R',  'X',  0x07, 0x07, 0x00, 0x00,  // version 7, type NodeTransform
       0xEF, 0xCD, 0xAB, 0x89, 0x67, 0x45, 0x23, 0x01,  // token
       0x0C, 0x00, 0x00, 0x00,                          // sequence 12
       0x03, 0x00, 0x00, 0x00,                          // node 3

@@ -1,4 +1,4 @@
--- Wireshark / tshark dissector for the DHR-XR wire protocol, version 6 (docs/protocol.md).
+-- Wireshark / tshark dissector for the DHR-XR wire protocol, version 7 (docs/protocol.md).
 -- Load:  tshark -X lua_script:tools/wireshark/dhr.lua -r capture.pcapng -Y dhr
 --        (Wireshark: copy to ~/.local/lib/wireshark/plugins/ or pass -X lua_script:...)
 -- A heuristic dissector on UDP: every datagram that starts with "DHRX". Each message type and field is
@@ -10,7 +10,7 @@
 -- BEGIN LAYOUT: written by `dhr-protocol-layout --update-wireshark tools/wireshark/dhr.lua` from
 -- shared/protocol/include/protocol/wire_layout.hpp (ProtocolLayout.WiresharkLayoutIsCurrent checks it).
 -- Per field: { offset, wire type, name }; offsets from the datagram's start (the View's from its own).
-local VERSION = 6
+local VERSION = 7
 local MAX_DATAGRAM = 1280
 local SEAL_TAG = 16
 local HEADER = { size = 20, fields = {

@@ -11,8 +11,10 @@
 //   ... range-coded bits (codec/src/range_coder.hpp), models reset at the shard's start.
 // The rows are cut into blocks of 32 x block_rows pixels, raster order. Per block and light a mode: uniform 0,
 // uniform 1, copy from the reference at the block's vector, or coded; a coded block has a mode per 8x8
-// sub-block, and coded sub-blocks code each pixel with a context of 8 already known neighbours of the same
-// light, the previous light's bit at that pixel and (inter) 5 reference bits around the displaced position.
+// sub-block. A mode's context holds what the decoder knows of that light around its region (all 0, all 1, both
+// or nothing: inter, the reference under it at the block's predicted or coded vector; intra, the 8 rows above).
+// Coded sub-blocks code each pixel with a context of, intra, 8 already known neighbours of the same light and the
+// previous light's bit at that pixel; inter, 4 such neighbours and 5 reference bits around the displaced position.
 // An inter block codes one vector (delta to the previous one) when any light reads the reference. Pixels
 // outside the image, outside the shard's rows, or in blocks to the right in the current block row are 0 in
 // every context, so encoder and decoder see the same neighbours. Rows that would not fit a shard even 8 at a

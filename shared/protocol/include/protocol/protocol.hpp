@@ -28,8 +28,9 @@ inline constexpr std::array<uint8_t, 4> kProtocolMagic = {'D', 'H', 'R', 'X'};
 // secure/envelope.hpp), shard payloads leave room for the seal's tag, Bye reasons 8 and 9; 4: the soft-levels
 // capability and Welcome's soft light count (masks with Gray-coded level fields, visibility/visibility_layout.hpp);
 // 5: scene time (DESIGN 5b) in PoseUpdate (the scene time of the pose's display) and VisibilityShard (the scene
-// time the eye was traced for); 6: NodeTransform (app-moved nodes, docs/motion.md).
-inline constexpr uint8_t kProtocolVersion = 6;
+// time the eye was traced for); 6: NodeTransform (app-moved nodes, docs/motion.md); 7: codec v2's mode and inter
+// pixel contexts (codec/codec_v2.hpp: the same payload layout, other coded bits).
+inline constexpr uint8_t kProtocolVersion = 7;
 
 static_assert(kMaxShardPayload <= 1200);
 // |q|^2 of a decoded quaternion must be within this of 1 (float rounding is ~1e-7); then renormalized.
