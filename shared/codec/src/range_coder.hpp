@@ -3,7 +3,7 @@
 // averages over about 16 bits), a 32-bit range renormalized bytewise, carries propagated through a pending-byte
 // counter. The coding scheme is the classic one of LZMA's range coder (whose 11-bit probabilities adapt by a fixed
 // shift of 5); this is an independent implementation. The models restart with every shard, and a shard visits
-// hundreds of its pixel contexts (2^9 intra, 2^9 inter: codec_v2_band.hpp) a few times each: learning fast is what
+// hundreds of its pixel contexts (2^9 intra, 2^9 inter: codec_v2_models.hpp) a few times each: learning fast is what
 // pays. Against LZMA's fixed rule this codes the same frames in 31-34 % fewer bytes (docs/performance.md). Integer arithmetic only, so encoder and
 // decoder agree bit for bit on every machine.
 //
