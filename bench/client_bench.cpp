@@ -25,6 +25,8 @@
 //                    at 1/N resolution every frame; keys as above, _vs_forward and _added_vs_shadowmap_added its
 //                    ratios against the goals. With the shipped `--warp edges`, dhr_shadow_frac is the median
 //                    fraction of surface pixels that looked up the shadow maps.
+//   dhr_deferred_loop_ms (--deferred-loop) the shipped client on the deferred path (`--render-path deferred`: G-buffer,
+//                    compute warp, compute shading) instead of the forward pass; keys as dhr_ms
 //   dhr_paper_static_ms  the paper's warp on the forward path, one eye at a fixed view with a fixed visibility
 //                    buffer (render::EyePipeline directly): the warp and shading alone, no frame loop
 //   dhr_deferred_ms  the same rule in the deferred passes (G-buffer -> warp -> shading; the client before issue 15),
@@ -102,6 +104,7 @@ struct Options {
   uint32_t frames = 30;
   uint32_t warmup = 5;
   bool skip_full = false;
+  bool deferred_loop = false;  // also the shipped warp on the deferred path (dhr_deferred_loop_ms)
   uint32_t scene_lag = 0;  // frames of scene motion between a buffer's traced scene time and its display
   std::vector<uint32_t> depth_scales{client::shipped::kDepthScale};  // --warp edges-depth at these (dhr_edges_depthN_ms)
 };
@@ -228,6 +231,11 @@ int run(const Options& o) {
     client::CoordinatorOptions full = shipped_options();
     full.eye.warp = render::WarpSettings::full();
     add_loop("dhr_full", full);
+  }
+  if (o.deferred_loop) {
+    client::CoordinatorOptions deferred_loop = shipped_options();
+    deferred_loop.eye.forward = false;
+    add_loop("dhr_deferred_loop", deferred_loop);
   }
   std::vector<std::string> scale_names;
   for (const uint32_t scale : o.depth_scales) {
@@ -367,6 +375,7 @@ int run(const Options& o) {
   out["dhr_vs_forward"] = dhr / forward;
   out["dhr_added_vs_shadowmap_added"] = (dhr - forward) / (shadowmap - forward);
   if (!o.skip_full) out["dhr_full_vs_forward"] = out["dhr_full_ms"].get<double>() / forward;
+  if (o.deferred_loop) out["dhr_deferred_loop_vs_forward"] = out["dhr_deferred_loop_ms"].get<double>() / forward;
   for (const std::string& name : scale_names) {
     const double ms = out[name + "_ms"].get<double>();
     out[name + "_vs_forward"] = ms / forward;
@@ -403,6 +412,9 @@ int main(int argc, char** argv) {
       ->check(dhr::cli::FiniteRange(1u, 100000u));
   app.add_option("--warmup", o.warmup, "unmeasured frames first")->capture_default_str();
   app.add_flag("--skip-full", o.skip_full, "do not measure --warp full (dhr_full_ms)");
+  app.add_flag("--deferred-loop", o.deferred_loop,
+               "also measure the shipped warp on the deferred path, as `dhr-xrclient --render-path deferred` runs it "
+               "(G-buffer, compute warp, compute shading: dhr_deferred_loop_ms)");
   app.add_option("--scene-lag", o.scene_lag,
                  "a moving scene: frames between the scene time visibility is traced for and the one it is shown at "
                  "(0: a server that predicted the display exactly; 1: one frame of motion for the warp's motion rule)")
