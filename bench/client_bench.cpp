@@ -25,8 +25,10 @@
 //                    at 1/N resolution every frame; keys as above, _vs_forward and _added_vs_shadowmap_added its
 //                    ratios against the goals. With the shipped `--warp edges`, dhr_shadow_frac is the median
 //                    fraction of surface pixels that looked up the shadow maps.
-//   dhr_deferred_loop_ms (--deferred-loop) the shipped client on the deferred path (`--render-path deferred`: G-buffer,
-//                    compute warp, compute shading) instead of the forward pass; keys as dhr_ms
+//   dhr_alt_path_ms  (--alt-path) the shipped client on the other render path: the deferred passes (G-buffer, compute
+//                    warp, compute shading) where `--render-path auto` takes the forward pass on this device (not a
+//                    discrete GPU), the forward pass where it takes the deferred ones; keys as dhr_ms.
+//                    dhr_render_path_rule: the shipped --render-path (plan/render_path.hpp)
 //   dhr_paper_static_ms  the paper's warp on the forward path, one eye at a fixed view with a fixed visibility
 //                    buffer (render::EyePipeline directly): the warp and shading alone, no frame loop
 //   dhr_deferred_ms  the same rule in the deferred passes (G-buffer -> warp -> shading; the client before issue 15),
@@ -104,7 +106,7 @@ struct Options {
   uint32_t frames = 30;
   uint32_t warmup = 5;
   bool skip_full = false;
-  bool deferred_loop = false;  // also the shipped warp on the deferred path (dhr_deferred_loop_ms)
+  bool alt_path = false;  // also the shipped client on the other render path (dhr_alt_path_ms)
   uint32_t scene_lag = 0;  // frames of scene motion between a buffer's traced scene time and its display
   std::vector<uint32_t> depth_scales{client::shipped::kDepthScale};  // --warp edges-depth at these (dhr_edges_depthN_ms)
 };
@@ -226,20 +228,22 @@ int run(const Options& o) {
     ClientLoop* loop = loops.back().get();
     configs.push_back(Config{std::string(name) + "_ms", [loop, &o](uint32_t i) { return loop->run(i, o.warmup); }, {}});
   };
-  add_loop("dhr", shipped_options());
+  const bool discrete_gpu = context->info().is_discrete_gpu;  // the shipped render path's rule
+  out["dhr_render_path_rule"] = client::to_string(client::shipped::kRenderPath);
+  add_loop("dhr", shipped_options(discrete_gpu));
   if (!o.skip_full) {
-    client::CoordinatorOptions full = shipped_options();
+    client::CoordinatorOptions full = shipped_options(discrete_gpu);
     full.eye.warp = render::WarpSettings::full();
     add_loop("dhr_full", full);
   }
-  if (o.deferred_loop) {
-    client::CoordinatorOptions deferred_loop = shipped_options();
-    deferred_loop.eye.forward = false;
-    add_loop("dhr_deferred_loop", deferred_loop);
+  if (o.alt_path) {
+    client::CoordinatorOptions alt = shipped_options(discrete_gpu);
+    alt.eye.forward = !alt.eye.forward;
+    add_loop("dhr_alt_path", alt);
   }
   std::vector<std::string> scale_names;
   for (const uint32_t scale : o.depth_scales) {
-    client::CoordinatorOptions edges = shipped_options();
+    client::CoordinatorOptions edges = shipped_options(discrete_gpu);
     edges.eye.warp = render::WarpSettings::server_edges_depth(scale);
     scale_names.push_back("dhr_edges_depth" + std::to_string(scale));
     add_loop(scale_names.back().c_str(), edges);
@@ -375,7 +379,7 @@ int run(const Options& o) {
   out["dhr_vs_forward"] = dhr / forward;
   out["dhr_added_vs_shadowmap_added"] = (dhr - forward) / (shadowmap - forward);
   if (!o.skip_full) out["dhr_full_vs_forward"] = out["dhr_full_ms"].get<double>() / forward;
-  if (o.deferred_loop) out["dhr_deferred_loop_vs_forward"] = out["dhr_deferred_loop_ms"].get<double>() / forward;
+  if (o.alt_path) out["dhr_alt_path_vs_forward"] = out["dhr_alt_path_ms"].get<double>() / forward;
   for (const std::string& name : scale_names) {
     const double ms = out[name + "_ms"].get<double>();
     out[name + "_vs_forward"] = ms / forward;
@@ -412,9 +416,9 @@ int main(int argc, char** argv) {
       ->check(dhr::cli::FiniteRange(1u, 100000u));
   app.add_option("--warmup", o.warmup, "unmeasured frames first")->capture_default_str();
   app.add_flag("--skip-full", o.skip_full, "do not measure --warp full (dhr_full_ms)");
-  app.add_flag("--deferred-loop", o.deferred_loop,
-               "also measure the shipped warp on the deferred path, as `dhr-xrclient --render-path deferred` runs it "
-               "(G-buffer, compute warp, compute shading: dhr_deferred_loop_ms)");
+  app.add_flag("--alt-path", o.alt_path,
+               "also measure the shipped client on the render path --render-path auto does not take on this device "
+               "(deferred where it takes the forward pass, and the reverse: dhr_alt_path_ms, dhr_alt_path_path)");
   app.add_option("--scene-lag", o.scene_lag,
                  "a moving scene: frames between the scene time visibility is traced for and the one it is shown at "
                  "(0: a server that predicted the display exactly; 1: one frame of motion for the warp's motion rule)")

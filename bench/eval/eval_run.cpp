@@ -1,5 +1,7 @@
 #include "eval_run.hpp"
 
+#include "plan/shipped_defaults.hpp"
+
 #include "cli/exit_codes.hpp"
 
 #include "traces/eye_model.hpp"
@@ -192,7 +194,10 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     vk::ContextOptions vk_options;
     vk_options.app_name = "dhr-eval";
     const std::unique_ptr<vk::Context> context = vk::Context::create(vk_options);
-    EyeRenderer renderer(*context, scene, options.eye, options.shadow_maps, options.shipped_path);
+    // --render-path shipped: the client's rule on this device (forward where it applies, unless a discrete GPU).
+    const bool forward = options.shipped_path &&
+                         client::forward_pass_for(client::shipped::kRenderPath, context->info().is_discrete_gpu);
+    EyeRenderer renderer(*context, scene, options.eye, options.shadow_maps, forward);
     server::TracerOptions tracer_options;
     tracer_options.threads = options.threads;
     tracer_options.soft = options.server_soft;

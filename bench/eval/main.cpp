@@ -110,7 +110,8 @@ int main(int argc, char** argv) {
       ->needs("--snapshot-frame");
   run->add_option("--render-path", render_path,
                   "deferred: every method and the truth on the deferred passes (images differ by visibility only); "
-                  "shipped: each method on the path the client takes for it (forward where it applies), so client_ms "
+                  "shipped: each method on the path the client takes for it on this device (--render-path auto: "
+                  "forward where it applies, unless a discrete GPU), so client_ms "
                   "is what ships (results' client_path names it); the truth is then shaded forward, so the image "
                   "metrics (SSIM, PSNR, FLIP) of methods rendered deferred also count the paths' 2/255 difference")
       ->capture_default_str()

@@ -131,12 +131,13 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "axis; the compositor scales the image up (the projection layer's imageRect)")
       ->capture_default_str()
       ->check(dhr::cli::FiniteRange(0.1, 1.0));
-  std::string render_path = out.deferred ? "deferred" : "auto";
+  std::string render_path = to_string(out.render_path);
   app.add_option("--render-path", render_path,
-                 "auto: one forward pass that warps and shades where it applies (the paper's warp or edges, the shaded "
-                 "view, at most 8 lights), else the deferred passes; deferred: always G-buffer, warp, shading")
+                 "forward: one forward pass that warps and shades where it applies (the paper's warp or edges, the "
+                 "shaded view, at most 8 lights), else the deferred passes; deferred: always G-buffer, warp, shading; "
+                 "auto: forward except on a discrete GPU (docs/client.md)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "deferred"}));
+      ->check(CLI::IsMember({"auto", "forward", "deferred"}));
   std::string codec = "v2";
   app.add_option("--codec", codec, "visibility codec to offer: v2 (the server may still choose v1) or v1")
       ->capture_default_str()
@@ -182,7 +183,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
              : warp == "edges"          ? WarpChoice::kEdges
              : warp == "edges-depth"    ? WarpChoice::kEdgesDepth
                                         : WarpChoice::kPaper;
-  out.deferred = render_path == "deferred";
+  out.render_path = parse_render_path(render_path).value_or(shipped::kRenderPath);
   if (!parse_view(view, out)) {
     return usage("--view '" + view + "': expected shaded, light:N (N 0..31), unknown, motion, albedo or normal");
   }

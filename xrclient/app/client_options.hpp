@@ -32,7 +32,7 @@ struct ClientOptions {
   Schedule schedule = shipped::kSchedule;
   uint32_t x_max = shipped::kXMax;
   bool codec_v2 = true;  // --codec v2 (offer v2; the server decides) or v1 (LZ4 only)
-  bool deferred = !shipped::kForwardPath;  // --render-path deferred: never the forward path (render::EyePipelineOptions::forward)
+  RenderPath render_path = shipped::kRenderPath;  // --render-path (forward_pass_for, render::EyePipelineOptions::forward)
   WarpChoice warp = shipped::kWarp;  // --warp
   uint32_t depth_scale = shipped::kDepthScale;  // --depth-scale
   std::string record_trace;  // --record-trace FILE (OpenXR path)

@@ -158,7 +158,7 @@ FrameInput frame_input(const FramePose& sample, PoseGuard& guard) {
   return input;
 }
 
-CoordinatorOptions coordinator_options(const ClientOptions& options) {
+CoordinatorOptions coordinator_options(const ClientOptions& options, bool discrete_gpu) {
   using render::ShadingView;
   CoordinatorOptions out;
   out.plan.schedule = options.schedule;
@@ -173,7 +173,7 @@ CoordinatorOptions coordinator_options(const ClientOptions& options) {
   const render::WarpOutputs needed = render::warp_outputs_for(out.eye.shading.view);
   out.eye.warp_status = needed.status;
   out.eye.warp = render::warp_settings_for(options.warp, options.depth_scale);
-  out.eye.forward = !options.deferred;
+  out.eye.forward = forward_pass_for(options.render_path, discrete_gpu);
   out.eye.motion_vectors = needed.motion;
   return out;
 }

@@ -64,7 +64,8 @@ int run_offscreen(const ClientOptions& options) {
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
   source.set_node_script(node_script.get());
 
-  FrameCoordinator coordinator(*context, client_scene, eye, source, coordinator_options(options));
+  FrameCoordinator coordinator(*context, client_scene, eye, source,
+                               coordinator_options(options, context->info().is_discrete_gpu));
   std::unique_ptr<StatsSink> stats;
   if (!options.stats_jsonl.empty()) stats = std::make_unique<StatsSink>(options.stats_jsonl);
   coordinator.set_on_frame([&stats](const FrameRecord& r) {

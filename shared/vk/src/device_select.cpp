@@ -330,6 +330,7 @@ DeviceInfo describe_device(const DeviceProbe& probe, bool ray_tracing_enabled, b
   info.vendor_id = props.properties.vendorID;
   info.device_id = props.properties.deviceID;
   info.is_cpu = probe.is_cpu();
+  info.is_discrete_gpu = probe.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU;
   info.timestamp_period_ns = props.properties.limits.timestampPeriod;
   info.timestamp_valid_bits = probe.timestamp_valid_bits;
   info.timestamps_supported = probe.timestamp_valid_bits > 0 && info.timestamp_period_ns > 0.0f;

@@ -58,6 +58,7 @@ struct DeviceInfo {
   uint32_t vendor_id = 0;
   uint32_t device_id = 0;
   bool is_cpu = false;       // VK_PHYSICAL_DEVICE_TYPE_CPU (lavapipe)
+  bool is_discrete_gpu = false;  // VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU
   float timestamp_period_ns = 0.0f;
   bool timestamps_supported = false;
   uint32_t timestamp_valid_bits = 0;  // of the context's queue family (0: no timestamps)

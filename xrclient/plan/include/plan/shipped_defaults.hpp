@@ -3,6 +3,7 @@
 // once, for both.
 #pragma once
 #include "math/projection.hpp"
+#include "plan/render_path.hpp"
 #include "plan/schedule.hpp"
 #include "plan/warp_choice.hpp"
 
@@ -15,7 +16,7 @@ inline constexpr uint32_t kXMax = 3;                      // --x-max (the paper 
 inline constexpr WarpChoice kWarp = WarpChoice::kEdges;   // --warp
 // --depth-scale (edges-depth, full): the depth test's traced depth at 1/2 of the traced resolution per axis.
 inline constexpr uint32_t kDepthScale = 2;
-inline constexpr bool kForwardPath = true;                // --render-path auto (the forward pass where it applies)
+inline constexpr RenderPath kRenderPath = RenderPath::kAuto;  // --render-path (forward_pass_for: the device decides)
 // --guard: the paper's +64x36 at 1920x1080, scaled to the eye size.
 inline GuardBand guard_band(Extent eye) { return paper_guard_band(eye); }
 
