@@ -39,6 +39,9 @@ for name in ("shaded", "light"):
     assert len(pngs) == 4, f"{name}: PNGs {pngs}"  # frames 0 and 44, both eyes
     # --guard counts both sides together; the default is the paper's 64x36 at 1920x1080, scaled (4x2 at 96x72).
     assert summary["guard"] == ([8, 6] if name == "light" else [4, 2]), summary["guard"]
+    # --render-path auto on lavapipe: the forward pass where it applies (not the light view, a debug view).
+    assert summary["render_path"] == "auto", summary
+    assert summary["render_passes"] == ("deferred" if name == "light" else "forward"), summary
     print(name, summary["view"], "frames", summary["frames"], "predicted", round(summary["predicted_frac"], 3))
 
 # --warp edges: the server's bits on the forward path, the shadow maps where the samples disagree or none is usable.
@@ -46,6 +49,7 @@ summary = json.loads(open(f"{tmp}/edges.out").read().strip().splitlines()[-1])
 assert summary["exit"] == "clean" and summary["frames"] == 45 and summary["frames_with_visibility"] > 0, summary
 eyes = [e for line in open(f"{tmp}/edges/stats.jsonl").read().splitlines() for e in json.loads(line)["eyes"]]
 assert all(e["forward"] for e in eyes), "--warp edges left the forward path"
+assert summary["render_passes"] == "forward", summary
 assert sum(e["known"] for e in eyes) > 0 and sum(e["filled_shadow_map"] for e in eyes) > 0, eyes[-1]
 print("edges: known", sum(e["known"] for e in eyes), "filled from the shadow maps", sum(e["filled_shadow_map"] for e in eyes))
 

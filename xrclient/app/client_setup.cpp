@@ -118,6 +118,12 @@ std::string summary_json(const RunSummary& run, const ClientOptions& options, co
   j["schedule"] = schedule_name(options.schedule);
   j["x_max"] = options.x_max;
   j["view"] = view_name(options);
+  // --render-path as given, and the passes most eye frames took (auto decides by the device: plan/render_path.hpp):
+  // a frame on the forward pass times no G-buffer, one on the deferred passes no forward pass.
+  j["render_path"] = to_string(options.render_path);
+  const bool forward = frames.forward_ms_median().value_or(0.0) > 0.0,
+             deferred = frames.gbuffer_ms_median().value_or(0.0) > 0.0;
+  j["render_passes"] = forward == deferred ? nlohmann::ordered_json() : forward ? "forward" : "deferred";
   j["frames_with_visibility"] = frames.frames_with_visibility();
   j["frames_local"] = frames.frames_local();
   j["reconnects"] = net.sessions_restarted;
