@@ -17,7 +17,8 @@ enum class RenderPath {
 // eye, the shipped warp) the deferred passes cost about half of it, because the forward pass also shades the
 // fragments a nearer surface later covers (docs/performance.md, "On a GPU": H200, living room 6.63 against 13.66 ms
 // per eye, area-lit room 15.31 against 31.19). A CPU rasterizer (lavapipe) and integrated GPUs, a standalone
-// headset's, keep it: lavapipe ran the forward pass faster (docs/client.md); no integrated GPU was measured.
+// headset's, keep it: on lavapipe the demo ran faster on it (docs/client.md) and client_bench finds the two within
+// 6 % at 320x240 (docs/performance.md); no integrated GPU was measured.
 inline bool forward_pass_for(RenderPath path, bool discrete_gpu) {
   return path == RenderPath::kForward || (path == RenderPath::kAuto && !discrete_gpu);
 }
