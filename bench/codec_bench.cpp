@@ -82,70 +82,84 @@ int usage(const char* argv0, FILE* to = stderr) {
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
+bool parse_option(const std::string& a, const char* v, Options& o);
+
+// False after naming on stderr the option that is unknown, lacks its value or has a value out of its range.
 bool parse_args(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (i + 1 >= argc) return false;
-    const char* v = argv[++i];
-    if (a == "--scene") {
-      o.scene = v;
-    } else if (a == "--size") {
-      unsigned w = 0, h = 0;
-      char tail = 0;
-      if (std::sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > kMaxBufferDimension ||
-          h > kMaxBufferDimension)
-        return false;
-      o.width = w;
-      o.height = h;
-    } else if (a == "--repeat") {
-      o.repeat = std::atoi(v);
-      if (o.repeat < 1) return false;
-    } else if (a == "--lz4-seconds") {
-      o.lz4_seconds = std::atoi(v);
-      if (o.lz4_seconds < 1) return false;
-    } else if (a == "--threads") {
-      o.threads = static_cast<unsigned>(std::atoi(v));
-    } else if (a == "--out") {
-      o.out = v;
-    } else if (a == "--trace") {
-      o.sequence.trace = v;
-    } else if (a == "--frames") {
-      const int n = std::atoi(v);
-      if (n < 1 || n > 100000) return false;
-      o.sequence.frames = static_cast<uint32_t>(n);
-    } else if (a == "--rtt-ms" || a == "--loss" || a == "--trace-start") {
-      char* end = nullptr;
-      const double x = std::strtod(v, &end);
-      if (end == v || *end != '\0' || !std::isfinite(x) || x < 0.0) return false;
-      if (a == "--loss" && x > 1.0) return false;
-      (a == "--rtt-ms" ? o.sequence.rtt_ms : a == "--loss" ? o.sequence.loss : o.sequence.trace_start_s) = x;
-    } else if (a == "--lights") {
-      const int n = std::atoi(v);
-      if (n < 1 || n > static_cast<int>(kMaxSlotLights)) return false;
-      o.sequence.lights = static_cast<uint32_t>(n);
-    } else if (a == "--light-range") {
-      char* end = nullptr;
-      const double x = std::strtod(v, &end);
-      if (end == v || *end != '\0' || !std::isfinite(x) || x < 0.0 || x > 1000.0) return false;
-      o.sequence.light_range = x;
-    } else if (a == "--soft-levels") {
-      if (std::string(v) != "on" && std::string(v) != "off") return false;
-      o.sequence.soft_levels = std::string(v) == "on";
-    } else if (a == "--encode-ranges" || a == "--encode-threads") {
-      const int n = std::atoi(v);
-      if (n < 1 || n > 64) return false;
-      (a == "--encode-ranges" ? o.sequence.encode_ranges : o.sequence.encode_threads) = static_cast<uint32_t>(n);
-    } else if (a == "--soft-samples") {  // the server's adaptive rule (SoftOptions): FIRST samples, ALL where they disagree
-      unsigned first = 0, all = 0;
-      char tail = 0;
-      if (std::sscanf(v, "%u,%u%c", &first, &all, &tail) != 2) return false;
-      o.sequence.soft = server::SoftOptions{first, all};
-      if (server::validate_soft_options(o.sequence.soft)) return false;
-    } else if (a == "--seed") {
-      o.sequence.seed = std::strtoull(v, nullptr, 10);
-    } else {
+    if (i + 1 >= argc) {
+      std::fprintf(stderr, "codec_bench: %s: unknown, or its value is missing\n", a.c_str());
       return false;
     }
+    const char* v = argv[++i];
+    if (!parse_option(a, v, o)) {
+      std::fprintf(stderr, "codec_bench: %s %s: unknown option or value out of range\n", a.c_str(), v);
+      return false;
+    }
+  }
+  return true;
+}
+
+bool parse_option(const std::string& a, const char* v, Options& o) {
+  if (a == "--scene") {
+    o.scene = v;
+  } else if (a == "--size") {
+    unsigned w = 0, h = 0;
+    char tail = 0;
+    if (std::sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > kMaxBufferDimension ||
+        h > kMaxBufferDimension)
+      return false;
+    o.width = w;
+    o.height = h;
+  } else if (a == "--repeat") {
+    o.repeat = std::atoi(v);
+    if (o.repeat < 1) return false;
+  } else if (a == "--lz4-seconds") {
+    o.lz4_seconds = std::atoi(v);
+    if (o.lz4_seconds < 1) return false;
+  } else if (a == "--threads") {
+    o.threads = static_cast<unsigned>(std::atoi(v));
+  } else if (a == "--out") {
+    o.out = v;
+  } else if (a == "--trace") {
+    o.sequence.trace = v;
+  } else if (a == "--frames") {
+    const int n = std::atoi(v);
+    if (n < 1 || n > 100000) return false;
+    o.sequence.frames = static_cast<uint32_t>(n);
+  } else if (a == "--rtt-ms" || a == "--loss" || a == "--trace-start") {
+    char* end = nullptr;
+    const double x = std::strtod(v, &end);
+    if (end == v || *end != '\0' || !std::isfinite(x) || x < 0.0) return false;
+    if (a == "--loss" && x > 1.0) return false;
+    (a == "--rtt-ms" ? o.sequence.rtt_ms : a == "--loss" ? o.sequence.loss : o.sequence.trace_start_s) = x;
+  } else if (a == "--lights") {
+    const int n = std::atoi(v);
+    if (n < 1 || n > static_cast<int>(kMaxSlotLights)) return false;
+    o.sequence.lights = static_cast<uint32_t>(n);
+  } else if (a == "--light-range") {
+    char* end = nullptr;
+    const double x = std::strtod(v, &end);
+    if (end == v || *end != '\0' || !std::isfinite(x) || x < 0.0 || x > 1000.0) return false;
+    o.sequence.light_range = x;
+  } else if (a == "--soft-levels") {
+    if (std::string(v) != "on" && std::string(v) != "off") return false;
+    o.sequence.soft_levels = std::string(v) == "on";
+  } else if (a == "--encode-ranges" || a == "--encode-threads") {
+    const int n = std::atoi(v);
+    if (n < 1 || n > 64) return false;
+    (a == "--encode-ranges" ? o.sequence.encode_ranges : o.sequence.encode_threads) = static_cast<uint32_t>(n);
+  } else if (a == "--soft-samples") {  // the server's adaptive rule (SoftOptions): FIRST samples, ALL where they disagree
+    unsigned first = 0, all = 0;
+    char tail = 0;
+    if (std::sscanf(v, "%u,%u%c", &first, &all, &tail) != 2) return false;
+    o.sequence.soft = server::SoftOptions{first, all};
+    if (server::validate_soft_options(o.sequence.soft)) return false;
+  } else if (a == "--seed") {
+    o.sequence.seed = std::strtoull(v, nullptr, 10);
+  } else {
+    return false;
   }
   return true;
 }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # dhr-xrclient's offscreen trace playback from the command line, as a user runs it: the summary contract
 # (last stdout line, one JSON object), PNGs of both eyes, per-frame JSON lines, the light-visibility debug
-# view (--view light:N), --guard as both sides together, and clear errors for a bad --view or an odd --guard.
+# view (--view light:N), --guard as both sides together, --render-path deferred, and clear errors for a bad --view
+# or an odd --guard.
 # Usage: client_offscreen_cli.sh DHR_SERVER DHR_XRCLIENT SOURCE_DIR
 set -euo pipefail
 . "$(dirname "${BASH_SOURCE[0]}")/client_lib.sh" "$@"
@@ -20,6 +21,9 @@ run_client() {  # name, then extra arguments
 run_client shaded --net-delay 20 || { tail -n 20 "$tmp/shaded.err"; echo "FAIL: shaded run"; exit 1; }
 run_client light --view light:0 --guard 8x6 || { tail -n 20 "$tmp/light.err"; echo "FAIL: --view light:0 run"; exit 1; }
 run_client edges --warp edges || { tail -n 20 "$tmp/edges.err"; echo "FAIL: --warp edges run"; exit 1; }
+# --render-path deferred: the same warp on the G-buffer, warp and shading passes (what auto takes on a discrete GPU).
+run_client deferred --warp edges --render-path deferred ||
+  { tail -n 20 "$tmp/deferred.err"; echo "FAIL: --render-path deferred run"; exit 1; }
 
 python3 - "$tmp" <<'PY'
 import json, os, sys
@@ -50,6 +54,11 @@ assert summary["exit"] == "clean" and summary["frames"] == 45 and summary["frame
 eyes = [e for line in open(f"{tmp}/edges/stats.jsonl").read().splitlines() for e in json.loads(line)["eyes"]]
 assert all(e["forward"] for e in eyes), "--warp edges left the forward path"
 assert summary["render_passes"] == "forward", summary
+deferred = json.loads(open(f"{tmp}/deferred.out").read().strip().splitlines()[-1])
+assert deferred["exit"] == "clean" and deferred["frames_with_visibility"] > 0, deferred
+assert deferred["render_path"] == "deferred" and deferred["render_passes"] == "deferred", deferred
+eyes = [e for line in open(f"{tmp}/deferred/stats.jsonl").read().splitlines() for e in json.loads(line)["eyes"]]
+assert not any(e["forward"] for e in eyes), "--render-path deferred took the forward pass"
 assert sum(e["known"] for e in eyes) > 0 and sum(e["filled_shadow_map"] for e in eyes) > 0, eyes[-1]
 print("edges: known", sum(e["known"] for e in eyes), "filled from the shadow maps", sum(e["filled_shadow_map"] for e in eyes))
 

@@ -13,10 +13,10 @@ enum class RenderPath {
 };
 
 // Whether an eye takes the forward pass (where it applies: the paper's warp or edges, the shaded view, at most 8
-// lights) on a device. Auto leaves it on discrete GPUs: on the two measured (NVIDIA H100 and H200, 1832x1920 per
-// eye, the shipped warp) the deferred passes cost about half of it, because the forward pass also shades the
-// fragments a nearer surface later covers (docs/performance.md, "On a GPU": H200, living room 6.63 against 13.66 ms
-// per eye, area-lit room 15.31 against 31.19). A CPU rasterizer (lavapipe) and integrated GPUs, a standalone
+// lights) on a device. Auto leaves it on discrete GPUs: on the one measured with the shipped warp (an NVIDIA H200,
+// 1832x1920 per eye) the deferred passes cost about half of it, because the forward pass also shades the fragments
+// a nearer surface later covers (docs/performance.md, "On a GPU": living room 6.63 against 13.66 ms per eye,
+// area-lit room 15.31 against 31.19, one run each); on an H100 the paper's warp took 0.70 of its forward time there. A CPU rasterizer (lavapipe) and integrated GPUs, a standalone
 // headset's, keep it: on lavapipe the demo ran faster on it (docs/client.md) and client_bench finds the two within
 // 6 % at 320x240 (docs/performance.md); no integrated GPU was measured.
 inline bool forward_pass_for(RenderPath path, bool discrete_gpu) {
