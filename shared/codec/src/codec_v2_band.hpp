@@ -3,6 +3,7 @@
 // its decisions (modes, vectors) per block; the decoder reads them from the stream and writes the pixels.
 #pragma once
 #include "codec_v2_models.hpp"
+#include "codec_v2_rows.hpp"
 #include "range_coder.hpp"
 #include "visibility/visibility.hpp"
 
@@ -16,30 +17,6 @@
 namespace dhr::codec_detail {
 
 enum BlockMode : uint8_t { kUniform0 = 0, kUniform1 = 1, kCopy = 2, kCoded = 3 };
-
-inline constexpr uint32_t kBlockW = 32;
-inline constexpr uint32_t kSub = 8;
-inline constexpr uint32_t kMaxSubBlocks = (kBlockW / kSub) * (32 / kSub);
-
-// Row loops at the mask's width: `at` loads mask i of a row of Mask-wide masks (8, 16 or 32 bits, little-endian
-// as the buffers are, one load), `put` stores one, and with_mask_type calls f.template operator()<Mask>() for a
-// buffer's width.
-template <typename Mask>
-Mask at(const uint8_t* row, size_t i) {
-  Mask m;
-  std::memcpy(&m, row + i * sizeof(Mask), sizeof m);
-  return m;
-}
-template <typename Mask>
-void put(uint8_t* row, size_t i, Mask m) {
-  std::memcpy(row + i * sizeof(Mask), &m, sizeof m);
-}
-template <typename F>
-decltype(auto) with_mask_type(uint32_t mask_bytes, F&& f) {
-  if (mask_bytes == 1) return f.template operator()<uint8_t>();
-  if (mask_bytes == 2) return f.template operator()<uint16_t>();
-  return f.template operator()<uint32_t>();
-}
 
 struct BandGeometry {
   uint32_t width = 0;
@@ -198,11 +175,9 @@ class BandCoder {
     return load_mask(ref_ + (static_cast<size_t>(y) * g_.width + static_cast<size_t>(x)) * g_.mask_bytes, g_.mask_bytes);
   }
 
-  // The OR and the AND of `buffer`'s masks (the reference's or, for rows already coded, the current frame's) over
-  // [x0, x0+w) x [y0, y0+h) displaced by v; pixels outside the image are 0, as a copy gives them. A row's masks
-  // are read 8 bytes at a time and the lanes folded at the end (a block's 1,024 masks of 8 bits are 128 loads).
-  void or_and(const uint8_t* buffer, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, Vector v, uint32_t& any,
-              uint32_t& all) const {
+  // The OR and the AND of the reference's masks over [x0, x0+w) x [y0, y0+h) displaced by v, where that region
+  // leaves the reference: pixels outside it are 0, as a copy gives them. 8 bytes at a time where they fit.
+  void or_and(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, Vector v, uint32_t& any, uint32_t& all) const {
     with_mask_type(g_.mask_bytes, [&]<typename Mask>() {
       Mask o = 0, a = static_cast<Mask>(~Mask{0});
       uint64_t o64 = 0, a64 = ~uint64_t{0};
@@ -216,68 +191,39 @@ class BandCoder {
           a = 0;
           continue;
         }
-        const uint8_t* src = buffer + (static_cast<size_t>(ry) * g_.width + static_cast<size_t>(xb)) * sizeof(Mask);
+        const uint8_t* src = ref_ + (static_cast<size_t>(ry) * g_.width + static_cast<size_t>(xb)) * sizeof(Mask);
         size_t i = 0;
         for (; i + 8 <= bytes; i += 8) {
-          uint64_t word;
-          std::memcpy(&word, src + i, 8);
-          o64 |= word;
-          a64 &= word;
+          o64 |= word_at(src + i);
+          a64 &= word_at(src + i);
         }
         for (; i < bytes; i += sizeof(Mask)) {
-          Mask m;
-          std::memcpy(&m, src + i, sizeof m);
-          o = static_cast<Mask>(o | m);
-          a = static_cast<Mask>(a & m);
+          o = static_cast<Mask>(o | at<Mask>(src + i, 0));
+          a = static_cast<Mask>(a & at<Mask>(src + i, 0));
         }
       }
-      for (uint32_t shift = 32; shift >= 8 * sizeof(Mask); shift /= 2) {
-        o64 |= o64 >> shift;
-        a64 &= a64 >> shift;
-      }
-      any = static_cast<Mask>(o | static_cast<Mask>(o64));
-      all = static_cast<Mask>(a & static_cast<Mask>(a64));
+      any = static_cast<Mask>(o | fold_or<Mask>(o64));
+      all = static_cast<Mask>(a & fold_and<Mask>(a64));
     });
   }
 
-  // or_and of each of a full-width inter block's sub-blocks in one pass over the reference: a sub-block's row is
-  // sizeof(Mask) 8-byte words. Where the displaced block leaves the reference (or the block is narrower), or_and per
-  // sub-block.
+  // or_and of each sub-block of the block at (bx, by), w x h, displaced by v in the reference: block_all_any
+  // (64-bit reads, one pass) where the displaced block lies inside the reference, else or_and per sub-block.
   void sub_block_or_and(uint32_t bx, uint32_t by, uint32_t w, uint32_t h, Vector v, uint32_t subs,
                         std::array<uint32_t, kMaxSubBlocks>& any, std::array<uint32_t, kMaxSubBlocks>& all) const {
     const int64_t rx0 = int64_t{bx} + v.x, ry0 = int64_t{by} + v.y;
-    if (w != kBlockW || rx0 < 0 || ry0 < 0 || rx0 + w > g_.width || ry0 + h > g_.height) {
-      const uint32_t sub_cols = (w + kSub - 1) / kSub;
-      for (uint32_t s = 0; s < subs; ++s) {
-        const uint32_t sx = (s % sub_cols) * kSub, sy = (s / sub_cols) * kSub;
-        or_and(ref_, bx + sx, by + sy, std::min(kSub, w - sx), std::min(kSub, h - sy), v, any[s], all[s]);
-      }
+    const uint32_t sub_cols = (w + kSub - 1) / kSub;
+    if (rx0 >= 0 && ry0 >= 0 && rx0 + w <= g_.width && ry0 + h <= g_.height) {
+      with_mask_type(g_.mask_bytes, [&]<typename Mask>() {
+        block_all_any<Mask>(ref_, g_.width, static_cast<uint32_t>(rx0), static_cast<uint32_t>(ry0), w, h, sub_cols,
+                            all.data(), any.data());
+      });
       return;
     }
-    with_mask_type(g_.mask_bytes, [&]<typename Mask>() {
-      constexpr uint32_t kCols = kBlockW / kSub;
-      std::array<uint64_t, kMaxSubBlocks> o{}, a;
-      a.fill(~uint64_t{0});
-      for (uint32_t r = 0; r < h; ++r) {
-        const uint8_t* src = ref_ + (static_cast<size_t>(ry0 + r) * g_.width + static_cast<size_t>(rx0)) * sizeof(Mask);
-        const uint32_t s0 = (r / kSub) * kCols;
-        for (uint32_t c = 0; c < kCols; ++c)
-          for (uint32_t k = 0; k < sizeof(Mask); ++k) {
-            uint64_t word;
-            std::memcpy(&word, src + (c * sizeof(Mask) + k) * 8, 8);
-            o[s0 + c] |= word;
-            a[s0 + c] &= word;
-          }
-      }
-      for (uint32_t s = 0; s < subs; ++s) {
-        for (uint32_t shift = 32; shift >= 8 * sizeof(Mask); shift /= 2) {
-          o[s] |= o[s] >> shift;
-          a[s] &= a[s] >> shift;
-        }
-        any[s] = static_cast<Mask>(o[s]);
-        all[s] = static_cast<Mask>(a[s]);
-      }
-    });
+    for (uint32_t s = 0; s < subs; ++s) {
+      const uint32_t sx = (s % sub_cols) * kSub, sy = (s / sub_cols) * kSub;
+      or_and(bx + sx, by + sy, std::min(kSub, w - sx), std::min(kSub, h - sy), v, any[s], all[s]);
+    }
   }
 
   // out[i] = bit `light` of the mask at row column x_begin + i, for i < count.
@@ -400,11 +346,10 @@ class BandCoder {
     auto region_states = [&](Vector v) {
       if (inter) {
         sub_block_or_and(bx, by, w, h, v, subs, sub_any, sub_all);
-        return;
-      }
-      for (uint32_t s = 0; s < sub_states; ++s) {
-        const uint32_t sx = s * kSub;
-        or_and(cur_, bx + sx, by - kSub, std::min(kSub, w - sx), kSub, Vector{}, sub_any[s], sub_all[s]);
+      } else if (above) {  // one row of sub-blocks: the 8 rows above, inside the shard
+        with_mask_type(g_.mask_bytes, [&]<typename Mask>() {
+          block_all_any<Mask>(cur_, g_.width, bx, by - kSub, w, kSub, sub_cols, sub_all.data(), sub_any.data());
+        });
       }
     };
     region_states(previous);

@@ -10,13 +10,6 @@
 namespace dhr::codec_detail {
 namespace {
 
-// Eight bytes of a row, little-endian as the buffers are (one load).
-inline uint64_t word_at(const uint8_t* p) {
-  uint64_t v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
 // `v` in every Mask-wide lane of a 64-bit word.
 template <typename Mask>
 constexpr uint64_t lanes(uint64_t v) {
@@ -33,56 +26,6 @@ uint32_t nonzero_lanes(uint64_t x) {
   constexpr uint64_t kLow = lanes<Mask>(static_cast<Mask>(~Mask{0}) >> 1), kOne = lanes<Mask>(1);
   const uint64_t top = ((((x & kLow) + kLow) | x) >> (kBits - 1)) & kOne;
   return static_cast<uint32_t>((top * kOne) >> (64 - kBits));
-}
-
-// The lanes of a 64-bit word of Mask-wide masks folded into one mask by AND (or OR).
-template <typename Mask>
-Mask fold_and(uint64_t v) {
-  for (uint32_t shift = 32; shift >= 8 * sizeof(Mask); shift /= 2) v &= v >> shift;
-  return static_cast<Mask>(v);
-}
-template <typename Mask>
-Mask fold_or(uint64_t v) {
-  for (uint32_t shift = 32; shift >= 8 * sizeof(Mask); shift /= 2) v |= v >> shift;
-  return static_cast<Mask>(v);
-}
-
-// AND and OR of each 8x8 sub-block's masks of the block at (x0, y0), w x h, in a buffer of `width` masks per row
-// (the bits above the mask's width set in `all`). Whole sub-block rows go 64 bits at a time and are folded once per
-// sub-block.
-template <typename Mask>
-void block_all_any(const uint8_t* data, size_t width, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
-                   uint32_t sub_cols, uint32_t* all, uint32_t* any) {
-  constexpr uint32_t kAbove = sizeof(Mask) == 4 ? 0u : ~uint32_t{0} << (8 * sizeof(Mask));
-  constexpr uint32_t kPerWord = 8 / sizeof(Mask);
-  for (uint32_t sy = 0; sy * kSub < h; ++sy) {
-    const uint32_t rows = std::min(kSub, h - sy * kSub);
-    for (uint32_t sc = 0; sc < sub_cols; ++sc) {
-      const uint32_t i0 = sc * kSub, end = std::min(w, i0 + kSub);
-      Mask a = static_cast<Mask>(~Mask{0}), o = 0;
-      uint64_t wa = ~uint64_t{0}, wo = 0;
-      for (uint32_t r = 0; r < rows; ++r) {
-        const uint8_t* row = data + (size_t{y0 + sy * kSub + r} * width + x0) * sizeof(Mask);
-        if (end - i0 == kSub) {
-          for (uint32_t k = 0; k < kSub; k += kPerWord) {
-            const uint64_t v = word_at(row + (i0 + k) * sizeof(Mask));
-            wa &= v;
-            wo |= v;
-          }
-          continue;
-        }
-        for (uint32_t i = i0; i < end; ++i) {  // a partial sub-block at the buffer's right edge
-          const Mask m = at<Mask>(row, i);
-          a &= m;
-          o |= m;
-        }
-      }
-      a &= fold_and<Mask>(wa);
-      o |= fold_or<Mask>(wo);
-      all[sy * sub_cols + sc] = kAbove | a;
-      any[sy * sub_cols + sc] = o;
-    }
-  }
 }
 
 // OR of each sub-block's differences from the displaced reference row; returns their OR.
