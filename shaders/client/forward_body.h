@@ -65,10 +65,7 @@ vec3 shade_local(vec3 p, vec3 n, vec3 albedo, float pixel_world, out uint mask) 
     const ClientShadowLight sl = shadow_lights[i];
     vec3 l;
     float dist;
-    if (light_test(lights[i], p, n, l, dist) != kLightContributes) {
-      if (sl.mask_bits == 1u) mask |= 1u << sl.mask_offset;  // idle: lit, as the server writes it
-      continue;
-    }
+    if (light_test(lights[i], p, n, l, dist) != kLightContributes) continue;
     const float k = shadow_light_lookup(pc, shadow_atlas, sl, p, n, l, pixel_world).fraction;
     mask |= field_from_fraction(k, sl.mask_offset, sl.mask_bits);
     if (!(k > 0.0)) continue;

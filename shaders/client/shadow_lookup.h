@@ -89,10 +89,9 @@ ShadowLight shadow_light_lookup(ClientWarpParams params, sampler2D atlas, Client
 }
 
 // The mask of the lights whose field meets `wanted`, each in its field (ClientShadowLight::mask_offset, mask_bits):
-// a hard light's bit, a soft light's level (Gray-coded); where the light cannot contribute, a hard bit is 1 and a
-// soft level 0, as the server's tracers write them (idle_lit). `confident` has all bits of a light's field set where
-// the maps are confident of it (or the light cannot contribute). The other lights' fields are 0 and not looked up
-// (the caller takes only `wanted` bits from the maps).
+// a hard light's bit, a soft light's level (Gray-coded); `confident` has all bits of a light's field set where the
+// maps are confident of it (or the light cannot contribute). The other lights' fields are 0 and not looked up (the
+// caller takes only `wanted` bits from the maps).
 ShadowLookup shadow_lookup_fields(ClientWarpParams params, sampler2D atlas, vec3 p, vec3 n, float pixel_world,
                                   uint wanted) {
   ShadowLookup r;
@@ -105,7 +104,6 @@ ShadowLookup shadow_lookup_fields(ClientWarpParams params, sampler2D atlas, vec3
     vec3 l;
     float dist;
     if (light_test(lights[i], p, n, l, dist) != kLightContributes) {
-      if (sl.mask_bits == 1u) r.mask |= field;
       r.confident |= field;
       continue;
     }

@@ -39,14 +39,11 @@ Scene floor_and_box(std::vector<SceneLight> lights, bool with_box = true) {
 }
 
 // Tri-state: definitely 1, definitely 0, or too close to call.
-// kIdle: the light cannot contribute there (out of range, outside a cone, behind an emitter or the surface): its
-// bit is 1 (the tracer's idle_lit: the client's shading never reads it, and the codec codes no edge there).
-enum class Expect { kLit, kDark, kIdle, kSkip };
+enum class Expect { kLit, kDark, kSkip };
 
 struct FloorCheck {
   int checked_lit = 0;
   int checked_dark = 0;
-  int checked_idle = 0;
   int mismatches = 0;
 };
 
@@ -66,8 +63,8 @@ FloorCheck check_floor(const Camera& camera, const VisibilityBuffer& vis, bool w
       const Expect e = expect(p);
       if (e == Expect::kSkip) continue;
       const bool bit = (vis.get(x, y) & 1u) != 0;
-      (e == Expect::kLit ? out.checked_lit : e == Expect::kIdle ? out.checked_idle : out.checked_dark)++;
-      if (bit != (e != Expect::kDark)) {
+      (e == Expect::kLit ? out.checked_lit : out.checked_dark)++;
+      if (bit != (e == Expect::kLit)) {
         if (out.mismatches < 5) ADD_FAILURE() << "pixel " << x << "," << y << " floor point " << p.x << "," << p.z;
         ++out.mismatches;
       }
@@ -98,7 +95,7 @@ TEST(EmbreeAnalytic, PointLightShadowOfABox) {
   EXPECT_GT(r.checked_dark, 100);
   EXPECT_GT(r.checked_lit, 1000);
 
-  // The box itself: its top faces the light (lit), its sides and bottom face away (N.L <= 0: idle, 1).
+  // The box itself: its top faces the light (lit), its sides and bottom face away (N.L <= 0: dark).
   int top = 0, sides = 0;
   const glm::dvec3 m(kMargin);
   for (uint32_t y = 0; y < camera.extent.height; ++y) {
@@ -112,7 +109,7 @@ TEST(EmbreeAnalytic, PointLightShadowOfABox) {
         EXPECT_TRUE(bit) << x << "," << y;
         ++top;
       } else {
-        EXPECT_TRUE(bit) << x << "," << y;
+        EXPECT_FALSE(bit) << x << "," << y;
         ++sides;
       }
     }
@@ -152,10 +149,10 @@ TEST(EmbreeAnalytic, SpotConeLimitsTheLitRegion) {
   const FloorCheck r = check_floor(camera, vis, false, [&](const glm::dvec3& p) {
     const double angle = glm::degrees(std::acos(glm::dot(glm::normalize(p - pos), glm::dvec3(0, -1, 0))));
     if (std::fabs(angle - 30.0) < 0.5) return Expect::kSkip;
-    return angle < 30.0 ? Expect::kLit : Expect::kIdle;
+    return angle < 30.0 ? Expect::kLit : Expect::kDark;
   });
   EXPECT_EQ(r.mismatches, 0);
-  EXPECT_GT(r.checked_idle, 100);
+  EXPECT_GT(r.checked_dark, 100);
   EXPECT_GT(r.checked_lit, 100);
   EXPECT_GT(stats.skipped_out_of_range, 0u);  // outside the cone: no ray
 }
@@ -183,11 +180,10 @@ TEST(EmbreeAnalytic, RectLightIsOneSidedAndShadowsFromItsCentre) {
   const FloorCheck r = check_floor(camera, vis, true, [&](const glm::dvec3& p) {
     const double in_front = glm::dot(p - pos, dir);
     if (std::fabs(in_front) < kMargin) return Expect::kSkip;
-    return in_front < 0.0 ? Expect::kIdle : box_shadow(p, pos);
+    return in_front < 0.0 ? Expect::kDark : box_shadow(p, pos);
   });
   EXPECT_EQ(r.mismatches, 0);
-  EXPECT_GT(r.checked_idle, 1000);  // behind the emitter
-  EXPECT_GT(r.checked_dark, 100);   // the box's shadow
+  EXPECT_GT(r.checked_dark, 1000);  // behind the emitter
   EXPECT_GT(r.checked_lit, 1000);
   EXPECT_GT(stats.skipped_out_of_range, 0u);  // behind it: no ray
 }
@@ -203,16 +199,15 @@ TEST(EmbreeAnalytic, RangeCutsOffPointLight) {
   const FloorCheck r = check_floor(camera, vis, false, [&](const glm::dvec3& p) {
     const double dist = glm::length(p - pos);
     if (std::fabs(dist - 4.0) < kMargin) return Expect::kSkip;
-    return dist < 4.0 ? Expect::kLit : Expect::kIdle;
+    return dist < 4.0 ? Expect::kLit : Expect::kDark;
   });
   EXPECT_EQ(r.mismatches, 0);
-  EXPECT_GT(r.checked_idle, 100);
+  EXPECT_GT(r.checked_dark, 100);
   EXPECT_GT(r.checked_lit, 100);
   EXPECT_GT(stats.skipped_out_of_range, 0u);
 }
 
-// Behind the surface the light cannot contribute: every hit pixel's bit is idle (1), background pixels 0.
-TEST(EmbreeAnalytic, LightBehindTheSurfaceIsIdleWithoutRays) {
+TEST(EmbreeAnalytic, LightBehindTheSurfaceGivesZeroWithoutRays) {
   const Scene scene = floor_and_box({test::point_light({0.0f, -2.0f, 0.0f}, 10.0f)}, false);
   const Camera camera = test::look_camera({0.0, 6.0, 6.0}, {0.0, 0.0, 0.0}, 120, 90);
   for (const SkipOptions skip : {SkipOptions{}, SkipOptions::none()}) {
@@ -222,12 +217,7 @@ TEST(EmbreeAnalytic, LightBehindTheSurfaceIsIdleWithoutRays) {
     tracer.trace(camera, vis, stats);
     const uint64_t hit = stats.pixels - stats.background_pixels;
     ASSERT_GT(hit, 1000u);
-    uint64_t idle = 0;
-    for (size_t i = 0; i < vis.pixel_count(); ++i) {
-      ASSERT_LE(vis.mask_at(i), 1u) << i;
-      idle += vis.mask_at(i);
-    }
-    EXPECT_EQ(idle, hit);
+    for (size_t i = 0; i < vis.pixel_count(); ++i) ASSERT_EQ(vis.mask_at(i), 0u) << i;
     if (skip.backfacing) {
       EXPECT_EQ(stats.skipped_backfacing, hit);
       EXPECT_EQ(stats.shadow_rays, 0u);
@@ -256,8 +246,7 @@ TEST(EmbreeAnalytic, SingleSidedBackFacesAreInvisibleToPrimaryRays) {
       EXPECT_EQ(stats.background_pixels, stats.pixels);
     } else {
       EXPECT_LT(stats.background_pixels, stats.pixels / 2);
-      // The light below (viewer's side) is visible; the one above is behind the surface (idle: 1).
-      EXPECT_EQ(vis.get(32, 24), 3u);
+      EXPECT_EQ(vis.get(32, 24), 1u);  // the light below (viewer's side) is visible, the one above is not
     }
     // Shadow rays see both sides: a single-sided floor between a point and a light still occludes.
     const EmbreeScene& es = tracer.embree_scene();

@@ -250,15 +250,13 @@ TEST_P(ClientWarpFullRooms, GpuMatchesCpuReferenceWithEveryIngredient) {
 }
 
 // The truth of a camera from Embree (the server's tracer), display-sized (no guard band).
-// In the scene's layout: a soft light's field is its sampled level, 0 where it cannot contribute (as PCSS's), a
-// hard light's bit 1 there (idle_lit, as the client's lookups).
 VisibilityBuffer embree_truth(const Scene& scene, const Camera& camera) {
   server::TracerOptions options;
   options.threads = 1;
   server::EmbreeTracer tracer(scene, options);
   VisibilityBuffer out;
   server::TraceStats stats;
-  tracer.trace_layout(camera, layout_for_lights(scene.lights), out, stats);
+  tracer.trace(camera, out, stats);
   return out;
 }
 
@@ -273,10 +271,12 @@ TEST_P(ClientWarpFullRooms, ShadowMapsAgreeWithEmbreeAwayFromShadowEdges) {
   const VisibilityBuffer truth = embree_truth(scene, camera);
   const std::vector<uint32_t> masks = test::read_pixels<uint32_t>(ctx(), rig.eye(0).warp().mask);
   const std::vector<float> depth = test::read_pixels<float>(ctx(), rig.eye(0).gbuffer().depth);
-  // Both in the scene's layout (a soft light's field holds PCSS's level on the client, the sampled level in the
-  // truth); each side's light i is compared as lit or not (visibility >= 0.5: the penumbra's midpoint).
+  // The client's masks are in the scene's layout (a soft light's field holds PCSS's level); each side's light i
+  // is compared as lit or not (visibility >= 0.5: a soft light's penumbra midpoint is about where the hard
+  // shadow of its centre falls). The truth's layout is the hard one when it has one bit per light.
   const VisibilityLayout layout = layout_for_lights(scene.lights);
-  const VisibilityLayout& truth_layout = layout;
+  const VisibilityLayout truth_layout =
+      truth.light_count == scene.lights.size() ? VisibilityLayout::hard(truth.light_count) : layout;
   const auto lit_bits = [](const VisibilityLayout& l, uint32_t mask) {
     uint32_t out = 0;
     for (uint32_t k = 0; k < l.light_count; ++k) out |= l.visibility(mask, k) >= 0.5f ? 1u << k : 0u;

@@ -363,11 +363,6 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
   for (uint32_t i = 0; i < layout.light_count; ++i) {
     const SceneLight& light = lights[i];
     const uint32_t field = ((1u << layout.bits[i]) - 1u) << layout.offset[i];
-    // The light cannot contribute: confident; a hard bit 1, a soft level 0 (the tracers' idle_lit).
-    auto idle = [&] {
-      out.confident |= field;
-      if (layout.bits[i] == 1) out.mask |= field;
-    };
     // light_test in double, with the margins of its decisions.
     glm::dvec3 l;
     double dist = std::numeric_limits<double>::infinity();
@@ -377,7 +372,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       const glm::dvec3 d = glm::dvec3(light.position) - p;
       dist = glm::length(d);
       if (!(dist > 0.0)) {
-        idle();
+        out.confident |= field;
         continue;
       }
       l = d / dist;
@@ -385,7 +380,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
       if (range > 0.0) {
         out.margin = std::min(out.margin, std::abs(dist - range) / range * 1e3);
         if (!(dist < range)) {
-          idle();
+          out.confident |= field;
           continue;
         }
       }
@@ -394,7 +389,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
         const double outer = std::cos(static_cast<double>(light.outer_cone));
         out.margin = std::min(out.margin, std::abs(cd - outer) * 1e3);
         if (!(cd > outer)) {
-          idle();
+          out.confident |= field;
           continue;
         }
       }
@@ -403,7 +398,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
         const double cd = glm::dot(-l, glm::dvec3(light.direction));
         out.margin = std::min(out.margin, std::abs(cd) * 1e3);
         if (!(cd > 0.0)) {
-          idle();
+          out.confident |= field;
           continue;
         }
       }
@@ -411,7 +406,7 @@ ShadowDecision shadow_mask_reference(const ShadowReference& maps, std::span<cons
     const double nl = glm::dot(n, l);
     out.margin = std::min(out.margin, std::abs(nl) * 1e3);
     if (!(nl > 0.0)) {
-      idle();
+      out.confident |= field;
       continue;
     }
     const ShadowTile& tile = maps.tiles.at(i);

@@ -178,7 +178,6 @@ FrameSetup make_frame_setup(const EmbreeScene& scene, const std::vector<SceneLig
   if (!slots) {
     const uint32_t traced = static_cast<uint32_t>(std::min<size_t>(requested, lights.size()));
     frame.fields = traced;
-    frame.idle_lit = traced >= 32 ? 0xFFFFFFFFu : (1u << traced) - 1u;  // the hard layout's fields
     for (uint32_t i = 0; i < traced; ++i) {
       if (skip.cull_lights && !light_may_reach_view(lights[i], camera))
         ++frame.culled_lights;
@@ -297,7 +296,7 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   // block: runs of up to 16 neighbouring rays toward the same light, which packets and streams bundle.
   scratch.rays.clear();
   scratch.pending.clear();
-  scratch.masks.assign(hits, frame.idle_lit);
+  scratch.masks.assign(hits, frame.slots ? frame.idle_lit : 0u);
   // With slots: the tile's lights, each for the hits whose cell holds it. Reuse's bits are fields (light i is field
   // i without slots).
   const std::vector<uint32_t>& lights = frame.slots ? scratch.tile_lights : frame.active_lights;
@@ -314,7 +313,9 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
       const bool contributes = sample.test == LightTest::kContributes;
       if (contributes && (scratch.reuse_known[h] & light_bit)) {
         ++stats.reused_pairs;
-        if ((scratch.reuse_reached[h] & light_bit) == 0) scratch.masks[h] &= ~(1u << frame.bit[li]);
+        const bool reached = (scratch.reuse_reached[h] & light_bit) != 0;
+        if (frame.slots && !reached) scratch.masks[h] &= ~(1u << frame.bit[li]);
+        if (!frame.slots && reached) scratch.masks[h] |= 1u << frame.bit[li];
         continue;
       }
       RTCRay ray;
@@ -328,13 +329,17 @@ void trace_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1, 
   // 3. Occlusion queries (terminate on the first hit).
   trace_shadow_rays(frame, scratch);
 
-  // 4. A hard bit is 0 where its light contributes and its ray is occluded (or its reused answer says so), else 1
-  // (FrameSetup::idle_lit); only hit pixels with a bit are written.
+  // 4. Bit = the light contributes and its ray reached it (or its reused answer says so); only hit pixels with a
+  // bit are written.
   for (size_t r = 0; r < scratch.rays.size(); ++r) {
     const bool reached = scratch.rays[r].tfar >= 0.0f;  // Embree sets tfar = -inf when occluded
     const PendingShadowRay& p = scratch.pending[r];
     if (!p.contributes) continue;
-    if (!reached) scratch.masks[p.hit] &= ~(1u << frame.bit[p.light]);  // idle_lit: cleared where occluded
+    if (frame.slots) {  // the bit is set: cleared where the contributing light is occluded
+      if (!reached) scratch.masks[p.hit] &= ~(1u << frame.bit[p.light]);
+    } else if (reached) {
+      scratch.masks[p.hit] |= 1u << frame.bit[p.light];
+    }
     if (frame.reuse) {  // what the record keeps: this pair's occlusion is known now (by field)
       const uint32_t field_bit = 1u << frame.field[p.light];
       scratch.reuse_known[p.hit] |= field_bit;

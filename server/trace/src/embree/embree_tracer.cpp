@@ -123,9 +123,11 @@ void EmbreeTracer::trace_fields(const Camera& camera, const VisibilityLayout& la
     frame.active_lights = std::move(hard);
     for (uint32_t i = 0; i < lights_.size(); ++i)
       if (frame.field[i] < kMaxLights) frame.bit[i] = layout.offset[frame.field[i]];
-    frame.idle_lit = 0;
-    for (uint32_t f = 0; f < frame.fields; ++f)
-      if (!layout.is_soft(f)) frame.idle_lit |= 1u << layout.offset[f];
+    if (frame.slots) {
+      frame.idle_lit = 0;
+      for (uint32_t f = 0; f < frame.fields; ++f)
+        if (!layout.is_soft(f)) frame.idle_lit |= 1u << layout.offset[f];
+    }
   }
 
   detail::ReuseSetup reuse_setup;

@@ -97,10 +97,8 @@ SoftStats trace_soft_image(const EmbreeScene& scene, std::span<const SceneLight>
             if (r.refined) ++st.refined_pairs;
             st.shadow_rays += r.rays;
             const size_t i = out.index(s.hit_pixels[h].x, s.hit_pixels[h].y, li);
-            // A punctual light that cannot contribute: 1, as the hard tracers write its bit (idle_lit).
-            const bool idle_hard = r.samples == 0 && sampled[li].shape == SampledLight::Shape::kPunctual;
-            out.fraction[i] = idle_hard ? 1.0f : r.fraction;
-            out.level[i] = static_cast<uint8_t>(quantize(out.fraction[i], options.levels));
+            out.fraction[i] = r.fraction;
+            out.level[i] = static_cast<uint8_t>(quantize(r.fraction, options.levels));
             out.rays[i] = static_cast<uint16_t>(r.rays);
           }
         }

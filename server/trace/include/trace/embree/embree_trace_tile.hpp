@@ -73,11 +73,10 @@ struct FrameSetup {
   const LightSlots* slots = nullptr;
   std::array<uint8_t, kMaxSlotLights> field{};
   uint32_t fields = 0;                     // fields traced (requested)
-  // The hard fields' bits, which a hit's mask starts with: a hard field is 0 only where its light (with slots: its
-  // cell's light) contributes (in range, facing it, not culled) and its ray is occluded. A field whose light cannot
-  // add anything is never looked at by the client's shading, and 1 there keeps a light's lit area from ending in an
-  // edge the codec must code at every range circle and terminator (about half the bytes of 64 lights, a fifth of
-  // the living room's 3: docs/performance.md). Soft fields keep level 0 there (1 made the sun room's bytes grow).
+  // With slots, the hard fields' bits, which a hit's mask starts with: a hard field is 0 only where its cell's light
+  // contributes (in range, facing it, not culled) and its ray is occluded. A field whose light cannot add anything
+  // is never looked at by the client's shading, and 1 there keeps a light's lit area from ending in an edge the
+  // codec must code at every range circle and terminator (about half the bytes of 64 lights: docs/server.md).
   uint32_t idle_lit = 0;
   std::vector<uint8_t> light_state;        // with slots, per light: kLightInactive, kLightHard or kLightSoft
   uint32_t culled_lights = 0;

@@ -27,8 +27,8 @@ struct SoftImageOptions {
   double primary_near = kClipNearPlane;  // as TracerOptions::primary_near
 };
 
-// Row-major, light-minor: index (y * width + x) * lights + light. Background pixels and lights with an extent that
-// cannot contribute: fraction 0, level 0; a punctual light that cannot contribute: 1, as the hard tracers' bit.
+// Row-major, light-minor: index (y * width + x) * lights + light. Background pixels and lights that cannot
+// contribute: fraction 0, level 0.
 struct SoftImage {
   uint32_t width = 0, height = 0, lights = 0, levels = kDefaultSoftLevels;
   std::vector<float> fraction;
