@@ -119,7 +119,8 @@ WarpVote warp_vote(WarpSamples s, uint masks[4], uint used) {
 // warp_vote, then each soft field (soft_lights, the first light_count lights' fields) the used samples disagree on
 // takes the bilinear blend of their levels, sum w_k level_k / 7 / sum w_k, quantized to the nearest level: a level
 // is a share of the light, so between two samples it is meaningful to interpolate (a hard bit's vote is not). The
-// field counts as agreed: the blend is the server's answer, not something for the shadow maps to decide.
+// field counts as agreed (the blend is the server's answer) unless the used samples' levels span more than
+// kClientWarpSoftEdgeSpread levels: that is an edge, which the shadow maps decide as they do a hard bit's.
 WarpVote warp_vote_fields(WarpSamples s, uint masks[4], uint used, uint soft_lights, uint light_count) {
   WarpVote v = warp_vote(s, masks, used);
   if (soft_lights == 0u || v.exact) return v;
@@ -130,12 +131,17 @@ WarpVote warp_vote_fields(WarpSamples s, uint masks[4], uint used, uint soft_lig
     const uint bits = field_bits(soft_lights, i);
     const uint field = ((1u << bits) - 1u) << offset;
     if (bits > 1u && (~v.agree & field) != 0u) {
-      float blend = 0.0;
+      float blend = 0.0, lowest = 1.0, highest = 0.0;
       for (int k = 0; k < s.count; ++k) {
-        if (((used >> k) & 1u) != 0u) blend += warp_sample_weight(s, k) * field_visibility(masks[k], offset, bits);
+        if (((used >> k) & 1u) == 0u) continue;
+        const float f = field_visibility(masks[k], offset, bits);
+        blend += warp_sample_weight(s, k) * f;
+        lowest = min(lowest, f);
+        highest = max(highest, f);
       }
       v.value = (v.value & ~field) | field_from_fraction(blend / total, offset, bits);
-      v.agree |= field;
+      const uint spread = uint(round((highest - lowest) * float(kClientSoftLevels - 1u)));
+      if (spread <= kClientWarpSoftEdgeSpread) v.agree |= field;
     }
     offset += bits;
   }

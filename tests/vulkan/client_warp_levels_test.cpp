@@ -2,7 +2,9 @@
 // soft fields, one hard light), with level patterns in the soft fields, the 2x2 lookups blend the samples' levels
 // where they differ. The deferred warp (G-buffer normals) equals the CPU reference on every pixel not within
 // kMargin of a flip, the forward pass on all but a few (interpolated normals in its shadow-map lookups), and the
-// blends are between the samples' levels: a blended field is never outside the range of the four around it.
+// blends are between the samples' levels: a blended field is never outside the range of the four around it. Where
+// the four span more than kClientWarpSoftEdgeSpread levels (the pattern wraps from 7 to 0) the field is an edge,
+// which the shadow maps decide (the CPU reference's shadow lookup, which the deferred warp equals).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -75,7 +77,8 @@ TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
   in.shadow = &shadow;
   const WarpResult cpu = warp_reference(in);
 
-  size_t compared = 0, ambiguous = 0, deferred_wrong = 0, forward_wrong = 0, blended = 0, outside_range = 0;
+  size_t compared = 0, ambiguous = 0, deferred_wrong = 0, forward_wrong = 0, blended = 0, outside_range = 0, edges = 0,
+         edges_not_blend = 0;
   for (size_t i = 0; i < fwd.depth.size(); ++i) {
     if (cpu.margin[i] < kMargin) {
       ++ambiguous;
@@ -97,26 +100,38 @@ TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
     for (uint32_t l = 0; l < g_layout.light_count; ++l) {
       if (!g_layout.is_soft(l)) continue;
       float lo = 1.0f, hi = 0.0f;
+      double blend = 0.0;
+      const double fx = q.x - a0, fy = q.y - b0;
       for (int k = 0; k < 4; ++k) {
         const int a = std::clamp(a0 + (k & 1), 0, static_cast<int>(warp.buffer.width) - 1);
         const int b = std::clamp(b0 + (k >> 1), 0, static_cast<int>(warp.buffer.height) - 1);
         const float v = g_layout.visibility(warp.buffer.get(static_cast<uint32_t>(a), static_cast<uint32_t>(b)), l);
         lo = std::min(lo, v);
         hi = std::max(hi, v);
+        blend += ((k & 1) != 0 ? fx : 1.0 - fx) * ((k >> 1) != 0 ? fy : 1.0 - fy) * static_cast<double>(v);
       }
       const float shown = g_layout.visibility(cpu.masks[i], l);
+      if (std::lround((hi - lo) * (kDefaultSoftLevels - 1)) > static_cast<long>(shader::kClientWarpSoftEdgeSpread)) {
+        ++edges;
+        // Not the blend (which a penumbra would show) wherever the shadow maps say another level.
+        edges_not_blend += g_layout.with_visibility(0, l, static_cast<float>(blend)) !=
+                           g_layout.with_visibility(0, l, shown);
+        continue;
+      }
       if (hi > lo && shown > lo && shown < hi) ++blended;
       if (shown < lo - 1e-6f || shown > hi + 1e-6f) ++outside_range;
     }
   }
   std::printf("soft levels: %zu compared, %zu ambiguous; %zu fields blended strictly between their samples, %zu "
-              "outside; %zu differ deferred, %zu forward\n",
-              compared, ambiguous, blended, outside_range, deferred_wrong, forward_wrong);
+              "outside, %zu edges (%zu not the blend); %zu differ deferred, %zu forward\n",
+              compared, ambiguous, blended, outside_range, edges, edges_not_blend, deferred_wrong, forward_wrong);
   EXPECT_EQ(deferred_wrong, 0u);
   EXPECT_LE(forward_wrong, compared / 200);
   EXPECT_LT(ambiguous, fwd.depth.size() / 5);
   EXPECT_GT(blended, compared / 20);  // the test means something: many lookups fall between different levels
   EXPECT_EQ(outside_range, 0u);
+  EXPECT_GT(edges, compared / 50);  // and many straddle an edge, which the shadow maps decide:
+  EXPECT_GT(edges_not_blend, edges / 4);  // often another level than the blend
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include "render/warp_motion.hpp"
 
 #include "render/light_layout.hpp"
+#include "shaders/shader_interface.h"
 
 #include <algorithm>
 #include <glm/geometric.hpp>
@@ -273,15 +274,22 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, con
       const uint32_t field = ((1u << layout.bits[i]) - 1u) << layout.offset[i];
       if (!layout.is_soft(i) || (~r.agree & field) == 0) continue;
       double blend = 0.0;
+      float lowest = 1.0f, highest = 0.0f;
       for (int k = 0; k < n; ++k) {
-        if ((used >> k) & 1u) blend += weights[k] * static_cast<double>(layout.visibility(masks[k], i));
+        if (((used >> k) & 1u) == 0) continue;
+        const float f = layout.visibility(masks[k], i);
+        blend += weights[k] * static_cast<double>(f);
+        lowest = std::min(lowest, f);
+        highest = std::max(highest, f);
       }
       blend /= total;
       // The level flips where blend x 7 crosses a half: a lookup moving by one old pixel moves it by at most 7.
       const double scaled = blend * (kDefaultSoftLevels - 1);
       r.margin = std::min(r.margin, std::abs(scaled - std::floor(scaled) - 0.5) / (kDefaultSoftLevels - 1));
       r.value = layout.with_visibility(r.value, i, static_cast<float>(blend));
-      r.agree |= field;
+      // Levels spanning more than kClientWarpSoftEdgeSpread: an edge, undecided (exact integers: no margin).
+      const auto spread = static_cast<uint32_t>(std::lround((highest - lowest) * (kDefaultSoftLevels - 1)));
+      if (spread <= shader::kClientWarpSoftEdgeSpread) r.agree |= field;
     }
   }
   return r;

@@ -253,6 +253,10 @@ DHR_CONST int kClientWarpNeighbourRadius = 2;
 // Bilinear lookups within this many old pixels of an old pixel centre (in x and y) take that pixel's mask
 // as exact: it was traced for this very ray (no motion since, or none that moved the lookup).
 DHR_CONST float kClientWarpExactLookup = 0.02f;
+// A soft field whose used samples' levels span more than this many levels (of kClientSoftLevels - 1) is an edge,
+// not a penumbra: the 2x2 straddles a shadow boundary sharper than a pixel or two, where a blend of levels is as
+// wrong as a hard bit's vote, so the field counts as undecided (bilinear_warp.h's warp_vote_fields).
+DHR_CONST uint kClientWarpSoftEdgeSpread = 4u;
 // ClientWarpSource::flags
 DHR_CONST uint kClientSourceHasVisibility = 1u;
 DHR_CONST uint kClientSourceHasRowValidity = 2u;
