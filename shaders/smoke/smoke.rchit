@@ -1,7 +1,7 @@
 #version 460
 #extension GL_EXT_ray_tracing : require
 #extension GL_GOOGLE_include_directive : require
-#include "shaders/shader_interface.h"
+#include "shaders/smoke_interface.h"
 
 layout(location = 0) rayPayloadInEXT SmokeHit payload;
 

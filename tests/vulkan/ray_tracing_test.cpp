@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "dhr_shaders_smoke.hpp"
-#include "shaders/shader_interface.h"
+#include "shaders/smoke_interface.h"
 #include "vk/acceleration_structure.hpp"
 #include "vk/buffer.hpp"
 #include "vk/pipeline.hpp"

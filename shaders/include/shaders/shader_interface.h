@@ -14,30 +14,6 @@ using uint = std::uint32_t;
 #define DHR_CONST const
 #endif
 
-// ---- smoke test (tests/vulkan): orthographic grid of rays along -z through a TLAS ----
-DHR_CONST uint kSmokeBindingTlas = 0;    // accelerationStructureEXT
-DHR_CONST uint kSmokeBindingResults = 1; // storage buffer of SmokeHit[width * height]
-
-struct SmokePushConstants {
-  float grid_min_x;   // ray (i, j) starts at (grid_min_x + (i + 0.5) * step_x,
-  float grid_min_y;   //                       grid_min_y + (j + 0.5) * step_y, origin_z)
-  float step_x;
-  float step_y;
-  float origin_z;
-  float t_min;
-  float t_max;
-  uint width;
-  uint height;
-  uint cull_mask;     // ANDed with each instance's mask
-};
-
-struct SmokeHit {
-  uint hit;           // 1: closest hit found, 0: miss
-  float t;            // hit distance (direction has unit length)
-  uint primitive_id;  // gl_PrimitiveID
-  uint custom_index;  // gl_InstanceCustomIndexEXT
-};
-
 // ---- server visibility tracer (server/vulkan_tracer*.cpp, shaders/server/) ----
 // Everything is in the scene-relative frame (world minus the scene's bounding-box centre, in double).
 DHR_CONST uint kVisBindingTlas = 0;         // accelerationStructureEXT
@@ -479,8 +455,6 @@ struct ClientForwardShading {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(SmokePushConstants) == 40, "push constants must match the GLSL layout");
-static_assert(sizeof(SmokeHit) == 16, "SmokeHit must match the std430 array stride");
 static_assert(sizeof(ClientGBufferPush) == 128, "push constants must match the GLSL layout and fit the Vulkan minimum (128 bytes)");
 static_assert(sizeof(ClientWarpSource) == 136, "ClientWarpSource must match the std430 layout");
 static_assert(sizeof(ClientMotionSource) == 16 + 2 * 4 * 48, "ClientMotionSource must match the std430 layout");
