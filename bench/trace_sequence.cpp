@@ -45,6 +45,7 @@ struct SequenceArgs {
   bool refresh = true;
   bool blocks = true;  // rule 1 (trace/reuse)
   bool pairs = true;   // rule 2
+  uint32_t soft_history = server::ReuseOptions{}.soft_history;  // --soft-history N (0: off)
   uint32_t truth_every = 30;  // soft levels: the truth of every camera of every this many frames (0: none)
   uint32_t lights = 0;        // --lights: point lights added up to this many (bench_lights.hpp); 0: the scene's
   double light_range = -1.0;  // --light-range (metres); < 0: default_bench_light_range
@@ -53,8 +54,8 @@ struct SequenceArgs {
 int usage(FILE* to) {
   std::fprintf(to,
                "usage: trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
-               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N]] [--no-shared] [--no-refresh] "
-               "[--no-blocks] [--no-pairs] [--lights N [--light-range M]]\n");
+               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N] [--soft-history N]] [--no-shared] "
+               "[--no-refresh] [--no-blocks] [--no-pairs] [--lights N [--light-range M]]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
 
@@ -81,6 +82,10 @@ bool parse(int argc, char** argv, SequenceArgs& a) {
       const long n = std::strtol(v.c_str(), &end, 10);
       if (*end || n < 0 || n > 100000) return false;
       a.truth_every = static_cast<uint32_t>(n);
+    } else if (k == "--soft-history") {
+      const long n = std::strtol(v.c_str(), &end, 10);
+      if (*end || n < 0 || n > 65535) return false;
+      a.soft_history = static_cast<uint32_t>(n);
     } else if (k == "--sessions") {
       const long n = std::strtol(v.c_str(), &end, 10);
       if (*end || n < 1 || n > 64) return false;
@@ -254,6 +259,7 @@ int run_trace_sequence(int argc, char** argv) {
         request.options.refresh = a.refresh;
         request.options.whole_pixels = a.blocks;
         request.options.pairs = a.pairs;
+        request.options.soft_history = a.soft_history;
         if (a.shared) {
           if (e == 1) request.shared.push_back(&newest[s][0]);  // this frame's left eye (already swapped in)
           for (uint32_t o = 0; o < S; ++o)
@@ -322,6 +328,7 @@ int run_trace_sequence(int argc, char** argv) {
             {"blocks", a.blocks},
             {"pairs", a.pairs},
             {"soft_levels", a.soft_levels},
+            {"soft_history", a.soft_history},
             {"lights", tracer->light_count()},  // mask fields: with more than 32 lights, the slots they share
             {"scene_lights", scene.lights.size()},
             {"added_light_range_m", light_range}};

@@ -2,11 +2,12 @@
 // trace of the same camera (trace_layout, no reuse), which is the reference: a still camera gives identical bits with
 // most pixels taken whole; a moving camera over a room with an occluder differs in at most kMaxDifferingShare of
 // the hit pixel-light bits; a sphere light's levels are taken where neighbours agree (identical
-// for a still camera); a box that moves over a still camera's floor, and a light that moves,
+// for a still camera), and its samples accumulate over frames (nearer a converged truth, fewer rays); a box that moves over a still camera's floor, and a light that moves,
 // are traced again, never kept (identical bits); pixels near an eye-close wall that crosses the near plane are not
 // taken; the same inputs give the same bits on 1 and 2 threads. Plus the rule's pieces: the float projection against
 // reproject(), the segment-box test, the refresh dither, the point-triangle query.
 #include "trace/embree/embree_tracer.hpp"
+#include "trace/soft/soft_image.hpp"
 #include "trace/reuse/reuse_frame.hpp"
 #include "test_animated_scene.hpp"
 #include "reuse_pair.hpp"
@@ -15,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -205,12 +207,120 @@ TEST(EmbreeReuse, SoftLevelsAreTakenWhereNeighboursAgree) {
     ReuseRequest request;
     request.previous = i ? &frames[(i + 1) % 2] : nullptr;
     request.record = &frames[i % 2];
+    request.options.soft_history = 0;  // rule 2 alone: accumulated samples change levels (the test below)
     tracer.trace_reusing(camera, layout, request, reused, rs);
     EXPECT_EQ(reused, exact) << "frame " << i;
     EXPECT_LT(rs.soft_shadow_rays, i ? xs.soft_shadow_rays : xs.soft_shadow_rays + 1);
     reused_pairs += rs.reused_pairs;
   }
   EXPECT_GT(reused_pairs, 0u);
+}
+
+// Mean |k - k truth| of soft light 0 over the truth's surface pixels.
+double soft_error(const VisibilityBuffer& buffer, const VisibilityLayout& layout, const SoftImage& truth) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (uint32_t y = 0; y < truth.height; ++y)
+    for (uint32_t x = 0; x < truth.width; ++x) {
+      if (!truth.surface[size_t{y} * truth.width + x]) continue;
+      sum += std::fabs(static_cast<double>(layout.visibility(buffer.get(x, y), 0)) -
+                       static_cast<double>(truth.fraction[truth.index(x, y, 0)]));
+      ++n;
+    }
+  return n ? sum / static_cast<double>(n) : 0.0;
+}
+
+// Soft samples accumulate (ReuseOptions::soft_history): a still camera's penumbra gathers more samples than one
+// trace takes, with fewer rays per frame, and ends nearer a converged truth than the one-frame trace; off, the
+// levels are the exhaustive trace's. The same inputs give the same levels on 1 and 2 threads.
+TEST(EmbreeReuse, SoftSamplesAccumulateOnAStillCamera) {
+  Scene scene = room(false, false);
+  scene.lights[0].radius = 1.0f;
+  // Looking down at the box's shadow: rule 2's surface checks (and so the history) hold on the floor there.
+  const Camera camera = test::look_camera(glm::dvec3(0.3, 4.0, 1.5), glm::dvec3(0.0, 0.0, -1.0), 192, 128, 80.0);
+  SoftImageOptions truth_options;
+  truth_options.sampling = SoftOptions::uniform(1024, 7, SoftPattern::kPerPixel);
+  SoftImage truth;
+  std::array<VisibilityBuffer, 2> last;
+  std::array<uint64_t, 2> last_rays{};
+  VisibilityBuffer exact;
+  uint64_t exact_rays = 0;
+  for (uint32_t n : {1u, 2u}) {
+    // Few samples with a scramble per pixel: one trace's levels are noisy, so what accumulates shows.
+    TracerOptions options = threads(n);
+    options.soft = SoftOptions{4, 8, 0, SoftPattern::kPerPixel};
+    EmbreeTracer tracer(scene, options);
+    const VisibilityLayout layout = layout_for_lights(tracer.light_extents(), tracer.light_count());
+    if (n == 1) {
+      trace_soft_image(tracer.embree_scene(), scene.lights, camera, truth_options, truth);
+      TraceStats xs;
+      tracer.trace_layout(camera, layout, exact, xs);
+      exact_rays = xs.soft_shadow_rays;
+    }
+    std::array<ReuseFrame, 2> frames;
+    for (int i = 0; i < 8; ++i) {
+      TraceStats rs;
+      ReuseRequest request;
+      request.previous = i ? &frames[(i + 1) % 2] : nullptr;
+      request.record = &frames[i % 2];
+      tracer.trace_reusing(camera, layout, request, last[n - 1], rs);
+      if (i == 0) {
+        EXPECT_EQ(last[n - 1], exact);  // nothing accumulated yet: the exhaustive levels
+      }
+      last_rays[n - 1] = rs.soft_shadow_rays;
+    }
+    const std::vector<SoftTally>& tally = frames[7 % 2].tally;
+    ASSERT_EQ(frames[7 % 2].tally_stride, 1u);  // one soft light: one tally per pixel
+    ASSERT_EQ(tally.size(), frames[0].mesh.size());
+    uint32_t most = 0;
+    for (const SoftTally& t : tally) most = std::max<uint32_t>(most, t.samples);
+    EXPECT_GT(most, options.soft.max_samples);  // more samples than one trace takes
+    if (n == 1) {
+      const double accumulated = soft_error(last[0], layout, truth), one_frame = soft_error(exact, layout, truth);
+      EXPECT_LT(accumulated, one_frame);
+      EXPECT_LT(last_rays[0], exact_rays);
+    }
+  }
+  EXPECT_EQ(last[0], last[1]);
+}
+
+TEST(ReuseRule, SoftTallyAddsSamplesUpToTheCap) {
+  SoftTally t = add_soft_samples(SoftHistory{}, 3, 8, 128);
+  EXPECT_EQ(t.samples, 8);
+  EXPECT_NEAR(tally_fraction(t), 3.0 / 8.0, 1e-4);
+  t = add_soft_samples(SoftHistory{0.5f, 120.0f}, 8, 8, 128);  // 60 + 8 of 128
+  EXPECT_EQ(t.samples, 128);
+  EXPECT_NEAR(tally_fraction(t), 68.0 / 128.0, 1e-4);
+  t = add_soft_samples(SoftHistory{0.5f, 500.0f}, 0, 8, 128);  // the history weighs 120
+  EXPECT_EQ(t.samples, 128);
+  EXPECT_NEAR(tally_fraction(t), 60.0 / 128.0, 1e-4);
+  t = add_soft_samples(SoftHistory{0.25f, 64.0f}, 0, 0, 128);  // kept as it was
+  EXPECT_EQ(t.samples, 64);
+  EXPECT_NEAR(tally_fraction(t), 0.25, 1e-4);
+  EXPECT_EQ(add_soft_samples(SoftHistory{}, 0, 0, 128).samples, 0);
+}
+
+TEST(ReuseRule, SoftHistoryBlendsTheCornersWithinOneLevel) {
+  ReuseFrame frame;
+  frame.tally_stride = 1;
+  frame.tally.assign(4, SoftTally{});
+  ReuseCorners corners;
+  for (int k = 0; k < 4; ++k) {
+    corners.index[k] = static_cast<size_t>(k);
+    corners.weight[k] = 0.25f;
+  }
+  auto share = [](double f) { return static_cast<uint16_t>(std::lround(f * 65535.0)); };
+  frame.tally[0] = {share(0.5), 32};
+  frame.tally[1] = {share(0.6), 32};
+  frame.tally[2] = {share(0.5), 64};
+  EXPECT_EQ(reuse_soft_history(frame, corners, 0).samples, 0.0f);  // a corner without a tally
+  frame.tally[3] = {share(0.6), 64};
+  SoftHistory h = reuse_soft_history(frame, corners, 0);
+  EXPECT_NEAR(h.samples, 48.0, 1e-3);
+  EXPECT_NEAR(h.fraction, (0.5 * 32 + 0.6 * 32 + 0.5 * 64 + 0.6 * 64) / 192.0, 1e-4);
+  frame.tally[3] = {share(0.7), 64};  // more than one level (1/7) apart: a steep penumbra, no history
+  EXPECT_EQ(reuse_soft_history(frame, corners, 0).samples, 0.0f);
+  EXPECT_EQ(reuse_soft_history(frame, corners, 1).samples, 0.0f);  // not a slot of the frame
 }
 
 TEST(EmbreeReuse, SameBitsOnOneAndTwoThreads) {

@@ -168,7 +168,7 @@ TEST(SoftVisibility, SharedSamplePointsGiveTheSameResults) {
   std::vector<SoftPair> pairs;
   for (size_t h = 0; h < hits.size(); ++h)
     for (uint32_t li = 0; li < lights.size(); ++li)  // 4 shapes x 2 seeds each: more than the batch keeps
-      pairs.push_back({&lights[li], &hits[h], soft_seed(0, 0, li, static_cast<uint32_t>(h % 2)), {}});
+      pairs.push_back({&lights[li], &hits[h], soft_seed(0, 0, li, static_cast<uint32_t>(h % 2)), 0, 0, 0, {}});
   SoftScratch scratch;
   soft_visibility_batch(*es, pairs, shared, scratch);
   size_t refined = 0, penumbra = 0;

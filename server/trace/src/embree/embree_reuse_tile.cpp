@@ -105,6 +105,7 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
   for (uint32_t li = 0; li < lights; ++li)
     if (!layout.is_soft(li)) hard_lights |= 1u << li;
   ReuseSetup setup;
+  setup.history_slot.fill(0xFF);
   for (uint32_t li = 0; li < lights; ++li) setup.field_bits[li] = ((1u << layout.bits[li]) - 1u) << layout.offset[li];
   uint32_t soft_unmoved = ~hard_lights & (lights >= 32 ? 0xFFFFFFFFu : (1u << lights) - 1u);
   setup.options = request.options;
@@ -146,6 +147,10 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
         setup.previous = f;
         setup.previous_lights = unmoved;
       }
+      if (f == previous && !f->tally.empty() && f->tally.size() == f->mesh.size() * f->tally_stride) {
+        setup.history = f;
+        setup.history_lights = unmoved & ~hard_lights;
+      }
       soft_unmoved &= unmoved;
       if (!request.options.pairs) continue;
       setup.sources.push_back({f, unmoved & hard_lights});
@@ -153,6 +158,11 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
       setup.motion = setup.motion || !f->moving_boxes.empty();
     }
     if (!setup.sources.empty() && !setup.motion) setup.soft_lights = soft_unmoved;
+    // The previous trace's tallies are of the same layout (checked above): the same slots.
+    if (setup.motion || frame.slots || request.options.soft_history == 0 || !request.record) {
+      setup.history = nullptr;
+      setup.history_lights = 0;
+    }
     if (setup.previous) {
       setup.eye_motion = reuse_motion(*setup.previous, setup.now);
       // Primary rays start at the near plane. Geometry that was nearer than it then and is not now appears
@@ -180,6 +190,15 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
       rec->light_state.push_back(frame.lights[li].direction_range);
     }
     rec->moving_boxes = setup.moving_boxes;
+    // Tallies where soft samples may accumulate (the record's pixels start without one: gather_tile clears them).
+    if (layout.any_soft() && !frame.slots && request.options.enabled && request.options.soft_history > 0) {
+      for (uint32_t li = 0; li < lights; ++li)
+        if (layout.is_soft(li)) setup.history_slot[li] = static_cast<uint8_t>(setup.history_stride++);
+      rec->tally.resize(rec->mesh.size() * setup.history_stride);
+    } else {
+      rec->tally.clear();
+    }
+    rec->tally_stride = setup.history_stride;
     rec->edge_distance.assign(static_cast<size_t>(rec->cells_x) * rec->cells_y, 255);
   }
   return setup;
@@ -198,8 +217,12 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
   const size_t width = frame.camera->extent.width;
   // The record's pixels start without a surface: gathered and hit pixels get theirs.
   if (rec)
-    for (uint32_t y = y0; y < y1; ++y)
+    for (uint32_t y = y0; y < y1; ++y) {
       std::fill_n(rec->mesh.begin() + static_cast<ptrdiff_t>(y * width + x0), x1 - x0, kNoReuseSurface);
+      if (!rec->tally.empty())
+        std::fill_n(rec->tally.begin() + static_cast<ptrdiff_t>((y * width + x0) * reuse->history_stride),
+                    (x1 - x0) * reuse->history_stride, SoftTally{});
+    }
   if (!reuse->previous) return;
   const ReuseFrame& previous = *reuse->previous;
   const ReuseOptions& options = reuse->options;
@@ -219,7 +242,8 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
   };
   const float near = static_cast<float>(frame.primary_near);
   // A pixel taken whole (`lights` = all) or with the other lights left to trace from its surface point.
-  auto take = [&](uint32_t x, uint32_t y, const GatheredPixel& pixel, uint32_t lights, uint32_t region) {
+  auto take = [&](uint32_t x, uint32_t y, const GatheredPixel& pixel, uint32_t lights, uint32_t region,
+                  size_t source) {
     // Beyond the near plane now (nearer, this trace's primary ray would pass it).
     if (!(glm::dot(pixel.position - frame.eye, reuse->now.w) > near)) return;
     // With slots, in the found pixel's cell (whose lights its fields are).
@@ -249,6 +273,10 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
     rec->known[i] = pixel.known;
     rec->reached[i] = pixel.reached;
     if (!rec->region.empty()) rec->region[i] = region;
+    // The taken levels' accumulated samples come along (the source's tallies, where it kept them).
+    if (!rec->tally.empty() && previous.tally.size() == previous.mesh.size() * reuse->history_stride)
+      std::copy_n(previous.tally.begin() + static_cast<ptrdiff_t>(source * reuse->history_stride),
+                  reuse->history_stride, rec->tally.begin() + static_cast<ptrdiff_t>(i * reuse->history_stride));
   };
   auto refreshed = [&](uint32_t x, uint32_t y) { return options.refresh && reuse_refresh_pixel(x, y, reuse->generation); };
 
@@ -290,7 +318,7 @@ void gather_tile(const FrameSetup& frame, uint32_t x0, uint32_t y0, uint32_t x1,
         if (refreshed(x, y)) continue;
         const glm::vec3& dir = dirs[(y - by) * 4 + (x - bx)];
         pixel.position = frame.eye + dir * (plane / glm::dot(n, dir));
-        take(x, y, pixel, lights, previous.region.empty() ? 0u : previous.region[source]);
+        take(x, y, pixel, lights, previous.region.empty() ? 0u : previous.region[source], source);
       }
   }
 
@@ -310,6 +338,8 @@ void append_partial_hits(TileScratch& scratch) {
     scratch.soft_known.push_back(0u);
     scratch.soft_mask.push_back(0u);
   }
+  // Their soft lights start from nothing (rule 1 took them because nothing of their other lights had moved).
+  scratch.soft_history.resize(scratch.hits.size() * scratch.history_stride);
 }
 
 void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& stats) {
@@ -319,24 +349,40 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
   scratch.soft_known.assign(hits, 0u);
   scratch.soft_mask.assign(hits, 0u);
   const ReuseSetup* reuse = frame.reuse;
+  scratch.history_stride = reuse && reuse->history ? reuse->history_stride : 0;
+  scratch.soft_history.assign(hits * scratch.history_stride, SoftHistory{});
   if (!reuse) return;
   for (size_t h = 0; h < hits; ++h) {
     const SurfaceHit& hit = scratch.hits[h];
     const HitPixel& px = scratch.hit_pixels[h];
-    if (reuse->options.refresh && reuse_refresh_pixel(px.x, px.y, reuse->generation)) {
-      ++stats.refreshed_pixels;
-      continue;
-    }
-    if (reuse->sources.empty() || reuse->moving_mesh[hit.mesh]) continue;
     ReuseQuery query;
     query.position = hit.position;
     query.normal = hit.geometric_normal;
     query.mesh = hit.mesh;
     query.spacing = glm::dot(hit.position - frame.eye, reuse->now.w) / reuse->now.focal;
     if (frame.slots) query.region = scratch.cells[h];
+    // Soft samples accumulate on every pixel of a surface the previous trace saw, refreshed ones too (new samples
+    // are taken there either way).
+    ReuseCorners corners;
+    const bool on_history = reuse->history && !reuse->moving_mesh[hit.mesh] &&
+                            reuse_corners(*reuse->history, query, reuse->options, corners);
+    if (on_history)
+      for (uint32_t li = 0; li < kMaxLights; ++li) {
+        const uint32_t slot = reuse->history_slot[li];
+        if ((reuse->history_lights >> li & 1u) && slot < reuse->history_stride)
+          scratch.soft_history[h * reuse->history_stride + slot] = reuse_soft_history(*reuse->history, corners, slot);
+      }
+    if (reuse->options.refresh && reuse_refresh_pixel(px.x, px.y, reuse->generation)) {
+      ++stats.refreshed_pixels;
+      continue;
+    }
+    if (reuse->sources.empty() || reuse->moving_mesh[hit.mesh]) continue;
     uint32_t known = 0, reached = 0, soft_known = 0, soft_mask = 0;
     for (const ReuseSetup::Source& source : reuse->sources) {
-      ReuseAnswer answer = reuse_lookup(*source.frame, query, source.lights & ~known, reuse->options);
+      // The history's corners are rule 2's in that frame (found once).
+      ReuseAnswer answer = source.frame != reuse->history ? reuse_lookup(*source.frame, query, source.lights & ~known, reuse->options)
+                           : on_history ? reuse_answer(*source.frame, corners, source.lights & ~known)
+                                        : ReuseAnswer{};
       for (uint32_t li = 0; li < 32; ++li) {  // soft lights whose four neighbours hold one level
         const uint32_t bit = 1u << li, field = reuse->field_bits[li];
         if (!(reuse->soft_lights & bit & ~soft_known) || (answer.agree & field) != field) continue;

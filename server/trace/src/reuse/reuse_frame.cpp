@@ -85,29 +85,49 @@ bool reuse_same_surface(const glm::vec3& pa, const glm::vec3& na, const glm::vec
          std::fabs(glm::dot(d, nb)) <= tolerance;
 }
 
-ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint32_t candidates,
-                         const ReuseOptions& options) {
-  if (!frame.valid()) return {};
+bool reuse_corners(const ReuseFrame& frame, const ReuseQuery& query, const ReuseOptions& options,
+                   ReuseCorners& out) {
+  if (!frame.valid()) return false;
   glm::vec2 pixel;
   float depth = 0.0f;
-  if (!frame.projection.project(query.position, pixel, depth)) return {};
+  if (!frame.projection.project(query.position, pixel, depth)) return false;
   // Metres between neighbouring pixels of the source at X, across its view axis.
   const float spacing = depth / frame.projection.focal;
-  if (!(spacing <= options.max_magnification * query.spacing)) return {};
+  if (!(spacing <= options.max_magnification * query.spacing)) return false;
   // The 2x2 traced pixels whose centres surround the projected point.
   const float fx = std::floor(pixel.x - 0.5f), fy = std::floor(pixel.y - 0.5f);
   const uint32_t width = frame.camera.extent.width, height = frame.camera.extent.height;
   if (!(fx >= 0.0f && fy >= 0.0f && fx + 1.0f < static_cast<float>(width) && fy + 1.0f < static_cast<float>(height)))
-    return {};
+    return false;
   const size_t x0 = static_cast<size_t>(fx), y0 = static_cast<size_t>(fy);
-  const size_t corners[4] = {y0 * width + x0, y0 * width + x0 + 1, (y0 + 1) * width + x0, (y0 + 1) * width + x0 + 1};
-
-  uint32_t known = candidates, all_reached = 0xFFFFFFFFu, any_reached = 0u, all_mask = 0xFFFFFFFFu, any_mask = 0u;
-  for (const size_t i : corners) {
-    if (frame.mesh[i] != query.mesh) return {};
-    if (!frame.region.empty() && frame.region[i] != query.region) return {};
+  out.index[0] = y0 * width + x0;
+  out.index[1] = out.index[0] + 1;
+  out.index[2] = out.index[0] + width;
+  out.index[3] = out.index[2] + 1;
+  for (const size_t i : out.index) {
+    if (frame.mesh[i] != query.mesh) return false;
+    if (!frame.region.empty() && frame.region[i] != query.region) return false;
     if (!reuse_same_surface(query.position, query.normal, frame.position[i], frame.normal[i], spacing, options))
-      return {};
+      return false;
+  }
+  const float ax = pixel.x - 0.5f - fx, ay = pixel.y - 0.5f - fy;
+  out.weight[0] = (1.0f - ax) * (1.0f - ay);
+  out.weight[1] = ax * (1.0f - ay);
+  out.weight[2] = (1.0f - ax) * ay;
+  out.weight[3] = ax * ay;
+  return true;
+}
+
+ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint32_t candidates,
+                         const ReuseOptions& options) {
+  ReuseCorners corners;
+  if (!reuse_corners(frame, query, options, corners)) return {};
+  return reuse_answer(frame, corners, candidates);
+}
+
+ReuseAnswer reuse_answer(const ReuseFrame& frame, const ReuseCorners& corners, uint32_t candidates) {
+  uint32_t known = candidates, all_reached = 0xFFFFFFFFu, any_reached = 0u, all_mask = 0xFFFFFFFFu, any_mask = 0u;
+  for (const size_t i : corners.index) {
     known &= frame.known[i];
     all_reached &= frame.reached[i];
     any_reached |= frame.reached[i];
@@ -116,6 +136,38 @@ ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint3
   }
   known &= ~(all_reached ^ any_reached);  // the four agree
   return {known, all_reached & known, ~(all_mask ^ any_mask), all_mask};
+}
+
+SoftHistory reuse_soft_history(const ReuseFrame& frame, const ReuseCorners& corners, uint32_t slot) {
+  if (frame.tally.empty() || slot >= frame.tally_stride) return {};
+  // Weighted by position and by samples: a corner with more samples knows its share better.
+  float visible = 0.0f, samples = 0.0f, weight = 0.0f, lo = 1.0f, hi = 0.0f;
+  for (int k = 0; k < 4; ++k) {
+    const SoftTally& t = frame.tally[corners.index[k] * frame.tally_stride + slot];
+    if (t.samples == 0) return {};  // a corner without a tally: no history (a fresh trace there)
+    if (corners.weight[k] > kSoftHistoryWeightFloor) {  // a corner that takes part in the blend
+      lo = std::min(lo, tally_fraction(t));
+      hi = std::max(hi, tally_fraction(t));
+      if (hi - lo > kSoftHistorySpread) return {};
+    }
+    visible += corners.weight[k] * tally_fraction(t) * static_cast<float>(t.samples);
+    samples += corners.weight[k] * static_cast<float>(t.samples);
+    weight += corners.weight[k];
+  }
+  if (!(weight > 0.0f) || !(samples > 0.0f)) return {};
+  return {visible / samples, samples / weight};
+}
+
+SoftTally add_soft_samples(const SoftHistory& history, uint32_t visible, uint32_t samples, uint32_t cap) {
+  const float n_new = static_cast<float>(samples);
+  const float n_old = std::max(0.0f, std::min(history.samples, static_cast<float>(cap) - n_new));
+  const float n = n_old + n_new;
+  if (!(n > 0.0f)) return {};
+  const float share = (history.fraction * n_old + static_cast<float>(visible)) / n;
+  SoftTally t;
+  t.share = static_cast<uint16_t>(std::lround(std::clamp(share, 0.0f, 1.0f) * 65535.0f));
+  t.samples = static_cast<uint16_t>(std::min(65535.0f, std::round(n)));
+  return t;
 }
 
 bool segment_misses_boxes(const glm::vec3& from, const glm::vec3& to, const std::vector<ReuseBox>& boxes,

@@ -82,7 +82,7 @@ SoftStats trace_soft_image(const EmbreeScene& scene, std::span<const SceneLight>
         for (uint32_t li : frame.active_lights)
           for (size_t h = 0; h < s.hits.size(); ++h)
             batch.push_back({&sampled[li], &s.hits[h],
-                             options.sampling.seed(s.hit_pixels[h].x, s.hit_pixels[h].y, li), {}});
+                             options.sampling.seed(s.hit_pixels[h].x, s.hit_pixels[h].y, li), 0, 0, 0, {}});
         soft_visibility_batch(scene, batch, options.sampling, soft_scratch[worker]);
         for (const auto& pixel : s.hit_pixels) out.surface[size_t{pixel.y} * width + pixel.x] = 1;
         size_t k = 0;

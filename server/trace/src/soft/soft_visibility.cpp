@@ -136,8 +136,9 @@ void soft_visibility_batch(const EmbreeScene& scene, std::span<SoftPair> pairs, 
       scratch.rays.push_back(st.hard_ray);
       scratch.owner.push_back(i);
     } else if (st.kind == State::Kind::kExtent) {
-      append_samples(pairs[i], st, i, 0, options.initial_samples, points_for(pairs[i], options.initial_samples),
-                     scratch);
+      const uint32_t begin = pairs[i].count > 0 ? pairs[i].first : 0;
+      const uint32_t end = pairs[i].count > 0 ? pairs[i].first + pairs[i].count : options.initial_samples;
+      append_samples(pairs[i], st, i, begin, end, points_for(pairs[i], end), scratch);
     }
   }
   trace_queued(scene, scratch, pairs);
@@ -147,6 +148,16 @@ void soft_visibility_batch(const EmbreeScene& scene, std::span<SoftPair> pairs, 
     SoftSample& r = pairs[i].result;
     if (st.kind == State::Kind::kHard) r.samples = 1;
     if (st.kind != State::Kind::kExtent) continue;
+    if (pairs[i].count > 0) {  // a run of the sequence, refined within it
+      const SoftPair& p = pairs[i];
+      r.samples = p.count;
+      if (st.visible != 0 && st.visible != p.count && p.refine > p.count) {
+        append_samples(p, st, i, p.first + p.count, p.first + p.refine, points_for(p, p.first + p.refine), scratch);
+        r.samples = p.refine;
+        r.refined = true;
+      }
+      continue;
+    }
     r.samples = options.initial_samples;
     if (st.visible != 0 && st.visible != options.initial_samples && options.max_samples > options.initial_samples) {
       append_samples(pairs[i], st, i, options.initial_samples, options.max_samples,
@@ -164,7 +175,7 @@ void soft_visibility_batch(const EmbreeScene& scene, std::span<SoftPair> pairs, 
 
 SoftSample soft_visibility(const EmbreeScene& scene, const SampledLight& light, const SurfaceHit& hit, uint32_t seed,
                            const SoftOptions& options) {
-  SoftPair pair{&light, &hit, seed, {}};
+  SoftPair pair{&light, &hit, seed, 0, 0, 0, {}};
   SoftScratch scratch;
   soft_visibility_batch(scene, std::span<SoftPair>(&pair, 1), options, scratch);
   return pair.result;

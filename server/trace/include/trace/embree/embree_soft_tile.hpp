@@ -13,6 +13,10 @@
 
 namespace dhr::server::detail {
 
+// A pair that accumulates onto earlier samples (trace/reuse, SoftTally) takes its run of new samples from the first
+// this many of the light's sequence, cycling with the trace's generation.
+inline constexpr uint32_t kSoftHistorySequence = 1024;
+
 // Per-frame constants of the soft lights.
 struct SoftTileSetup {
   const std::vector<SampledLight>* sampled = nullptr;  // every scene light, prepared for sampling

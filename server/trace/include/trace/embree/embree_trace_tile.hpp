@@ -35,6 +35,14 @@ struct ReuseSetup {
   // what moves) skips its primary rays and traces only those lights from the block's surface points.
   const ReuseFrame* previous = nullptr;
   uint32_t previous_lights = 0;
+  // Soft samples accumulate onto the eye's previous trace's (ReuseOptions::soft_history; not with light slots, nor
+  // while anything moves): its tallies of history_lights (soft lights that did not move) are added to; the record
+  // keeps tallies when soft_history is on and the layout has soft fields: history_stride per pixel (the layout's
+  // soft lights), light i's at history_slot[i].
+  const ReuseFrame* history = nullptr;
+  uint32_t history_lights = 0;
+  uint32_t history_stride = 0;
+  std::array<uint8_t, kMaxLights> history_slot{};
   ReuseProjection now;          // this trace's camera
   ReuseMotion eye_motion;       // reuse_motion(previous, now)
   // Unnormalized view rays in float, columns[x] + rows[y] + forward (FrameSetup's tables): where a taken pixel's
@@ -118,6 +126,10 @@ struct TileScratch {
   // Rule 2 for soft lights, parallel to hits: the soft lights whose levels were taken, and the mask holding them.
   std::vector<uint32_t> soft_known;
   std::vector<uint32_t> soft_mask;
+  // Per hit and light (h * ReuseSetup::history_stride + light): what the eye's previous trace accumulated there of
+  // each soft light (SoftHistory::samples 0: nothing); empty without history.
+  std::vector<SoftHistory> soft_history;
+  uint32_t history_stride = 0;
   // Rule 1: the tile's pixels answered whole (no primary ray), by pixel within the tile.
   std::vector<uint8_t> skip;  // (y - skip_y0) * skip_width + (x - skip_x0): 1 = gathered
   // Rule 1 blocks with lights to trace: their pixels' surface points (no primary ray), appended to `hits` after the

@@ -62,6 +62,10 @@ struct ReuseOptions {
   // The traced pixels taken from may be at most this many new pixels apart (a closer view traces).
   float max_magnification = 1.5f;
   bool refresh = true;        // trace the dithered kRefreshPeriod share in full (off: tests of the rules only)
+  // Soft lights: a traced pair whose point lies on the surface of the eye's previous trace adds its first samples to
+  // what that trace had accumulated there (SoftTally), at most this many samples kept (older ones weigh less once
+  // it is reached); 0: every traced pair starts from nothing (the samples of one frame only).
+  uint32_t soft_history = 128;
   bool whole_pixels = true;   // rule 1 (off: every pixel's primary ray is traced, rule 2 only)
   bool pairs = true;          // rule 2
 };
@@ -77,6 +81,13 @@ struct ReuseProjection {
   static ReuseProjection of(const Camera& camera, const glm::vec3& eye);
   // False at or behind the eye plane.
   bool project(const glm::vec3& x, glm::vec2& out_pixel, float& out_depth) const;
+};
+
+// A soft light's accumulated samples at a pixel: the share that reached the light (share / 65535) of `samples`
+// samples (0: nothing accumulated).
+struct SoftTally {
+  uint16_t share = 0;
+  uint16_t samples = 0;
 };
 
 // What one traced eye leaves for later traces: its camera and, per pixel, the surface and its visibility.
@@ -100,6 +111,10 @@ struct ReuseFrame {
   std::vector<uint32_t> mask;        // the traced mask (every field of the layout)
   std::vector<uint32_t> known;       // hard lights (bit = light index) whose occlusion is known here
   std::vector<uint32_t> reached;     // of those, the light is reached (not occluded)
+  // Per pixel and soft light (pixel * tally_stride + the light's rank among the layout's soft lights), the
+  // accumulated samples (ReuseOptions::soft_history); empty when the trace kept none.
+  std::vector<SoftTally> tally;
+  uint32_t tally_stride = 0;
   // With light slots (known and reached then hold fields, not lights): per pixel, the grid cell of its surface
   // point (LightSlots::cell_of), whose lights its fields are; empty without slots. Rule 2 takes answers only from
   // pixels of the query's cell, rule 1 only pixels whose point lies in the found pixel's cell.
@@ -153,6 +168,34 @@ struct ReuseQuery {
   uint32_t region = 0;  // its light-slot cell, compared where the frame has regions (ReuseFrame::region)
 };
 
+// The 2x2 traced pixels of `frame` around a new surface point that passed rule 2's surface checks (X's mesh, one
+// smooth surface with it, no sparser than options.max_magnification new pixels): their indices and bilinear weights.
+struct ReuseCorners {
+  size_t index[4] = {};
+  float weight[4] = {};
+};
+bool reuse_corners(const ReuseFrame& frame, const ReuseQuery& query, const ReuseOptions& options,
+                   ReuseCorners& out);
+
+// What `frame` accumulated of the soft light of tally slot `slot` (ReuseFrame::tally) at the corners' point: the bilinear blend of the corners' tallies,
+// weighted by their samples too (fraction, samples); samples 0 when the frame kept no tally there.
+struct SoftHistory {
+  float fraction = 0.0f;
+  float samples = 0.0f;
+};
+// None either where the corners' shares differ by more than kSoftHistorySpread: a steep penumbra, where the blend
+// at a reprojected point is off by more than what the samples would gain (accumulating anyway raised the area room's
+// visibility_error by 5 % instead of lowering it; docs/performance.md, "Reuse").
+// Corners weighing this little (a point reprojected onto a traced pixel's centre) do not count in that spread.
+inline constexpr float kSoftHistorySpread = 1.0f / 7.0f;
+inline constexpr float kSoftHistoryWeightFloor = 0.01f;
+SoftHistory reuse_soft_history(const ReuseFrame& frame, const ReuseCorners& corners, uint32_t slot);
+
+// A tally holding `history` and `visible` of `samples` new samples, at most `cap` samples (the history weighs
+// cap - samples when the sum exceeds it).
+SoftTally add_soft_samples(const SoftHistory& history, uint32_t visible, uint32_t samples, uint32_t cap);
+inline float tally_fraction(const SoftTally& t) { return static_cast<float>(t.share) / 65535.0f; }
+
 // Whether two traced surface points (positions, unit normals) are one smooth surface at `spacing` metres per
 // pixel: normals within about 25 degrees, each within options.plane_tolerance spacings of the other's tangent plane
 // and options.neighbour_reach spacings of the other.
@@ -160,9 +203,10 @@ bool reuse_same_surface(const glm::vec3& pa, const glm::vec3& na, const glm::vec
                         float spacing, const ReuseOptions& options);
 
 // Rule 2 (motion not considered: see segment_misses_boxes). `candidates` limits the hard lights looked at; the
-// agreeing mask bits are returned whenever the surface checks pass.
+// agreeing mask bits are returned whenever the surface checks pass. reuse_answer: the same from corners found.
 ReuseAnswer reuse_lookup(const ReuseFrame& frame, const ReuseQuery& query, uint32_t candidates,
                          const ReuseOptions& options);
+ReuseAnswer reuse_answer(const ReuseFrame& frame, const ReuseCorners& corners, uint32_t candidates);
 
 // How far the eye moved between `frame` and now, for the parallax bound: a point at depth z moves across the image
 // by at most scale / (z - shift) pixels beyond what a point at infinity does (the eye's move times the focal length

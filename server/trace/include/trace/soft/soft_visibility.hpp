@@ -45,6 +45,12 @@ struct SoftPair {
   const SampledLight* light = nullptr;
   const SurfaceHit* hit = nullptr;
   uint32_t seed = 0;
+  // count > 0: samples [first, first + count) of the sequence, then up to [first, first + refine) when those
+  // disagree (what accumulates onto samples an earlier trace took: trace/reuse, SoftTally); 0: the adaptive rule
+  // from sample 0.
+  uint32_t first = 0;
+  uint32_t count = 0;
+  uint32_t refine = 0;
   SoftSample result;  // out
 };
 
