@@ -2,10 +2,11 @@
 // trace of the same camera (trace_layout, no reuse), which is the reference: a still camera gives identical bits with
 // most pixels taken whole; a moving camera over a room with an occluder differs in at most kMaxDifferingShare of
 // the hit pixel-light bits; a sphere light's levels are taken where neighbours agree (identical
-// for a still camera), and its samples accumulate over frames (nearer a converged truth, fewer rays); a box that moves over a still camera's floor, and a light that moves,
-// are traced again, never kept (identical bits); pixels near an eye-close wall that crosses the near plane are not
-// taken; the same inputs give the same bits on 1 and 2 threads. Plus the rule's pieces: the float projection against
-// reproject(), the segment-box test, the refresh dither, the point-triangle query.
+// for a still camera), and its samples accumulate over frames (nearer a converged truth, fewer rays); a box that
+// moves over a still camera's floor, and a light that moves, are traced again, never kept (identical bits); pixels
+// near an eye-close wall that crosses the near plane are not taken; the same inputs give the same bits on 1 and 2
+// threads. Plus the rule's pieces: the float projection against reproject(), the segment-box test, the refresh
+// dither, the point-triangle query, the soft tally's sum and blend.
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/soft/soft_image.hpp"
 #include "trace/reuse/reuse_frame.hpp"

@@ -380,9 +380,10 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
     uint32_t known = 0, reached = 0, soft_known = 0, soft_mask = 0;
     for (const ReuseSetup::Source& source : reuse->sources) {
       // The history's corners are rule 2's in that frame (found once).
-      ReuseAnswer answer = source.frame != reuse->history ? reuse_lookup(*source.frame, query, source.lights & ~known, reuse->options)
-                           : on_history ? reuse_answer(*source.frame, corners, source.lights & ~known)
-                                        : ReuseAnswer{};
+      const uint32_t asked = source.lights & ~known;
+      ReuseAnswer answer = source.frame != reuse->history ? reuse_lookup(*source.frame, query, asked, reuse->options)
+                           : on_history                   ? reuse_answer(*source.frame, corners, asked)
+                                                          : ReuseAnswer{};
       for (uint32_t li = 0; li < 32; ++li) {  // soft lights whose four neighbours hold one level
         const uint32_t bit = 1u << li, field = reuse->field_bits[li];
         if (!(reuse->soft_lights & bit & ~soft_known) || (answer.agree & field) != field) continue;

@@ -177,8 +177,9 @@ struct ReuseCorners {
 bool reuse_corners(const ReuseFrame& frame, const ReuseQuery& query, const ReuseOptions& options,
                    ReuseCorners& out);
 
-// What `frame` accumulated of the soft light of tally slot `slot` (ReuseFrame::tally) at the corners' point: the bilinear blend of the corners' tallies,
-// weighted by their samples too (fraction, samples); samples 0 when the frame kept no tally there.
+// What `frame` accumulated of the soft light of tally slot `slot` (ReuseFrame::tally) at the corners' point: the
+// bilinear blend of the corners' tallies, weighted by their samples too (fraction, samples); samples 0 when the
+// frame kept no tally there.
 struct SoftHistory {
   float fraction = 0.0f;
   float samples = 0.0f;
