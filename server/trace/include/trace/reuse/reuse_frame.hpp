@@ -186,7 +186,7 @@ struct SoftHistory {
 };
 // None either where the corners' shares differ by more than kSoftHistorySpread: a steep penumbra, where the blend
 // at a reprojected point is off by more than what the samples would gain (accumulating anyway raised the area room's
-// visibility_error by 5 % instead of lowering it; docs/performance.md, "Reuse").
+// visibility_error by 6 % instead of lowering it; docs/performance.md, "Reuse").
 // Corners weighing this little (a point reprojected onto a traced pixel's centre) do not count in that spread.
 inline constexpr float kSoftHistorySpread = 1.0f / 7.0f;
 inline constexpr float kSoftHistoryWeightFloor = 0.01f;
