@@ -69,6 +69,7 @@ bool parse(int argc, char** argv, SequenceArgs& a) {
     if (k == "--no-pairs") { a.pairs = false; continue; }
     if (i + 1 >= argc) return false;
     const std::string v = argv[++i];
+    if (v.empty()) return false;  // strtol would read "" as 0
     char* end = nullptr;
     if (k == "--trace") {
       a.traces.push_back(v);

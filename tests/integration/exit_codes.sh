@@ -80,7 +80,12 @@ if ev="$(exe bench/eval/dhr-eval)"; then
 fi
 if tc="$(exe tools/dhr-trace-convert)"; then expect 2 "dhr-trace-convert missing input" "$tc" "$missing" "$tmp/t.csv"; fi
 if b="$(exe bench/codec_bench)"; then expect 2 "codec_bench bad scene" "$b" --scene "$bad_scene"; fi
-if b="$(exe bench/trace_bench)"; then expect 2 "trace_bench bad scene" "$b" --scene "$bad_scene" --quick --no-vulkan; fi
+if b="$(exe bench/trace_bench)"; then
+  expect 2 "trace_bench bad scene" "$b" --scene "$bad_scene" --quick --no-vulkan
+  for v in -1 70000 abc ""; do
+    expect 2 "trace_bench --soft-history '$v'" "$b" --trace "$trace" --soft-levels --soft-history "$v" --frames 1
+  done
+fi
 if b="$(exe bench/skip_bench)"; then expect 2 "skip_bench bad scene" "$b" --scene "$bad_scene"; fi
 if b="$(exe bench/client_bench)"; then expect 2 "client_bench bad scene" "$b" --scene "$bad_scene" --quick; fi
 

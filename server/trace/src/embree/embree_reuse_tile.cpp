@@ -8,6 +8,7 @@
 #include <glm/mat3x3.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -367,9 +368,9 @@ void reuse_tile_hits(const FrameSetup& frame, TileScratch& scratch, TraceStats& 
     const bool on_history = reuse->history && !reuse->moving_mesh[hit.mesh] &&
                             reuse_corners(*reuse->history, query, reuse->options, corners);
     if (on_history)
-      for (uint32_t li = 0; li < kMaxLights; ++li) {
-        const uint32_t slot = reuse->history_slot[li];
-        if ((reuse->history_lights >> li & 1u) && slot < reuse->history_stride)
+      for (uint32_t lights = reuse->history_lights; lights != 0; lights &= lights - 1) {
+        const uint32_t slot = reuse->history_slot[static_cast<uint32_t>(std::countr_zero(lights))];
+        if (slot < reuse->history_stride)
           scratch.soft_history[h * reuse->history_stride + slot] = reuse_soft_history(*reuse->history, corners, slot);
       }
     if (reuse->options.refresh && reuse_refresh_pixel(px.x, px.y, reuse->generation)) {

@@ -14,6 +14,8 @@
 //    source trace (the eye's previous one, the other eye's, other sessions'); the four traced pixels around it must
 //    be X's surface (reuse_same_surface, no sparser than 1.5 new pixels) and know the light's occlusion and agree
 //    (a soft light: hold the same level; not in a scene that moves).
+// Soft lights' samples accumulate: the record keeps each pixel's share and count of samples (SoftTally), and a traced
+// soft pair on the previous trace's surface adds new samples to the corners' blend (reuse_soft_history).
 // Anything else traces. One pixel in kRefreshPeriod is traced in full each frame (a 4x4 ordered dither that visits
 // each pixel of a 4x4 block once in 16 frames), so a shadow feature that fell between the samples it was taken
 // from is found again. Motion: surfaces on moving meshes are never taken from, a light that moved is traced again,
