@@ -25,6 +25,9 @@
 //                    at 1/N resolution every frame; keys as above, _vs_forward and _added_vs_shadowmap_added its
 //                    ratios against the goals. With the shipped `--warp edges`, dhr_shadow_frac is the median
 //                    fraction of surface pixels that looked up the shadow maps.
+//   dhr_edge_bandN_ms  (--edge-bands N,...) the shipped client with `--edge-band N` (0: the shadow maps only where
+//                    the 2x2 samples disagree); keys as dhr_ms. dhr_edge_marks_ms: the host time of the edge band's
+//                    marks per eye frame (render/warp_edges.hpp), computed with each buffer's upload.
 //   dhr_alt_path_ms  (--alt-path) the shipped client on the other render path: the deferred passes (G-buffer, compute
 //                    warp, compute shading) where `--render-path auto` takes the forward pass on this device (not a
 //                    discrete GPU), the forward pass where it takes the deferred ones; keys as dhr_ms.
@@ -109,6 +112,7 @@ struct Options {
   bool alt_path = false;  // also the shipped client on the other render path (dhr_alt_path_ms)
   uint32_t scene_lag = 0;  // frames of scene motion between a buffer's traced scene time and its display
   std::vector<uint32_t> depth_scales{client::shipped::kDepthScale};  // --warp edges-depth at these (dhr_edges_depthN_ms)
+  std::vector<uint32_t> edge_bands;  // the shipped client with these --edge-band values too (dhr_edge_bandN_ms)
 };
 
 std::optional<Extent> parse_size(const std::string& text) {
@@ -247,6 +251,12 @@ int run(const Options& o) {
     edges.eye.warp = render::WarpSettings::server_edges_depth(scale);
     scale_names.push_back("dhr_edges_depth" + std::to_string(scale));
     add_loop(scale_names.back().c_str(), edges);
+  }
+  for (const uint32_t band : o.edge_bands) {
+    client::CoordinatorOptions banded = shipped_options(discrete_gpu);
+    banded.eye.warp.edge_band = band;
+    scale_names.push_back("dhr_edge_band" + std::to_string(band));
+    add_loop(scale_names.back().c_str(), banded);
   }
 
   // The paper's warp and its deferred twin, one eye each at the fixed view.
@@ -429,6 +439,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->delimiter(',')
       ->check(CLI::Range(1u, 16u));
+  app.add_option("--edge-bands", o.edge_bands,
+                 "also measure the shipped client with each of these --edge-band values (dhr_edge_bandN_ms)")
+      ->delimiter(',')
+      ->check(CLI::Range(0u, 8u));
   bool quick = false;
   app.add_flag("--quick", quick, "smoke run: 64x48, 2 frames after 1 warm-up (unless given)");
   try {

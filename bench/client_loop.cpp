@@ -2,6 +2,7 @@
 
 #include "bench_timing.hpp"
 #include "plan/shipped_defaults.hpp"
+#include "render/warp_edges.hpp"
 #include "render/warp_reference.hpp"
 #include "scene/camera_bookmarks.hpp"
 
@@ -100,6 +101,7 @@ void ClientLoop::report(nlohmann::ordered_json& out) const {
   out[name_ + "_decode_ms"] = median(decode_ms_, std::nan(""));
   out[name_ + "_coded_bytes"] = median(payload_bytes_, std::nan(""));
   out[name_ + "_upload_ms"] = median(upload_ms_, std::nan(""));
+  out[name_ + "_edge_marks_ms"] = median(edge_marks_ms_, std::nan(""));  // NaN without the edge band
   out[name_ + "_record_ms"] = median(record_ms_, std::nan(""));
   out[name_ + "_record_wall_ms"] = median(record_wall_ms_, std::nan(""));
   out[name_ + "_known_frac"] = median(known_frac_, std::nan(""));
@@ -114,7 +116,7 @@ void ClientLoop::measure_upload(uint32_t e) {
   const std::array<const std::optional<VisibilityFrame>*, 3> sources = {
       &coordinator_.visibility(e), warp_.other_eye ? &coordinator_.visibility(1 - e) : nullptr,
       warp_.older_buffer ? &coordinator_.previous_visibility(e) : nullptr};
-  double ms = 0.0;
+  double ms = 0.0, marks_ms = 0.0;
   for (size_t s = 0; s < sources.size(); ++s) {
     if (sources[s] == nullptr || !*sources[s]) continue;
     const VisibilityBuffer& buffer = (*sources[s])->buffer;
@@ -126,8 +128,17 @@ void ClientLoop::measure_upload(uint32_t e) {
     const auto start = std::chrono::steady_clock::now();
     upload_[s].write(buffer.data.data(), buffer.data.size());
     ms += ms_since(start);
+    if (warp_.bilinear && warp_.edge_band > 0) {  // the marks the warp passes compute with each upload
+      const auto marks_start = std::chrono::steady_clock::now();
+      const VisibilityFrame& frame = **sources[s];
+      const std::span<const uint8_t> rows = frame.complete ? std::span<const uint8_t>{} : frame.row_valid;
+      const VisibilityBuffer marks = render::edge_band_marks(buffer, rows, warp_.edge_band, buffer.light_bits());
+      marks_ms += ms_since(marks_start);
+      if (marks.data.empty()) throw std::logic_error("edge band marks: empty");
+    }
   }
   upload_ms_.push_back(ms);
+  if (warp_.bilinear && warp_.edge_band > 0) edge_marks_ms_.push_back(marks_ms);
 }
 
 }  // namespace dhr::bench

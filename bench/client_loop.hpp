@@ -62,6 +62,7 @@ class ClientLoop {
   uint32_t total_;
   std::array<vk::Buffer, 3> upload_;
   std::vector<double> traced_depth_ms_, decode_ms_, payload_bytes_, upload_ms_, known_frac_, shadow_frac_;
+  std::vector<double> edge_marks_ms_;  // the edge band's marks of the uploaded buffers (host, per eye)
   std::vector<double> record_ms_, record_wall_ms_;
   std::vector<double> shadow_update_ms_, shadow_update_lights_;  // per frame (eye 0 carries the re-render)
   uint64_t traced_depth_frames_ = 0;

@@ -2,6 +2,7 @@
 
 #include "plan/shipped_defaults.hpp"
 #include "session/shipped_defaults.hpp"
+#include "render/warp_edges.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -70,6 +71,7 @@ std::string method_name(const MethodSpec& spec) {
     if ((spec.without & bit) != 0) name += std::string("-no-") + text;
   }
   if (spec.depth_scale > 1) name += "-depth-scale-" + std::to_string(spec.depth_scale);
+  if (spec.edge_band != client::shipped::kEdgeBand) name += "-edge-band-" + std::to_string(spec.edge_band);
   return name;
 }
 
@@ -82,6 +84,15 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
   if (text.rfind(prefix, 0) != 0) return std::nullopt;
   MethodSpec spec{Method::kFull, 0};
   std::string rest = text.substr(prefix.size());
+  const std::string band_item = "-edge-band-";
+  const size_t band_at = rest.rfind(band_item);
+  if (band_at != std::string::npos) {
+    const std::string digits = rest.substr(band_at + band_item.size());
+    if (digits.size() != 1 || digits.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+    spec.edge_band = static_cast<uint32_t>(std::stoul(digits));
+    if (spec.edge_band > render::kMaxEdgeBand) return std::nullopt;
+    rest = rest.substr(0, band_at);
+  }
   const std::string scale_item = "-depth-scale-";
   const size_t scale_at = rest.rfind(scale_item);
   if (scale_at != std::string::npos) {
@@ -144,6 +155,7 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
   s.neighbour_fill = (spec.without & kIngredientNeighbour) == 0;
   s.motion = (spec.without & kIngredientMotion) == 0;
   s.depth_scale = spec.depth_scale;
+  s.edge_band = spec.edge_band;
   return s;
 }
 
@@ -244,7 +256,9 @@ std::optional<std::vector<MethodSpec>> parse_method_list(const std::string& text
     const std::optional<MethodSpec> m = parse_method(item);
     if (!m) {
       fail(out_error, "--method: expected default, stale, paper, paper+pred, local, full or full-no-<ingredient>... "
-                      "(bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first, pred), got '" + item + "'");
+                      "(bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first, pred, adaptive-fov, "
+                      "older, neighbour, motion), then optionally -depth-scale-N (2-16) and -edge-band-N (0-8), got '" +
+                          item + "'");
       return std::nullopt;
     }
     out.push_back(*m);

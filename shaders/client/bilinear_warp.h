@@ -7,6 +7,7 @@
 //   for (int k = 0; k < s.count; ++k) { const ivec2 c = warp_sample_pixel(s, k); if (!warp_sample_in_buffer(src, c))
 //     continue; ... masks[k] = warp_sample_mask(src, word, warp_sample_mask_bit(src, c)); used |= 1u << k; }
 //   const WarpVote v = warp_vote(s, masks, used);  // used != 0
+// and, with the source's edge band, warp_vote_band(v, the OR of the used samples' marks).
 #ifndef DHR_BILINEAR_WARP_H
 #define DHR_BILINEAR_WARP_H
 
@@ -61,6 +62,11 @@ uint warp_sample_mask(ClientWarpSource src, uint word, uint bit) {
   const uint width_mask = src.mask_bits >= 32u ? 0xFFFFFFFFu : (1u << src.mask_bits) - 1u;
   return (word >> (bit & 31u)) & width_mask;
 }
+
+// The edge band (kClientSourceHasEdges; render/warp_edges.hpp): the first bit of old pixel c's marks (the hard-light
+// bits some arrived old pixel within the band disagrees on), in the source's buffer after its masks; the includer
+// loads word bit >> 5 and reads it with warp_sample_mask.
+uint warp_edge_mask_bit(ClientWarpSource src, ivec2 c) { return src.edge_word * 32u + warp_sample_mask_bit(src, c); }
 
 // The depth test (kClientWarpDepthTest, kClientSourceHasDepth): the traced-depth texel that holds old pixel c's
 // depth, and the old surface point (old eye space) that texel's depth ds shows: along the ray through the
@@ -145,6 +151,13 @@ WarpVote warp_vote_fields(WarpSamples s, uint masks[4], uint used, uint soft_lig
     }
     offset += bits;
   }
+  return v;
+}
+
+// The vote with the bits the used samples' edge band marks (their OR) undecided; an exact lookup keeps its pixel's
+// mask.
+WarpVote warp_vote_band(WarpVote v, uint marks) {
+  if (!v.exact) v.agree &= ~marks;
   return v;
 }
 

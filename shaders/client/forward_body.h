@@ -126,7 +126,7 @@ void main() {
         tolerance = pc.plane_tolerance_rel * at.depth_old + pc.plane_tolerance_abs;
       }
       uint masks[4];
-      uint used = 0u, rows = 0u;
+      uint used = 0u, rows = 0u, marks = 0u;
       for (int k = 0; k < 4; ++k) {
         masks[k] = 0u;
         const ivec2 c = warp_sample_pixel(samples, k);
@@ -143,13 +143,18 @@ void main() {
         const uint bit = warp_sample_mask_bit(src, c);
         masks[k] = warp_sample_mask(src, vis0[bit >> 5], bit);
         used |= 1u << k;
+        if ((src.flags & kClientSourceHasEdges) != 0u) {
+          const uint edge_bit = warp_edge_mask_bit(src, c);
+          marks |= warp_sample_mask(src, vis0[edge_bit >> 5], edge_bit);
+        }
       }
       if (rows == 0u) {
         status = kClientStatusMissingRow;
       } else if (used == 0u) {
         status = kClientStatusDisoccluded;
       } else {
-        const WarpVote vote = warp_vote_fields(samples, masks, used, pc.soft_lights, pc.light_count);
+        const WarpVote vote =
+            warp_vote_band(warp_vote_fields(samples, masks, used, pc.soft_lights, pc.light_count), marks);
         value = vote.value;
         undecided = ~vote.agree & pc.unknown_mask;
       }

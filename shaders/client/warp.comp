@@ -108,7 +108,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   }
   const float tolerance = pc.plane_tolerance_rel * depth_old + pc.plane_tolerance_abs;
   const WarpSamples samples = warp_samples(r.pixel, bilinear);
-  uint rows = 0u, used = 0u;
+  uint rows = 0u, used = 0u, marks = 0u;
   uint masks[4];
   // Bilinear: a lookup within kClientWarpExactLookup of an old pixel centre (samples.exact) takes that pixel's
   // bit as exact when it is used. Traced from this very eye position, that pixel's ray is this pixel's ray:
@@ -131,6 +131,10 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     }
     masks[k] = old_mask(s, c.x, c.y);
     used |= 1u << k;
+    if ((pc.source[s].flags & kClientSourceHasEdges) != 0u) {
+      const uint bit = warp_edge_mask_bit(pc.source[s], c);
+      marks |= warp_sample_mask(pc.source[s], vis_word(s, bit >> 5), bit);
+    }
   }
   if (rows == 0u) {
     r.status = kClientStatusMissingRow;
@@ -141,7 +145,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     return r;
   }
   r.status = kClientStatusKnown;
-  const WarpVote vote = warp_vote_fields(samples, masks, used, pc.soft_lights, pc.light_count);
+  const WarpVote vote = warp_vote_band(warp_vote_fields(samples, masks, used, pc.soft_lights, pc.light_count), marks);
   r.agree = vote.agree;
   r.value = vote.value;
   r.exact = vote.exact;

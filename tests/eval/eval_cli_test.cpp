@@ -443,7 +443,9 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method warp");
   EXPECT_EQ(r.exit_code, 2);
   for (const char* bad : {"full-no-warp", "full-no-depth-no-depth", "local-no-depth", "fullx",
-                          "full-no-depth-depth-scale-2", "full-depth-scale-1", "full-depth-scale-", "full-depth-scale-99"}) {
+                          "full-no-depth-depth-scale-2", "full-depth-scale-1", "full-depth-scale-", "full-depth-scale-99",
+                          "full-edge-band-9", "full-edge-band-", "full-edge-band-12", "full-edge-band-1-depth-scale-2",
+                          "local-edge-band-1"}) {
     r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_NE(r.output.find("full-no-<ingredient>"), std::string::npos) << r.output;

@@ -44,6 +44,7 @@ TEST_F(ClientForwardDepthTest, EqualsTheCpuReferenceAtEveryDepthScale) {
     ForwardFrame frame = warp.frame;
     frame.traced_depth = &traced.depth;
     frame.depth_test = settings;
+    frame.edge_band = settings.edge_band;
     const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, frame);
 
     // The deferred pipeline with the same settings renders its own traced depth in prepare().

@@ -152,113 +152,123 @@ TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline
   const ForwardTestFrame warp(scene, blocky, &maps);  // lost rows: from the shadow maps
   const VisibilityInput& input = warp.input;
   const View& view = warp.view;
-  const ForwardFrame& frame = warp.frame;
-  const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, frame);
+  std::vector<uint64_t> edges_at;  // shadow-map edge pixels per band
+  // Without the edge band and with the shipped one (which widens the edges to most of this blocky buffer).
+  for (const uint32_t band : {0u, client::shipped::kEdgeBand}) {
+    SCOPED_TRACE("edge band " + std::to_string(band));
+    ForwardFrame frame = warp.frame;
+    frame.edge_band = band;
+    const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, frame);
 
-  // The deferred pipeline with the same settings: its G-buffer normals feed the CPU reference.
-  EyePipelineOptions deferred_options;
-  deferred_options.forward = false;
-  deferred_options.warp_status = true;
-  deferred_options.warp = WarpSettings::server_edges();
-  EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options);
-  ctx().submit_and_wait([&](VkCommandBuffer cmd) { deferred.record(cmd, 0, view, input, {}, &maps); });
-  ASSERT_FALSE(deferred.read_stats(0).forward);
-  const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
-  const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
-  std::vector<float> atlas_storage;
-  const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
+    // The deferred pipeline with the same settings: its G-buffer normals feed the CPU reference.
+    EyePipelineOptions deferred_options;
+    deferred_options.forward = false;
+    deferred_options.warp_status = true;
+    deferred_options.warp = WarpSettings::server_edges(band);
+    EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options);
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { deferred.record(cmd, 0, view, input, {}, &maps); });
+    ASSERT_FALSE(deferred.read_stats(0).forward);
+    const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
+    const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
+    std::vector<float> atlas_storage;
+    const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
 
-  WarpInput in = warp.reference_input(fwd.depth);
-  in.normals = normals;
-  in.settings = WarpSettings::server_edges();
-  in.shadow = &shadow;
-  const WarpResult cpu = warp_reference(in);
+    WarpInput in = warp.reference_input(fwd.depth);
+    in.normals = normals;
+    in.settings = WarpSettings::server_edges(band);
+    in.shadow = &shadow;
+    const WarpResult cpu = warp_reference(in);
 
-  // Where the forward pass took no shadow-map bit, its mask is the server's: equal to the CPU reference and
-  // the deferred pipeline on every pixel. Where it took some, the normals differ (interpolated floats here,
-  // the G-buffer's half floats there): a bit within a hair of its bias may differ.
-  size_t compared = 0, ambiguous = 0, mismatches = 0, from_shadow = 0, shadow_differs = 0, deferred_differs = 0;
-  std::array<uint64_t, kWarpStatusCount> from_image{};
-  uint64_t fills = 0, edges = 0;
-  for (size_t i = 0; i < fwd.depth.size(); ++i) {
-    const uint32_t status = fwd.status[i] & shader::kClientForwardStatusMask;
-    if (status < kWarpStatusCount) ++from_image[status];
-    const bool filled = (fwd.status[i] & shader::kClientForwardStatusShadowFill) != 0;
-    const bool edge = (fwd.status[i] & shader::kClientForwardStatusShadowEdge) != 0;
-    fills += filled ? 1 : 0;
-    edges += edge ? 1 : 0;
-    if (cpu.margin[i] < kMargin) {
-      ++ambiguous;
-      continue;
-    }
-    ++compared;
-    const bool background = cpu.status[i] == WarpStatus::kBackground;
-    if (status != static_cast<uint32_t>(cpu.status[i]) || filled != (cpu.fill[i] == WarpFill::kShadowMap)) {
-      if (++mismatches <= 5) {
-        ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": forward status "
-                      << fwd.status[i] << ", cpu status " << to_string(cpu.status[i]) << " fill "
-                      << static_cast<int>(cpu.fill[i]);
+    // Where the forward pass took no shadow-map bit, its mask is the server's: equal to the CPU reference and
+    // the deferred pipeline on every pixel. Where it took some, the normals differ (interpolated floats here,
+    // the G-buffer's half floats there): a bit within a hair of its bias may differ.
+    size_t compared = 0, ambiguous = 0, mismatches = 0, from_shadow = 0, shadow_differs = 0, deferred_differs = 0;
+    std::array<uint64_t, kWarpStatusCount> from_image{};
+    uint64_t fills = 0, edges = 0;
+    for (size_t i = 0; i < fwd.depth.size(); ++i) {
+      const uint32_t status = fwd.status[i] & shader::kClientForwardStatusMask;
+      if (status < kWarpStatusCount) ++from_image[status];
+      const bool filled = (fwd.status[i] & shader::kClientForwardStatusShadowFill) != 0;
+      const bool edge = (fwd.status[i] & shader::kClientForwardStatusShadowEdge) != 0;
+      fills += filled ? 1 : 0;
+      edges += edge ? 1 : 0;
+      if (cpu.margin[i] < kMargin) {
+        ++ambiguous;
+        continue;
       }
-      continue;
-    }
-    if (background) continue;
-    if (filled || edge) {
-      ++from_shadow;
-      shadow_differs += fwd.mask[i] != cpu.masks[i] ? 1 : 0;
-      deferred_differs += fwd.mask[i] != deferred_mask[i] ? 1 : 0;
-    } else if (fwd.mask[i] != cpu.masks[i] || fwd.mask[i] != deferred_mask[i]) {
-      if (++mismatches <= 5) {
-        ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": forward mask " << fwd.mask[i]
-                      << ", cpu mask " << cpu.masks[i] << ", deferred mask " << deferred_mask[i];
+      ++compared;
+      const bool background = cpu.status[i] == WarpStatus::kBackground;
+      if (status != static_cast<uint32_t>(cpu.status[i]) || filled != (cpu.fill[i] == WarpFill::kShadowMap)) {
+        if (++mismatches <= 5) {
+          ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": forward status "
+                        << fwd.status[i] << ", cpu status " << to_string(cpu.status[i]) << " fill "
+                        << static_cast<int>(cpu.fill[i]);
+        }
+        continue;
+      }
+      if (background) continue;
+      if (filled || edge) {
+        ++from_shadow;
+        shadow_differs += fwd.mask[i] != cpu.masks[i] ? 1 : 0;
+        deferred_differs += fwd.mask[i] != deferred_mask[i] ? 1 : 0;
+      } else if (fwd.mask[i] != cpu.masks[i] || fwd.mask[i] != deferred_mask[i]) {
+        if (++mismatches <= 5) {
+          ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": forward mask " << fwd.mask[i]
+                        << ", cpu mask " << cpu.masks[i] << ", deferred mask " << deferred_mask[i];
+        }
       }
     }
+    EXPECT_EQ(mismatches, 0u);
+    // More than the paper's warp: the margin also covers the vote's ties and the shadow maps' bias and texels.
+    EXPECT_LT(ambiguous, fwd.depth.size() / 10) << "too many ambiguous pixels for a meaningful test";
+    EXPECT_LE(shadow_differs, from_shadow / 200) << "of " << from_shadow;
+    EXPECT_LE(deferred_differs, from_shadow / 200) << "of " << from_shadow;
+
+    std::printf("server edges: %zu pixels compared, %zu ambiguous; %zu took shadow-map bits (%llu edges, %llu fills), "
+                "%zu differ from the CPU reference, %zu from the deferred pipeline\n",
+                compared, ambiguous, from_shadow, static_cast<unsigned long long>(edges),
+                static_cast<unsigned long long>(fills), shadow_differs, deferred_differs);
+
+    // Counts: as the status image says, and as the CPU reference's (ambiguous pixels aside).
+    for (size_t s = 0; s < kWarpStatusCount; ++s) EXPECT_EQ(fwd.counts.by_status[s], from_image[s]) << s;
+    EXPECT_EQ(fwd.counts.filled_shadow_map, fills);
+    EXPECT_EQ(fwd.counts.edges_shadow_map, edges);
+    const auto near = [&](uint64_t a, uint64_t b) { return (a > b ? a - b : b - a) <= ambiguous; };
+    EXPECT_TRUE(near(fwd.counts.filled_shadow_map, cpu.counts.filled_shadow_map))
+        << fwd.counts.filled_shadow_map << " vs " << cpu.counts.filled_shadow_map;
+    EXPECT_TRUE(near(fwd.counts.edges_shadow_map, cpu.counts.edges_shadow_map))
+        << fwd.counts.edges_shadow_map << " vs " << cpu.counts.edges_shadow_map;
+    // The test means something: known, outside and missing-row pixels, shadow edges and fills all occur, and
+    // the shadow maps are looked up at a minority of the pixels.
+    EXPECT_GT(fwd.counts[WarpStatus::kKnown], kExtent.width * kExtent.height / 2);
+    EXPECT_GT(fwd.counts[WarpStatus::kOutside], 0u);
+    EXPECT_GT(fwd.counts[WarpStatus::kMissingRow], 0u);
+    EXPECT_GT(edges, 0u);
+    EXPECT_EQ(fills, fwd.counts.unknown_surface());
+    if (band == 0) {
+      EXPECT_LT(edges + fills, fwd.counts.surface() / 2);
+    }
+    edges_at.push_back(edges);
+    EXPECT_EQ(fwd.counts.surface() + fwd.counts[WarpStatus::kBackground], uint64_t{kExtent.width} * kExtent.height);
+
+    // The eye pipeline takes the forward path for these settings, with the shadow maps bound: the same masks.
+    EyePipelineOptions forward_options;
+    forward_options.forward_mask = true;
+    forward_options.warp = WarpSettings::server_edges(band);
+    EyePipeline eye(ctx(), gpu_scene, kExtent, forward_options);
+    ASSERT_TRUE(eye.uses_forward());
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input, {}, &maps); });
+    const EyeStats stats = eye.read_stats(0);
+    EXPECT_TRUE(stats.forward);
+    EXPECT_EQ(stats.warp, fwd.counts);
+    EXPECT_EQ(test::read_pixels<uint32_t>(ctx(), eye.mask()), fwd.mask);
+    // And switches back to the paper's warp with the same pipeline.
+    eye.warp_settings() = WarpSettings{};
+    ASSERT_TRUE(eye.uses_forward());
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input, {}, &maps); });
+    EXPECT_EQ(eye.read_stats(0).warp.edges_shadow_map + eye.read_stats(0).warp.filled_shadow_map, 0u);
   }
-  EXPECT_EQ(mismatches, 0u);
-  // More than the paper's warp: the margin also covers the vote's ties and the shadow maps' bias and texels.
-  EXPECT_LT(ambiguous, fwd.depth.size() / 10) << "too many ambiguous pixels for a meaningful test";
-  EXPECT_LE(shadow_differs, from_shadow / 200) << "of " << from_shadow;
-  EXPECT_LE(deferred_differs, from_shadow / 200) << "of " << from_shadow;
-
-  std::printf("server edges: %zu pixels compared, %zu ambiguous; %zu took shadow-map bits (%llu edges, %llu fills), "
-              "%zu differ from the CPU reference, %zu from the deferred pipeline\n",
-              compared, ambiguous, from_shadow, static_cast<unsigned long long>(edges),
-              static_cast<unsigned long long>(fills), shadow_differs, deferred_differs);
-
-  // Counts: as the status image says, and as the CPU reference's (ambiguous pixels aside).
-  for (size_t s = 0; s < kWarpStatusCount; ++s) EXPECT_EQ(fwd.counts.by_status[s], from_image[s]) << s;
-  EXPECT_EQ(fwd.counts.filled_shadow_map, fills);
-  EXPECT_EQ(fwd.counts.edges_shadow_map, edges);
-  const auto near = [&](uint64_t a, uint64_t b) { return (a > b ? a - b : b - a) <= ambiguous; };
-  EXPECT_TRUE(near(fwd.counts.filled_shadow_map, cpu.counts.filled_shadow_map))
-      << fwd.counts.filled_shadow_map << " vs " << cpu.counts.filled_shadow_map;
-  EXPECT_TRUE(near(fwd.counts.edges_shadow_map, cpu.counts.edges_shadow_map))
-      << fwd.counts.edges_shadow_map << " vs " << cpu.counts.edges_shadow_map;
-  // The test means something: known, outside and missing-row pixels, shadow edges and fills all occur, and
-  // the shadow maps are looked up at a minority of the pixels.
-  EXPECT_GT(fwd.counts[WarpStatus::kKnown], kExtent.width * kExtent.height / 2);
-  EXPECT_GT(fwd.counts[WarpStatus::kOutside], 0u);
-  EXPECT_GT(fwd.counts[WarpStatus::kMissingRow], 0u);
-  EXPECT_GT(edges, 0u);
-  EXPECT_EQ(fills, fwd.counts.unknown_surface());
-  EXPECT_LT(edges + fills, fwd.counts.surface() / 2);
-  EXPECT_EQ(fwd.counts.surface() + fwd.counts[WarpStatus::kBackground], uint64_t{kExtent.width} * kExtent.height);
-
-  // The eye pipeline takes the forward path for these settings, with the shadow maps bound: the same masks.
-  EyePipelineOptions forward_options;
-  forward_options.forward_mask = true;
-  forward_options.warp = WarpSettings::server_edges();
-  EyePipeline eye(ctx(), gpu_scene, kExtent, forward_options);
-  ASSERT_TRUE(eye.uses_forward());
-  ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input, {}, &maps); });
-  const EyeStats stats = eye.read_stats(0);
-  EXPECT_TRUE(stats.forward);
-  EXPECT_EQ(stats.warp, fwd.counts);
-  EXPECT_EQ(test::read_pixels<uint32_t>(ctx(), eye.mask()), fwd.mask);
-  // And switches back to the paper's warp with the same pipeline.
-  eye.warp_settings() = WarpSettings{};
-  ASSERT_TRUE(eye.uses_forward());
-  ctx().submit_and_wait([&](VkCommandBuffer cmd) { eye.record(cmd, 0, view, input, {}, &maps); });
-  EXPECT_EQ(eye.read_stats(0).warp.edges_shadow_map + eye.read_stats(0).warp.filled_shadow_map, 0u);
+  EXPECT_GT(edges_at[1], edges_at[0]) << "the band widens the edges";
 }
 
 TEST_F(ClientForwardTest, BadInputIsRejected) {

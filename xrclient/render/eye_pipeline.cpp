@@ -213,6 +213,7 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
     frame.motion = motion;
     frame.shading = options_.shading;
     const bool edges = options_.warp.is_server_edges();
+    if (edges) frame.edge_band = options_.warp.edge_band;
     if (edges && options_.warp.depth_test && visibility.buffer != nullptr) {
       frame.traced_depth = traced_depth(visibility.traced);
       frame.depth_test = options_.warp;

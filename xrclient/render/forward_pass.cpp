@@ -1,4 +1,5 @@
 #include "render/forward_pass.hpp"
+#include "render/warp_edges.hpp"
 
 #include <array>
 #include <stdexcept>
@@ -198,8 +199,10 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   const std::span<const SceneLight> fields = slotted ? std::span<const SceneLight>(scene_->field_lights()) : frame.lights;
   params.unknown_mask = unknown_mask(out.visibility_used ? in->buffer : nullptr, fields);
   const vk::Image* traced_depth = &placeholder_atlas_;
+  const VisibilityLayout field_layout = layout_for_lights(fields);
   if (out.visibility_used) {
-    slot.source.upload(*context_, display, *in, params.source[0]);
+    const uint32_t edge_band = mode == ForwardMode::kServerEdges ? frame.edge_band : 0u;
+    slot.source.upload(*context_, display, *in, params.source[0], edge_band, hard_field_bits(field_layout));
     if (mode == ForwardMode::kServerEdges && frame.traced_depth != nullptr) {
       const WarpSettings& test = frame.depth_test;
       const Extent depth_extent = depth_camera(in->traced, test.depth_scale).extent;
@@ -229,7 +232,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   const std::vector<PackedLight> packed = pack_lights(frame.lights, display.T_world_eye.position);
   if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
   params.light_count = static_cast<uint32_t>(fields.size());
-  params.soft_lights = soft_light_mask(layout_for_lights(fields));  // the fields the bilinear vote blends
+  params.soft_lights = soft_light_mask(field_layout);  // the fields the bilinear vote blends
   slot.params.write(&params, sizeof(params));
   const ClientWarpMotion no_motion{};
   slot.moved.write((params.flags & kClientWarpMotion) != 0u ? frame.motion : &no_motion, sizeof(ClientWarpMotion));

@@ -86,6 +86,8 @@ struct ForwardFrame {
   // SHADER_READ_ONLY_OPTIMAL; null: no depth test. depth_test: its depth_scale and plane tolerances.
   const vk::Image* traced_depth = nullptr;
   WarpSettings depth_test = WarpSettings::server_edges_depth(1);
+  // kServerEdges: WarpSettings::edge_band (0: the 2x2 samples alone), server_edges()'s unless set.
+  uint32_t edge_band = client::shipped::kEdgeBand;
   // kServerEdges: what moved (warp_motion.hpp), source 0's entry; null: nothing (WarpSettings::motion's rule off).
   const shader::ClientWarpMotion* motion = nullptr;
 };

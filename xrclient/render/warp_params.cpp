@@ -1,4 +1,5 @@
 #include "render/warp_params.hpp"
+#include "render/warp_edges.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -159,13 +160,26 @@ WarpSourceBuffers::WarpSourceBuffers(const vk::Context& context)
       rows(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost) {}
 
 void WarpSourceBuffers::upload(const vk::Context& context, const Camera& display, const VisibilityInput& input,
-                               ClientWarpSource& src) {
+                               ClientWarpSource& src, uint32_t band, uint32_t bits) {
   const VisibilityBuffer& buffer = *input.buffer;
-  if (input.key == 0 || input.key != key) {
-    const VkDeviceSize bytes = (buffer.size_bytes() + 3) / 4 * 4;
+  const bool edges = band > 0 && bits != 0;
+  if (!edges) band = bits = 0;
+  const VkDeviceSize mask_bytes = (buffer.size_bytes() + 3) / 4 * 4;
+  if (input.key == 0 || input.key != key || band != edge_band || bits != edge_bits) {
+    const VkDeviceSize bytes = edges ? 2 * mask_bytes : mask_bytes;
     if (bytes > visibility.size()) visibility = vk::Buffer(context, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     visibility.write(buffer.data.data(), buffer.data.size());
+    if (edges) {
+      const VisibilityBuffer marks = edge_band_marks(buffer, input.row_valid, band, bits);
+      visibility.write(marks.data.data(), marks.data.size(), mask_bytes);
+    }
     key = input.key;
+    edge_band = band;
+    edge_bits = bits;
+  }
+  if (edges) {
+    src.edge_word = static_cast<uint32_t>(mask_bytes / 4);
+    src.flags |= kClientSourceHasEdges;
   }
   src.mask_bits = static_cast<uint32_t>(buffer.mask_bits);
   src.flags |= kClientSourceHasVisibility;

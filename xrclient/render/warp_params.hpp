@@ -46,12 +46,16 @@ struct WarpSourceBuffers {
   vk::Buffer visibility;  // grown on demand
   vk::Buffer rows;        // kRowWords words
   uint64_t key = 0;       // VisibilityInput::key of what `visibility` holds (0: always upload)
+  uint32_t edge_band = 0;  // the edge band and bits the held marks were computed with
+  uint32_t edge_bits = 0;
 
   explicit WarpSourceBuffers(const vk::Context& context);
-  // Uploads a validated input (skipping the masks when its key is the one held) and fills `src`: mask width,
-  // kClientSourceHasVisibility, kClientSourceSameEye, kClientSourceHasRowValidity with the rows uploaded.
+  // Uploads a validated input (skipping it when its key, band and bits are the ones held) and fills `src`: mask
+  // width, kClientSourceHasVisibility, kClientSourceSameEye, kClientSourceHasRowValidity with the rows uploaded.
+  // edge_band > 0 and edge_bits != 0: the edge band's marks of those bits (render/warp_edges.hpp) follow the masks,
+  // from src.edge_word on, with kClientSourceHasEdges.
   void upload(const vk::Context& context, const Camera& display, const VisibilityInput& input,
-              shader::ClientWarpSource& src);
+              shader::ClientWarpSource& src, uint32_t edge_band = 0, uint32_t edge_bits = 0);
 };
 
 }  // namespace dhr::render

@@ -1,4 +1,5 @@
 #include "render/warp_pass.hpp"
+#include "render/warp_edges.hpp"
 
 #include "render/light_layout.hpp"
 
@@ -150,11 +151,17 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   params.plane_tolerance_abs = static_cast<float>(settings.plane_tolerance_abs);
   std::array<vk::Image*, kClientWarpSourceCount> old_depth{&placeholder_depth_, &placeholder_depth_,
                                                            &placeholder_depth_};
+  // The fields the bilinear vote blends (describe_shadow_maps sets the same light count with the maps); the edge
+  // band marks the others.
+  params.light_count = static_cast<uint32_t>(std::min<size_t>(frame.lights.size(), kMaxLights));
+  const VisibilityLayout layout = layout_for_lights(frame.lights.first(params.light_count));
+  params.soft_lights = soft_light_mask(layout);
+  const uint32_t edge_band = settings.bilinear ? settings.edge_band : 0u;
   for (size_t s = 0; s < usable.size(); ++s) {
     const VisibilityInput* in = frame.sources[s].visibility;
     params.source[s] = make_warp_source(display, usable[s] ? &in->traced : nullptr);
     if (!usable[s]) continue;
-    slot.sources[s].upload(*context_, display, *in, params.source[s]);
+    slot.sources[s].upload(*context_, display, *in, params.source[s], edge_band, hard_field_bits(layout));
     vk::Image* traced_depth = frame.sources[s].traced_depth;
     if (traced_depth != nullptr) {
       const Extent depth_extent = depth_camera(in->traced, settings.depth_scale).extent;
@@ -167,9 +174,6 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     }
   }
   params.unknown_mask = unknown_mask(usable[0] ? own->buffer : nullptr, frame.lights);
-  // The fields the bilinear vote blends (describe_shadow_maps sets the same light count with the maps).
-  params.light_count = static_cast<uint32_t>(std::min<size_t>(frame.lights.size(), kMaxLights));
-  params.soft_lights = soft_light_mask(layout_for_lights(frame.lights.first(params.light_count)));
 
   const vk::Image* atlas = &placeholder_depth_;
   if (shadows) {

@@ -2,6 +2,7 @@
 #include "render/warp_motion.hpp"
 
 #include "render/light_layout.hpp"
+#include "render/warp_edges.hpp"
 #include "shaders/shader_interface.h"
 
 #include <algorithm>
@@ -47,16 +48,17 @@ uint64_t WarpCounts::unknown_surface() const {
          (*this)[WarpStatus::kNoData] + (*this)[WarpStatus::kDisoccluded];
 }
 
-WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale) {
+WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale, uint32_t edge_band) {
   switch (choice) {
     case client::WarpChoice::kPaper: return WarpSettings{};
     case client::WarpChoice::kFull: {
       WarpSettings s = WarpSettings::full();
       s.depth_scale = depth_scale;
+      s.edge_band = edge_band;
       return s;
     }
-    case client::WarpChoice::kEdges: return WarpSettings::server_edges();
-    case client::WarpChoice::kEdgesDepth: return WarpSettings::server_edges_depth(depth_scale);
+    case client::WarpChoice::kEdges: return WarpSettings::server_edges(edge_band);
+    case client::WarpChoice::kEdgesDepth: return WarpSettings::server_edges_depth(depth_scale, edge_band);
   }
   return WarpSettings{};
 }
@@ -65,17 +67,19 @@ WarpSettings WarpSettings::full() {
   WarpSettings s;
   s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = s.shadow_first = true;
   s.older_buffer = s.neighbour_fill = s.motion = true;
+  s.edge_band = client::shipped::kEdgeBand;
   return s;
 }
 
-WarpSettings WarpSettings::server_edges() {
+WarpSettings WarpSettings::server_edges(uint32_t edge_band) {
   WarpSettings s;
   s.bilinear = s.shadow_edges = s.shadow_fill = s.motion = true;
+  s.edge_band = edge_band;
   return s;
 }
 
-WarpSettings WarpSettings::server_edges_depth(uint32_t depth_scale) {
-  WarpSettings s = server_edges();
+WarpSettings WarpSettings::server_edges_depth(uint32_t depth_scale, uint32_t edge_band) {
+  WarpSettings s = server_edges(edge_band);
   s.depth_test = true;
   s.depth_scale = depth_scale;
   return s;
@@ -87,7 +91,7 @@ bool WarpSettings::is_server_edges() const {
   plain.depth_scale = 1;
   plain.plane_tolerance_rel = server_edges().plane_tolerance_rel;
   plain.plane_tolerance_abs = server_edges().plane_tolerance_abs;
-  return plain == server_edges();
+  return plain == server_edges(edge_band);
 }
 
 Camera depth_camera(const Camera& traced, uint32_t scale) {
@@ -170,6 +174,29 @@ bool on_tangent_plane(const WarpInput& input, const WarpSource& src, int a, int 
   const double dist = std::abs(glm::dot(n_old, q - p_old));
   margin = std::min(margin, std::abs(dist - tolerance) / depth_old * 200.0);
   return dist <= tolerance;
+}
+
+// The edge band (warp_edges.hpp), scanned here for each used sample: the bits of `bits` on which the arrived old
+// pixels within `band` (Chebyshev) of a used sample (first + (k & 1, k >> 1)) do not all agree.
+uint32_t band_disagreement(const WarpSource& src, uint32_t bits, int i0, int j0, uint32_t used, int band) {
+  const Extent old = src.traced.extent;
+  uint32_t out = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (((used >> k) & 1u) == 0) continue;
+    uint32_t and_m = 0xFFFFFFFFu, or_m = 0u;
+    for (int b = j0 + (k >> 1) - band; b <= j0 + (k >> 1) + band; ++b) {
+      if (b < 0 || b >= static_cast<int>(old.height)) continue;
+      if (!src.row_valid.empty() && src.row_valid[static_cast<size_t>(b)] == 0) continue;
+      for (int a = i0 + (k & 1) - band; a <= i0 + (k & 1) + band; ++a) {
+        if (a < 0 || a >= static_cast<int>(old.width)) continue;
+        const uint32_t m = src.visibility->get(static_cast<uint32_t>(a), static_cast<uint32_t>(b));
+        and_m &= m;
+        or_m |= m;
+      }
+    }
+    out |= (and_m ^ or_m) & bits;
+  }
+  return out;
 }
 
 SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, const WarpSource& src,
@@ -292,6 +319,9 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, con
       if (spread <= shader::kClientWarpSoftEdgeSpread) r.agree |= field;
     }
   }
+  if (set.bilinear && set.edge_band > 0) {
+    r.agree &= ~band_disagreement(src, hard_field_bits(layout), i0, j0, used, static_cast<int>(set.edge_band));
+  }
   return r;
 }
 
@@ -370,6 +400,7 @@ WarpResult warp_reference(const WarpInput& input) {
   if (set.uses_shadow_maps() && input.shadow == nullptr) {
     throw std::invalid_argument("warp reference: shadow settings without shadow maps");
   }
+  if (set.edge_band > kMaxEdgeBand) throw std::invalid_argument("warp reference: edge band above kMaxEdgeBand");
   std::array<WarpSource, 3> sources = input.sources;
   if (!set.other_eye) sources[1].visibility = nullptr;
   if (!set.older_buffer) sources[2].visibility = nullptr;

@@ -32,6 +32,7 @@
 // its decisions are from flipping; the tests make pixels with a margin under 2e-3 background and then require
 // GPU == CPU on every pixel.
 #pragma once
+#include "plan/shipped_defaults.hpp"
 #include "plan/warp_choice.hpp"
 #include <array>
 #include <cstdint>
@@ -106,14 +107,19 @@ struct WarpSettings {
   // depth_test: the traced depth is rendered at 1 / depth_scale of the traced camera's resolution per axis
   // (depth_camera); old pixel (a, b) tests the surface its texel (a, b) / depth_scale shows. 1: every old pixel.
   uint32_t depth_scale = 1;
+  // With bilinear: a hard light's bit that any arrived old pixel within edge_band pixels (Chebyshev) of a used
+  // sample disagrees on is undecided, as if the samples disagreed (render/warp_edges.hpp); 0: the 2x2 samples
+  // alone. Exact lookups keep their pixel's mask. At most kMaxEdgeBand.
+  uint32_t edge_band = 0;
   static WarpSettings full();  // every ingredient on
   // Server bits first: 2x2 bilinear samples, bits they all agree on from the server, the others and pixels
   // without a usable sample from the shadow maps; no depth test, so no traced depth: the forward pass runs it.
-  static WarpSettings server_edges();
+  // The edge band is the shipped one (client::shipped::kEdgeBand) unless given.
+  static WarpSettings server_edges(uint32_t edge_band = client::shipped::kEdgeBand);
   // server_edges() with the depth test against a traced depth at 1 / depth_scale resolution: samples whose traced
   // surface is off the pixel's tangent plane are not used (none left: disoccluded, from the shadow maps).
-  static WarpSettings server_edges_depth(uint32_t depth_scale);
-  // The settings the forward pass runs (kServerEdges): server_edges(), with or without the depth test.
+  static WarpSettings server_edges_depth(uint32_t depth_scale, uint32_t edge_band = client::shipped::kEdgeBand);
+  // The settings the forward pass runs (kServerEdges): server_edges(), with or without the depth test, any band.
   bool is_server_edges() const;
   bool uses_shadow_maps() const { return shadow_fill || shadow_edges || shadow_first; }
   // These settings with no ingredient that reads the client's shadow maps (a scene whose lights share light slots
@@ -128,7 +134,8 @@ struct WarpSettings {
 
 // The settings of a --warp choice (paper: WarpSettings{}) with --depth-scale (edges, full): one mapping for
 // dhr-xrclient's command line, client_bench's configurations and dhr-eval's `default`.
-WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale);
+WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale,
+                               uint32_t edge_band = client::shipped::kEdgeBand);
 
 // The camera a traced depth is rendered with at 1 / scale of `traced`'s resolution per axis: the same eye and
 // top-left tangents, extent ceil(width / scale) x ceil(height / scale), its texel t covering old pixels

@@ -238,6 +238,7 @@ DHR_CONST uint kClientSourceHasVisibility = 1u;
 DHR_CONST uint kClientSourceHasRowValidity = 2u;
 DHR_CONST uint kClientSourceHasDepth = 4u;
 DHR_CONST uint kClientSourceSameEye = 8u;  // traced from the display eye's position (rotation at most)
+DHR_CONST uint kClientSourceHasEdges = 16u;  // edge band marks after the masks (ClientWarpSource::edge_word)
 // Status counts are gathered per bucket of this many horizontally adjacent workgroups (8 x 64 pixels fit
 // the 10-bit fields); field f is in the bucket's word f / 3, bits 10 * (f % 3).
 DHR_CONST uint kClientCountBucketGroups = 8u;
@@ -270,6 +271,8 @@ struct ClientWarpSource {
   uint mask_bits;        // 8, 16 or 32
   uint flags;            // kClientSource*
   uint depth_scale;      // kClientSourceHasDepth: one traced-depth texel per depth_scale x depth_scale old pixels
+  uint edge_word;        // kClientSourceHasEdges: the edge band's marks (render/warp_edges.hpp) follow the masks in
+                         // the source's buffer from this word on, packed as the masks are
 };
 
 // Motion (kClientWarpMotion; DESIGN 5b): visibility traced at a source's scene time is trusted at the display's only
@@ -456,12 +459,12 @@ struct ClientForwardShading {
 
 #ifdef __cplusplus
 static_assert(sizeof(ClientGBufferPush) == 128, "push constants must match the GLSL layout and fit the Vulkan minimum (128 bytes)");
-static_assert(sizeof(ClientWarpSource) == 136, "ClientWarpSource must match the std430 layout");
+static_assert(sizeof(ClientWarpSource) == 140, "ClientWarpSource must match the std430 layout");
 static_assert(sizeof(ClientMotionSource) == 16 + 2 * 4 * 48, "ClientMotionSource must match the std430 layout");
 static_assert(sizeof(ClientMotionLight) == 32, "ClientMotionLight must match the std430 array stride");
 static_assert(sizeof(ClientWarpMotion) == 3 * sizeof(ClientMotionSource) + 32 * 32 + 16,
               "ClientWarpMotion must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 3 * 136 + 4 * 30, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 140 + 4 * 30, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 96, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
