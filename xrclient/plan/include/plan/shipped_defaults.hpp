@@ -16,9 +16,9 @@ inline constexpr uint32_t kXMax = 3;                      // --x-max (the paper 
 inline constexpr WarpChoice kWarp = WarpChoice::kEdges;   // --warp
 // --depth-scale (edges-depth, full): the depth test's traced depth at 1/2 of the traced resolution per axis.
 inline constexpr uint32_t kDepthScale = 2;
-// --edge-band (edges, edges-depth, full): a hard light's bit any traced pixel within 2 pixels of a used sample
+// --edge-band (edges, edges-depth, full): a hard light's bit any traced pixel within 3 pixels of a used sample
 // disagrees on takes the shadow maps (render::WarpSettings::edge_band; docs/client.md "Warp rule").
-inline constexpr uint32_t kEdgeBand = 2;
+inline constexpr uint32_t kEdgeBand = 3;
 inline constexpr RenderPath kRenderPath = RenderPath::kAuto;  // --render-path (forward_pass_for: the device decides)
 // --guard: the paper's +64x36 at 1920x1080, scaled to the eye size.
 inline GuardBand guard_band(Extent eye) { return paper_guard_band(eye); }
