@@ -48,11 +48,7 @@ TEST_F(ClientForwardDepthTest, EqualsTheCpuReferenceAtEveryDepthScale) {
     const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, frame);
 
     // The deferred pipeline with the same settings renders its own traced depth in prepare().
-    EyePipelineOptions deferred_options;
-    deferred_options.forward = false;
-    deferred_options.warp_status = true;
-    deferred_options.warp = settings;
-    EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options);
+    EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options(settings));
     ctx().submit_and_wait([&](VkCommandBuffer cmd) {
       deferred.prepare(cmd, 0, warp.input);
       deferred.record(cmd, 0, warp.view, warp.input, {}, &maps);

@@ -161,11 +161,7 @@ TEST_F(ClientForwardTest, ServerEdgesEqualsTheCpuReferenceAndTheDeferredPipeline
     const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, frame);
 
     // The deferred pipeline with the same settings: its G-buffer normals feed the CPU reference.
-    EyePipelineOptions deferred_options;
-    deferred_options.forward = false;
-    deferred_options.warp_status = true;
-    deferred_options.warp = WarpSettings::server_edges(band);
-    EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options);
+    EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options(WarpSettings::server_edges(band)));
     ctx().submit_and_wait([&](VkCommandBuffer cmd) { deferred.record(cmd, 0, view, input, {}, &maps); });
     ASSERT_FALSE(deferred.read_stats(0).forward);
     const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);

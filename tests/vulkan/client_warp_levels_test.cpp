@@ -61,11 +61,7 @@ TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
   const WarpSettings settings = WarpSettings::server_edges();
   const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, warp.frame);
 
-  EyePipelineOptions deferred_options;
-  deferred_options.forward = false;
-  deferred_options.warp_status = true;
-  deferred_options.warp = settings;
-  EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options);
+  EyePipeline deferred(ctx(), gpu_scene, kExtent, deferred_options(settings));
   ctx().submit_and_wait([&](VkCommandBuffer cmd) { deferred.record(cmd, 0, warp.view, warp.input, {}, &maps); });
   const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
   const std::vector<uint32_t> deferred_status = test::read_pixels<uint32_t>(ctx(), deferred.warp().status);

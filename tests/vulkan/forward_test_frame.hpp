@@ -10,6 +10,7 @@
 
 #include "client_test_helpers.hpp"
 #include "render/client_scene.hpp"
+#include "render/eye_pipeline.hpp"
 #include "render/forward_pass.hpp"
 #include "render/offscreen_sink.hpp"
 #include "render/shadow_maps.hpp"
@@ -119,6 +120,16 @@ struct ForwardTestFrame {
   View view;
   ForwardFrame frame;
 };
+
+// The deferred pipeline's options the forward pass is compared with: compute warp and shading with `settings`,
+// the warp's status written.
+inline EyePipelineOptions deferred_options(const WarpSettings& settings) {
+  EyePipelineOptions options;
+  options.forward = false;
+  options.warp_status = true;
+  options.warp = settings;
+  return options;
+}
 
 struct ForwardResult {
   std::vector<float> depth;
