@@ -88,4 +88,12 @@ rc=$?
 set -e
 [ "$rc" -eq 2 ] || { cat "$tmp/badguard.err"; echo "FAIL: --guard 7x6 exit $rc, expected 2"; exit 1; }
 grep -q "even" "$tmp/badguard.err" || { cat "$tmp/badguard.err"; echo "FAIL: no even-guard message"; exit 1; }
+# --edge-band above its 8 pixels: a usage error naming the option, exit 2; 0 (no band) runs.
+set +e
+"$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --edge-band 9 >/dev/null 2>"$tmp/badband.err"
+rc=$?
+set -e
+[ "$rc" -eq 2 ] || { cat "$tmp/badband.err"; echo "FAIL: --edge-band 9 exit $rc, expected 2"; exit 1; }
+grep -q -- "--edge-band" "$tmp/badband.err" || { cat "$tmp/badband.err"; echo "FAIL: no --edge-band message"; exit 1; }
+run_client noband --warp edges --edge-band 0 || { tail -n 20 "$tmp/noband.err"; echo "FAIL: --edge-band 0 run"; exit 1; }
 echo PASS
