@@ -234,26 +234,26 @@ int run(const Options& o) {
   };
   const bool discrete_gpu = context->info().is_discrete_gpu;  // the shipped render path's rule
   out["dhr_render_path_rule"] = client::to_string(client::shipped::kRenderPath);
-  add_loop("dhr", shipped_options(discrete_gpu, *size));
+  add_loop("dhr", shipped_options(discrete_gpu));
   if (!o.skip_full) {
-    client::CoordinatorOptions full = shipped_options(discrete_gpu, *size);
+    client::CoordinatorOptions full = shipped_options(discrete_gpu);
     full.eye.warp = render::WarpSettings::full();
     add_loop("dhr_full", full);
   }
   if (o.alt_path) {
-    client::CoordinatorOptions alt = shipped_options(discrete_gpu, *size);
+    client::CoordinatorOptions alt = shipped_options(discrete_gpu);
     alt.eye.forward = !alt.eye.forward;
     add_loop("dhr_alt_path", alt);
   }
   std::vector<std::string> scale_names;
   for (const uint32_t scale : o.depth_scales) {
-    client::CoordinatorOptions edges = shipped_options(discrete_gpu, *size);
+    client::CoordinatorOptions edges = shipped_options(discrete_gpu);
     edges.eye.warp = render::WarpSettings::server_edges_depth(scale);
     scale_names.push_back("dhr_edges_depth" + std::to_string(scale));
     add_loop(scale_names.back().c_str(), edges);
   }
   for (const uint32_t band : o.edge_bands) {
-    client::CoordinatorOptions banded = shipped_options(discrete_gpu, *size);
+    client::CoordinatorOptions banded = shipped_options(discrete_gpu);
     banded.eye.warp.edge_band = band;
     scale_names.push_back("dhr_edge_band" + std::to_string(band));
     add_loop(scale_names.back().c_str(), banded);

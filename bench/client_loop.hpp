@@ -28,9 +28,9 @@ inline int64_t frame_time_ns(uint32_t i) { return static_cast<int64_t>(i) * 11'1
 FramePose moving_pose(const Pose& head, const Fov& fov, uint32_t i, uint32_t total);
 
 // dhr-xrclient's coordinator options when no option is given (xrclient/plan/include/plan/shipped_defaults.hpp) on
-// a device (`discrete_gpu`: its render path) and eye size (the edge band), except for one GPU slot: every frame is
-// waited for, as the other configurations'.
-client::CoordinatorOptions shipped_options(bool discrete_gpu, Extent eye);
+// a device (`discrete_gpu`: its render path), except for one GPU slot: every frame is waited for, as the other
+// configurations'.
+client::CoordinatorOptions shipped_options(bool discrete_gpu);
 
 // A client frame loop as dhr-xrclient runs it, with its host-side costs; its JSON keys start with `name`.
 class ClientLoop {

@@ -71,7 +71,7 @@ std::string method_name(const MethodSpec& spec) {
     if ((spec.without & bit) != 0) name += std::string("-no-") + text;
   }
   if (spec.depth_scale > 1) name += "-depth-scale-" + std::to_string(spec.depth_scale);
-  if (spec.edge_band) name += "-edge-band-" + std::to_string(*spec.edge_band);
+  if (spec.edge_band != client::shipped::kEdgeBand) name += "-edge-band-" + std::to_string(spec.edge_band);
   return name;
 }
 
@@ -90,7 +90,7 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
     const std::string digits = rest.substr(band_at + band_item.size());
     if (digits.size() != 1 || digits.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
     spec.edge_band = static_cast<uint32_t>(std::stoul(digits));
-    if (*spec.edge_band > render::kMaxEdgeBand) return std::nullopt;
+    if (spec.edge_band > render::kMaxEdgeBand) return std::nullopt;
     rest = rest.substr(0, band_at);
   }
   const std::string scale_item = "-depth-scale-";
@@ -155,7 +155,7 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
   s.neighbour_fill = (spec.without & kIngredientNeighbour) == 0;
   s.motion = (spec.without & kIngredientMotion) == 0;
   s.depth_scale = spec.depth_scale;
-  s.edge_band = spec.edge_band.value_or(client::shipped::edge_band(options.eye));
+  s.edge_band = spec.edge_band;
   return s;
 }
 

@@ -1,5 +1,4 @@
-// --render-path's rule (plan/render_path.hpp): which passes an eye takes on which device; the shipped edge band's
-// size rule (plan/shipped_defaults.hpp).
+// --render-path's rule (plan/render_path.hpp): which passes an eye takes on which device.
 #include "plan/render_path.hpp"
 #include "plan/shipped_defaults.hpp"
 
@@ -25,18 +24,6 @@ TEST(RenderPath, NamesParseBackAndNothingElseParses) {
   EXPECT_EQ(parse_render_path(""), std::nullopt);
   EXPECT_EQ(parse_render_path("Forward"), std::nullopt);
   EXPECT_EQ(parse_render_path("forward "), std::nullopt);
-}
-
-// The shipped edge band: 3 traced pixels per 240 rows of the eye (the band is an angle), within 1 to 8.
-TEST(ShippedEdgeBand, ScalesWithTheEyeHeightWithinItsLimits) {
-  EXPECT_EQ(shipped::edge_band(Extent{320, 240}), 3u);
-  EXPECT_EQ(shipped::edge_band(Extent{640, 480}), 6u);
-  EXPECT_EQ(shipped::edge_band(Extent{960, 720}), 8u);      // 9, capped
-  EXPECT_EQ(shipped::edge_band(Extent{1832, 1920}), 8u);
-  EXPECT_EQ(shipped::edge_band(Extent{160, 120}), 2u);      // 1.5 rounds up
-  EXPECT_EQ(shipped::edge_band(Extent{64, 48}), 1u);        // 0.6: at least 1
-  EXPECT_EQ(shipped::edge_band(Extent{8, 8}), 1u);
-  EXPECT_EQ(shipped::edge_band(Extent{320, 240}), shipped::kEdgeBand);
 }
 
 }  // namespace

@@ -124,8 +124,8 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
       ->check(CLI::Range(1u, 16u));
   app.add_option("--edge-band", out.edge_band,
                  "edges, edges-depth, full: a light's shadow edge within N traced pixels of a lookup's samples makes "
-                 "its bit the shadow maps' (hard lights; 0: only where the 2x2 samples disagree; default: 3 per 240 "
-                 "rows of the eye, 1 to 8)")
+                 "its bit the shadow maps' (hard lights; 0: only where the 2x2 samples disagree)")
+      ->capture_default_str()
       ->check(CLI::Range(0u, 8u));
   app.add_option("--start-at", out.start_at,
                  "OpenXR: start the head here (the world space offset by poseInReferenceSpace, heading only): "

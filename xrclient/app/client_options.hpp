@@ -35,7 +35,7 @@ struct ClientOptions {
   RenderPath render_path = shipped::kRenderPath;  // --render-path (forward_pass_for, render::EyePipelineOptions::forward)
   WarpChoice warp = shipped::kWarp;  // --warp
   uint32_t depth_scale = shipped::kDepthScale;  // --depth-scale
-  std::optional<uint32_t> edge_band;            // --edge-band (absent: shipped::edge_band(eye size))
+  uint32_t edge_band = shipped::kEdgeBand;      // --edge-band
   std::string record_trace;  // --record-trace FILE (OpenXR path)
   std::string node_script;   // --node-script FILE: app-moved nodes (link/node_script.hpp)
   double connect_timeout_s = 5.0;

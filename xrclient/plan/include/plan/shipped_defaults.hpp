@@ -7,8 +7,6 @@
 #include "plan/schedule.hpp"
 #include "plan/warp_choice.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <cstdint>
 
 namespace dhr::client::shipped {
@@ -18,15 +16,9 @@ inline constexpr uint32_t kXMax = 3;                      // --x-max (the paper 
 inline constexpr WarpChoice kWarp = WarpChoice::kEdges;   // --warp
 // --depth-scale (edges-depth, full): the depth test's traced depth at 1/2 of the traced resolution per axis.
 inline constexpr uint32_t kDepthScale = 2;
-// --edge-band (edges, edges-depth, full): a hard light's bit any traced pixel within N pixels of a used sample
-// disagrees on takes the shadow maps (render::WarpSettings::edge_band; docs/client.md "Warp rule"). N is 3 at 240
-// rows and scales with the eye's height (the band that brings `default` to `local` is an angle: 3 at 320x240, 6 at
-// 640x480, 8 at 960x720; docs/evaluation.md), within 1..8 (render::kMaxEdgeBand).
-inline constexpr uint32_t kEdgeBand = 3;  // at 240 rows
-inline uint32_t edge_band(Extent eye) {
-  const long n = std::lround(static_cast<double>(kEdgeBand) * eye.height / 240.0);
-  return static_cast<uint32_t>(std::clamp(n, 1L, 8L));
-}
+// --edge-band (edges, edges-depth, full): a hard light's bit any traced pixel within 3 pixels of a used sample
+// disagrees on takes the shadow maps (render::WarpSettings::edge_band; docs/client.md "Warp rule").
+inline constexpr uint32_t kEdgeBand = 3;
 inline constexpr RenderPath kRenderPath = RenderPath::kAuto;  // --render-path (forward_pass_for: the device decides)
 // --guard: the paper's +64x36 at 1920x1080, scaled to the eye size.
 inline GuardBand guard_band(Extent eye) { return paper_guard_band(eye); }
