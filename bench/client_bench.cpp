@@ -25,6 +25,9 @@
 //                    at 1/N resolution every frame; keys as above, _vs_forward and _added_vs_shadowmap_added its
 //                    ratios against the goals. With the shipped `--warp edges`, dhr_shadow_frac is the median
 //                    fraction of surface pixels that looked up the shadow maps.
+//   dhr_edges_splatN_ms  (--splat-scales N,...) `--warp edges-depth --traced-depth splat --depth-scale N`: the depth
+//                    test against the traced depth moved from the eye's previous frame (one compute pass, no raster;
+//                    render/traced_depth_splat.hpp); keys as dhr_edges_depthN_ms.
 //   dhr_edge_bandN_ms  (--edge-bands N,...) the shipped client with `--edge-band N` (0: the shadow maps only where
 //                    the 2x2 samples disagree); keys as dhr_ms. dhr_edge_marks_ms: the host time of the edge band's
 //                    marks per eye frame (render/warp_edges.hpp), computed with each buffer's upload.
@@ -113,6 +116,7 @@ struct Options {
   uint32_t scene_lag = 0;  // frames of scene motion between a buffer's traced scene time and its display
   std::vector<uint32_t> depth_scales{client::shipped::kDepthScale};  // --warp edges-depth at these (dhr_edges_depthN_ms)
   std::vector<uint32_t> edge_bands;  // the shipped client with these --edge-band values too (dhr_edge_bandN_ms)
+  std::vector<uint32_t> splat_scales;  // --warp edges-depth --traced-depth splat at these (dhr_edges_splatN_ms)
 };
 
 std::optional<Extent> parse_size(const std::string& text) {
@@ -250,6 +254,13 @@ int run(const Options& o) {
     client::CoordinatorOptions edges = shipped_options(discrete_gpu);
     edges.eye.warp = render::WarpSettings::server_edges_depth(scale);
     scale_names.push_back("dhr_edges_depth" + std::to_string(scale));
+    add_loop(scale_names.back().c_str(), edges);
+  }
+  for (const uint32_t scale : o.splat_scales) {
+    client::CoordinatorOptions edges = shipped_options(discrete_gpu);
+    edges.eye.warp = render::warp_settings_for(client::WarpChoice::kEdgesDepth, scale, client::shipped::kEdgeBand,
+                                               client::TracedDepth::kSplat);
+    scale_names.push_back("dhr_edges_splat" + std::to_string(scale));
     add_loop(scale_names.back().c_str(), edges);
   }
   for (const uint32_t band : o.edge_bands) {
@@ -437,6 +448,11 @@ int main(int argc, char** argv) {
   app.add_option("--depth-scales", o.depth_scales,
                  "also measure --warp edges-depth with the traced depth at each of these scales (dhr_edges_depthN_ms)")
       ->capture_default_str()
+      ->delimiter(',')
+      ->check(CLI::Range(1u, 16u));
+  app.add_option("--splat-scales", o.splat_scales,
+                 "also measure --warp edges-depth --traced-depth splat with the traced depth at each of these scales "
+                 "(dhr_edges_splatN_ms)")
       ->delimiter(',')
       ->check(CLI::Range(1u, 16u));
   app.add_option("--edge-bands", o.edge_bands,

@@ -211,8 +211,8 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
     std::vector<FramePose> history;
     double truth_s = 0.0;  // wall time of the ground truth (trace and pictures)
     const uint64_t total = warmup + frames;
-    SessionShared shared{tracer.get(), &renderer, options.eye, renderer.light_count(), soft_lights, &history, total,
-                         light_slots ? renderer.light_count() : 0u};
+    SessionShared shared{tracer.get(), &renderer, &scene, options.shadow_maps, forward, options.eye,
+                         renderer.light_count(), soft_lights, &history, total, light_slots ? renderer.light_count() : 0u};
     double unshadowed_bit_error = 0.0;  // every light lit on every surface: the headset without shadows
     uint64_t truth_eyes = 0;
 

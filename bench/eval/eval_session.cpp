@@ -176,6 +176,13 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
   totals_.visibility_error_per_light.assign(shared.light_count, 0.0);
   cap_ms_ = options.predict_max_horizon_ms;
   warp_ = warp_settings(setting.method, options);
+  renderer_ = shared.renderer;
+  if (warp_.depth_test && warp_.depth_splat) {
+    if (shared.scene == nullptr) throw std::invalid_argument("SettingSession: a depth-splat setting needs the scene");
+    own_renderer_ = std::make_unique<EyeRenderer>(shared.renderer->context(), *shared.scene, shared.eye,
+                                                  shared.shadow_maps, shared.forward);
+    renderer_ = own_renderer_.get();
+  }
   snapshot_dir_ = options.out_dir;
   service_ = std::make_unique<server::VisibilityService>(tracer_, service_config(setting, options, shared), server_out_,
                                                          server_clock_);
@@ -183,9 +190,9 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
   source_ = std::make_unique<SessionVisibilitySource>(*client_, uses_server_visibility(setting.method));
   client::CoordinatorOptions frame_options;
   frame_options.plan = planner_settings(setting, shared);
-  frame_options.upload_keys = false;  // the eye pipelines are shared with the other settings
+  frame_options.upload_keys = false;  // the eye pipelines may be shared with the other settings
   frame_options.gpu_wait_timeout_ns = std::numeric_limits<uint64_t>::max();  // however long a slow device takes
-  frames_ = std::make_unique<client::FrameCoordinator>(shared.renderer->context(), shared.renderer->pipeline(),
+  frames_ = std::make_unique<client::FrameCoordinator>(renderer_->context(), renderer_->pipeline(),
                                                        *source_, frame_options);
   frames_->set_on_frame([this](const client::FrameRecord& record) { last_record_ = record; });
   connect();
@@ -298,7 +305,7 @@ void SettingSession::advance(const FramePose& sample) {
 
 void SettingSession::measure(const Truth& truth) {
   const FramePose& now = shared_.history->at(frame_);
-  shared_.renderer->pipeline().set_warp_settings(warp_);
+  renderer_->pipeline().set_warp_settings(warp_);
   const auto start = std::chrono::steady_clock::now();
   if (!frames_->run_frame(client::FrameInput{now, false}, sink_) || !frames_->finish()) {
     throw std::runtime_error("setting " + setting_label(setting_) + ": " + frames_->last_error());
@@ -313,7 +320,7 @@ void SettingSession::measure(const Truth& truth) {
       totals_.responses += 1;
       totals_.response_ms += static_cast<double>(p.visibility_age_ns.value_or(0)) * 1e-6;
     }
-    EyeRender rendered = shared_.renderer->read_back(eye);
+    EyeRender rendered = renderer_->read_back(eye);
     rendered.stats = p.stats;
     rendered.host_ms = host_ms;
     if (snapshot_frame_ && frame_ == *snapshot_frame_) write_snapshot(rendered, truth, static_cast<int>(eye));
@@ -377,7 +384,7 @@ void SettingSession::add_image_errors(const EyeRender& rendered, const Truth& tr
     for (uint32_t l = 0; l < shared_.light_count; ++l) totals_.bit_error_per_light[l] += bits->light_fraction(l);
   }
   const std::optional<VisibilityError> k =
-      visibility_error(rendered.mask, shared_.renderer->layout(), truth.exact[eye]);
+      visibility_error(rendered.mask, renderer_->layout(), truth.exact[eye]);
   totals_.display_pixels += rendered.mask.pixel_count();
   if (k) {
     totals_.surface_pixels += k->surface_pixels;

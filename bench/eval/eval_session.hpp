@@ -87,6 +87,11 @@ struct SettingTotals {
 struct SessionShared {
   server::VisibilityTracer* tracer = nullptr;
   EyeRenderer* renderer = nullptr;
+  // A setting whose client reads its own previous display frame (WarpSettings::depth_splat) gets its own renderer,
+  // made with these: on the shared one that frame would be another setting's.
+  const Scene* scene = nullptr;
+  render::ShadowMapSettings shadow_maps;
+  bool forward = false;
   Extent eye;
   uint32_t light_count = 0;
   uint32_t soft_lights = 0;  // bit i: light i has an extent (the client offers soft levels for them)
@@ -231,6 +236,8 @@ class SettingSession {
   std::unique_ptr<server::VisibilityService> service_;
   std::unique_ptr<client::VisibilityClient> client_;
   std::unique_ptr<SessionVisibilitySource> source_;
+  std::unique_ptr<EyeRenderer> own_renderer_;  // WarpSettings::depth_splat (SessionShared::scene)
+  EyeRenderer* renderer_ = nullptr;             // own_renderer_ or the shared one
   std::unique_ptr<client::FrameCoordinator> frames_;  // the client's frame loop (its planner: the frame policy)
   client::FrameSink sink_;                            // nothing: measure() reads the eyes back itself
   client::FrameRecord last_record_;                   // of the frame measure() rendered last

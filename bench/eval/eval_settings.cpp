@@ -56,7 +56,10 @@ MethodSpec shipped_method() {
       spec.without |= kIngredientShadowFirst | kIngredientOtherEye | kIngredientOlderBuffer | kIngredientNeighbour;
     }
     if (client::shipped::kWarp == client::WarpChoice::kEdges) spec.without |= kIngredientDepthTest;
-    if ((spec.without & kIngredientDepthTest) == 0) spec.depth_scale = client::shipped::kDepthScale;
+    if ((spec.without & kIngredientDepthTest) == 0) {
+      spec.depth_scale = client::shipped::kDepthScale;
+      spec.depth_splat = client::shipped::kTracedDepth == client::TracedDepth::kSplat;
+    }
   } else {
     spec.method = server::shipped::kPredict ? Method::kPaperPred : Method::kPaper;
   }
@@ -71,6 +74,7 @@ std::string method_name(const MethodSpec& spec) {
     if ((spec.without & bit) != 0) name += std::string("-no-") + text;
   }
   if (spec.depth_scale > 1) name += "-depth-scale-" + std::to_string(spec.depth_scale);
+  if (spec.depth_splat) name += "-depth-splat";
   if (spec.edge_band != client::shipped::kEdgeBand) name += "-edge-band-" + std::to_string(spec.edge_band);
   return name;
 }
@@ -92,6 +96,12 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
     spec.edge_band = static_cast<uint32_t>(std::stoul(digits));
     if (spec.edge_band > render::kMaxEdgeBand) return std::nullopt;
     rest = rest.substr(0, band_at);
+  }
+  const std::string splat_item = "-depth-splat";
+  if (rest.size() >= splat_item.size() &&
+      rest.compare(rest.size() - splat_item.size(), splat_item.size(), splat_item) == 0) {
+    spec.depth_splat = true;
+    rest = rest.substr(0, rest.size() - splat_item.size());
   }
   const std::string scale_item = "-depth-scale-";
   const size_t scale_at = rest.rfind(scale_item);
@@ -118,7 +128,7 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
     }
     if (!matched) return std::nullopt;
   }
-  if (spec.depth_scale > 1 && (spec.without & kIngredientDepthTest) != 0) return std::nullopt;
+  if ((spec.depth_scale > 1 || spec.depth_splat) && (spec.without & kIngredientDepthTest) != 0) return std::nullopt;
   return spec;
 }
 
@@ -155,6 +165,7 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
   s.neighbour_fill = (spec.without & kIngredientNeighbour) == 0;
   s.motion = (spec.without & kIngredientMotion) == 0;
   s.depth_scale = spec.depth_scale;
+  s.depth_splat = spec.depth_splat;
   s.edge_band = spec.edge_band;
   return s;
 }
@@ -257,7 +268,8 @@ std::optional<std::vector<MethodSpec>> parse_method_list(const std::string& text
     if (!m) {
       fail(out_error, "--method: expected default, stale, paper, paper+pred, local, full or full-no-<ingredient>... "
                       "(bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first, pred, adaptive-fov, "
-                      "older, neighbour, motion), then optionally -depth-scale-N (2-16) and -edge-band-N (0-8), got '" +
+                      "older, neighbour, motion), then optionally -depth-scale-N (2-16), -depth-splat and "
+                      "-edge-band-N (0-8), got '" +
                           item + "'");
       return std::nullopt;
     }

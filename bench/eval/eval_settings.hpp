@@ -48,13 +48,16 @@ struct MethodSpec {
   uint32_t depth_scale = 1;  // kFull with the depth test: the traced depth at 1/depth_scale resolution ("-depth-scale-N")
   // kFull: WarpSettings::edge_band ("-edge-band-N" where it is not the shipped band)
   uint32_t edge_band = client::shipped::kEdgeBand;
+  // kFull with the depth test: the traced depth moved from the previous display frame ("-depth-splat";
+  // WarpSettings::depth_splat), not rendered
+  bool depth_splat = false;
   bool shipped = false;
   bool operator==(const MethodSpec&) const = default;
 };
 std::string method_name(const MethodSpec& spec);  // "full", "full-no-depth-no-pred", "default"
 // "default", "stale", "paper", "paper+pred", "local", "full", "full-no-<ingredient>[-no-<ingredient>...]", each
-// full form optionally followed by "-depth-scale-N" (N 2..16, not with -no-depth), then by "-edge-band-N" (N 0..8,
-// the shipped band when absent).
+// full form optionally followed by "-depth-scale-N" (N 2..16, not with -no-depth), then by "-depth-splat" (not with
+// -no-depth), then by "-edge-band-N" (N 0..8, the shipped band when absent).
 std::optional<MethodSpec> parse_method(const std::string& text);
 MethodSpec shipped_method();  // what "default" parses to
 // The guard label of the default method's settings: the client's own guard band (shipped::guard_band).

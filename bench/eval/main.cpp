@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   run->add_option("--x-max", x_max, "frames predicted at most: integers or 'all' (comma list)")->capture_default_str();
   run->add_option("--guard", guard, "guard bands as WxH pixels at 1920x1080, or 0 (comma list)")->capture_default_str();
   run->add_option("--method", method, "default (what dhr-server and dhr-xrclient ship), stale, paper, paper+pred, local, full, "
-                  "full-no-<ingredient>...[-depth-scale-N][-edge-band-N] (comma list)")->capture_default_str();
+                  "full-no-<ingredient>...[-depth-scale-N][-depth-splat][-edge-band-N] (comma list)")->capture_default_str();
   run->add_option("--frames", options.frames, "measured frames (default: the whole trace after the warm-up)");
   run->add_option("--eye-size", eye_size, "per-eye display size WxH")->capture_default_str();
   run->add_option("--trace-start", options.trace_start_s, "skip this many seconds of the trace");

@@ -432,6 +432,22 @@ TEST(EvalCliManyLightsTest, LightSlotsAreEvaluatedAgainstTheUnshadowedHeadset) {
   fs::remove_all(out);
 }
 
+// -depth-splat: the traced depth from each setting's own previous frame (its own renderer), no raster pass; exact
+// at zero delay like full, and its splat timed from the second frame on.
+TEST(EvalCliMethodsTest, DepthSplatRunsOnItsOwnFrames) {
+  const fs::path out = temp_dir("splat");
+  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
+                           " --frames 4 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,100 "
+                           "--method full,full-depth-splat,full-depth-scale-2-depth-splat-edge-band-0");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto results = by_setting(read_results(out));
+  ASSERT_EQ(results.size(), 6u);
+  EXPECT_EQ(results.at("full-depth-splat@0")["bit_error"].get<double>(), 0.0);
+  EXPECT_GT(results.at("full-depth-splat@100")["traced_depth_ms"].get<double>(), 0.0);
+  EXPECT_TRUE(results.contains("full-depth-scale-2-depth-splat-edge-band-0@100"));
+  fs::remove_all(out);
+}
+
 TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   const fs::path out = temp_dir("bad");
   CliRun r = run_cli("run --scene /nonexistent.gltf --trace " + kTrace + " --out " + out.string() + " --no-progress");
@@ -445,7 +461,8 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
   for (const char* bad : {"full-no-warp", "full-no-depth-no-depth", "local-no-depth", "fullx",
                           "full-no-depth-depth-scale-2", "full-depth-scale-1", "full-depth-scale-", "full-depth-scale-99",
                           "full-edge-band-9", "full-edge-band-", "full-edge-band-12", "full-edge-band-1-depth-scale-2",
-                          "local-edge-band-1"}) {
+                          "local-edge-band-1", "full-no-depth-depth-splat", "full-depth-splat-depth-scale-2",
+                          "full-depth-splat-depth-splat", "local-depth-splat"}) {
     r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_NE(r.output.find("full-no-<ingredient>"), std::string::npos) << r.output;

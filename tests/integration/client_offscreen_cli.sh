@@ -96,4 +96,24 @@ set -e
 [ "$rc" -eq 2 ] || { cat "$tmp/badband.err"; echo "FAIL: --edge-band 9 exit $rc, expected 2"; exit 1; }
 grep -q -- "--edge-band" "$tmp/badband.err" || { cat "$tmp/badband.err"; echo "FAIL: no --edge-band message"; exit 1; }
 run_client noband --warp edges --edge-band 0 || { tail -n 20 "$tmp/noband.err"; echo "FAIL: --edge-band 0 run"; exit 1; }
+# --traced-depth: raster or splat only (exit 2 naming the option); splat makes the depth test's traced depth from
+# the previous frame (from the second frame with a buffer on), without a raster pass.
+set +e
+"$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --traced-depth mesh >/dev/null \
+  2>"$tmp/baddepth.err"
+rc=$?
+set -e
+[ "$rc" -eq 2 ] || { cat "$tmp/baddepth.err"; echo "FAIL: --traced-depth mesh exit $rc, expected 2"; exit 1; }
+grep -q -- "--traced-depth" "$tmp/baddepth.err" ||
+  { cat "$tmp/baddepth.err"; echo "FAIL: no --traced-depth message"; exit 1; }
+run_client splat --warp edges-depth --traced-depth splat --depth-scale 1 ||
+  { tail -n 20 "$tmp/splat.err"; echo "FAIL: --traced-depth splat run"; exit 1; }
+python3 - "$tmp/splat/stats.jsonl" <<'PY'
+import json, sys
+eyes = [e for line in open(sys.argv[1]).read().splitlines() for e in json.loads(line)["eyes"]]
+made = [e for e in eyes if e["traced_depth_rendered"]]
+assert made and all(e["traced_depth_ms"] >= 0 for e in made), eyes[-1]
+assert sum(e["known"] for e in eyes) > 0, eyes[-1]
+print("splat: traced depth made in", len(made), "of", len(eyes), "eye frames")
+PY
 echo PASS

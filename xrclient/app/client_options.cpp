@@ -122,6 +122,13 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "per axis (1: full resolution)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 16u));
+  std::string traced_depth = to_string(out.traced_depth);
+  app.add_option("--traced-depth", traced_depth,
+                 "edges-depth, full: where the depth test's traced depth comes from: raster (the traced camera "
+                 "rendered, a second raster pass) or splat (this eye's previous frame's depth moved into the traced "
+                 "camera, one compute pass; docs/client.md)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"raster", "splat"}));
   app.add_option("--edge-band", out.edge_band,
                  "edges, edges-depth, full: a light's shadow edge within N traced pixels of a lookup's samples makes "
                  "its bit the shadow maps' (hard lights; 0: only where the 2x2 samples disagree)")
@@ -189,6 +196,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
              : warp == "edges-depth"    ? WarpChoice::kEdgesDepth
                                         : WarpChoice::kPaper;
   out.render_path = parse_render_path(render_path).value_or(shipped::kRenderPath);
+  out.traced_depth = traced_depth == "splat" ? TracedDepth::kSplat : TracedDepth::kRaster;
   if (!parse_view(view, out)) {
     return usage("--view '" + view + "': expected shaded, light:N (N 0..31), unknown, motion, albedo or normal");
   }

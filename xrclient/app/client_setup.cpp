@@ -178,7 +178,7 @@ CoordinatorOptions coordinator_options(const ClientOptions& options, bool discre
   out.eye.shading.debug_light = options.view_light;
   const render::WarpOutputs needed = render::warp_outputs_for(out.eye.shading.view);
   out.eye.warp_status = needed.status;
-  out.eye.warp = render::warp_settings_for(options.warp, options.depth_scale, options.edge_band);
+  out.eye.warp = render::warp_settings_for(options.warp, options.depth_scale, options.edge_band, options.traced_depth);
   out.eye.forward = forward_pass_for(options.render_path, discrete_gpu);
   out.eye.motion_vectors = needed.motion;
   return out;

@@ -29,6 +29,8 @@ std::string frame_record_json(const FrameRecord& record) {
     o["forward"] = e.stats.forward;
     o["forward_ms"] = e.stats.gpu.forward_ms;
     o["total_ms"] = e.stats.gpu.total_ms;
+    o["traced_depth_rendered"] = e.stats.traced_depth_rendered;  // the depth test's traced depth made this frame
+    o["traced_depth_ms"] = e.stats.gpu.traced_depth_ms;
     if (e.stats.shadow_update.faces > 0) {  // eye 0 of a moving scene's frame: its shadow-map re-render
       o["shadow_update_lights"] = e.stats.shadow_update.lights;
       o["shadow_update_faces"] = e.stats.shadow_update.faces;

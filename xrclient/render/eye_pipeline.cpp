@@ -65,6 +65,8 @@ void EyePipeline::create_images() {
   fo.write_mask = options_.forward_mask;
   forward_ = ForwardTargets::create(*context_, extent_, fo);
   deferred_images_ = false;
+  last_display_.reset();
+  last_display_depth_ = nullptr;
   gbuffer_ = GBuffer{};
   warp_ = WarpTargets{};
   output_ = vk::Image{};
@@ -120,9 +122,13 @@ void EyePipeline::prepare(VkCommandBuffer cmd, uint32_t slot_index, const Visibi
     wanted[1] = depth_camera(older->traced, options_.warp.depth_scale);
   }
   const std::array<const Camera*, 2> needed{wanted[0] ? &*wanted[0] : nullptr, wanted[1] ? &*wanted[1] : nullptr};
+  const bool splat = options_.warp.depth_splat;
   auto holds = [&](size_t k, const Camera* camera) {
-    return camera != nullptr && traced_camera_[k] && same_camera(*traced_camera_[k], *camera);
+    return camera != nullptr && traced_camera_[k] && traced_splat_[k] == splat &&
+           same_camera(*traced_camera_[k], *camera);
   };
+  // The splat's source: this eye's previous display frame (none yet: no traced depth, no test this frame).
+  if (splat && !last_display_) return;
   bool started = false;
   for (size_t n = 0; n < needed.size(); ++n) {
     const Camera* camera = needed[n];
@@ -139,8 +145,15 @@ void EyePipeline::prepare(VkCommandBuffer cmd, uint32_t slot_index, const Visibi
       slot.prepare_timestamps.write(cmd, kPrepareStart);
       started = true;
     }
-    gbuffer_pass_.record(cmd, g, *camera, options_.near_plane);
+    if (splat) {
+      if (!splat_) splat_ = std::make_unique<TracedDepthSplat>(*context_, options_.frames_in_flight, 2);
+      splat_->record(cmd, slot_index, static_cast<uint32_t>(n), *last_display_depth_, *last_display_, g.depth,
+                     *camera, options_.near_plane);
+    } else {
+      gbuffer_pass_.record(cmd, g, *camera, options_.near_plane);
+    }
     traced_camera_[target] = *camera;
+    traced_splat_[target] = splat;
     if (n == 0) newest_ = target;
   }
   if (started) {
@@ -152,7 +165,9 @@ void EyePipeline::prepare(VkCommandBuffer cmd, uint32_t slot_index, const Visibi
 vk::Image* EyePipeline::traced_depth(const Camera& traced) {
   const Camera depth = depth_camera(traced, options_.warp.depth_scale);
   for (size_t k = 0; k < traced_.size(); ++k) {
-    if (traced_camera_[k] && same_camera(*traced_camera_[k], depth)) return &traced_[k].depth;
+    if (traced_camera_[k] && traced_splat_[k] == options_.warp.depth_splat && same_camera(*traced_camera_[k], depth)) {
+      return &traced_[k].depth;
+    }
   }
   return nullptr;
 }
@@ -227,6 +242,8 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
     slot.timestamps.write(cmd, kAfterWarp);
     slot.timestamps.write(cmd, kAfterShading);
     slot.recorded = true;
+    last_display_ = camera;
+    last_display_depth_ = &forward_.depth;
     return;
   }
   ensure_deferred_images();
@@ -261,6 +278,8 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
                        options_.shading, output_);
   slot.timestamps.write(cmd, kAfterShading);
   slot.recorded = true;
+  last_display_ = camera;
+  last_display_depth_ = &gbuffer_.depth;
 }
 
 EyeStats EyePipeline::read_stats(uint32_t slot_index) const {

@@ -5,8 +5,10 @@
 //            small count pass;
 //   deferred (any other warp setting or debug view): G-buffer -> warp -> shading.
 // With the warp's depth test on, prepare() first renders the depth of the camera this eye's newest
-// visibility was traced for, at 1 / WarpSettings::depth_scale of its resolution (depth_camera; once per traced camera; the previous one is kept for the previous buffer, the
-// warp's source 2); the other eye's pipeline reads the newest as its source 1.
+// visibility was traced for, at 1 / WarpSettings::depth_scale of its resolution (depth_camera; once per traced
+// camera; the previous one is kept for the previous buffer, the warp's source 2); the other eye's pipeline reads the
+// newest as its source 1. With WarpSettings::depth_splat it makes that depth from this eye's previous display frame
+// instead of rendering it (traced_depth_splat.hpp).
 //
 // Frames in flight: host-written per-frame resources (visibility upload, lights, counters, timestamps) exist
 // once per slot; the caller records frame n with slot n % frames_in_flight after waiting for that slot's
@@ -29,6 +31,7 @@
 #include "render/render_camera.hpp"
 #include "render/shading_pass.hpp"
 #include "render/shadow_maps.hpp"
+#include "render/traced_depth_splat.hpp"
 #include "vk/image.hpp"
 #include "vk/timestamps.hpp"
 
@@ -166,7 +169,12 @@ class EyePipeline {
   // Traced cameras' G-buffers (only their depth is read), the newest two rendered; empty until prepared.
   std::array<GBuffer, 2> traced_;
   std::array<std::optional<Camera>, 2> traced_camera_;  // what traced_ holds (depth cameras)
+  std::array<bool, 2> traced_splat_{};                  // ... and whether it was splatted (depth_splat) or rendered
   size_t newest_ = 1;  // which of traced_ holds the newest camera rendered
+  // WarpSettings::depth_splat: the traced depth from the previous display frame (made on first use).
+  std::unique_ptr<TracedDepthSplat> splat_;
+  std::optional<Camera> last_display_;          // the camera of the last frame record() recorded
+  const vk::Image* last_display_depth_ = nullptr;  // its depth (forward_.depth or gbuffer_.depth)
   WarpTargets warp_;
   vk::Image output_;
   std::vector<Slot> slots_;

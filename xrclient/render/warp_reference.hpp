@@ -107,6 +107,10 @@ struct WarpSettings {
   // depth_test: the traced depth is rendered at 1 / depth_scale of the traced camera's resolution per axis
   // (depth_camera); old pixel (a, b) tests the surface its texel (a, b) / depth_scale shows. 1: every old pixel.
   uint32_t depth_scale = 1;
+  // depth_test: the traced depth is made from this eye's previous display frame's depth, moved into the traced
+  // camera (render/traced_depth_splat.hpp), instead of a raster pass of the traced camera. Until the eye has
+  // displayed a frame (and after a resize) there is none: that frame runs without the test.
+  bool depth_splat = false;
   // With bilinear: a hard light's bit that any arrived old pixel within edge_band pixels (Chebyshev) of a used
   // sample disagrees on is undecided, as if the samples disagreed (render/warp_edges.hpp); 0: the 2x2 samples
   // alone. Exact lookups keep their pixel's mask. At most kMaxEdgeBand.
@@ -132,10 +136,12 @@ struct WarpSettings {
   bool operator==(const WarpSettings&) const = default;
 };
 
-// The settings of a --warp choice (paper: WarpSettings{}) with --depth-scale (edges, full): one mapping for
-// dhr-xrclient's command line, client_bench's configurations and dhr-eval's `default`.
+// The settings of a --warp choice (paper: WarpSettings{}) with --depth-scale and --traced-depth (edges-depth, full)
+// and --edge-band: one mapping for dhr-xrclient's command line, client_bench's configurations and dhr-eval's
+// `default`.
 WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale,
-                               uint32_t edge_band = client::shipped::kEdgeBand);
+                               uint32_t edge_band = client::shipped::kEdgeBand,
+                               client::TracedDepth traced_depth = client::shipped::kTracedDepth);
 
 // The camera a traced depth is rendered with at 1 / scale of `traced`'s resolution per axis: the same eye and
 // top-left tangents, extent ceil(width / scale) x ceil(height / scale), its texel t covering old pixels

@@ -22,19 +22,21 @@ uint64_t WarpCounts::unknown_surface() const {
          (*this)[WarpStatus::kNoData] + (*this)[WarpStatus::kDisoccluded];
 }
 
-WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale, uint32_t edge_band) {
+WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale, uint32_t edge_band,
+                               client::TracedDepth traced_depth) {
+  WarpSettings s;
   switch (choice) {
-    case client::WarpChoice::kPaper: return WarpSettings{};
-    case client::WarpChoice::kFull: {
-      WarpSettings s = WarpSettings::full();
+    case client::WarpChoice::kPaper: return s;
+    case client::WarpChoice::kFull:
+      s = WarpSettings::full();
       s.depth_scale = depth_scale;
       s.edge_band = edge_band;
-      return s;
-    }
+      break;
     case client::WarpChoice::kEdges: return WarpSettings::server_edges(edge_band);
-    case client::WarpChoice::kEdgesDepth: return WarpSettings::server_edges_depth(depth_scale, edge_band);
+    case client::WarpChoice::kEdgesDepth: s = WarpSettings::server_edges_depth(depth_scale, edge_band); break;
   }
-  return WarpSettings{};
+  s.depth_splat = traced_depth == client::TracedDepth::kSplat;
+  return s;
 }
 
 WarpSettings WarpSettings::full() {
@@ -63,6 +65,7 @@ bool WarpSettings::is_server_edges() const {
   WarpSettings plain = *this;
   plain.depth_test = false;
   plain.depth_scale = 1;
+  plain.depth_splat = false;
   plain.plane_tolerance_rel = server_edges().plane_tolerance_rel;
   plain.plane_tolerance_abs = server_edges().plane_tolerance_abs;
   return plain == server_edges(edge_band);

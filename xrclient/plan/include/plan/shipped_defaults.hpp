@@ -16,6 +16,8 @@ inline constexpr uint32_t kXMax = 3;                      // --x-max (the paper 
 inline constexpr WarpChoice kWarp = WarpChoice::kEdges;   // --warp
 // --depth-scale (edges-depth, full): the depth test's traced depth at 1/2 of the traced resolution per axis.
 inline constexpr uint32_t kDepthScale = 2;
+// --traced-depth (edges-depth, full): the traced depth rendered.
+inline constexpr TracedDepth kTracedDepth = TracedDepth::kRaster;
 // --edge-band (edges, edges-depth, full): a hard light's bit any traced pixel within 3 pixels of a used sample
 // disagrees on takes the shadow maps (render::WarpSettings::edge_band; docs/client.md "Warp rule").
 inline constexpr uint32_t kEdgeBand = 3;

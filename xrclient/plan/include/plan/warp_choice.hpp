@@ -21,4 +21,19 @@ inline const char* to_string(WarpChoice choice) {
   return "?";
 }
 
+// --traced-depth (edges-depth, full): where the depth test's traced depth comes from
+// (render::WarpSettings::depth_splat).
+enum class TracedDepth {
+  kRaster,  // the traced camera rendered: a second raster pass per traced camera
+  kSplat,   // the eye's previous display frame's depth moved into the traced camera (one compute pass)
+};
+
+inline const char* to_string(TracedDepth source) {
+  switch (source) {
+    case TracedDepth::kRaster: return "raster";
+    case TracedDepth::kSplat: return "splat";
+  }
+  return "?";
+}
+
 }  // namespace dhr::client
