@@ -237,34 +237,35 @@ int run(const Options& o) {
     configs.push_back(Config{std::string(name) + "_ms", [loop, &o](uint32_t i) { return loop->run(i, o.warmup); }, {}});
   };
   const bool discrete_gpu = context->info().is_discrete_gpu;  // the shipped render path's rule
+  const bool soft_scene = scene.has_soft_lights();              // the shipped warp's rule (--warp auto)
   out["dhr_render_path_rule"] = client::to_string(client::shipped::kRenderPath);
-  add_loop("dhr", shipped_options(discrete_gpu));
+  add_loop("dhr", shipped_options(discrete_gpu, soft_scene));
   if (!o.skip_full) {
-    client::CoordinatorOptions full = shipped_options(discrete_gpu);
+    client::CoordinatorOptions full = shipped_options(discrete_gpu, soft_scene);
     full.eye.warp = render::WarpSettings::full();
     add_loop("dhr_full", full);
   }
   if (o.alt_path) {
-    client::CoordinatorOptions alt = shipped_options(discrete_gpu);
+    client::CoordinatorOptions alt = shipped_options(discrete_gpu, soft_scene);
     alt.eye.forward = !alt.eye.forward;
     add_loop("dhr_alt_path", alt);
   }
   std::vector<std::string> scale_names;
   for (const uint32_t scale : o.depth_scales) {
-    client::CoordinatorOptions edges = shipped_options(discrete_gpu);
+    client::CoordinatorOptions edges = shipped_options(discrete_gpu, soft_scene);
     edges.eye.warp = render::WarpSettings::server_edges_depth(scale);
     scale_names.push_back("dhr_edges_depth" + std::to_string(scale));
     add_loop(scale_names.back().c_str(), edges);
   }
   for (const uint32_t scale : o.splat_scales) {
-    client::CoordinatorOptions edges = shipped_options(discrete_gpu);
+    client::CoordinatorOptions edges = shipped_options(discrete_gpu, soft_scene);
     edges.eye.warp = render::warp_settings_for(client::WarpChoice::kEdgesDepth, scale, client::shipped::kEdgeBand,
                                                client::TracedDepth::kSplat);
     scale_names.push_back("dhr_edges_splat" + std::to_string(scale));
     add_loop(scale_names.back().c_str(), edges);
   }
   for (const uint32_t band : o.edge_bands) {
-    client::CoordinatorOptions banded = shipped_options(discrete_gpu);
+    client::CoordinatorOptions banded = shipped_options(discrete_gpu, soft_scene);
     banded.eye.warp.edge_band = band;
     scale_names.push_back("dhr_edge_band" + std::to_string(band));
     add_loop(scale_names.back().c_str(), banded);

@@ -48,7 +48,9 @@ int run_many_lights(const std::string& scene_path, const Scene& scene, Extent si
   render::EyePipelineOptions deferred;
   deferred.frames_in_flight = 1;
   deferred.forward = false;
-  deferred.warp = render::warp_settings_for(client::shipped::kWarp, client::shipped::kDepthScale).without_shadow_maps();
+  deferred.warp = render::warp_settings_for(client::resolve_warp(client::shipped::kWarp, scene.has_soft_lights()),
+                                            client::shipped::kDepthScale)
+                      .without_shadow_maps();
   render::EyePipeline eye(*context, gpu_scene, size, deferred);
   render::EyeStats eye_stats;
   configs.push_back(single_eye_config(

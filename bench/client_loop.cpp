@@ -31,11 +31,12 @@ FramePose moving_pose(const Pose& head, const Fov& fov, uint32_t i, uint32_t tot
   return pose;
 }
 
-client::CoordinatorOptions shipped_options(bool discrete_gpu) {
+client::CoordinatorOptions shipped_options(bool discrete_gpu, bool soft_scene) {
   client::CoordinatorOptions o;
   o.plan.schedule = client::shipped::kSchedule;
   o.plan.x_max = client::shipped::kXMax;
-  o.eye.warp = render::warp_settings_for(client::shipped::kWarp, client::shipped::kDepthScale);
+  o.eye.warp =
+      render::warp_settings_for(client::resolve_warp(client::shipped::kWarp, soft_scene), client::shipped::kDepthScale);
   o.eye.forward = client::forward_pass_for(client::shipped::kRenderPath, discrete_gpu);
   o.eye.frames_in_flight = 1;
   return o;

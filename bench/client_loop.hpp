@@ -30,7 +30,8 @@ FramePose moving_pose(const Pose& head, const Fov& fov, uint32_t i, uint32_t tot
 // dhr-xrclient's coordinator options when no option is given (xrclient/plan/include/plan/shipped_defaults.hpp) on
 // a device (`discrete_gpu`: its render path), except for one GPU slot: every frame is waited for, as the other
 // configurations'.
-client::CoordinatorOptions shipped_options(bool discrete_gpu);
+// `soft_scene`: Scene::has_soft_lights (--warp auto's rule).
+client::CoordinatorOptions shipped_options(bool discrete_gpu, bool soft_scene);
 
 // A client frame loop as dhr-xrclient runs it, with its host-side costs; its JSON keys start with `name`.
 class ClientLoop {

@@ -139,7 +139,7 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
       const std::string many = options.scene + ": " + std::to_string(scene.lights.size()) + " lights share light slots";
       if (!scene.animation.empty())
         throw cli::InputError(many + ", which need a scene without animation (the scene has animations)");
-      if (std::any_of(scene.lights.begin(), scene.lights.end(), [](const SceneLight& l) { return l.has_extent(); }))
+      if (scene.has_soft_lights())
         throw cli::InputError(many + ", and dhr-eval evaluates them for hard lights only (the scene has lights with "
                               "an extent)");
       for (const MethodSpec& m : options.methods)

@@ -175,7 +175,7 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
   totals_.bit_error_per_light.assign(shared.light_count, 0.0);
   totals_.visibility_error_per_light.assign(shared.light_count, 0.0);
   cap_ms_ = options.predict_max_horizon_ms;
-  warp_ = warp_settings(setting.method, options);
+  warp_ = warp_settings(for_scene(setting.method, shared.soft_lights != 0), options);
   renderer_ = shared.renderer;
   if (warp_.depth_test && warp_.depth_splat) {
     if (shared.scene == nullptr) throw std::invalid_argument("SettingSession: a depth-splat setting needs the scene");

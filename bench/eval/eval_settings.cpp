@@ -42,20 +42,20 @@ const char* method_name(Method method) {
   return "unknown";
 }
 
-MethodSpec shipped_method() {
+MethodSpec shipped_method(bool soft_scene) {
   MethodSpec spec;
   spec.shipped = true;
-  if (client::shipped::kWarp != client::WarpChoice::kPaper) {
+  const client::WarpChoice warp = client::resolve_warp(client::shipped::kWarp, soft_scene);
+  if (warp != client::WarpChoice::kPaper) {
     spec.method = Method::kFull;
     if (!server::shipped::kPredict) spec.without |= kIngredientPrediction;
     if (!server::shipped::kAdaptiveFov) spec.without |= kIngredientAdaptiveFov;
     // server_edges_depth(): full without the ingredients that decide before the server's bits or read other
     // buffers; edges (server_edges()) also without the depth test.
-    if (client::shipped::kWarp == client::WarpChoice::kEdges ||
-        client::shipped::kWarp == client::WarpChoice::kEdgesDepth) {
+    if (warp == client::WarpChoice::kEdges || warp == client::WarpChoice::kEdgesDepth) {
       spec.without |= kIngredientShadowFirst | kIngredientOtherEye | kIngredientOlderBuffer | kIngredientNeighbour;
     }
-    if (client::shipped::kWarp == client::WarpChoice::kEdges) spec.without |= kIngredientDepthTest;
+    if (warp == client::WarpChoice::kEdges) spec.without |= kIngredientDepthTest;
     if ((spec.without & kIngredientDepthTest) == 0) {
       spec.depth_scale = client::shipped::kDepthScale;
       spec.depth_splat = client::shipped::kTracedDepth == client::TracedDepth::kSplat;
@@ -80,7 +80,7 @@ std::string method_name(const MethodSpec& spec) {
 }
 
 std::optional<MethodSpec> parse_method(const std::string& text) {
-  if (text == "default") return shipped_method();
+  if (text == "default") return shipped_method(false);
   for (const Method m : {Method::kStale, Method::kPaper, Method::kPaperPred, Method::kLocal, Method::kFull}) {
     if (text == method_name(m)) return MethodSpec{m, 0};
   }
@@ -130,6 +130,10 @@ std::optional<MethodSpec> parse_method(const std::string& text) {
   }
   if ((spec.depth_scale > 1 || spec.depth_splat) && (spec.without & kIngredientDepthTest) != 0) return std::nullopt;
   return spec;
+}
+
+MethodSpec for_scene(const MethodSpec& spec, bool soft_scene) {
+  return spec.shipped ? shipped_method(soft_scene) : spec;
 }
 
 bool server_predicts(const MethodSpec& spec) {

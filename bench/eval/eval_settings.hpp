@@ -59,7 +59,11 @@ std::string method_name(const MethodSpec& spec);  // "full", "full-no-depth-no-p
 // full form optionally followed by "-depth-scale-N" (N 2..16, not with -no-depth), then by "-depth-splat" (not with
 // -no-depth), then by "-edge-band-N" (N 0..8, the shipped band when absent).
 std::optional<MethodSpec> parse_method(const std::string& text);
-MethodSpec shipped_method();  // what "default" parses to
+// What ships (dhr-xrclient and dhr-server without options) in a scene with (`soft_scene`: Scene::has_soft_lights)
+// or without soft lights: --warp auto's rule (client::resolve_warp). "default" parses to the form without; a run
+// takes for_scene() of each method.
+MethodSpec shipped_method(bool soft_scene);
+MethodSpec for_scene(const MethodSpec& spec, bool soft_scene);
 // The guard label of the default method's settings: the client's own guard band (shipped::guard_band).
 inline constexpr const char* kShippedGuardLabel = "64x36";
 

@@ -62,8 +62,7 @@ int run_serve_command(const ServerOptions& options) {
       options.encode_ranges != 0 ? options.encode_ranges : std::clamp(options.encode_threads, 2u, 4u);
   config.codec_v2 = options.codec_v2;
   config.soft_levels = options.soft_levels;
-  const bool soft_scene = std::any_of(scene->lights.begin(), scene->lights.end(),
-                                      [](const SceneLight& l) { return l.has_extent(); });
+  const bool soft_scene = scene->has_soft_lights();
   const bool embree = tracer->backend() == TracerBackend::kEmbree;
   const LightSlots* slots = tracer->light_slots();
   config.reuse = options.reuse == ReuseChoice::kOn ||

@@ -303,11 +303,13 @@ TEST(EvalCliMethodsTest, LocalAndFullWriteTheirFillCounts) {
 // to (whatever the --guard and --x-max lists say for the other methods).
 TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
   std::string equivalent;
-  if (dhr::client::shipped::kWarp != dhr::client::WarpChoice::kPaper) {
+  // The test's scene has hard lights only (--warp auto resolves for it as dhr-xrclient does).
+  const dhr::client::WarpChoice warp = dhr::client::resolve_warp(dhr::client::shipped::kWarp, false);
+  if (warp != dhr::client::WarpChoice::kPaper) {
     // Ingredients in dhr-eval's naming order (bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first,
     // pred, adaptive-fov, older, neighbour).
-    const bool depth = dhr::client::shipped::kWarp != dhr::client::WarpChoice::kEdges;
-    const bool edges = dhr::client::shipped::kWarp != dhr::client::WarpChoice::kFull;
+    const bool depth = warp != dhr::client::WarpChoice::kEdges;
+    const bool edges = warp != dhr::client::WarpChoice::kFull;
     equivalent = "full";
     if (!depth) equivalent += "-no-depth";
     if (edges) equivalent += "-no-other-eye-no-shadow-first";
@@ -317,6 +319,7 @@ TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
     if (depth && dhr::client::shipped::kDepthScale > 1) {
       equivalent += "-depth-scale-" + std::to_string(dhr::client::shipped::kDepthScale);
     }
+    if (depth && dhr::client::shipped::kTracedDepth == dhr::client::TracedDepth::kSplat) equivalent += "-depth-splat";
   } else {
     equivalent = dhr::server::shipped::kPredict ? "paper+pred" : "paper";
   }
@@ -349,6 +352,20 @@ TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
     }
     EXPECT_EQ(a, b) << "default vs " << equivalent << rtt;
   }
+  fs::remove_all(out);
+}
+
+// --warp auto (what ships) in a scene with a light that has an extent: the depth test against the splatted traced
+// depth, as `--warp edges-depth --traced-depth splat` (its traced depth is timed); in the hard-lit room above, none.
+TEST(EvalCliMethodsTest, DefaultTestsDepthWhereLightsHaveAnExtent) {
+  if (dhr::client::shipped::kWarp != dhr::client::WarpChoice::kAuto) GTEST_SKIP() << "--warp auto does not ship";
+  const fs::path out = temp_dir("default_soft");
+  const CliRun r = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " +
+                           kTrace + " --out " + out.string() +
+                           " --frames 4 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 100 --method default");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::map<std::string, json> rows = by_setting(read_results(out));
+  EXPECT_GT(rows.at("default@100")["traced_depth_ms"].get<double>(), 0.0);
   fs::remove_all(out);
 }
 

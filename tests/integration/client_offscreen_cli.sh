@@ -36,6 +36,9 @@ for name in ("shaded", "light"):
         assert key in summary, f"{name}: summary lacks {key}: {summary}"
     assert summary["exit"] == "clean" and summary["frames"] == 45, summary
     assert summary["frames_with_visibility"] > 0, summary
+    # What ships (--warp auto) in this hard-lit room: no depth test, so no traced depth.
+    assert not any(e["traced_depth_rendered"] for line in open(f"{tmp}/{name}/stats.jsonl").read().splitlines()
+                   for e in json.loads(line)["eyes"]), name
     lines = open(f"{tmp}/{name}/stats.jsonl").read().splitlines()
     assert len(lines) == 45, f"{name}: {len(lines)} stats lines"
     for line in lines: json.loads(line)

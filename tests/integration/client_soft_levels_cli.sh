@@ -12,7 +12,8 @@ export DHR_LOG=info
 run_client() {  # name
   mkdir -p "$tmp/$1"
   "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --trace "$trace" \
-    --offscreen "$tmp/$1" --eye-size 96x72 --frames 30 --png-every 0 --connect-timeout 2 >"$tmp/$1.out" 2>"$tmp/$1.err"
+    --offscreen "$tmp/$1" --eye-size 96x72 --frames 30 --png-every 0 --connect-timeout 2 \
+    --stats-jsonl "$tmp/$1/stats.jsonl" >"$tmp/$1.out" 2>"$tmp/$1.err"
 }
 
 mkdir -p "$tmp/server1" "$tmp/server2"
@@ -21,6 +22,14 @@ run_client granted || { tail -n 20 "$tmp/granted.err"; echo "FAIL: the soft-leve
 grep -q "3 lights (2 with soft levels)" "$server_tmp/server.log" ||
   { cat "$server_tmp/server.log"; echo "FAIL: the server did not grant soft levels for 2 lights"; exit 1; }
 expect_served "$tmp/granted.out" "soft levels granted" 25  # all but the frames before the first buffer
+# What ships (--warp auto) tests depth in a scene with soft lights: the traced depth is splatted on most frames.
+python3 - "$tmp/granted/stats.jsonl" <<'PY'
+import json, sys
+eyes = [e for line in open(sys.argv[1]).read().splitlines() for e in json.loads(line)["eyes"]]
+made = sum(e["traced_depth_rendered"] for e in eyes)
+assert made >= len(eyes) // 2, f"traced depth made in {made} of {len(eyes)} eye frames"
+print("--warp auto on soft lights: traced depth made in", made, "of", len(eyes), "eye frames")
+PY
 stop_server
 server_pid=""
 

@@ -114,9 +114,10 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "buffer and the client's shadow maps (docs/client.md, Warp rule); edges: 2x2 lookups, bits they "
                  "agree on from the server, the others and unknown pixels from the client's shadow maps (forward); "
                  "edges-depth: edges plus the depth test against the traced camera's depth rendered at 1/--depth-scale "
-                 "resolution for every arriving buffer (samples off the pixel's tangent plane, disocclusions, not used)")
+                 "resolution for every arriving buffer (samples off the pixel's tangent plane, disocclusions, not used); "
+                 "auto: edges-depth in a scene with a light that has an extent (area, sphere, sun), else edges")
       ->capture_default_str()
-      ->check(CLI::IsMember({"paper", "full", "edges", "edges-depth"}));
+      ->check(CLI::IsMember({"paper", "full", "edges", "edges-depth", "auto"}));
   app.add_option("--depth-scale", out.depth_scale,
                  "edges-depth, full: render the traced camera's depth for the depth test at 1/N of the traced resolution "
                  "per axis (1: full resolution)")
@@ -194,6 +195,7 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
   out.warp = warp == "full"             ? WarpChoice::kFull
              : warp == "edges"          ? WarpChoice::kEdges
              : warp == "edges-depth"    ? WarpChoice::kEdgesDepth
+             : warp == "auto"           ? WarpChoice::kAuto
                                         : WarpChoice::kPaper;
   out.render_path = parse_render_path(render_path).value_or(shipped::kRenderPath);
   out.traced_depth = traced_depth == "splat" ? TracedDepth::kSplat : TracedDepth::kRaster;

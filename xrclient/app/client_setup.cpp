@@ -164,7 +164,7 @@ FrameInput frame_input(const FramePose& sample, PoseGuard& guard) {
   return input;
 }
 
-CoordinatorOptions coordinator_options(const ClientOptions& options, bool discrete_gpu) {
+CoordinatorOptions coordinator_options(const ClientOptions& options, bool discrete_gpu, bool scene_has_soft_lights) {
   using render::ShadingView;
   CoordinatorOptions out;
   out.plan.schedule = options.schedule;
@@ -178,7 +178,8 @@ CoordinatorOptions coordinator_options(const ClientOptions& options, bool discre
   out.eye.shading.debug_light = options.view_light;
   const render::WarpOutputs needed = render::warp_outputs_for(out.eye.shading.view);
   out.eye.warp_status = needed.status;
-  out.eye.warp = render::warp_settings_for(options.warp, options.depth_scale, options.edge_band, options.traced_depth);
+  out.eye.warp = render::warp_settings_for(resolve_warp(options.warp, scene_has_soft_lights), options.depth_scale,
+                                           options.edge_band, options.traced_depth);
   out.eye.forward = forward_pass_for(options.render_path, discrete_gpu);
   out.eye.motion_vectors = needed.motion;
   return out;

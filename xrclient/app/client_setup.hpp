@@ -47,8 +47,9 @@ PoseGuard make_pose_guard(const EyeModel& eyes);
 FrameInput frame_input(const FramePose& sample, PoseGuard& guard);
 
 // The frame loop's options from the command line: schedule, x_max, the shading view (a debug view also turns on
-// the warp outputs it reads) and the render path on this device (`discrete_gpu`: vk::DeviceInfo::is_discrete_gpu).
-CoordinatorOptions coordinator_options(const ClientOptions& options, bool discrete_gpu);
+// the warp outputs it reads), the warp (--warp auto resolved for the scene: `scene_has_soft_lights`, any
+// SceneLight::has_extent) and the render path on this device (`discrete_gpu`: vk::DeviceInfo::is_discrete_gpu).
+CoordinatorOptions coordinator_options(const ClientOptions& options, bool discrete_gpu, bool scene_has_soft_lights);
 
 // The --view as the summary names it: "shaded", "light:2", ...
 std::string view_name(const ClientOptions& options);

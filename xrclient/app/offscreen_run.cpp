@@ -65,7 +65,8 @@ int run_offscreen(const ClientOptions& options) {
   source.set_node_script(node_script.get());
 
   FrameCoordinator coordinator(*context, client_scene, eye, source,
-                               coordinator_options(options, context->info().is_discrete_gpu));
+                               coordinator_options(options, context->info().is_discrete_gpu,
+                                                   scene.has_soft_lights()));
   std::unique_ptr<StatsSink> stats;
   if (!options.stats_jsonl.empty()) stats = std::make_unique<StatsSink>(options.stats_jsonl);
   coordinator.set_on_frame([&stats](const FrameRecord& r) {

@@ -76,7 +76,8 @@ int run_openxr(const ClientOptions& options) {
   NetworkVisibilitySource source(link->client(), [&link] { return link->udp_counters().bytes_received; });
   source.set_node_script(node_script.get());
 
-  CoordinatorOptions frame_options = coordinator_options(options, vulkan.info().is_discrete_gpu);
+  CoordinatorOptions frame_options =
+      coordinator_options(options, vulkan.info().is_discrete_gpu, scene.has_soft_lights());
   // The raw copy into a BGRA swapchain needs the channels swapped by the shading pass.
   frame_options.eye.shading.swap_red_blue = is_bgra(desc.format);
   FrameCoordinator coordinator(vulkan, client_scene, eye, source, frame_options);

@@ -14,7 +14,8 @@
 // docs/evaluation.md ("Disocclusion without a second raster pass"); writing each point to the 2x2 texels nearest
 // it (no holes inside a surface, but every silhouette one texel wider), filling holes from their farthest neighbour,
 // and four sub-points per pixel were each measured there and were less accurate; writing each pixel's square (its
-// corners on its surface's plane) to the texels it covers was as accurate, at twice the time.
+// corners on its surface's plane) to the texels it covers was as accurate, at twice the time, and adding the other
+// eye's previous frame (which sees around an occluder's other side) as accurate too.
 //
 // GPU: one compute pass into a buffer (atomicMax on the depth's bits), then a copy into the traced depth image. The
 // CPU reference (splat_traced_depth_reference) is the same definition in double.

@@ -136,9 +136,9 @@ struct WarpSettings {
   bool operator==(const WarpSettings&) const = default;
 };
 
-// The settings of a --warp choice (paper: WarpSettings{}) with --depth-scale and --traced-depth (edges-depth, full)
-// and --edge-band: one mapping for dhr-xrclient's command line, client_bench's configurations and dhr-eval's
-// `default`.
+// The settings of a --warp choice (paper: WarpSettings{}; resolved: kAuto throws std::invalid_argument) with
+// --depth-scale and --traced-depth (edges-depth, full) and --edge-band: one mapping for dhr-xrclient's command line,
+// client_bench's configurations and dhr-eval's `default`.
 WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale,
                                uint32_t edge_band = client::shipped::kEdgeBand,
                                client::TracedDepth traced_depth = client::shipped::kTracedDepth);

@@ -2,6 +2,8 @@
 // --warp choice turns on, apart from the reference rule that applies them (warp_reference.cpp).
 #include "render/warp_reference.hpp"
 
+#include <stdexcept>
+
 namespace dhr::render {
 
 const char* to_string(WarpStatus status) {
@@ -34,6 +36,8 @@ WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale, 
       break;
     case client::WarpChoice::kEdges: return WarpSettings::server_edges(edge_band);
     case client::WarpChoice::kEdgesDepth: s = WarpSettings::server_edges_depth(depth_scale, edge_band); break;
+    case client::WarpChoice::kAuto:
+      throw std::invalid_argument("warp_settings_for: --warp auto is resolved with the scene (resolve_warp) first");
   }
   s.depth_splat = traced_depth == client::TracedDepth::kSplat;
   return s;

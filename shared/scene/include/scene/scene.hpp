@@ -143,6 +143,14 @@ struct Scene {
   SceneStats stats;
   SceneAnimation animation;  // empty for a static scene (see scene/scene_animation.hpp)
   std::vector<std::string> warnings;  // human-readable; capped (the last entry says how many were cut)
+
+  // Some light has an extent (SceneLight::has_extent): the scene has soft shadows.
+  bool has_soft_lights() const {
+    for (const SceneLight& l : lights) {
+      if (l.has_extent()) return true;
+    }
+    return false;
+  }
 };
 
 // Guards so that an absurd or hostile file cannot exhaust memory. Defaults are generous but bounded.

@@ -13,11 +13,12 @@ namespace dhr::client::shipped {
 
 inline constexpr Schedule kSchedule = Schedule::kNewest;  // --schedule
 inline constexpr uint32_t kXMax = 3;                      // --x-max (the paper schedule only)
-inline constexpr WarpChoice kWarp = WarpChoice::kEdges;   // --warp
-// --depth-scale (edges-depth, full): the depth test's traced depth at 1/2 of the traced resolution per axis.
-inline constexpr uint32_t kDepthScale = 2;
-// --traced-depth (edges-depth, full): the traced depth rendered.
-inline constexpr TracedDepth kTracedDepth = TracedDepth::kRaster;
+// --warp: edges, plus the depth test in scenes with soft lights (resolve_warp).
+inline constexpr WarpChoice kWarp = WarpChoice::kAuto;
+// --depth-scale (edges-depth, full): the depth test's traced depth at the traced resolution.
+inline constexpr uint32_t kDepthScale = 1;
+// --traced-depth (edges-depth, full): the traced depth splatted from the eye's previous frame, no raster pass.
+inline constexpr TracedDepth kTracedDepth = TracedDepth::kSplat;
 // --edge-band (edges, edges-depth, full): a hard light's bit any traced pixel within 3 pixels of a used sample
 // disagrees on takes the shadow maps (render::WarpSettings::edge_band; docs/client.md "Warp rule").
 inline constexpr uint32_t kEdgeBand = 3;

@@ -9,6 +9,7 @@ enum class WarpChoice {
   kFull,   // render::WarpSettings::full() (deferred, with shadow maps)
   kEdges,       // render::WarpSettings::server_edges() (forward, shadow maps where the samples disagree)
   kEdgesDepth,  // render::WarpSettings::server_edges_depth(--depth-scale) (the same plus the depth test)
+  kAuto,        // kEdgesDepth where the scene has a light with an extent (soft levels), else kEdges: resolve_warp
 };
 
 inline const char* to_string(WarpChoice choice) {
@@ -17,8 +18,18 @@ inline const char* to_string(WarpChoice choice) {
     case WarpChoice::kFull: return "full";
     case WarpChoice::kEdges: return "edges";
     case WarpChoice::kEdgesDepth: return "edges-depth";
+    case WarpChoice::kAuto: return "auto";
   }
   return "?";
+}
+
+// The warp a choice takes in a scene: kAuto is kEdgesDepth where a light has an extent (its soft levels are blended
+// across samples, and the depth test keeps an occluder's levels off the surfaces it uncovers) and kEdges where every
+// light is hard (the edge band already gives the shadow maps the bits near a traced edge, and the depth test changes
+// no measured bit there: docs/evaluation.md, "Disocclusion without a second raster pass"); the others are themselves.
+inline WarpChoice resolve_warp(WarpChoice choice, bool scene_has_soft_lights) {
+  if (choice != WarpChoice::kAuto) return choice;
+  return scene_has_soft_lights ? WarpChoice::kEdgesDepth : WarpChoice::kEdges;
 }
 
 // --traced-depth (edges-depth, full): where the depth test's traced depth comes from
