@@ -25,6 +25,8 @@
 //                    at 1/N resolution every frame; keys as above, _vs_forward and _added_vs_shadowmap_added its
 //                    ratios against the goals. With the shipped `--warp edges`, dhr_shadow_frac is the median
 //                    fraction of surface pixels that looked up the shadow maps.
+//   dhr_edges_ms     (--edges) `--warp edges`: no depth test (what `--warp auto` takes where every light is hard);
+//                    keys as dhr_ms.
 //   dhr_edges_splatN_ms  (--splat-scales N,...) `--warp edges-depth --traced-depth splat --depth-scale N`: the depth
 //                    test against the traced depth moved from the eye's previous frame (one compute pass, no raster;
 //                    render/traced_depth_splat.hpp); keys as dhr_edges_depthN_ms.
@@ -116,6 +118,7 @@ struct Options {
   uint32_t scene_lag = 0;  // frames of scene motion between a buffer's traced scene time and its display
   std::vector<uint32_t> depth_scales{client::shipped::kDepthScale};  // --warp edges-depth at these (dhr_edges_depthN_ms)
   std::vector<uint32_t> edge_bands;  // the shipped client with these --edge-band values too (dhr_edge_bandN_ms)
+  bool edges = false;  // --edges: `--warp edges` too (dhr_edges_ms; what --warp auto takes where every light is hard)
   std::vector<uint32_t> splat_scales;  // --warp edges-depth --traced-depth splat at these (dhr_edges_splatN_ms)
 };
 
@@ -251,6 +254,12 @@ int run(const Options& o) {
     add_loop("dhr_alt_path", alt);
   }
   std::vector<std::string> scale_names;
+  if (o.edges) {
+    client::CoordinatorOptions edges = shipped_options(discrete_gpu, soft_scene);
+    edges.eye.warp = render::WarpSettings::server_edges();
+    scale_names.push_back("dhr_edges");
+    add_loop("dhr_edges", edges);
+  }
   for (const uint32_t scale : o.depth_scales) {
     client::CoordinatorOptions edges = shipped_options(discrete_gpu, soft_scene);
     edges.eye.warp = render::WarpSettings::server_edges_depth(scale);
@@ -451,6 +460,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->delimiter(',')
       ->check(CLI::Range(1u, 16u));
+  app.add_flag("--edges", o.edges,
+               "also measure --warp edges (dhr_edges_ms: what --warp auto ships where every light is hard)");
   app.add_option("--splat-scales", o.splat_scales,
                  "also measure --warp edges-depth --traced-depth splat with the traced depth at each of these scales "
                  "(dhr_edges_splatN_ms)")
