@@ -129,29 +129,29 @@ TEST_F(ClientDepthSplatTest, EyePipelineSplatsItsPreviousFrameAndWarpsAsTheRefer
   const std::vector<uint32_t> deferred_mask = test::read_pixels<uint32_t>(ctx(), deferred.warp().mask);
   const std::vector<uint32_t> deferred_status = test::read_pixels<uint32_t>(ctx(), deferred.warp().status);
   const std::vector<float> display_depth = test::read_pixels<float>(ctx(), deferred.gbuffer().depth);
+  EXPECT_EQ(display_depth, first_depth);  // the same view twice
   WarpInput in = warp.reference_input(display_depth);
-  in.normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
+  const std::vector<glm::vec3> normals = test::read_normal_vectors(ctx(), deferred.gbuffer().normal);
+  in.normals = normals;  // a span: the vector must outlive the reference's run
   in.sources[0].traced_depth = traced_depth;
   in.settings = settings;
   in.shadow = &shadow;
   const WarpResult cpu = warp_reference(in);
-  // Statuses must all agree; a mask may differ where the shadow maps decide within float rounding of a texel's
-  // depth (seen once, at a corner pixel outside the traced view, whose mask is the maps' alone).
-  size_t compared = 0, wrong = 0, wrong_status = 0;
+  size_t compared = 0, wrong = 0;
   for (size_t i = 0; i < display_depth.size(); ++i) {
     if (cpu.margin[i] < kMargin) continue;
     ++compared;
-    const bool status_ok = (deferred_status[i] & 0xFFu) == static_cast<uint32_t>(cpu.status[i]);
-    wrong_status += status_ok ? 0 : 1;
-    if ((!status_ok || deferred_mask[i] != cpu.masks[i]) && ++wrong <= 5) {
-      std::printf("pixel %zu,%zu: deferred status %u mask %u, cpu %s mask %u\n", i % kExtent.width,
-                  i / kExtent.width, deferred_status[i], deferred_mask[i], to_string(cpu.status[i]), cpu.masks[i]);
+    const bool ok = (deferred_status[i] & 0xFFu) == static_cast<uint32_t>(cpu.status[i]) &&
+                    deferred_mask[i] == cpu.masks[i];
+    if (!ok && ++wrong <= 5) {
+      ADD_FAILURE() << "pixel " << i % kExtent.width << "," << i / kExtent.width << ": deferred status "
+                    << deferred_status[i] << " mask " << deferred_mask[i] << ", cpu " << to_string(cpu.status[i])
+                    << " mask " << cpu.masks[i];
     }
   }
   std::printf("splatted depth: %zu compared, %llu disoccluded, %zu differ\n", compared,
               static_cast<unsigned long long>(cpu.counts[WarpStatus::kDisoccluded]), wrong);
-  EXPECT_EQ(wrong_status, 0u);
-  EXPECT_LE(wrong, compared / 2000);
+  EXPECT_EQ(wrong, 0u);
   EXPECT_GT(compared, display_depth.size() * 9 / 10);
   // The test means something: samples the traced camera saw on another surface are not used.
   EXPECT_GT(cpu.counts[WarpStatus::kDisoccluded], 0u);
