@@ -189,8 +189,10 @@ std::string view_name(const ClientOptions& options) {
   return options.view == "light" ? "light:" + std::to_string(options.view_light) : options.view;
 }
 
-void describe_pictures(PngSink& png, const FrameCoordinator& coordinator, const ClientOptions& options) {
-  png.describe(coordinator, to_string(options.warp), view_name(options));
+void describe_pictures(PngSink& png, const FrameCoordinator& coordinator, const ClientOptions& options,
+                       bool scene_has_soft_lights) {
+  // The warp that ran: --warp auto resolved for the scene.
+  png.describe(coordinator, to_string(resolve_warp(options.warp, scene_has_soft_lights)), view_name(options));
 }
 
 void note_source_failure(const VisibilitySource& source, bool& warned) {

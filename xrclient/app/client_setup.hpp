@@ -55,7 +55,8 @@ CoordinatorOptions coordinator_options(const ClientOptions& options, bool discre
 std::string view_name(const ClientOptions& options);
 
 // Writes views.jsonl next to the PNGs (`dhr-eval compare` renders the exact shading for those views).
-void describe_pictures(PngSink& png, const FrameCoordinator& coordinator, const ClientOptions& options);
+void describe_pictures(PngSink& png, const FrameCoordinator& coordinator, const ClientOptions& options,
+                       bool scene_has_soft_lights);
 
 // Logs the visibility source's failure the first time it is seen (`warned` remembers it); rendering goes on.
 void note_source_failure(const VisibilitySource& source, bool& warned);

@@ -73,7 +73,7 @@ int run_offscreen(const ClientOptions& options) {
     if (stats) stats->write(r);
   });
   PngSink png(*context, options.offscreen, options.png_every);
-  if (options.png_every != 0) describe_pictures(png, coordinator, options);
+  if (options.png_every != 0) describe_pictures(png, coordinator, options, scene.has_soft_lights());
 
   PoseGuard guard_poses = make_pose_guard(eyes);
   const uint64_t max_frames = options.frames.value_or(options.trace.empty() ? 300u : UINT32_MAX);

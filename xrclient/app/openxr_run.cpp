@@ -96,7 +96,7 @@ int run_openxr(const ClientOptions& options) {
   if (!options.snapshot_dir.empty()) {
     snapshots = std::make_unique<PngSink>(vulkan, options.snapshot_dir, options.png_every,
                                           frame_options.eye.shading.swap_red_blue);
-    if (options.png_every != 0) describe_pictures(*snapshots, coordinator, options);
+    if (options.png_every != 0) describe_pictures(*snapshots, coordinator, options, scene.has_soft_lights());
     sinks.add(*snapshots);
   }
   const EyeModel eyes = EyeModel::monado_simulated();
