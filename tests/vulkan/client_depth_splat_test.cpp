@@ -86,12 +86,11 @@ TEST_F(ClientDepthSplatTest, EqualsTheCpuReferenceAndShowsTheTracedSurfaces) {
 }
 
 TEST_F(ClientDepthSplatTest, EyePipelineSplatsItsPreviousFrameAndWarpsAsTheReference) {
-  const Scene scene = default_room();
-  const ClientScene gpu_scene(ctx(), scene);
-  ShadowMaps maps(ctx(), gpu_scene);
-  std::vector<float> atlas_storage;
-  const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
-  const ForwardTestFrame warp(scene, blocky, &maps);
+  const DefaultRoomRig rig(ctx());
+  const ClientScene& gpu_scene = rig.gpu_scene;
+  const ShadowMaps& maps = rig.maps;
+  const ShadowReference& shadow = rig.shadow;
+  const ForwardTestFrame& warp = rig.warp;
   WarpSettings settings = WarpSettings::server_edges_depth(1);
   settings.depth_splat = true;
   ASSERT_TRUE(settings.is_server_edges());

@@ -22,12 +22,11 @@ using ClientForwardDepthTest = vk::test::VulkanTest;
 using namespace forward_test;
 
 TEST_F(ClientForwardDepthTest, EqualsTheCpuReferenceAtEveryDepthScale) {
-  const Scene scene = default_room();
-  const ClientScene gpu_scene(ctx(), scene);
-  ShadowMaps maps(ctx(), gpu_scene);
-  std::vector<float> atlas_storage;
-  const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
-  const ForwardTestFrame warp(scene, blocky, &maps);
+  const DefaultRoomRig rig(ctx());
+  const ClientScene& gpu_scene = rig.gpu_scene;
+  const ShadowMaps& maps = rig.maps;
+  const ShadowReference& shadow = rig.shadow;
+  const ForwardTestFrame& warp = rig.warp;
   const GBufferPass gbuffer_pass(ctx(), gpu_scene);
 
   for (const uint32_t scale : {1u, 2u, 4u}) {

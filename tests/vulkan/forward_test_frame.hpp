@@ -171,4 +171,24 @@ inline ShadowReference shadow_reference(const vk::Context& ctx, const ShadowMaps
   return ref;
 }
 
+// The depth tests' set-up: the default room on the GPU, its shadow maps and their CPU reference, and the warp
+// tests' frame over blocky bits. Neither copied nor moved (the frame and the reference point into it).
+struct DefaultRoomRig {
+  explicit DefaultRoomRig(vk::Context& ctx)
+      : scene(default_room()),
+        gpu_scene(ctx, scene),
+        maps(ctx, gpu_scene),
+        shadow(shadow_reference(ctx, maps, atlas_storage)),
+        warp(scene, blocky, &maps) {}
+  DefaultRoomRig(const DefaultRoomRig&) = delete;
+  DefaultRoomRig& operator=(const DefaultRoomRig&) = delete;
+
+  const Scene scene;
+  const ClientScene gpu_scene;
+  ShadowMaps maps;
+  std::vector<float> atlas_storage;  // the atlas's texels, which `shadow` reads
+  const ShadowReference shadow;
+  const ForwardTestFrame warp;
+};
+
 }  // namespace dhr::render::forward_test
