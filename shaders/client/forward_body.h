@@ -153,8 +153,8 @@ void main() {
       } else if (used == 0u) {
         status = kClientStatusDisoccluded;
       } else {
-        const WarpVote vote =
-            warp_vote_band(warp_vote_fields(samples, masks, used, pc.soft_lights, pc.light_count), marks);
+        const WarpVote vote = warp_vote_band(
+            warp_vote_fields(samples, masks, used, pc.soft_lights, pc.soft_edge_lights, pc.light_count), marks);
         value = vote.value;
         undecided = ~vote.agree & pc.unknown_mask;
       }

@@ -145,7 +145,8 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     return r;
   }
   r.status = kClientStatusKnown;
-  const WarpVote vote = warp_vote_band(warp_vote_fields(samples, masks, used, pc.soft_lights, pc.light_count), marks);
+  const WarpVote vote = warp_vote_band(
+      warp_vote_fields(samples, masks, used, pc.soft_lights, pc.soft_edge_lights, pc.light_count), marks);
   r.agree = vote.agree;
   r.value = vote.value;
   r.exact = vote.exact;

@@ -1,10 +1,11 @@
 // The warp of soft levels (bilinear_warp.h's warp_vote_fields): on the area room (a rect and a sphere light with
-// soft fields, one hard light), with level patterns in the soft fields, the 2x2 lookups blend the samples' levels
-// where they differ. The deferred warp (G-buffer normals) equals the CPU reference on every pixel not within
-// kMargin of a flip, the forward pass on all but a few (interpolated normals in its shadow-map lookups), and the
-// blends are between the samples' levels: a blended field is never outside the range of the four around it. Where
-// the four span more than kClientWarpSoftEdgeSpread levels (the pattern wraps from 7 to 0) the field is an edge,
-// which the shadow maps decide (the CPU reference's shadow lookup, which the deferred warp equals).
+// soft fields, one hard light) with a sun added, with level patterns in the soft fields, the 2x2 lookups blend the
+// samples' levels where they differ. The deferred warp (G-buffer normals) equals the CPU reference on every pixel
+// not within kMargin of a flip, the forward pass on all but a few (interpolated normals in its shadow-map lookups),
+// and the blends are between the samples' levels: a blended field is never outside the range of the four around
+// it. Where the four span more than kClientWarpSoftEdgeSpread levels (the pattern wraps from 7 to 0) the sun's
+// field is an edge, which the shadow maps decide (the CPU reference's shadow lookup, which the deferred warp
+// equals); the rect's and the sphere's keep the blend there too (soft_edge_light_mask).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,7 +28,15 @@ using namespace forward_test;
 Scene area_room() {
   const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.gltf").string());
   if (!loaded) throw std::runtime_error(loaded.error);
-  return *loaded.scene;
+  Scene scene = *loaded.scene;
+  SceneLight sun;  // a disk sun, 45 degrees high: the one kind of soft light whose wide level spans are edges
+  sun.type = SceneLight::Type::kDirectional;
+  sun.name = "test sun";
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, -0.7f));
+  sun.intensity = 2.0f;
+  sun.angle = 0.0093f;
+  scene.lights.push_back(sun);
+  return scene;
 }
 
 VisibilityLayout g_layout;  // the area room's, set before the frame is made
@@ -74,7 +83,8 @@ TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
   const WarpResult cpu = warp_reference(in);
 
   size_t compared = 0, ambiguous = 0, deferred_wrong = 0, forward_wrong = 0, blended = 0, outside_range = 0, edges = 0,
-         edges_not_blend = 0;
+         edges_not_blend = 0, wide_blended = 0;
+  const uint32_t edge_lights = soft_edge_light_mask(scene.lights);
   for (size_t i = 0; i < fwd.depth.size(); ++i) {
     if (cpu.margin[i] < kMargin) {
       ++ambiguous;
@@ -107,7 +117,10 @@ TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
         blend += ((k & 1) != 0 ? fx : 1.0 - fx) * ((k >> 1) != 0 ? fy : 1.0 - fy) * static_cast<double>(v);
       }
       const float shown = g_layout.visibility(cpu.masks[i], l);
-      if (std::lround((hi - lo) * (kDefaultSoftLevels - 1)) > static_cast<long>(shader::kClientWarpSoftEdgeSpread)) {
+      const bool wide =
+          std::lround((hi - lo) * (kDefaultSoftLevels - 1)) > static_cast<long>(shader::kClientWarpSoftEdgeSpread);
+      if (wide && ((edge_lights >> l) & 1u) == 0) ++wide_blended;
+      if (wide && ((edge_lights >> l) & 1u) != 0) {
         ++edges;
         // Not the blend (which a penumbra would show) wherever the shadow maps say another level.
         edges_not_blend += g_layout.with_visibility(0, l, static_cast<float>(blend)) !=
@@ -118,15 +131,18 @@ TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
       if (shown < lo - 1e-6f || shown > hi + 1e-6f) ++outside_range;
     }
   }
-  std::printf("soft levels: %zu compared, %zu ambiguous; %zu fields blended strictly between their samples, %zu "
-              "outside, %zu edges (%zu not the blend); %zu differ deferred, %zu forward\n",
-              compared, ambiguous, blended, outside_range, edges, edges_not_blend, deferred_wrong, forward_wrong);
+  std::printf("soft levels: %zu compared, %zu ambiguous; %zu fields blended strictly between their samples (%zu over a "
+              "wide span), %zu outside, %zu sun edges (%zu not the blend); %zu differ deferred, %zu forward\n",
+              compared, ambiguous, blended, wide_blended, outside_range, edges, edges_not_blend, deferred_wrong,
+              forward_wrong);
   EXPECT_EQ(deferred_wrong, 0u);
   EXPECT_LE(forward_wrong, compared / 200);
   EXPECT_LT(ambiguous, fwd.depth.size() / 5);
   EXPECT_GT(blended, compared / 20);  // the test means something: many lookups fall between different levels
   EXPECT_EQ(outside_range, 0u);
-  EXPECT_GT(edges, compared / 50);  // and many straddle an edge, which the shadow maps decide:
+  EXPECT_EQ(edge_lights, 1u << (scene.lights.size() - 1));  // the sun alone
+  EXPECT_GT(wide_blended, compared / 50);  // the rect's and the sphere's wide spans: blended, in range (above)
+  EXPECT_GT(edges, compared / 50);  // and many of the sun's straddle an edge, which the shadow maps decide:
   EXPECT_GT(edges_not_blend, edges / 4);  // often another level than the blend
 }
 

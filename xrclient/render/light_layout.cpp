@@ -1,5 +1,6 @@
 #include "render/light_layout.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -25,6 +26,14 @@ uint32_t soft_light_mask(const VisibilityLayout& layout) {
     if (layout.offset[i] != offset) throw std::logic_error("visibility layout: fields are not in the lights' order");
     if (layout.is_soft(i)) mask |= 1u << i;
     offset += layout.bits[i];
+  }
+  return mask;
+}
+
+uint32_t soft_edge_light_mask(std::span<const SceneLight> lights) {
+  uint32_t mask = 0;
+  for (size_t i = 0; i < std::min<size_t>(lights.size(), kMaxLights); ++i) {
+    if (lights[i].type == SceneLight::Type::kDirectional && lights[i].has_extent()) mask |= 1u << i;
   }
   return mask;
 }

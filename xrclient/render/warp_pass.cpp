@@ -156,6 +156,7 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   params.light_count = static_cast<uint32_t>(std::min<size_t>(frame.lights.size(), kMaxLights));
   const VisibilityLayout layout = layout_for_lights(frame.lights.first(params.light_count));
   params.soft_lights = soft_light_mask(layout);
+  params.soft_edge_lights = soft_edge_light_mask(frame.lights.first(params.light_count));
   const uint32_t edge_band = settings.bilinear ? settings.edge_band : 0u;
   for (size_t s = 0; s < usable.size(); ++s) {
     const VisibilityInput* in = frame.sources[s].visibility;

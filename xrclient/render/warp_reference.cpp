@@ -231,6 +231,8 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, con
   // Soft fields the samples disagree on: the bilinear blend of their levels, quantized, agreed
   // (bilinear_warp.h's warp_vote_fields).
   if (layout.any_soft()) {
+    const uint32_t edge_lights =
+        soft_edge_light_mask(input.lights.first(std::min<size_t>(input.lights.size(), kMaxLights)));
     double total = 0.0;
     for (int k = 0; k < n; ++k) total += (used >> k) & 1u ? weights[k] : 0.0;
     for (uint32_t i = 0; i < layout.light_count; ++i) {
@@ -250,9 +252,9 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, con
       const double scaled = blend * (kDefaultSoftLevels - 1);
       r.margin = std::min(r.margin, std::abs(scaled - std::floor(scaled) - 0.5) / (kDefaultSoftLevels - 1));
       r.value = layout.with_visibility(r.value, i, static_cast<float>(blend));
-      // Levels spanning more than kClientWarpSoftEdgeSpread: an edge, undecided (exact integers: no margin).
+      // A sun's levels spanning more than kClientWarpSoftEdgeSpread: an edge, undecided (exact integers: no margin).
       const auto spread = static_cast<uint32_t>(std::lround((highest - lowest) * (kDefaultSoftLevels - 1)));
-      if (spread <= shader::kClientWarpSoftEdgeSpread) r.agree |= field;
+      if (((edge_lights >> i) & 1u) == 0 || spread <= shader::kClientWarpSoftEdgeSpread) r.agree |= field;
     }
   }
   if (set.bilinear && set.edge_band > 0) {

@@ -231,7 +231,8 @@ DHR_CONST int kClientWarpNeighbourRadius = 2;
 DHR_CONST float kClientWarpExactLookup = 0.02f;
 // A soft field whose used samples' levels span more than this many levels (of kClientSoftLevels - 1) is an edge,
 // not a penumbra: the 2x2 straddles a shadow boundary sharper than a pixel or two, where a blend of levels is as
-// wrong as a hard bit's vote, so the field counts as undecided (bilinear_warp.h's warp_vote_fields).
+// wrong as a hard bit's vote, so the field counts as undecided (bilinear_warp.h's warp_vote_fields). Only for the
+// lights in ClientWarpParams::soft_edge_lights: a sun's (render/light_layout.hpp, soft_edge_light_mask).
 DHR_CONST uint kClientWarpSoftEdgeSpread = 4u;
 // ClientWarpSource::flags
 DHR_CONST uint kClientSourceHasVisibility = 1u;
@@ -339,6 +340,7 @@ struct ClientWarpParams {
   uint unknown_mask;     // mask for unfilled pixels: all light bits
   uint flags;            // kClientWarp*
   uint soft_lights;      // bit i: light i has a soft field (visibility_field.h); the bilinear vote blends its levels
+  uint soft_edge_lights; // bit i: light i's soft field is an edge where its samples span > kClientWarpSoftEdgeSpread
 };
 
 // A light as the warp's shadow lookup sees it: position relative to the display eye (world axes) and the
@@ -464,7 +466,7 @@ static_assert(sizeof(ClientMotionSource) == 16 + 2 * 4 * 48, "ClientMotionSource
 static_assert(sizeof(ClientMotionLight) == 32, "ClientMotionLight must match the std430 array stride");
 static_assert(sizeof(ClientWarpMotion) == 3 * sizeof(ClientMotionSource) + 32 * 32 + 16,
               "ClientWarpMotion must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 3 * 140 + 4 * 30, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 140 + 4 * 31, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 96, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
