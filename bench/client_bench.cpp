@@ -32,7 +32,8 @@
 //                    render/traced_depth_splat.hpp); keys as dhr_edges_depthN_ms.
 //   dhr_edge_bandN_ms  (--edge-bands N,...) the shipped client with `--edge-band N` (0: the shadow maps only where
 //                    the 2x2 samples disagree); keys as dhr_ms. dhr_edge_marks_ms: the host time of the edge band's
-//                    marks per eye frame (render/warp_edges.hpp), computed with each buffer's upload.
+//                    marks per eye frame (render/warp_edges.hpp), computed with each buffer's upload over the hard
+//                    fields' bits, as the warp passes do (null where they make none: band 0, or no hard light).
 //   dhr_alt_path_ms  (--alt-path) the shipped client on the other render path: the deferred passes (G-buffer, compute
 //                    warp, compute shading) where `--render-path auto` takes the forward pass on this device (not a
 //                    discrete GPU), the forward pass where it takes the deferred ones; keys as dhr_ms.

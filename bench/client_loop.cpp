@@ -2,6 +2,7 @@
 
 #include "bench_timing.hpp"
 #include "plan/shipped_defaults.hpp"
+#include "render/light_layout.hpp"
 #include "render/warp_edges.hpp"
 #include "render/warp_reference.hpp"
 #include "scene/camera_bookmarks.hpp"
@@ -47,6 +48,10 @@ ClientLoop::ClientLoop(std::string name, const vk::Context& context, const rende
            const Pose& head, const Fov& fov, uint32_t total, int64_t scene_lead_ns)
     : name_(std::move(name)), context_(context), warp_(options.eye.warp), source_(tracer, format, scene_lead_ns),
       coordinator_(context, scene, size, source_, options), head_(head), fov_(fov), total_(total) {
+  // The bits the warp passes mark (WarpSourceBuffers::upload): the hard fields of the warp's fields; none, no marks.
+  const std::span<const SceneLight> fields(scene.field_lights());
+  const size_t count = std::min<size_t>(fields.size(), kMaxLights);
+  hard_bits_ = render::hard_field_bits(render::layout_for_lights(fields.first(count)));
   coordinator_.set_on_frame([this](const client::FrameRecord& r) { last_ = r; });
 }
 
@@ -102,7 +107,7 @@ void ClientLoop::report(nlohmann::ordered_json& out) const {
   out[name_ + "_decode_ms"] = median(decode_ms_, std::nan(""));
   out[name_ + "_coded_bytes"] = median(payload_bytes_, std::nan(""));
   out[name_ + "_upload_ms"] = median(upload_ms_, std::nan(""));
-  out[name_ + "_edge_marks_ms"] = median(edge_marks_ms_, std::nan(""));  // NaN without the edge band
+  out[name_ + "_edge_marks_ms"] = median(edge_marks_ms_, std::nan(""));  // NaN without marks (band 0, no hard light)
   out[name_ + "_record_ms"] = median(record_ms_, std::nan(""));
   out[name_ + "_record_wall_ms"] = median(record_wall_ms_, std::nan(""));
   out[name_ + "_known_frac"] = median(known_frac_, std::nan(""));
@@ -129,17 +134,17 @@ void ClientLoop::measure_upload(uint32_t e) {
     const auto start = std::chrono::steady_clock::now();
     upload_[s].write(buffer.data.data(), buffer.data.size());
     ms += ms_since(start);
-    if (warp_.bilinear && warp_.edge_band > 0) {  // the marks the warp passes compute with each upload
+    if (marks_due()) {  // the marks the warp passes compute with each upload
       const auto marks_start = std::chrono::steady_clock::now();
       const VisibilityFrame& frame = **sources[s];
       const std::span<const uint8_t> rows = frame.complete ? std::span<const uint8_t>{} : frame.row_valid;
-      const VisibilityBuffer marks = render::edge_band_marks(buffer, rows, warp_.edge_band, buffer.light_bits());
+      const VisibilityBuffer marks = render::edge_band_marks(buffer, rows, warp_.edge_band, hard_bits_);
       marks_ms += ms_since(marks_start);
       if (marks.data.empty()) throw std::logic_error("edge band marks: empty");
     }
   }
   upload_ms_.push_back(ms);
-  if (warp_.bilinear && warp_.edge_band > 0) edge_marks_ms_.push_back(marks_ms);
+  if (marks_due()) edge_marks_ms_.push_back(marks_ms);
 }
 
 }  // namespace dhr::bench

@@ -64,6 +64,8 @@ class ClientLoop {
   std::array<vk::Buffer, 3> upload_;
   std::vector<double> traced_depth_ms_, decode_ms_, payload_bytes_, upload_ms_, known_frac_, shadow_frac_;
   std::vector<double> edge_marks_ms_;  // the edge band's marks of the uploaded buffers (host, per eye)
+  uint32_t hard_bits_ = 0;             // the bits the marks cover (hard fields); 0: the warp makes none
+  bool marks_due() const { return warp_.bilinear && warp_.edge_band > 0 && hard_bits_ != 0; }
   std::vector<double> record_ms_, record_wall_ms_;
   std::vector<double> shadow_update_ms_, shadow_update_lights_;  // per frame (eye 0 carries the re-render)
   uint64_t traced_depth_frames_ = 0;
