@@ -87,10 +87,8 @@ struct WarpVote {
   bool exact;  // centred on a used sample: `value` is its mask, every bit agreed
 };
 
-// masks[k]: sample k's mask where bit k of `used` is set (used != 0). Only the bits of `voted` the samples disagree on
-// are voted on; the others' `value` is the AND of the samples (warp_vote_fields replaces a soft field's value where
-// they disagree, so it votes on the hard bits alone).
-WarpVote warp_vote(WarpSamples s, uint masks[4], uint used, uint voted) {
+// masks[k]: sample k's mask where bit k of `used` is set (used != 0).
+WarpVote warp_vote(WarpSamples s, uint masks[4], uint used) {
   WarpVote v;
   v.exact = false;
   if (s.centred && ((used >> s.exact) & 1u) != 0u) {
@@ -107,7 +105,7 @@ WarpVote warp_vote(WarpSamples s, uint masks[4], uint used, uint voted) {
   }
   v.agree = ~(and_m ^ or_m);
   v.value = and_m;
-  uint open = or_m & ~and_m & voted;
+  uint open = or_m & ~and_m;
   if (open != 0u) {
     float total = 0.0;
     for (int k = 0; k < s.count; ++k) total += ((used >> k) & 1u) != 0u ? warp_sample_weight(s, k) : 0.0;
@@ -129,20 +127,11 @@ WarpVote warp_vote(WarpSamples s, uint masks[4], uint used, uint voted) {
 // is a share of the light, so between two samples it is meaningful to interpolate (a hard bit's vote is not). The
 // field counts as agreed (the blend is the server's answer) unless it is one of edge_lights (a sun's: its penumbra
 // is a pixel or two wide) and the used samples' levels span more than kClientWarpSoftEdgeSpread levels: that is an
-// edge, which the shadow maps decide as they do a hard bit's. A light with a wide penumbra (an area or sphere light)
-// keeps the blend there too: on living_room_area the maps' PCSS did no better at such 2x2s (docs/soft-shadows.md).
+// edge, which the shadow maps decide as they do a hard bit's. A light with a wide penumbra (rect, disk, sphere)
+// keeps the blend there too: on living_room_area the maps' PCSS did no better at such 2x2s (docs/client.md).
 WarpVote warp_vote_fields(WarpSamples s, uint masks[4], uint used, uint soft_lights, uint edge_lights,
                           uint light_count) {
-  uint soft_bits = 0u;  // the soft fields' bits: their value where the samples disagree is the blend below
-  if (soft_lights != 0u) {
-    uint at = 0u;
-    for (uint i = 0u; i < light_count; ++i) {
-      const uint bits = field_bits(soft_lights, i);
-      if (bits > 1u) soft_bits |= ((1u << bits) - 1u) << at;
-      at += bits;
-    }
-  }
-  WarpVote v = warp_vote(s, masks, used, ~soft_bits);
+  WarpVote v = warp_vote(s, masks, used);
   if (soft_lights == 0u || v.exact) return v;
   float total = 0.0;
   for (int k = 0; k < s.count; ++k) total += ((used >> k) & 1u) != 0u ? warp_sample_weight(s, k) : 0.0;

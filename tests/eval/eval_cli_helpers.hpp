@@ -37,6 +37,13 @@ inline CliRun run_cli(const std::string& args) {
   return r;
 }
 
+// `dhr-eval run` on `scene` and the shipped trace from 1 s, 64x48 eyes, no progress, results in `out`; `rest`:
+// the frames, round trips, methods and anything else, each with a leading space.
+inline CliRun run_small(const fs::path& out, const std::string& rest, const std::string& scene = kScene) {
+  return run_cli("run --scene " + scene + " --trace " + kTrace + " --out " + out.string() +
+                 " --trace-start 1.0 --eye-size 64x48 --no-progress" + rest);
+}
+
 inline fs::path temp_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("dhr_eval_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);

@@ -23,10 +23,9 @@ using namespace dhr::eval_test;
 // is exact (its lookups land on the centres of pixels traced for the very same rays).
 TEST(EvalCliMethodsTest, LocalAndFullWriteTheirFillCounts) {
   const fs::path out = temp_dir("methods");
-  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
-                           " --frames 6 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,100 "
-                           "--method paper+pred,local,full,full-no-shadow-first-no-pred --shadow-size 256 "
-                           "--snapshot-frame 2 --snapshot-crop 8,6,32,24");
+  const CliRun r = run_small(out, " --frames 6 --rtt-ms 0,100 --method paper+pred,local,full,"
+                                  "full-no-shadow-first-no-pred --shadow-size 256 --snapshot-frame 2 "
+                                  "--snapshot-crop 8,6,32,24");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto results = by_setting(read_results(out));
   ASSERT_EQ(results.size(), 8u);
@@ -90,10 +89,8 @@ TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
   }
   ASSERT_EQ(dhr::client::shipped::kSchedule, dhr::client::Schedule::kNewest) << "the test compares x_max 'all' rows";
   const fs::path out = temp_dir("default");
-  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
-                           " --frames 6 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,100 --guard 0,64x36"
-                           " --x-max 2,all --method default" + (equivalent == "paper" ? "" : ",paper") + "," +
-                           equivalent);
+  const CliRun r = run_small(out, " --frames 6 --rtt-ms 0,100 --guard 0,64x36 --x-max 2,all --method default" +
+                                       std::string(equivalent == "paper" ? "" : ",paper") + "," + equivalent);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::map<std::string, json> rows;  // method@rtt for guard 64x36 and x_max all (-1)
   size_t defaults = 0;
@@ -125,9 +122,8 @@ TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
 TEST(EvalCliMethodsTest, DefaultTestsDepthWhereLightsHaveAnExtent) {
   if (dhr::client::shipped::kWarp != dhr::client::WarpChoice::kAuto) GTEST_SKIP() << "--warp auto does not ship";
   const fs::path out = temp_dir("default_soft");
-  const CliRun r = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " +
-                           kTrace + " --out " + out.string() +
-                           " --frames 4 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 100 --method default");
+  const CliRun r = run_small(out, " --frames 4 --rtt-ms 100 --method default",
+                             std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::map<std::string, json> rows = by_setting(read_results(out));
   EXPECT_GT(rows.at("default@100")["traced_depth_ms"].get<double>(), 0.0);
@@ -138,9 +134,8 @@ TEST(EvalCliMethodsTest, DefaultTestsDepthWhereLightsHaveAnExtent) {
 // at zero delay like full, and its splat timed from the second frame on.
 TEST(EvalCliMethodsTest, DepthSplatRunsOnItsOwnFrames) {
   const fs::path out = temp_dir("splat");
-  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
-                           " --frames 4 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,100 "
-                           "--method full,full-depth-splat,full-depth-scale-2-depth-splat-edge-band-0");
+  const CliRun r = run_small(out, " --frames 4 --rtt-ms 0,100 --method full,full-depth-splat,"
+                                  "full-depth-scale-2-depth-splat-edge-band-0");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto results = by_setting(read_results(out));
   ASSERT_EQ(results.size(), 6u);

@@ -135,8 +135,9 @@ uint32_t band_disagreement(const WarpSource& src, uint32_t bits, int i0, int j0,
   return out;
 }
 
-SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, const WarpSource& src,
-                     const glm::dvec3& p_world, const glm::dvec3& n_world) {
+// edge_lights: soft_edge_light_mask of the input's lights (the soft fields an edge sends to the shadow maps).
+SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uint32_t edge_lights,
+                     const WarpSource& src, const glm::dvec3& p_world, const glm::dvec3& n_world) {
   SourceLookup r;
   if (src.visibility == nullptr) return r;
   const Reprojection rep = reproject(src.traced, p_world, input.min_depth);
@@ -231,8 +232,6 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, con
   // Soft fields the samples disagree on: the bilinear blend of their levels, quantized, agreed
   // (bilinear_warp.h's warp_vote_fields).
   if (layout.any_soft()) {
-    const uint32_t edge_lights =
-        soft_edge_light_mask(input.lights.first(std::min<size_t>(input.lights.size(), kMaxLights)));
     double total = 0.0;
     for (int k = 0; k < n; ++k) total += (used >> k) & 1u ? weights[k] : 0.0;
     for (uint32_t i = 0; i < layout.light_count; ++i) {
@@ -355,7 +354,9 @@ WarpResult warp_reference(const WarpInput& input) {
   }
   const uint32_t unknown = unknown_mask(sources[0].visibility, input.lights);
   // The fields the bilinear vote blends: once per warp, not per lookup.
-  const VisibilityLayout layout = layout_for_lights(input.lights.first(std::min<size_t>(input.lights.size(), kMaxLights)));
+  const std::span<const SceneLight> lights = input.lights.first(std::min<size_t>(input.lights.size(), kMaxLights));
+  const VisibilityLayout layout = layout_for_lights(lights);
+  const uint32_t edge_lights = soft_edge_light_mask(lights);
   WarpResult out;
   out.extent = extent;
   out.masks.assign(n, unknown);
@@ -375,14 +376,14 @@ WarpResult warp_reference(const WarpInput& input) {
       }
       const glm::dvec3 p = world_point_from_depth(input.display, input.near_plane, x + 0.5, y + 0.5, d);
       const glm::dvec3 nrm = needs_normals ? glm::normalize(glm::dvec3(input.normals[i])) : glm::dvec3(0.0);
-      const SourceLookup own = look_up(input, layout, sources[0], p, nrm);
+      const SourceLookup own = look_up(input, layout, edge_lights, sources[0], p, nrm);
       double margin = own.margin;
       out.status[i] = own.status;
       out.lookup[i] = own.pixel;
       SourceLookup chosen = own;
       uint32_t chosen_source = 0;
       if (own.status != WarpStatus::kKnown && sources[1].visibility != nullptr) {
-        const SourceLookup other = look_up(input, layout, sources[1], p, nrm);
+        const SourceLookup other = look_up(input, layout, edge_lights, sources[1], p, nrm);
         margin = std::min(margin, other.margin);
         if (other.status == WarpStatus::kKnown) {
           chosen = other;
@@ -391,7 +392,7 @@ WarpResult warp_reference(const WarpInput& input) {
         }
       }
       if (own.status != WarpStatus::kKnown && out.fill[i] == WarpFill::kNone && sources[2].visibility != nullptr) {
-        const SourceLookup older = look_up(input, layout, sources[2], p, nrm);
+        const SourceLookup older = look_up(input, layout, edge_lights, sources[2], p, nrm);
         margin = std::min(margin, older.margin);
         if (older.status == WarpStatus::kKnown) {
           chosen = older;
