@@ -2,7 +2,7 @@
 //   codec_bench [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] [--threads N]
 //   codec_bench --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N]
 //               [--light-range M] [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N]
-//               [--encode-threads N] [--soft-samples FIRST,ALL]
+//               [--encode-threads N] [--soft-samples FIRST,ALL] [--reuse auto|on|off]
 //                                                               sequence mode, v1 against v2 (codec_sequence.hpp)
 // Buffer sets: "traced" (the scene traced by the server's Embree tracer from each camera bookmark, both
 // eyes; only when built with dhr_server) and always "synthetic" (make_room_visibility, same size and
@@ -77,7 +77,7 @@ int usage(const char* argv0, FILE* to = stderr) {
                "[--threads N]\n"
                "       %s --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N] "
                "[--light-range M] [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N] "
-               "[--encode-threads N] [--soft-samples FIRST,ALL]\n",
+               "[--encode-threads N] [--soft-samples FIRST,ALL] [--reuse auto|on|off]\n",
                argv0, argv0);
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
@@ -156,6 +156,11 @@ bool parse_option(const std::string& a, const char* v, Options& o) {
     if (std::sscanf(v, "%u,%u%c", &first, &all, &tail) != 2) return false;
     o.sequence.soft = server::SoftOptions{first, all};
     if (server::validate_soft_options(o.sequence.soft)) return false;
+  } else if (a == "--reuse") {  // as dhr-server's: auto = what it ships (soft levels and a light with an extent)
+    const std::string r = v;
+    if (r != "auto" && r != "on" && r != "off") return false;
+    using R = SequenceOptions::Reuse;
+    o.sequence.reuse = r == "on" ? R::kOn : r == "off" ? R::kOff : R::kAuto;
   } else if (a == "--seed") {
     o.sequence.seed = std::strtoull(v, nullptr, 10);
   } else {

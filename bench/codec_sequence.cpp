@@ -8,9 +8,11 @@
 #include "json_writer.hpp"
 #include "protocol/protocol.hpp"
 #include "scene/scene.hpp"
+#include "session/shipped_defaults.hpp"
 #include "traced_buffers.hpp"
 #include "traces/eye_model.hpp"
 #include "traces/pose_trace.hpp"
+#include "trace/reuse/reuse_frame.hpp"
 #include "trace/visibility_tracer.hpp"
 
 #include <algorithm>
@@ -92,6 +94,16 @@ int run_sequence(const SequenceOptions& o) {
                                      : VisibilityLayout::hard(tracer->light_count());
   const uint32_t lights = layout.total_bits();  // bits per mask: what the codecs code
 
+  // Reuse as a session of dhr-server traces: each eye from its own previous trace, the right eye also from the
+  // left eye's trace of the frame (VisibilityService; docs/server.md, "Reuse").
+  const bool light_with_extent = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                             [](const SceneLight& l) { return l.has_extent(); });
+  const bool reuse = o.reuse == SequenceOptions::Reuse::kOn ||
+                     (o.reuse == SequenceOptions::Reuse::kAuto &&
+                      server::shipped::reuse_by_default(true, o.soft_levels, light_with_extent));
+  std::array<server::ReuseFrame, 2> newest, writing;
+  uint64_t reused_pixels = 0, rays = 0;
+
   // Trace every frame first (the codec is timed on its own afterwards).
   std::vector<std::array<VisibilityBuffer, 2>> frames(o.frames);
   std::vector<std::array<Camera, 2>> cameras(o.frames);
@@ -99,10 +111,21 @@ int run_sequence(const SequenceOptions& o) {
   for (uint32_t f = 0; f < o.frames; ++f) {
     const double t = trace.start_time() + o.trace_start_s + f * kFramePeriodS;
     const std::array<View, 2> views = trace_views(trace, trace.sample(t), eyes, T_scene_trace);
-    for (int e = 0; e < 2; ++e) {
+    for (size_t e = 0; e < 2; ++e) {
       cameras[f][e] = format.camera(views[e]);
       server::TraceStats stats;
-      tracer->trace_layout(cameras[f][e], layout, frames[f][e], stats);
+      if (reuse) {
+        server::ReuseRequest request;
+        request.previous = newest[e].valid() ? &newest[e] : nullptr;
+        request.record = &writing[e];
+        if (e == 1 && newest[0].valid()) request.shared.push_back(&newest[0]);
+        tracer->trace_reusing(cameras[f][e], layout, request, frames[f][e], stats);
+        std::swap(newest[e], writing[e]);
+      } else {
+        tracer->trace_layout(cameras[f][e], layout, frames[f][e], stats);
+      }
+      reused_pixels += stats.reused_pixels;
+      rays += stats.primary_rays + stats.shadow_rays;
     }
     std::fprintf(stderr, "\rcodec_bench: traced %u/%u frames (%.0f s)", f + 1, o.frames, ms_since(trace_start) / 1e3);
   }
@@ -235,6 +258,9 @@ int run_sequence(const SequenceOptions& o) {
   j.value("display", std::to_string(display.width) + "x" + std::to_string(display.height));
   j.value("lights", layout.light_count).value("soft_levels", o.soft_levels).value("mask_bits_used", lights);
   j.value("soft_first_samples", o.soft.initial_samples).value("soft_samples", o.soft.max_samples);
+  j.value("reuse", reuse);
+  j.value("reused_pixels_per_eye_frame", static_cast<double>(reused_pixels) / (2.0 * o.frames), 0);
+  j.value("rays_per_eye_frame", static_cast<double>(rays) / (2.0 * o.frames), 0);
   // With more than 32 lights "lights" counts the mask's fields, the slots the scene's lights share.
   j.value("scene_lights", static_cast<unsigned long>(scene.lights.size()));
   j.value("scene_lights_own", static_cast<unsigned long>(scene_lights));

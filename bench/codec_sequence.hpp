@@ -28,6 +28,9 @@ struct SequenceOptions {
   // traced as a soft-capable session's (VisibilityTracer::trace_layout); off: one bit per light.
   bool soft_levels = false;
   server::SoftOptions soft;  // the tracer's sampling of lights with an extent (TracerOptions::soft)
+  // Reuse of earlier traces (trace/reuse), as dhr-server's --reuse: auto = what it ships (shipped::reuse_by_default:
+  // on with soft levels and a light with an extent), so the coded frames are the ones a session sends.
+  enum class Reuse { kAuto, kOn, kOff } reuse = Reuse::kAuto;
   // The shipped encode's v2 row ranges and threads (EncodeOptions' defaults when 0); the one-range and one-thread
   // encodes beside it stay as they are.
   uint32_t encode_ranges = 0;

@@ -24,7 +24,9 @@ int trace_bench_usage(FILE* to) {
                "[--threads N] [--vulkan-size WxH] [--no-vulkan] [--no-bare] [--quick] [--soft-levels] [--lights N] "
                "[--light-range M]\n"
                "       trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
-               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N] [--soft-history N]] [--no-shared] [--no-refresh] [--no-blocks] "
+               "[--sessions K] [--trace-start S] [--threads N]\n"
+               "       [--soft-levels [--truth-every N] [--soft-history N] [--soft-hysteresis L]] [--no-shared] "
+               "[--no-refresh] [--no-blocks] "
                "[--no-pairs]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }

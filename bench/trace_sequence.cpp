@@ -46,6 +46,7 @@ struct SequenceArgs {
   bool blocks = true;  // rule 1 (trace/reuse)
   bool pairs = true;   // rule 2
   uint32_t soft_history = server::ReuseOptions{}.soft_history;  // --soft-history N (0: off)
+  float soft_hysteresis = server::ReuseOptions{}.soft_hysteresis;  // --soft-hysteresis L (levels; 0: off)
   uint32_t truth_every = 30;  // soft levels: the truth of every camera of every this many frames (0: none)
   uint32_t lights = 0;        // --lights: point lights added up to this many (bench_lights.hpp); 0: the scene's
   double light_range = -1.0;  // --light-range (metres); < 0: default_bench_light_range
@@ -54,7 +55,9 @@ struct SequenceArgs {
 int usage(FILE* to) {
   std::fprintf(to,
                "usage: trace_bench --trace PATH [--trace PATH]... [--scene PATH] [--frames N] [--size WxH] "
-               "[--sessions K] [--trace-start S] [--threads N] [--soft-levels [--truth-every N] [--soft-history N]] [--no-shared] "
+               "[--sessions K] [--trace-start S] [--threads N]\n"
+               "       [--soft-levels [--truth-every N] [--soft-history N] [--soft-hysteresis L]] "
+               "[--no-shared] "
                "[--no-refresh] [--no-blocks] [--no-pairs] [--lights N [--light-range M]]\n");
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
@@ -87,6 +90,10 @@ bool parse(int argc, char** argv, SequenceArgs& a) {
       const long n = std::strtol(v.c_str(), &end, 10);
       if (*end || n < 0 || n > 65535) return false;
       a.soft_history = static_cast<uint32_t>(n);
+    } else if (k == "--soft-hysteresis") {
+      const double x = std::strtod(v.c_str(), &end);
+      if (*end || !std::isfinite(x) || x < 0.0 || x > 7.0) return false;
+      a.soft_hysteresis = static_cast<float>(x);
     } else if (k == "--sessions") {
       const long n = std::strtol(v.c_str(), &end, 10);
       if (*end || n < 1 || n > 64) return false;
@@ -261,6 +268,7 @@ int run_trace_sequence(int argc, char** argv) {
         request.options.whole_pixels = a.blocks;
         request.options.pairs = a.pairs;
         request.options.soft_history = a.soft_history;
+        request.options.soft_hysteresis = a.soft_hysteresis;
         if (a.shared) {
           if (e == 1) request.shared.push_back(&newest[s][0]);  // this frame's left eye (already swapped in)
           for (uint32_t o = 0; o < S; ++o)
@@ -330,6 +338,7 @@ int run_trace_sequence(int argc, char** argv) {
             {"pairs", a.pairs},
             {"soft_levels", a.soft_levels},
             {"soft_history", a.soft_history},
+            {"soft_hysteresis", a.soft_hysteresis},
             {"lights", tracer->light_count()},  // mask fields: with more than 32 lights, the slots they share
             {"scene_lights", scene.lights.size()},
             {"added_light_range_m", light_range}};

@@ -6,7 +6,7 @@
 // moves over a still camera's floor, and a light that moves, are traced again, never kept (identical bits); pixels
 // near an eye-close wall that crosses the near plane are not taken; the same inputs give the same bits on 1 and 2
 // threads. Plus the rule's pieces: the float projection against reproject(), the segment-box test, the refresh
-// dither, the point-triangle query, the soft tally's sum and blend.
+// dither, the point-triangle query, the soft tally's sum and blend, the level hysteresis.
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/soft/soft_image.hpp"
 #include "trace/reuse/reuse_frame.hpp"
@@ -283,6 +283,61 @@ TEST(EmbreeReuse, SoftSamplesAccumulateOnAStillCamera) {
     }
   }
   EXPECT_EQ(last[0], last[1]);
+}
+
+// The level hysteresis (ReuseOptions::soft_hysteresis): with the same accumulating traces of a still camera, a
+// pixel's level flips between traces less often with it than with the nearest level, and the levels stay nearer the
+// converged truth than one trace's.
+TEST(EmbreeReuse, SoftLevelsFlipLessWithHysteresis) {
+  Scene scene = room(false, false);
+  scene.lights[0].radius = 1.0f;
+  const Camera camera = test::look_camera(glm::dvec3(0.3, 4.0, 1.5), glm::dvec3(0.0, 0.0, -1.0), 192, 128, 80.0);
+  TracerOptions options = threads(1);
+  options.soft = SoftOptions{4, 8, 0, SoftPattern::kPerPixel};
+  EmbreeTracer tracer(scene, options);
+  const VisibilityLayout layout = layout_for_lights(tracer.light_extents(), tracer.light_count());
+  SoftImageOptions truth_options;
+  truth_options.sampling = SoftOptions::uniform(1024, 7, SoftPattern::kPerPixel);
+  SoftImage truth;
+  trace_soft_image(tracer.embree_scene(), scene.lights, camera, truth_options, truth);
+  VisibilityBuffer exact;
+  TraceStats xs;
+  tracer.trace_layout(camera, layout, exact, xs);
+  auto run = [&](float hysteresis, VisibilityBuffer& last) {
+    std::array<ReuseFrame, 2> frames;
+    VisibilityBuffer previous;
+    uint64_t flips = 0;
+    for (int i = 0; i < 8; ++i) {
+      TraceStats rs;
+      ReuseRequest request;
+      request.previous = i ? &frames[(i + 1) % 2] : nullptr;
+      request.record = &frames[i % 2];
+      request.options.soft_hysteresis = hysteresis;
+      tracer.trace_reusing(camera, layout, request, last, rs);
+      if (i > 0)
+        for (uint32_t y = 0; y < last.height; ++y)
+          for (uint32_t x = 0; x < last.width; ++x)
+            flips += layout.field(last.get(x, y), 0) != layout.field(previous.get(x, y), 0) ? 1 : 0;
+      previous = last;
+    }
+    return flips;
+  };
+  VisibilityBuffer nearest, held;
+  const uint64_t flips_nearest = run(0.0f, nearest), flips_held = run(0.25f, held);
+  EXPECT_GT(flips_nearest, 0u);  // the accumulating samples move levels
+  EXPECT_LT(flips_held, flips_nearest);
+  EXPECT_LT(soft_error(held, layout, truth), soft_error(exact, layout, truth));
+}
+
+TEST(ReuseRule, SoftLevelHysteresisHoldsTheHistorysLevel) {
+  const float level = 1.0f / 7.0f;
+  EXPECT_EQ(soft_level_hysteresis(3.7f * level, 3.0f * level, 0.0f), 3.7f * level);  // off: the share itself
+  EXPECT_FLOAT_EQ(soft_level_hysteresis(3.7f * level, 3.0f * level, 0.25f), 3.0f * level);  // within 0.75: held
+  EXPECT_FLOAT_EQ(soft_level_hysteresis(2.3f * level, 3.0f * level, 0.25f), 3.0f * level);
+  EXPECT_EQ(soft_level_hysteresis(3.8f * level, 3.0f * level, 0.25f), 3.8f * level);  // beyond: its own level
+  EXPECT_EQ(soft_level_hysteresis(2.2f * level, 3.0f * level, 0.25f), 2.2f * level);
+  EXPECT_FLOAT_EQ(soft_level_hysteresis(3.6f * level, 2.8f * level, 0.25f), 3.0f * level);  // the history's nearest
+  EXPECT_FLOAT_EQ(soft_level_hysteresis(0.5f * level, 0.0f, 0.25f), 0.0f);
 }
 
 TEST(ReuseRule, SoftTallyAddsSamplesUpToTheCap) {

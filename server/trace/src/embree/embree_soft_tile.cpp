@@ -89,7 +89,9 @@ void trace_soft_tile(const FrameSetup& frame, const SoftTileSetup& soft, const T
         const auto visible = static_cast<uint32_t>(std::lround(r.fraction * static_cast<float>(r.samples)));
         const SoftTally sum = add_soft_samples(pair.count > 0 ? history(li, h) : SoftHistory{}, visible, r.samples,
                                                std::max(cap, r.samples));
-        if (pair.count > 0) fraction = tally_fraction(sum);
+        if (pair.count > 0)
+          fraction = soft_level_hysteresis(tally_fraction(sum), history(li, h).fraction,
+                                           reuse->options.soft_hysteresis);
         if (tally) *tally = sum;
       }
       if (fraction <= 0.0f) continue;  // level 0 is Gray code 0: the field is already clear

@@ -1,4 +1,5 @@
 #include "trace/reuse/reuse_frame.hpp"
+#include "visibility/soft_levels.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -156,6 +157,13 @@ SoftHistory reuse_soft_history(const ReuseFrame& frame, const ReuseCorners& corn
   }
   if (!(weight > 0.0f) || !(samples > 0.0f)) return {};
   return {visible / samples, samples / weight};
+}
+
+float soft_level_hysteresis(float fraction, float history_fraction, float hysteresis) {
+  if (!(hysteresis > 0.0f)) return fraction;
+  const float top = static_cast<float>(kDefaultSoftLevels - 1);
+  const float held = static_cast<float>(quantize(history_fraction, kDefaultSoftLevels));
+  return std::fabs(fraction * top - held) <= 0.5f + hysteresis ? held / top : fraction;
 }
 
 SoftTally add_soft_samples(const SoftHistory& history, uint32_t visible, uint32_t samples, uint32_t cap) {

@@ -68,6 +68,11 @@ struct ReuseOptions {
   // what that trace had accumulated there (SoftTally), at most this many samples kept (older ones weigh less once
   // it is reached); 0: every traced pair starts from nothing (the samples of one frame only).
   uint32_t soft_history = 128;
+  // A pair with a history keeps the level its history rounds to while the accumulated share lies within half a level
+  // plus this many levels of it (soft_level_hysteresis): new samples move the share a little every trace, and each
+  // level that flips costs the codec bits. 0: the nearest level. Area room, 1984x1116, 90 frames of Gul User1,
+  // 50 ms: 12.12 -> 10.56 Mbit/s; visibility_error +0.3 % at the client (docs/performance.md, "Levels that hold").
+  float soft_hysteresis = 0.25f;
   bool whole_pixels = true;   // rule 1 (off: every pixel's primary ray is traced, rule 2 only)
   bool pairs = true;          // rule 2
 };
@@ -198,6 +203,11 @@ SoftHistory reuse_soft_history(const ReuseFrame& frame, const ReuseCorners& corn
 // cap - samples when the sum exceeds it).
 SoftTally add_soft_samples(const SoftHistory& history, uint32_t visible, uint32_t samples, uint32_t cap);
 inline float tally_fraction(const SoftTally& t) { return static_cast<float>(t.share) / 65535.0f; }
+
+// The share to quantize for a pair whose accumulated share is `fraction` and whose history's was
+// `history_fraction`: the history's nearest level (as a share) while `fraction` lies within 0.5 + `hysteresis`
+// levels of it, else `fraction` (levels: kDefaultSoftLevels, visibility/soft_levels.hpp).
+float soft_level_hysteresis(float fraction, float history_fraction, float hysteresis);
 
 // Whether two traced surface points (positions, unit normals) are one smooth surface at `spacing` metres per
 // pixel: normals within about 25 degrees, each within options.plane_tolerance spacings of the other's tangent plane
