@@ -85,6 +85,12 @@ if b="$(exe bench/trace_bench)"; then
   for v in -1 70000 abc ""; do
     expect 2 "trace_bench --soft-history '$v'" "$b" --trace "$trace" --soft-levels --soft-history "$v" --frames 1
   done
+  for v in -1 7.5 nan abc ""; do
+    expect 2 "trace_bench --soft-hysteresis '$v'" "$b" --trace "$trace" --soft-levels --soft-hysteresis "$v" --frames 1
+  done
+fi
+if b="$(exe bench/codec_bench)"; then
+  for v in yes "" 1; do expect 2 "codec_bench --reuse '$v'" "$b" --trace "$trace" --reuse "$v" --frames 1; done
 fi
 if b="$(exe bench/skip_bench)"; then expect 2 "skip_bench bad scene" "$b" --scene "$bad_scene"; fi
 if b="$(exe bench/client_bench)"; then expect 2 "client_bench bad scene" "$b" --scene "$bad_scene" --quick; fi

@@ -71,7 +71,8 @@ struct ReuseOptions {
   // A pair with a history keeps the level its history rounds to while the accumulated share lies within half a level
   // plus this many levels of it (soft_level_hysteresis): new samples move the share a little every trace, and each
   // level that flips costs the codec bits. 0: the nearest level. Area room, 1984x1116, 90 frames of Gul User1,
-  // 50 ms: 12.12 -> 10.56 Mbit/s; visibility_error +0.3 % at the client (docs/performance.md, "Levels that hold").
+  // 50 ms: 12.12 -> 10.56 Mbit/s; visibility_error +0.3 % at the client (docs/performance.md, "What a session
+  // sends").
   float soft_hysteresis = 0.25f;
   bool whole_pixels = true;   // rule 1 (off: every pixel's primary ray is traced, rule 2 only)
   bool pairs = true;          // rule 2
