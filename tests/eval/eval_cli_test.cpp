@@ -24,17 +24,15 @@ namespace {
 
 using namespace dhr::eval_test;
 
-std::string small_run(const fs::path& out, const std::string& extra = "") {
-  return "run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
-         " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,50,100 --method stale,paper,paper+pred " +
-         extra;
+CliRun small_run(const fs::path& out) {
+  return run_small(out, " --frames 8 --rtt-ms 0,50,100 --method stale,paper,paper+pred");
 }
 
 class EvalCliTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new fs::path(temp_dir("main"));
-    run_ = new CliRun(run_cli(small_run(*dir_)));
+    run_ = new CliRun(small_run(*dir_));
   }
   static void TearDownTestSuite() {
     fs::remove_all(*dir_);
@@ -141,7 +139,7 @@ TEST_F(EvalCliTest, VisibilityErrorIsTheBitErrorWithHardLights) {
 TEST_F(EvalCliTest, TwoRunsGiveIdenticalMetrics) {
   ASSERT_EQ(run_->exit_code, 0) << run_->output;
   const fs::path again = temp_dir("again");
-  const CliRun second = run_cli(small_run(again));
+  const CliRun second = small_run(again);
   ASSERT_EQ(second.exit_code, 0) << second.output;
   const json a = read_results(*dir_), b = read_results(again);
   ASSERT_EQ(a.size(), b.size());
@@ -157,9 +155,8 @@ TEST_F(EvalCliTest, TwoRunsGiveIdenticalMetrics) {
 // The whole simulation runs on virtual time, network impairments, handshake and heartbeats included.
 TEST(EvalCliDeterminismTest, ImpairedRunsWithModelledServerTimeRepeatExactly) {
   const auto run_once = [](const fs::path& out) {
-    return run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
-                   " --frames 10 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 50 --method paper,paper+pred"
-                   " --jitter-ms 10 --loss 0.1 --server-ms 15 --seed 7");
+    return run_small(out, " --frames 10 --rtt-ms 50 --method paper,paper+pred --jitter-ms 10 --loss 0.1 --server-ms 15"
+                          " --seed 7");
   };
   const fs::path first = temp_dir("impaired_a"), second = temp_dir("impaired_b");
   const CliRun a_run = run_once(first), b_run = run_once(second);
@@ -186,9 +183,7 @@ TEST(EvalCliDeterminismTest, ImpairedRunsWithModelledServerTimeRepeatExactly) {
 // of frame n arrives that much later, and the response time grows by it (rounded up to whole frames).
 TEST(EvalCliServerTimeTest, ModelledServerTimeDelaysTheResponse) {
   const fs::path out = temp_dir("server_ms");
-  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
-                           " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0 --method paper"
-                           " --server-ms 20");
+  const CliRun r = run_small(out, " --frames 8 --rtt-ms 0 --method paper --server-ms 20");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const json results = read_results(out);
   ASSERT_EQ(results.size(), 1u);
@@ -218,10 +213,8 @@ TEST_F(EvalCliTest, ReportWritesMarkdownAndPlots) {
 // Lights with an extent: the truth is each light's fraction, converged; the client shows levels (k = level / 7).
 TEST(EvalCliSoftTest, SoftLightsAreJudgedByTheirFractions) {
   const fs::path out = temp_dir("soft");
-  const CliRun r = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " +
-                           kTrace + " --out " + out.string() +
-                           " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,50,100"
-                           " --method stale,paper+pred,local");
+  const std::string area = std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf";
+  const CliRun r = run_small(out, " --frames 8 --rtt-ms 0,50,100 --method stale,paper+pred,local", area);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::map<std::string, json> rows = by_setting(read_results(out));
   ASSERT_EQ(rows.size(), 9u);
@@ -244,10 +237,8 @@ TEST(EvalCliSoftTest, SoftLightsAreJudgedByTheirFractions) {
   EXPECT_GT(meta["truth_samples"].get<int>(), 32);
   // The server sampling more (TracerOptions::soft): more rays, an estimate nearer the truth at 0 ms.
   const fs::path more = temp_dir("soft_more");
-  const CliRun m = run_cli("run --scene " + std::string(DHR_SOURCE_DIR) + "/assets/scenes/default_room_area.gltf --trace " +
-                           kTrace + " --out " + more.string() +
-                           " --frames 8 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0 --method stale"
-                           " --soft-first-samples 32 --soft-samples 256");
+  const CliRun m =
+      run_small(more, " --frames 8 --rtt-ms 0 --method stale --soft-first-samples 32 --soft-samples 256", area);
   ASSERT_EQ(m.exit_code, 0) << m.output;
   const json more_row = read_results(more).at(0);
   EXPECT_GT(more_row["soft_rays_per_pair"].get<double>(), 4.0 * rows.at("stale@0")["soft_rays_per_pair"].get<double>());
@@ -262,9 +253,7 @@ TEST(EvalCliSoftTest, SoftLightsAreJudgedByTheirFractions) {
 // at 100 ms the shipped default is far closer to the truth than that.
 TEST(EvalCliManyLightsTest, LightSlotsAreEvaluatedAgainstTheUnshadowedHeadset) {
   const fs::path out = temp_dir("many_lights");
-  const CliRun r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
-                           " --lights 48 --frames 6 --trace-start 1.0 --eye-size 64x48 --no-progress --rtt-ms 0,100 "
-                           "--method paper,default,local");
+  const CliRun r = run_small(out, " --lights 48 --frames 6 --rtt-ms 0,100 --method paper,default,local");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("--method local is the headset without shadows"), std::string::npos) << r.output;
   std::ifstream run_file(out / "run.json");
