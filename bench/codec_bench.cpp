@@ -2,7 +2,7 @@
 //   codec_bench [--scene PATH|synthetic] [--size WxH] [--repeat N] [--out FILE] [--lz4-seconds N] [--threads N]
 //   codec_bench --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N]
 //               [--light-range M] [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N]
-//               [--encode-threads N] [--soft-samples FIRST,ALL] [--reuse auto|on|off]
+//               [--encode-threads N] [--soft-samples FIRST,ALL] [--reuse auto|on|off] [--coding-repeats N]
 //                                                               sequence mode, v1 against v2 (codec_sequence.hpp)
 // Buffer sets: "traced" (the scene traced by the server's Embree tracer from each camera bookmark, both
 // eyes; only when built with dhr_server) and always "synthetic" (make_room_visibility, same size and
@@ -77,7 +77,7 @@ int usage(const char* argv0, FILE* to = stderr) {
                "[--threads N]\n"
                "       %s --scene PATH --trace FILE --frames N --size WxH [--rtt-ms R] [--loss P] [--lights N] "
                "[--light-range M] [--trace-start S] [--seed N] [--threads N] [--soft-levels on|off] [--encode-ranges N] "
-               "[--encode-threads N] [--soft-samples FIRST,ALL] [--reuse auto|on|off]\n",
+               "[--encode-threads N] [--soft-samples FIRST,ALL] [--reuse auto|on|off] [--coding-repeats N]\n",
                argv0, argv0);
   return to == stderr ? exit_code::kUsage : exit_code::kOk;
 }
@@ -150,6 +150,10 @@ bool parse_option(const std::string& a, const char* v, Options& o) {
     const int n = std::atoi(v);
     if (n < 1 || n > 64) return false;
     (a == "--encode-ranges" ? o.sequence.encode_ranges : o.sequence.encode_threads) = static_cast<uint32_t>(n);
+  } else if (a == "--coding-repeats") {  // the fastest of N runs of each encode and decode is timed
+    const int n = std::atoi(v);
+    if (n < 1 || n > 100) return false;
+    o.sequence.coding_repeats = static_cast<uint32_t>(n);
   } else if (a == "--soft-samples") {  // the server's adaptive rule (SoftOptions): FIRST samples, ALL where they disagree
     unsigned first = 0, all = 0;
     char tail = 0;

@@ -35,6 +35,9 @@ struct SequenceOptions {
   // encodes beside it stay as they are.
   uint32_t encode_ranges = 0;
   uint32_t encode_threads = 0;
+  // Each encode and each shard's decode runs this many times on the same inputs and the fastest is timed: other
+  // work on a shared machine then shows in fewer of the figures (the bytes are the same every time).
+  uint32_t coding_repeats = 1;
 };
 
 // Prints progress on stderr and one JSON object as the last stdout line. Returns the exit code.

@@ -129,12 +129,6 @@ class BandCoder {
     return v.x >= -255 && v.x <= 255 && v.y >= -255 && v.y <= 255;
   }
 
-  void set_bit(uint32_t x, uint32_t y, uint32_t light, uint32_t bit) {
-    uint8_t* p = cur_ + (size_t{y} * g_.width + x) * g_.mask_bytes;
-    store_mask(p, g_.mask_bytes, load_mask(p, g_.mask_bytes) | (bit << light));
-  }
-
-
   // ORs into [x0, x0+w) x [y0, y0+h): `one` bits everywhere, `copy` bits from the reference displaced by v. With
   // `assign`, writes those bits instead (every other bit 0): a block's first fill, in place of clearing it.
   void fill(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t one, uint32_t copy, Vector v,
@@ -284,49 +278,63 @@ class BandCoder {
         }
       }
     }
+    with_mask_type(mb, [&]<typename Mask>() {
+      code_plane<Mask>(plan, l, bx, by, w, h, sub_cols, counts);
+    });
+  }
+
+  // The pixel loop of code_pixels at the mask's width: each row's runs of coded sub-blocks, the context from the
+  // local planes, the bit coded (the encoder's plane holds the truth at the pixel), and (decoder) written.
+  template <typename Mask>
+  void code_plane(const BlockPlan& plan, uint32_t l, uint32_t bx, uint32_t by, uint32_t w, uint32_t h,
+                  uint32_t sub_cols, BandCounts& counts) {
+    const uint32_t lw = w + 4;
+    const bool inter = ref_ != nullptr;
+    const ptrdiff_t stride = w + 2;
+    size_t coded = 0;
     for (uint32_t j = 0; j < h; ++j) {
       const uint8_t* row_modes = &plan.sub[l][(j / kSub) * sub_cols];
       uint8_t* p0 = &plane_[size_t{j + 2} * lw + 2];  // this row, at column bx
       const uint8_t* p1 = p0 - lw;                      // row above
       const uint8_t* p2 = p1 - lw;                      // two rows above
-      const uint8_t* cur_row = cur_ + (size_t{by + j} * g_.width + bx) * mb;
-      for (uint32_t i = 0; i < w; ++i) {
-        if (row_modes[i / kSub] != kCoded) {
-          i = (i / kSub) * kSub + kSub - 1;  // skip the rest of this sub-block's row
-          continue;
+      uint8_t* cur_row = cur_ + (size_t{by + j} * g_.width + bx) * sizeof(Mask);
+      for (uint32_t sc = 0; sc < sub_cols; ++sc) {
+        if (row_modes[sc] != kCoded) continue;
+        const uint32_t i_end = std::min(w, (sc + 1) * kSub);
+        for (uint32_t i = sc * kSub; i < i_end; ++i) {
+          const ptrdiff_t k = i;  // signed: the taps reach two columns to the left
+          Probability* prob;
+          if (inter) {
+            // 4 neighbours (left, and the three above) and 5 reference bits around the displaced position. More
+            // neighbours, or the previous light's bit as intra has, split the statistics over more contexts than a
+            // shard's models learn: area room, 992x558, 30 frames: 6.632 Mbit/s with intra's 9, 6.532 without the
+            // previous light's bit, 6.420 with these 4 neighbours (5: 6.466; 2: 6.591).
+            const uint8_t* q = &ref_plane_[size_t{j + 1} * (w + 2) + i + 1];
+            const uint32_t c = (uint32_t{p0[k - 1]} << 8) | (uint32_t{p1[k - 1]} << 7) | (uint32_t{p1[k]} << 6) |
+                               (uint32_t{p1[k + 1]} << 5) | (uint32_t{q[0]} << 4) | (uint32_t{q[-1]} << 3) |
+                               (uint32_t{q[1]} << 2) | (uint32_t{q[-stride]} << 1) | uint32_t{q[stride]};
+            prob = &m_.inter[c];
+          } else {
+            // 8 neighbours: two to the left, five above, one two rows above (the two beside that one were dropped:
+            // with models that restart per shard, fewer contexts learn sooner; 1-2 % fewer bytes,
+            // docs/performance.md), and the previous light's bit at this pixel (decoded: lights go in order).
+            uint32_t c = (uint32_t{p0[k - 1]} << 7) | (uint32_t{p0[k - 2]} << 6) | (uint32_t{p1[k - 2]} << 5) |
+                         (uint32_t{p1[k - 1]} << 4) | (uint32_t{p1[k]} << 3) | (uint32_t{p1[k + 1]} << 2) |
+                         (uint32_t{p1[k + 2]} << 1) | uint32_t{p2[k]};
+            c = (c << 1) | (l > 0 ? (static_cast<uint32_t>(at<Mask>(cur_row, i)) >> (l - 1)) & 1u : 0u);
+            prob = &m_.intra[c];
+          }
+          // The encoder's plane holds the truth at the pixel; the decoder's value is its own.
+          const bool bit = io_.bit(*prob, p0[i] != 0);
+          if constexpr (Io::kDecoding) {
+            p0[i] = bit ? 1 : 0;
+            if (bit) put<Mask>(cur_row, i, static_cast<Mask>(at<Mask>(cur_row, i) | (Mask{1} << l)));
+          }
+          ++coded;
         }
-        const ptrdiff_t k = i;  // signed: the taps reach two columns to the left
-        const uint32_t mask = load_mask(cur_row + size_t{i} * mb, mb);
-        Probability* prob;
-        if (inter) {
-          // 4 neighbours (left, and the three above) and 5 reference bits around the displaced position. More
-          // neighbours, or the previous light's bit as intra has, split the statistics over more contexts than a
-          // shard's models learn: area room, 992x558, 30 frames: 6.632 Mbit/s with intra's 9, 6.532 without the
-          // previous light's bit, 6.420 with these 4 neighbours (5: 6.466; 2: 6.591).
-          const uint8_t* q = &ref_plane_[size_t{j + 1} * (w + 2) + i + 1];
-          const ptrdiff_t stride = w + 2;
-          const uint32_t c = (uint32_t{p0[k - 1]} << 8) | (uint32_t{p1[k - 1]} << 7) | (uint32_t{p1[k]} << 6) |
-                             (uint32_t{p1[k + 1]} << 5) | (uint32_t{q[0]} << 4) | (uint32_t{q[-1]} << 3) |
-                             (uint32_t{q[1]} << 2) | (uint32_t{q[-stride]} << 1) | uint32_t{q[stride]};
-          prob = &m_.inter[c];
-        } else {
-          // 8 neighbours: two to the left, five above, one two rows above (the two beside that one were dropped:
-          // with models that restart per shard, fewer contexts learn sooner; 1-2 % fewer bytes,
-          // docs/performance.md), and the previous light's bit at this pixel.
-          uint32_t c = (uint32_t{p0[k - 1]} << 7) | (uint32_t{p0[k - 2]} << 6) | (uint32_t{p1[k - 2]} << 5) |
-                       (uint32_t{p1[k - 1]} << 4) | (uint32_t{p1[k]} << 3) | (uint32_t{p1[k + 1]} << 2) |
-                       (uint32_t{p1[k + 2]} << 1) | uint32_t{p2[k]};
-          c = (c << 1) | (l > 0 ? (mask >> (l - 1)) & 1u : 0u);
-          prob = &m_.intra[c];
-        }
-        const bool bit = io_.bit(*prob, ((mask >> l) & 1u) != 0);
-        p0[i] = bit ? 1 : 0;  // the encoder's plane already holds the truth there: the same value
-        if constexpr (Io::kDecoding) {
-          if (bit) set_bit(bx + i, by + j, l, 1u);
-        }
-        ++counts.pixels_coded;
       }
     }
+    counts.pixels_coded += coded;
   }
 
   bool code_block(BlockPlan& plan, uint32_t bx, uint32_t by, uint32_t w, uint32_t h, Vector previous,

@@ -173,13 +173,23 @@ class Decider {
     return clamp(Vector{static_cast<int32_t>(std::lround(dx)), static_cast<int32_t>(std::lround(dy))});
   }
 
-  // The candidate with the fewest mismatching pixels, then a descent over the 8 neighbours.
+  // The candidate with the fewest mismatching pixels, then a descent over the 8 neighbours. A vector already
+  // measured is not measured again (the candidates often coincide, and a step's neighbours overlap the last step's):
+  // its count was no lower than the best then, and the best only falls, so the result is the same.
   Vector search(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t bits,
                 std::initializer_list<Vector> candidates) const {
     Vector best;
     uint64_t best_cost = std::numeric_limits<uint64_t>::max();
+    std::array<Vector, 4 + 3 * 8> seen;
+    size_t seen_count = 0;
+    auto first_time = [&](Vector v) {
+      if (std::find(seen.begin(), seen.begin() + seen_count, v) != seen.begin() + seen_count) return false;
+      if (seen_count < seen.size()) seen[seen_count++] = v;
+      return true;
+    };
     for (const Vector c : candidates) {
       const Vector v = clamp(c);
+      if (!first_time(v)) continue;
       const uint64_t n = cost(x0, y0, w, h, bits, v, best_cost);
       if (n < best_cost) {
         best_cost = n;
@@ -193,6 +203,7 @@ class Decider {
         for (int dx = -1; dx <= 1; ++dx) {
           if (dx == 0 && dy == 0) continue;
           const Vector v = clamp(Vector{centre.x + dx, centre.y + dy});
+          if (!first_time(v)) continue;
           const uint64_t n = cost(x0, y0, w, h, bits, v, best_cost);
           if (n < best_cost) {
             best_cost = n;

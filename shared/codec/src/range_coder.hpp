@@ -11,6 +11,7 @@
 // `value` and returns it, the decoder ignores it and returns the decoded bit. Code written once against that
 // interface therefore encodes and decodes symmetrically.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -31,14 +32,19 @@ struct Probability {
   uint16_t p0 = kProbabilityHalf;
   uint8_t seen = 0;  // bits coded with it, saturating once the shift is at its maximum
 
-  // The shift for this bit, and one more bit seen.
+  // The shift for this bit (1 + seen / kAdaptBitsPerStep, at most kAdaptShiftMax), and one more bit seen: `seen`
+  // stops where the shift reaches its maximum. A table and a select instead of a division and a branch: the same
+  // shifts, 6 % less decode time on the area room (docs/performance.md, "Faster coding loops").
+  static constexpr uint8_t kSeenMax = (kAdaptShiftMax - 1) * kAdaptBitsPerStep;
+  static constexpr std::array<uint8_t, kSeenMax + 1> kShift = [] {
+    std::array<uint8_t, kSeenMax + 1> t{};
+    for (uint32_t n = 0; n <= kSeenMax; ++n) t[n] = static_cast<uint8_t>(1 + n / kAdaptBitsPerStep);
+    return t;
+  }();
   uint32_t next_shift() {
-    const auto shift = static_cast<uint32_t>(1 + seen / kAdaptBitsPerStep);
-    if (shift < kAdaptShiftMax) {
-      ++seen;
-      return shift;
-    }
-    return kAdaptShiftMax;
+    const uint32_t shift = kShift[seen];
+    seen = static_cast<uint8_t>(seen < kSeenMax ? seen + 1 : seen);
+    return shift;
   }
   void saw_zero() { p0 = static_cast<uint16_t>(p0 + ((kProbabilityOne - p0) >> next_shift())); }
   void saw_one() { p0 = static_cast<uint16_t>(p0 - (p0 >> next_shift())); }
