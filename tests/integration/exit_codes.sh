@@ -91,6 +91,9 @@ if b="$(exe bench/trace_bench)"; then
 fi
 if b="$(exe bench/codec_bench)"; then
   for v in yes "" 1; do expect 2 "codec_bench --reuse '$v'" "$b" --trace "$trace" --reuse "$v" --frames 1; done
+  for v in 0 101 abc; do
+    expect 2 "codec_bench --coding-repeats '$v'" "$b" --trace "$trace" --coding-repeats "$v" --frames 1
+  done
 fi
 if b="$(exe bench/skip_bench)"; then expect 2 "skip_bench bad scene" "$b" --scene "$bad_scene"; fi
 if b="$(exe bench/client_bench)"; then expect 2 "client_bench bad scene" "$b" --scene "$bad_scene" --quick; fi
