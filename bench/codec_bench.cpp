@@ -48,7 +48,17 @@ struct Options {
   unsigned threads = 0;
   std::string out;
   SequenceOptions sequence;  // used when --trace is given
+  std::vector<std::string> sequence_only;  // options given that only the sequence mode reads
 };
+
+// Options of the sequence mode alone: given without --trace they are named in a warning.
+bool sequence_only(const std::string& a) {
+  for (const char* s : {"--frames", "--rtt-ms", "--loss", "--trace-start", "--lights", "--light-range",
+                        "--soft-levels", "--encode-ranges", "--encode-threads", "--soft-samples", "--reuse",
+                        "--coding-repeats", "--seed"})
+    if (a == s) return true;
+  return false;
+}
 
 constexpr uint32_t kDefaultLights = 3;
 constexpr int kSyntheticBuffers = 4;
@@ -93,6 +103,7 @@ bool parse_args(int argc, char** argv, Options& o) {
       return false;
     }
     const char* v = argv[++i];
+    if (sequence_only(a)) o.sequence_only.push_back(a);
     if (!parse_option(a, v, o)) {
       std::fprintf(stderr, "codec_bench: %s %s: unknown option or value out of range\n", a.c_str(), v);
       return false;
@@ -266,6 +277,12 @@ int main(int argc, char** argv) {
 #endif
   }
 
+  if (!o.sequence_only.empty()) {
+    std::string names;
+    for (const std::string& n : o.sequence_only) names += (names.empty() ? "" : ", ") + n;
+    std::fprintf(stderr, "codec_bench: warning: %s: only the sequence mode (--trace) reads them; ignored\n",
+                 names.c_str());
+  }
   std::vector<BufferSet> sets;
   std::vector<std::string> notes;
   uint32_t lights = kDefaultLights;

@@ -109,11 +109,10 @@ int run_sequence(const SequenceOptions& o) {
 
   // Reuse as a session of dhr-server traces: each eye from its own previous trace, the right eye also from the
   // left eye's trace of the frame (VisibilityService; docs/server.md, "Reuse").
-  const bool light_with_extent = std::any_of(scene.lights.begin(), scene.lights.end(),
-                                             [](const SceneLight& l) { return l.has_extent(); });
   const bool reuse = o.reuse == SequenceOptions::Reuse::kOn ||
                      (o.reuse == SequenceOptions::Reuse::kAuto &&
-                      server::shipped::reuse_by_default(true, o.soft_levels, light_with_extent));
+                      server::shipped::reuse_by_default(tracer->backend() == server::TracerBackend::kEmbree,
+                                                        o.soft_levels, scene.has_soft_lights()));
   std::array<server::ReuseFrame, 2> newest, writing;
   uint64_t reused_pixels = 0, rays = 0;
 

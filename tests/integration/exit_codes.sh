@@ -94,6 +94,10 @@ if b="$(exe bench/codec_bench)"; then
   for v in 0 101 abc; do
     expect 2 "codec_bench --coding-repeats '$v'" "$b" --trace "$trace" --coding-repeats "$v" --frames 1
   done
+  # Sequence-mode options without --trace are named, not silently dropped.
+  expect 0 "codec_bench --reuse without --trace" "$b" --scene synthetic --size 64x48 --repeat 1 --reuse on
+  grep -q "warning: --reuse: only the sequence mode" "$tmp/err" || {
+    echo "FAIL: codec_bench does not name --reuse without --trace"; cat "$tmp/err"; failures=$((failures + 1)); }
 fi
 if b="$(exe bench/skip_bench)"; then expect 2 "skip_bench bad scene" "$b" --scene "$bad_scene"; fi
 if b="$(exe bench/client_bench)"; then expect 2 "client_bench bad scene" "$b" --scene "$bad_scene" --quick; fi
