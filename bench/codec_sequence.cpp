@@ -3,6 +3,7 @@
 #include "bench_lights.hpp"
 #include "bench_timing.hpp"
 
+#include "cli/exit_codes.hpp"
 #include "codec/codec.hpp"
 #include "codec/codec_v2.hpp"
 #include "json_writer.hpp"
@@ -77,7 +78,7 @@ int run_sequence(const SequenceOptions& o) {
   SceneLoadResult loaded = load_scene(o.scene);
   if (!loaded) {
     std::fprintf(stderr, "codec_bench: %s\n", loaded.error.c_str());
-    return 1;
+    return exit_code::kUsage;
   }
   Scene& scene = *loaded.scene;
   const uint32_t scene_lights = static_cast<uint32_t>(scene.lights.size());
@@ -86,7 +87,7 @@ int run_sequence(const SequenceOptions& o) {
   TraceReadResult read = read_pose_trace(o.trace);
   if (!read || read.trace->empty()) {
     std::fprintf(stderr, "codec_bench: %s\n", read ? (o.trace + ": empty trace").c_str() : read.error.c_str());
-    return 1;
+    return exit_code::kUsage;
   }
   const PoseTrace& trace = *read.trace;
   std::string placement_note;

@@ -40,7 +40,8 @@ struct SequenceOptions {
   uint32_t coding_repeats = 1;
 };
 
-// Prints progress on stderr and one JSON object as the last stdout line. Returns the exit code.
+// Prints progress on stderr and one JSON object as the last stdout line. Returns the exit code (docs/exit-codes.md:
+// 2 for a scene or trace that cannot be read).
 int run_sequence(const SequenceOptions& options);
 
 }  // namespace dhr::bench

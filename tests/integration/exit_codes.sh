@@ -94,6 +94,8 @@ if b="$(exe bench/codec_bench)"; then
   for v in 0 101 abc; do
     expect 2 "codec_bench --coding-repeats '$v'" "$b" --trace "$trace" --coding-repeats "$v" --frames 1
   done
+  expect 2 "codec_bench sequence, bad scene" "$b" --scene "$bad_scene" --trace "$trace" --frames 1
+  expect 2 "codec_bench sequence, missing trace" "$b" --trace "$missing" --frames 1
   # Sequence-mode options without --trace are named, not silently dropped.
   expect 0 "codec_bench --reuse without --trace" "$b" --scene synthetic --size 64x48 --repeat 1 --reuse on
   grep -q "warning: --reuse: only the sequence mode" "$tmp/err" || {
