@@ -121,6 +121,7 @@ struct Options {
   std::vector<uint32_t> edge_bands;  // the shipped client with these --edge-band values too (dhr_edge_bandN_ms)
   bool edges = false;  // --edges: `--warp edges` too (dhr_edges_ms; what --warp auto takes where every light is hard)
   std::vector<uint32_t> splat_scales;  // --warp edges-depth --traced-depth splat at these (dhr_edges_splatN_ms)
+  uint32_t shadow_size = render::ShadowMapSettings{}.size;  // texels per face side: `local`'s maps and the loops'
 };
 
 std::optional<Extent> parse_size(const std::string& text) {
@@ -205,7 +206,9 @@ int run(const Options& o) {
   const std::unique_ptr<vk::Context> context = vk::Context::create(vk_options);
   const render::ClientScene gpu_scene(*context, scene);
   const auto maps_start = std::chrono::steady_clock::now();
-  render::ShadowMaps maps(*context, gpu_scene);
+  render::ShadowMapSettings map_settings;
+  map_settings.size = o.shadow_size;
+  render::ShadowMaps maps(*context, gpu_scene, map_settings);
   const double maps_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - maps_start).count();
   const Camera display = render::display_camera(view, *size);
@@ -231,7 +234,8 @@ int run(const Options& o) {
   // The frame loops first: the shipped client, then `--warp full` and `--warp edges`.
   std::vector<Config> configs;
   std::vector<std::unique_ptr<ClientLoop>> loops;
-  const auto add_loop = [&](const char* name, const client::CoordinatorOptions& options) {
+  const auto add_loop = [&](const char* name, client::CoordinatorOptions options) {
+    options.shadow_maps.size = o.shadow_size;
     const TracedFormat format{*size, client::shipped::guard_band(*size)};
     // Visibility is shown one frame after its pose: traced for the scene time it is shown at, unless --scene-lag.
     const int64_t lead_ns = (1 - static_cast<int64_t>(o.scene_lag)) * frame_time_ns(1);
@@ -472,6 +476,10 @@ int main(int argc, char** argv) {
                  "also measure the shipped client with each of these --edge-band values (dhr_edge_bandN_ms)")
       ->delimiter(',')
       ->check(CLI::Range(0u, 8u));
+  app.add_option("--shadow-size", o.shadow_size,
+                 "shadow-map texels per cube face side, for local's maps and the frame loops' (shadow_map_size)")
+      ->capture_default_str()
+      ->check(CLI::Range(16u, 4096u));
   bool quick = false;
   app.add_flag("--quick", quick, "smoke run: 64x48, 2 frames after 1 warm-up (unless given)");
   try {

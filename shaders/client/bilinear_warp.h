@@ -157,6 +157,62 @@ WarpVote warp_vote_fields(WarpSamples s, uint masks[4], uint used, uint soft_lig
   return v;
 }
 
+// Old pixel j (0-15, row-major) of the 4x4 around a bilinear lookup: s.first + (j % 4 - 1, j / 4 - 1); the 2x2
+// samples are j = 5, 6, 9, 10 (sample k: 5 + (k & 1) + 4 * (k >> 1)).
+ivec2 warp_window_pixel(WarpSamples s, int j) { return s.first + ivec2(j % 4 - 1, j / 4 - 1); }
+int warp_window_of_sample(int k) { return 5 + (k & 1) + 4 * (k >> 1); }
+
+// Refined soft shares (kClientWarpSoftRefine) at a bilinear lookup whose vote gave `value`: for each of the first
+// kClientSoftRefineFields soft fields, the mean of the levels of the 4x4 old pixels around the lookup (window[j]
+// where bit j of `present` is set) that lie within one level of the vote's level for the field, weighted by a
+// tent of radius 2 old pixels centred on the lookup (weights (1 - f, 2 - f, 1 + f, f) per axis, f the lookup's
+// fraction: continuous as the lookup moves). A level is its share rounded to kClientSoftLevels levels; where a
+// smooth share crosses from one level to the next the neighbours on both sides tell how far it lies between them,
+// which the mean recovers (bands become ramps), and a jump of more than one level (a contact shadow) is kept.
+// One byte per field, the share times kClientSoftRefineScale rounded; kClientSoftRefineNone for the rest.
+uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, uint soft_lights, uint light_count) {
+  const float wx[4] = float[4](1.0 - s.frac.x, 2.0 - s.frac.x, 1.0 + s.frac.x, s.frac.x);
+  const float wy[4] = float[4](1.0 - s.frac.y, 2.0 - s.frac.y, 1.0 + s.frac.y, s.frac.y);
+  uint packed = kClientSoftRefineNoneAll;
+  uint offset = 0u, rank = 0u;
+  for (uint i = 0u; i < light_count && rank < kClientSoftRefineFields; ++i) {
+    const uint bits = field_bits(soft_lights, i);
+    if (bits > 1u) {
+      const float centre = field_visibility(value, offset, bits);
+      float sum = 0.0, total = 0.0;
+      for (int j = 0; j < 16; ++j) {
+        if (((present >> uint(j)) & 1u) == 0u) continue;
+        const float f = field_visibility(window[j], offset, bits);
+        if (abs(f - centre) * float(kClientSoftLevels - 1u) > 1.5) continue;
+        const float w = wx[j % 4] * wy[j / 4];
+        sum += w * f;
+        total += w;
+      }
+      const float share = total > 0.0 ? sum / total : centre;
+      const uint byte = uint(floor(clamp(share, 0.0, 1.0) * float(kClientSoftRefineScale) + 0.5));
+      packed = (packed & ~(0xFFu << (8u * rank))) | (byte << (8u * rank));
+      ++rank;
+    }
+    offset += bits;
+  }
+  return packed;
+}
+
+// Clears (to kClientSoftRefineNone) the refined shares of the soft fields any of whose bits are in `bits` (taken
+// from elsewhere than the samples: the shadow maps).
+uint soft_refine_drop(uint packed, uint bits, uint soft_lights, uint light_count) {
+  uint offset = 0u, rank = 0u;
+  for (uint i = 0u; i < light_count && rank < kClientSoftRefineFields; ++i) {
+    const uint b = field_bits(soft_lights, i);
+    if (b > 1u) {
+      if ((bits & (((1u << b) - 1u) << offset)) != 0u) packed |= 0xFFu << (8u * rank);
+      ++rank;
+    }
+    offset += b;
+  }
+  return packed;
+}
+
 // The vote with the bits the used samples' edge band marks (their OR) undecided; an exact lookup keeps its pixel's
 // mask.
 WarpVote warp_vote_band(WarpVote v, uint marks) {

@@ -17,7 +17,8 @@
 //   kClientForwardServerEdges this eye's newest visibility, 2x2 bilinear samples: bits they agree on from the
 //                             server, the others and pixels without a sample from the shadow maps, which are
 //                             looked up only there (WarpSettings::server_edges); with kClientWarpDepthTest the
-//                             samples off the pixel's tangent plane in the traced depth are not used
+//                             samples off the pixel's tangent plane in the traced depth are not used; with
+//                             kClientWarpSoftRefine soft fields shade with their refined shares (warp.comp's)
 // The surface point comes from gl_FragCoord (pixel centre, reversed-Z depth) with the same formula the compute
 // passes apply to the depth image: the warp decisions equal the compute warp's and its CPU reference.
 layout(set = 0, binding = kClientGBufferBindingBaseColor) uniform sampler2D base_color_texture;
@@ -89,6 +90,7 @@ void main() {
   const vec2 centre = gl_FragCoord.xy;
   const vec3 p = (pc.near_plane / d) * (v3(pc.world_ray0) + centre.x * v3(pc.world_ray_dx) + centre.y * v3(pc.world_ray_dy));
   uint mask = fields_all_lit(shading.soft_lights, shading.light_count);
+  uint refined = kClientSoftRefineNoneAll;  // kClientWarpSoftRefine: the soft fields' refined shares
   uint status = kClientStatusKnown;
   bool shaded = false;
   vec3 radiance = vec3(0.0);
@@ -126,7 +128,7 @@ void main() {
         tolerance = pc.plane_tolerance_rel * at.depth_old + pc.plane_tolerance_abs;
       }
       uint masks[4];
-      uint used = 0u, rows = 0u, marks = 0u;
+      uint used = 0u, rows = 0u, marks = 0u, arrived = 0u;
       for (int k = 0; k < 4; ++k) {
         masks[k] = 0u;
         const ivec2 c = warp_sample_pixel(samples, k);
@@ -134,6 +136,7 @@ void main() {
         const uint row_word = paper_warp_reads_rows(pc) ? rows0[uint(c.y) >> 5] : 0u;
         if (!warp_row_arrived(src, row_word, uint(c.y))) continue;
         ++rows;
+        arrived |= 1u << k;
         if (depth_test && !(same_ray && k == samples.exact)) {
           const ivec2 t = warp_depth_texel(src, c);
           const float ds = texelFetch(traced_depth0, t, 0).r;
@@ -157,6 +160,22 @@ void main() {
             warp_vote_fields(samples, masks, used, pc.soft_lights, pc.soft_edge_lights, pc.light_count), marks);
         value = vote.value;
         undecided = ~vote.agree & pc.unknown_mask;
+        // warp.comp's refined soft shares (look_up), where every 2x2 sample that arrived was used.
+        if ((pc.flags & kClientWarpSoftRefine) != 0u && pc.soft_lights != 0u && used == arrived) {
+          uint window[16];
+          uint present = 0u;
+          for (int j = 0; j < 16; ++j) {
+            window[j] = 0u;
+            const ivec2 c = warp_window_pixel(samples, j);
+            if (!warp_sample_in_buffer(src, c)) continue;
+            const uint row_word = paper_warp_reads_rows(pc) ? rows0[uint(c.y) >> 5] : 0u;
+            if (!warp_row_arrived(src, row_word, uint(c.y))) continue;
+            const uint bit = warp_sample_mask_bit(src, c);
+            window[j] = warp_sample_mask(src, vis0[bit >> 5], bit);
+            present |= 1u << uint(j);
+          }
+          refined = warp_soft_refine(samples, window, present, value, pc.soft_lights, pc.light_count);
+        }
       }
     }
     const bool known = status == kClientStatusKnown;
@@ -169,6 +188,8 @@ void main() {
       const uint shadow = shadow_lookup_fields(pc, shadow_atlas, p, n, (pc.near_plane / d) * pc.pixel_tangent,
                                                known ? from_shadow : 0xFFFFFFFFu).mask;
       mask = known ? (value & ~from_shadow) | (shadow & from_shadow) : shadow;
+      refined = known ? soft_refine_drop(refined, from_shadow, pc.soft_lights, pc.light_count)
+                      : kClientSoftRefineNoneAll;
       status |= !known ? kClientForwardStatusShadowFill : undecided != 0u ? kClientForwardStatusShadowEdge : 0u;
       if (moved_bits != 0u) status |= kClientForwardStatusMotion;
     }
@@ -181,7 +202,7 @@ void main() {
                    ? shade_radiance_slots(p, n, albedo, mask, shading.light_count, shading.soft_lights,
                                           vec3(shading.slot_origin_mm[0], shading.slot_origin_mm[1],
                                                shading.slot_origin_mm[2]))
-                   : shade_radiance(p, n, albedo, mask, shading.light_count, shading.soft_lights);
+                   : shade_radiance(p, n, albedo, mask, shading.light_count, shading.soft_lights, refined);
   }
   vec3 display = encode_radiance(radiance, shading.exposure);
   if ((shading.flags & kClientShadingSwapRedBlue) != 0u) display = display.bgr;

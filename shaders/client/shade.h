@@ -50,33 +50,43 @@ uint field_light(uint f, uint row) { return row == kNoSlotRow ? f : light_slot_t
 uint field_light(uint f, uint row) { return f; }
 #endif
 
-// The sum over the mask's fields, field f shading field_light(f, row).
-vec3 shade_fields(vec3 p, vec3 n, vec3 albedo, uint mask, uint fields, uint soft_fields, uint row) {
+// The refined share of soft field `rank` in `refined` (kClientWarpSoftRefine's packed bytes), or -1: none.
+float shade_refined_share(uint refined, uint rank) {
+  if (rank >= kClientSoftRefineFields) return -1.0;
+  const uint byte = (refined >> (8u * rank)) & 0xFFu;
+  return byte == kClientSoftRefineNone ? -1.0 : float(byte) / float(kClientSoftRefineScale);
+}
+
+// The sum over the mask's fields, field f shading field_light(f, row); a soft field with a refined share in
+// `refined` (kClientSoftRefineNoneAll: none) shades with it instead of its level.
+vec3 shade_fields(vec3 p, vec3 n, vec3 albedo, uint mask, uint fields, uint soft_fields, uint row, uint refined) {
   vec3 sum = vec3(0.0);
-  uint offset = 0u;
+  uint offset = 0u, rank = 0u;
   for (uint f = 0u; f < fields; ++f) {
     const uint bits = field_bits(soft_fields, f);
     const uint at = offset;
     offset += bits;
-    if (((mask >> at) & ((1u << bits) - 1u)) == 0u) continue;  // shadowed: skipped when no invocation needs it
+    const float share = bits > 1u ? shade_refined_share(refined, rank++) : -1.0;
+    // Shadowed: skipped when no invocation needs it.
+    if (((mask >> at) & ((1u << bits) - 1u)) == 0u && !(share > 0.0)) continue;
     const uint li = field_light(f, row);
     if (li == kVisNoSlotLight) continue;
     vec3 term;
     if (!shade_light_term(li, p, n, term)) continue;
     // A hard light adds its term as it is (k = 1), so masks without soft fields shade exactly as before.
-    sum += bits == 1u ? term : field_visibility(mask, at, bits) * term;
+    sum += bits == 1u ? term : (share >= 0.0 ? share : field_visibility(mask, at, bits)) * term;
   }
   return albedo * 0.31830988618379067 * sum;
 }
 
-vec3 shade_radiance(vec3 p, vec3 n, vec3 albedo, uint mask, uint light_count, uint soft_lights) {
-  return shade_fields(p, n, albedo, mask, light_count, soft_lights, kNoSlotRow);
+vec3 shade_radiance(vec3 p, vec3 n, vec3 albedo, uint mask, uint light_count, uint soft_lights, uint refined) {
+  return shade_fields(p, n, albedo, mask, light_count, soft_lights, kNoSlotRow, refined);
 }
 
 #ifdef DHR_LIGHT_SLOTS_BINDING
 // shade_radiance with the mask's fields as light slots: field f adds the light slot f holds where p is (none: 0).
 vec3 shade_radiance_slots(vec3 p, vec3 n, vec3 albedo, uint mask, uint fields, uint soft_fields, vec3 origin_mm) {
-  return shade_fields(p, n, albedo, mask, fields, soft_fields, light_slot_row(p, origin_mm));
+  return shade_fields(p, n, albedo, mask, fields, soft_fields, light_slot_row(p, origin_mm), kClientSoftRefineNoneAll);
 }
 #endif
 

@@ -5,7 +5,7 @@
 #include "client/float3.h"
 
 // Shading: I = albedo / pi * sum_i k_i * saturate(N.L_i) * E_i, with k_i light i's field of the predicted mask
-// (client/visibility_field.h: the bit, or a soft light's level / 7) and the
+// (client/visibility_field.h: the bit, or a soft light's level / 7, or the warp's refined share of it) and the
 // light math of light_eval.h (the server's notion of "contributes"). Positions are eye-relative (world axes):
 // the surface point from depth, the lights packed relative to the eye in double on the CPU.
 // Output: exposure -> ACES approximation -> sRGB encoding, stored as bytes in an RGBA8_UNORM image.
@@ -18,6 +18,7 @@ layout(set = 0, binding = kClientShadingBindingMask, r32ui) uniform readonly uim
 layout(set = 0, binding = kClientShadingBindingStatus, r32ui) uniform readonly uimage2D status_image;
 layout(set = 0, binding = kClientShadingBindingMotion, rg32f) uniform readonly image2D motion_image;
 layout(set = 0, binding = kClientShadingBindingOutput, rgba8) uniform writeonly image2D output_image;
+layout(set = 0, binding = kClientShadingBindingSoft, r32ui) uniform readonly uimage2D soft_image;
 layout(push_constant, std430) uniform Push { ClientShadingPush pc; };
 // The lights are declared by the helper (client/light_buffer.h, through shade.h).
 #define DHR_LIGHT_BUFFER_SET 0
@@ -36,11 +37,14 @@ void main() {
   const vec3 n = normalize(texelFetch(normal_texture, pixel, 0).xyz);
   const vec3 albedo = texelFetch(albedo_texture, pixel, 0).rgb;
   const uint mask = imageLoad(mask_image, pixel).x;
+  // The warp's refined soft shares (kClientWarpSoftRefine), which replace those fields' levels.
+  const uint refined =
+      (pc.flags & kClientShadingSoftRefined) != 0u ? imageLoad(soft_image, pixel).x : kClientSoftRefineNoneAll;
 
   const vec3 radiance = (pc.flags & kClientShadingLightSlots) != 0u
                             ? shade_radiance_slots(p, n, albedo, mask, pc.light_count, pc.soft_lights,
                                                    v3(pc.slot_origin_mm))
-                            : shade_radiance(p, n, albedo, mask, pc.light_count, pc.soft_lights);
+                            : shade_radiance(p, n, albedo, mask, pc.light_count, pc.soft_lights, refined);
   vec3 display = encode_radiance(radiance, pc.exposure);
 
   if (pc.view_mode != kClientViewShaded) {

@@ -34,6 +34,7 @@ layout(set = 0, binding = kClientWarpBindingOldDepth2) uniform sampler2D old_dep
 layout(set = 0, binding = kClientWarpBindingMask, r32ui) uniform writeonly uimage2D mask_image;
 layout(set = 0, binding = kClientWarpBindingStatus, r32ui) uniform writeonly uimage2D status_image;  // optional
 layout(set = 0, binding = kClientWarpBindingMotion, rg32f) uniform writeonly image2D motion_image;
+layout(set = 0, binding = kClientWarpBindingSoft, r32ui) uniform writeonly uimage2D soft_image;  // optional
 layout(set = 0, binding = kClientWarpBindingCounters, std430) buffer Counters { uint counters[]; };
 layout(set = 0, binding = kClientWarpBindingParams, std430) restrict readonly buffer Params { ClientWarpParams pc; };
 layout(set = 0, binding = kClientWarpBindingShadowMap) uniform sampler2D shadow_atlas;
@@ -72,10 +73,12 @@ struct Lookup {
   uint value;   // agreed bits: their value; other bits: the bilinear vote
   bool exact;   // bilinear: the lookup is at an old pixel centre whose sample is used: value is its mask
   vec2 pixel;   // continuous lookup coordinate
+  uint refined; // kClientWarpSoftRefine: the soft fields' refined shares (warp_soft_refine), else none
 };
 
 Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   Lookup r;
+  r.refined = kClientSoftRefineNoneAll;
   r.agree = 0u;
   r.value = 0u;
   r.exact = false;
@@ -108,7 +111,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   }
   const float tolerance = pc.plane_tolerance_rel * depth_old + pc.plane_tolerance_abs;
   const WarpSamples samples = warp_samples(r.pixel, bilinear);
-  uint rows = 0u, used = 0u, marks = 0u;
+  uint rows = 0u, used = 0u, marks = 0u, arrived = 0u;
   uint masks[4];
   // Bilinear: a lookup within kClientWarpExactLookup of an old pixel centre (samples.exact) takes that pixel's
   // bit as exact when it is used. Traced from this very eye position, that pixel's ray is this pixel's ray:
@@ -122,6 +125,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
     if (!warp_sample_in_buffer(pc.source[s], c)) continue;
     if (!row_ok(s, uint(c.y))) continue;
     ++rows;
+    arrived |= 1u << k;
     if (depth_test && !(same_ray && k == samples.exact)) {
       const ivec2 t = warp_depth_texel(pc.source[s], c);
       const float ds = old_depth_at(s, t);
@@ -150,6 +154,20 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   r.agree = vote.agree;
   r.value = vote.value;
   r.exact = vote.exact;
+  // Refined soft shares from the 4x4 around the lookup, where the depth test used every 2x2 sample that arrived
+  // (a rejected one: a silhouette, whose far side the ring must not mix in).
+  if ((pc.flags & kClientWarpSoftRefine) != 0u && bilinear && pc.soft_lights != 0u && used == arrived) {
+    uint window[16];
+    uint present = 0u;
+    for (int j = 0; j < 16; ++j) {
+      window[j] = 0u;
+      const ivec2 c = warp_window_pixel(samples, j);
+      if (!warp_sample_in_buffer(pc.source[s], c) || !row_ok(s, uint(c.y))) continue;
+      window[j] = old_mask(s, c.x, c.y);
+      present |= 1u << uint(j);
+    }
+    r.refined = warp_soft_refine(samples, window, present, vote.value, pc.soft_lights, pc.light_count);
+  }
   return r;
 }
 
@@ -159,6 +177,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
 // Needs the source's traced depth; the lookup must not be behind the old eye.
 Lookup look_up_neighbours(uint s, float d, vec2 centre, vec3 n_world) {
   Lookup r;
+  r.refined = kClientSoftRefineNoneAll;
   r.status = kClientStatusDisoccluded;
   r.agree = 0u;
   r.value = 0u;
@@ -228,10 +247,12 @@ void main() {
     imageStore(mask_image, ivec2(id), uvec4(mask, 0u, 0u, 0u));
     if ((pc.flags & kClientWarpWriteStatus) != 0u) imageStore(status_image, ivec2(id), uvec4(status, 0u, 0u, 0u));
     if ((pc.flags & kClientWarpWriteMotion) != 0u) imageStore(motion_image, ivec2(id), vec4(motion, 0.0, 0.0));
+    if ((pc.flags & kClientWarpSoftRefine) != 0u) imageStore(soft_image, ivec2(id), uvec4(kClientSoftRefineNoneAll));
   } else if (in_image) {
     const float d = texelFetch(depth_texture, ivec2(id), 0).r;
     const vec2 centre = vec2(id) + 0.5;
     uint mask = pc.unknown_mask;
+    uint refined = kClientSoftRefineNoneAll;
     vec2 motion = vec2(0.0);
     if (!(d > 0.0)) {
       status = kClientStatusBackground;
@@ -300,6 +321,7 @@ void main() {
         const bool edges = (pc.flags & kClientWarpShadowEdges) != 0u;
         const uint from_shadow = (first && !chosen.exact ? shadow.confident : 0u) | (edges ? undecided : 0u) | to_shadow;
         mask = (chosen.value & ~from_shadow) | (shadow.mask & from_shadow);
+        refined = soft_refine_drop(chosen.refined, from_shadow, pc.soft_lights, pc.light_count);
         edge_from_shadow = edges && undecided != 0u;
         overridden = (from_shadow & ~undecided & ~to_shadow & (chosen.value ^ shadow.mask) & pc.unknown_mask) != 0u;
       } else if ((pc.flags & kClientWarpShadowFill) != 0u) {
@@ -321,6 +343,7 @@ void main() {
     if ((pc.flags & kClientWarpWriteMotion) != 0u) {
       imageStore(motion_image, ivec2(id), vec4(motion, 0.0, 0.0));
     }
+    if ((pc.flags & kClientWarpSoftRefine) != 0u) imageStore(soft_image, ivec2(id), uvec4(refined, 0u, 0u, 0u));
   }
 
   // Counts: one subgroup sum per word of one-hot values packed in 10-bit fields, then the elected lane adds

@@ -75,7 +75,9 @@ void EyePipeline::create_images() {
 void EyePipeline::ensure_deferred_images() {
   if (deferred_images_) return;
   gbuffer_ = GBuffer::create(*context_, extent_);
-  warp_ = WarpTargets::create(*context_, extent_, WarpOutputs{options_.warp_status, options_.motion_vectors});
+  const std::span<const SceneLight> lights(scene_->lights());
+  const bool soft = layout_for_lights(lights.first(std::min<size_t>(lights.size(), kMaxLights))).any_soft();
+  warp_ = WarpTargets::create(*context_, extent_, WarpOutputs{options_.warp_status, options_.motion_vectors, soft});
   output_ = create_shading_output(*context_, extent_);
   deferred_images_ = true;
 }
@@ -229,6 +231,7 @@ void EyePipeline::record(VkCommandBuffer cmd, uint32_t slot_index, const View& v
     frame.shading = options_.shading;
     const bool edges = options_.warp.is_server_edges();
     if (edges) frame.edge_band = options_.warp.edge_band;
+    frame.soft_refine = edges && options_.warp.soft_refine;
     if (edges && options_.warp.depth_test && visibility.buffer != nullptr) {
       frame.traced_depth = traced_depth(visibility.traced);
       frame.depth_test = options_.warp;

@@ -234,6 +234,9 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   params.light_count = static_cast<uint32_t>(fields.size());
   params.soft_lights = soft_light_mask(field_layout);  // the fields the bilinear vote blends
   params.soft_edge_lights = soft_edge_light_mask(fields);
+  if (mode == ForwardMode::kServerEdges && frame.soft_refine && out.visibility_used && !slotted &&
+      params.soft_lights != 0u)
+    params.flags |= kClientWarpSoftRefine;
   slot.params.write(&params, sizeof(params));
   const ClientWarpMotion no_motion{};
   slot.moved.write((params.flags & kClientWarpMotion) != 0u ? frame.motion : &no_motion, sizeof(ClientWarpMotion));

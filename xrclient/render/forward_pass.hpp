@@ -88,6 +88,8 @@ struct ForwardFrame {
   WarpSettings depth_test = WarpSettings::server_edges_depth(1);
   // kServerEdges: WarpSettings::edge_band (0: the 2x2 samples alone), server_edges()'s unless set.
   uint32_t edge_band = client::shipped::kEdgeBand;
+  // kServerEdges: soft fields shade with their refined shares (WarpSettings::soft_refine).
+  bool soft_refine = false;
   // kServerEdges: what moved (warp_motion.hpp), source 0's entry; null: nothing (WarpSettings::motion's rule off).
   const shader::ClientWarpMotion* motion = nullptr;
 };

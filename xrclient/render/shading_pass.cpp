@@ -50,7 +50,7 @@ ShadingPass::ShadingPass(const vk::Context& context, uint32_t slots, const Light
   if (slots == 0) throw std::invalid_argument("ShadingPass needs at least one slot");
   if (light_slots && !light_slots->is_identity()) light_slots_ = *light_slots;
   const VkDevice device = context.device();
-  const std::array<ComputeBinding, 9> bindings = {{
+  const std::array<ComputeBinding, 10> bindings = {{
       {kClientShadingBindingDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
       {kClientShadingBindingNormal, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
       {kClientShadingBindingAlbedo, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
@@ -60,6 +60,7 @@ ShadingPass::ShadingPass(const vk::Context& context, uint32_t slots, const Light
       {kClientShadingBindingLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       {kClientShadingBindingOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
       {kClientShadingBindingLightSlots, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {kClientShadingBindingSoft, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
   }};
   core_ = ComputePassCore::create(device, bindings, sizeof(ClientShadingPush), "shading.comp", slots);
   slots_.resize(slots);
@@ -120,9 +121,11 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
                              VK_IMAGE_LAYOUT_GENERAL);
   vk::write_buffer_descriptor(device, slot.set, kClientShadingBindingLightSlots, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                               light_slot_table.handle());
+  vk::write_image_descriptor(device, slot.set, kClientShadingBindingSoft, kStorage, warp.soft.view(),
+                             VK_IMAGE_LAYOUT_GENERAL);
 
   for (vk::Image* image : {&gbuffer.depth, &gbuffer.normal, &gbuffer.albedo}) ensure_layout(cmd, *image, kRead);
-  for (vk::Image* image : {&warp.mask, &warp.status, &warp.motion}) {
+  for (vk::Image* image : {&warp.mask, &warp.status, &warp.motion, &warp.soft}) {
     ensure_layout(cmd, *image, VK_IMAGE_LAYOUT_GENERAL);
   }
   discard_to_layout(cmd, output, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
@@ -162,7 +165,8 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
   }
   push.view_mode = static_cast<uint32_t>(settings.view);
   push.debug_light = std::min(settings.debug_light, 31u);
-  push.flags = (settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u) | (light_slots_ ? kClientShadingLightSlots : 0u);
+  push.flags = (settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u) | (light_slots_ ? kClientShadingLightSlots : 0u) |
+               (warp.soft_written && !light_slots_ ? kClientShadingSoftRefined : 0u);
 
   core_.dispatch(cmd, slot.set, &push, sizeof(push), extent.width, extent.height, kClientWarpGroupSize);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

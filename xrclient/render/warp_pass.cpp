@@ -46,6 +46,8 @@ WarpTargets WarpTargets::create(const vk::Context& context, Extent extent, WarpO
   t.status = vk::Image(context, status.width, status.height, VK_FORMAT_R32_UINT, kUsage);
   const Extent motion = outputs.motion ? extent : Extent{1, 1};
   t.motion = vk::Image(context, motion.width, motion.height, VK_FORMAT_R32G32_SFLOAT, kUsage);
+  const Extent soft = outputs.soft ? extent : Extent{1, 1};
+  t.soft = vk::Image(context, soft.width, soft.height, VK_FORMAT_R32_UINT, kUsage);
   return t;
 }
 
@@ -56,7 +58,7 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-  const std::array<ComputeBinding, 20> bindings = {{
+  const std::array<ComputeBinding, 21> bindings = {{
       {kClientWarpBindingDepth, kSampled},
       {kClientWarpBindingVisibility0, kStorage},
       {kClientWarpBindingRowValid0, kStorage},
@@ -77,6 +79,7 @@ WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&conte
       {kClientWarpBindingRowValid2, kStorage},
       {kClientWarpBindingOldDepth2, kSampled},
       {kClientWarpBindingMoved, kStorage},
+      {kClientWarpBindingSoft, kImage},
   }};
   // The shader reads everything from the parameter buffer; the push range carries nothing it uses.
   core_ = ComputePassCore::create(device, bindings, 4, "warp.comp", slots);
@@ -157,6 +160,9 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   const VisibilityLayout layout = layout_for_lights(frame.lights.first(params.light_count));
   params.soft_lights = soft_light_mask(layout);
   params.soft_edge_lights = soft_edge_light_mask(frame.lights.first(params.light_count));
+  // Refined soft shares: bilinear lookups of a layout with soft fields, into the soft target.
+  targets.soft_written = settings.soft_refine && settings.bilinear && params.soft_lights != 0u && targets.has_soft();
+  if (targets.soft_written) params.flags |= kClientWarpSoftRefine;
   const uint32_t edge_band = settings.bilinear ? settings.edge_band : 0u;
   for (size_t s = 0; s < usable.size(); ++s) {
     const VisibilityInput* in = frame.sources[s].visibility;
@@ -231,6 +237,8 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
                              targets.status.view(), VK_IMAGE_LAYOUT_GENERAL);
   vk::write_image_descriptor(device, slot.set, kClientWarpBindingMotion, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                              targets.motion.view(), VK_IMAGE_LAYOUT_GENERAL);
+  vk::write_image_descriptor(device, slot.set, kClientWarpBindingSoft, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                             targets.soft.view(), VK_IMAGE_LAYOUT_GENERAL);
   vk::write_buffer_descriptor(device, slot.set, kClientWarpBindingCounters, kStorage, slot.counters.handle());
 
   ensure_layout(cmd, depth, kRead);
@@ -239,7 +247,8 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   constexpr VkPipelineStageFlags2 kCs = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
   discard_to_layout(cmd, targets.mask, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   for (const auto& [image, written] : {std::pair{&targets.status, targets.has_status()},
-                                      std::pair{&targets.motion, targets.has_motion()}}) {
+                                      std::pair{&targets.motion, targets.has_motion()},
+                                      std::pair{&targets.soft, targets.soft_written}}) {
     if (written) {
       discard_to_layout(cmd, *image, VK_IMAGE_LAYOUT_GENERAL, kCs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     } else {

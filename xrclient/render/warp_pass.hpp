@@ -6,6 +6,7 @@
 //   mask   R32_UINT   predicted light mask (all light bits where unfilled)
 //   status R32_UINT   (optional: debug views, tests) WarpStatus | WarpFill << 8 per pixel
 //   motion R32G32_SFLOAT (optional, debug) old-buffer lookup minus the lookup without any pose change, px
+//   soft   R32_UINT (optional: soft lights) refined soft shares, a byte per soft field (bilinear_warp.h)
 // plus per-status and per-fill pixel counts (WarpCounts), summed per subgroup and atomically per bucket of
 // workgroups. Optional outputs are 1x1 placeholders when off: each full-size store costs (about a sixth of
 // the pass on lavapipe) and the frame loop only needs the mask and the counts.
@@ -38,17 +39,21 @@ namespace dhr::render {
 struct WarpOutputs {
   bool status = false;  // WarpStatus per pixel
   bool motion = false;  // motion vectors
+  bool soft = false;    // refined soft shares (a scene with soft lights; WarpSettings::soft_refine)
 };
 
 struct WarpTargets {
   vk::Image mask;    // STORAGE | SAMPLED | TRANSFER_SRC
   vk::Image status;  // display-sized with status on, else a 1x1 placeholder
   vk::Image motion;  // display-sized with motion vectors on, else a 1x1 placeholder
+  vk::Image soft;    // display-sized with soft on, else a 1x1 placeholder: R32_UINT, warp_soft_refine's bytes
+  bool soft_written = false;  // the last recorded warp wrote `soft` (the shading pass reads it then)
 
   static WarpTargets create(const vk::Context& context, Extent extent, WarpOutputs outputs);
   Extent extent() const { return Extent{mask.width(), mask.height()}; }
   bool has_status() const { return status.width() == mask.width() && status.height() == mask.height(); }
   bool has_motion() const { return motion.width() == mask.width() && motion.height() == mask.height(); }
+  bool has_soft() const { return soft.width() == mask.width() && soft.height() == mask.height(); }
 };
 
 class ShadowMaps;

@@ -1,4 +1,6 @@
 #include "render/warp_reference.hpp"
+
+#include "render/soft_refine.hpp"
 #include "render/warp_motion.hpp"
 
 #include "render/light_layout.hpp"
@@ -93,6 +95,7 @@ struct SourceLookup {
   bool exact = false;
   glm::dvec2 pixel{0.0};
   double margin = std::numeric_limits<double>::infinity();
+  uint32_t refined = shader::kClientSoftRefineNoneAll;  // settings.soft_refine: soft_refine's shares
 };
 
 // The depth test's plane check for old pixel (a, b) of `src` (its traced depth must be there): whether the old
@@ -170,7 +173,7 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
   const int n = set.bilinear ? 4 : 1;
   std::array<uint32_t, 4> masks{};
   std::array<double, 4> weights{};
-  uint32_t and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0, used = 0;
+  uint32_t and_m = 0xFFFFFFFFu, or_m = 0u, rows = 0, used = 0, arrived = 0;
   // Bilinear: a lookup at an old pixel centre (sample k_exact) takes that pixel's bit as exact when used;
   // traced from the display eye's own position it is this pixel's ray and skips the depth test.
   const int k_exact = (fx < 0.5 ? 0 : 1) + 2 * (fy < 0.5 ? 0 : 1);
@@ -188,6 +191,7 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
     if (a < 0 || b < 0 || a >= static_cast<int>(old.width) || b >= static_cast<int>(old.height)) continue;
     if (!src.row_valid.empty() && src.row_valid[static_cast<size_t>(b)] == 0) continue;
     ++rows;
+    arrived |= 1u << k;
     if (depth_test && !(same_ray && k == k_exact) &&
         !on_tangent_plane(input, src, a, b, p_old, n_old, depth_old, tolerance, r.margin)) {
       continue;
@@ -207,10 +211,13 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
     return r;
   }
   r.status = WarpStatus::kKnown;
+  // Refined soft shares (warp.comp's look_up): where every 2x2 sample that arrived was used.
+  const bool refine = set.soft_refine && set.bilinear && layout.any_soft() && used == arrived;
   if (centred && ((used >> k_exact) & 1u)) {
     r.exact = true;
     r.agree = 0xFFFFFFFFu;
     r.value = masks[k_exact];
+    if (refine) r.refined = soft_refine(layout, soft_window(*src.visibility, src.row_valid, i0, j0), fx, fy, r.value);
     return r;
   }
   r.agree = ~(and_m ^ or_m);
@@ -259,6 +266,7 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
   if (set.bilinear && set.edge_band > 0) {
     r.agree &= ~band_disagreement(src, hard_field_bits(layout), i0, j0, used, static_cast<int>(set.edge_band));
   }
+  if (refine) r.refined = soft_refine(layout, soft_window(*src.visibility, src.row_valid, i0, j0), fx, fy, r.value);
   return r;
 }
 
@@ -364,6 +372,7 @@ WarpResult warp_reference(const WarpInput& input) {
   out.fill.assign(n, WarpFill::kNone);
   out.lookup.assign(n, glm::dvec2(0.0));
   out.margin.assign(n, std::numeric_limits<double>::infinity());
+  out.soft.assign(n, shader::kClientSoftRefineNoneAll);
 
   for (uint32_t y = 0; y < extent.height; ++y) {
     for (uint32_t x = 0; x < extent.width; ++x) {
@@ -436,6 +445,7 @@ WarpResult warp_reference(const WarpInput& input) {
         const uint32_t from_shadow = (set.shadow_first && !chosen.exact ? shadow.confident : 0u) |
                                      (set.shadow_edges ? undecided : 0u) | to_shadow;
         out.masks[i] = (chosen.value & ~from_shadow) | (shadow.mask & from_shadow);
+        out.soft[i] = soft_refine_drop(layout, chosen.refined, from_shadow);
         if (moved != 0) ++out.counts.motion_unknown;
         if (set.shadow_edges && undecided != 0) ++out.counts.edges_shadow_map;
         if ((from_shadow & ~undecided & ~to_shadow & (chosen.value ^ shadow.mask) & unknown) != 0)

@@ -115,6 +115,10 @@ struct WarpSettings {
   // sample disagrees on is undecided, as if the samples disagreed (render/warp_edges.hpp); 0: the 2x2 samples
   // alone. Exact lookups keep their pixel's mask. At most kMaxEdgeBand.
   uint32_t edge_band = 0;
+  // With bilinear, soft fields shade with their share refined from the 4x4 old pixels around the lookup
+  // (shaders/client/bilinear_warp.h's warp_soft_refine: the levels within one of the vote's, tent-weighted)
+  // instead of their level; the masks are unchanged.
+  bool soft_refine = false;
   static WarpSettings full();  // every ingredient on
   // Server bits first: 2x2 bilinear samples, bits they all agree on from the server, the others and pixels
   // without a usable sample from the shadow maps; no depth test, so no traced depth: the forward pass runs it.
@@ -190,6 +194,7 @@ struct WarpResult {
   std::vector<WarpFill> fill;        // per display pixel
   std::vector<glm::dvec2> lookup;    // source 0's continuous old pixel coordinate (0,0 where none was computed)
   std::vector<double> margin;        // distance to the nearest flip of any decision (see the header comment)
+  std::vector<uint32_t> soft;        // per display pixel: refined soft shares (soft_refine.hpp; none without)
   WarpCounts counts;
 };
 

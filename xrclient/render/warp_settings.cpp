@@ -46,14 +46,14 @@ WarpSettings warp_settings_for(client::WarpChoice choice, uint32_t depth_scale, 
 WarpSettings WarpSettings::full() {
   WarpSettings s;
   s.bilinear = s.depth_test = s.other_eye = s.shadow_fill = s.shadow_edges = s.shadow_first = true;
-  s.older_buffer = s.neighbour_fill = s.motion = true;
+  s.older_buffer = s.neighbour_fill = s.motion = s.soft_refine = true;
   s.edge_band = client::shipped::kEdgeBand;
   return s;
 }
 
 WarpSettings WarpSettings::server_edges(uint32_t edge_band) {
   WarpSettings s;
-  s.bilinear = s.shadow_edges = s.shadow_fill = s.motion = true;
+  s.bilinear = s.shadow_edges = s.shadow_fill = s.motion = s.soft_refine = true;
   s.edge_band = edge_band;
   return s;
 }
@@ -70,6 +70,7 @@ bool WarpSettings::is_server_edges() const {
   plain.depth_test = false;
   plain.depth_scale = 1;
   plain.depth_splat = false;
+  plain.soft_refine = true;  // either way: the forward pass refines as the compute warp does
   plain.plane_tolerance_rel = server_edges().plane_tolerance_rel;
   plain.plane_tolerance_abs = server_edges().plane_tolerance_abs;
   return plain == server_edges(edge_band);

@@ -185,6 +185,7 @@ DHR_CONST uint kClientWarpBindingVisibility2 = 16;  // source 2 (this eye's prev
 DHR_CONST uint kClientWarpBindingRowValid2 = 17;
 DHR_CONST uint kClientWarpBindingOldDepth2 = 18;
 DHR_CONST uint kClientWarpBindingMoved = 19;       // storage buffer ClientWarpMotion (kClientWarpMotion)
+DHR_CONST uint kClientWarpBindingSoft = 20;        // r32ui image: refined soft shares (kClientWarpSoftRefine)
 DHR_CONST uint kClientWarpSourceCount = 3u;
 
 // Per-pixel outcome for source 0; every status but kKnown means this eye's buffer gave no mask.
@@ -224,6 +225,7 @@ DHR_CONST uint kClientWarpShadowFirst = 256u;    // bits the shadow maps are con
 DHR_CONST uint kClientWarpOlderBuffer = 512u;    // pixels without a source so far try source 2
 DHR_CONST uint kClientWarpNeighbourFill = 1024u; // ... then the nearest source-0 pixel on their tangent plane
 DHR_CONST uint kClientWarpMotion = 2048u;        // bits that motion since a source's scene time may change: unknown
+DHR_CONST uint kClientWarpSoftRefine = 4096u;    // soft fields' shares refined from the 4x4 around the lookup
 // The neighbour fill searches the old pixels within this many pixels (Chebyshev) of the lookup's pixel.
 DHR_CONST int kClientWarpNeighbourRadius = 2;
 // Bilinear lookups within this many old pixels of an old pixel centre (in x and y) take that pixel's mask
@@ -234,6 +236,15 @@ DHR_CONST float kClientWarpExactLookup = 0.02f;
 // wrong as a hard bit's vote, so the field counts as undecided (bilinear_warp.h's warp_vote_fields). Only for the
 // lights in ClientWarpParams::soft_edge_lights: a sun's (render/light_layout.hpp, soft_edge_light_mask).
 DHR_CONST uint kClientWarpSoftEdgeSpread = 4u;
+// Refined soft shares (kClientWarpSoftRefine; bilinear_warp.h's warp_soft_refine): the levels a soft field shows
+// are its share rounded to kClientSoftLevels levels, which bands a smooth penumbra into contours. The warp refines
+// the share of the first kClientSoftRefineFields soft fields from the old pixels of the 4x4 around the lookup whose
+// level is within one of the vote's (tent weights of radius 2 old pixels), one byte each (share x
+// kClientSoftRefineScale, rounded) in a uint; kClientSoftRefineNone in a byte: none, the mask's level holds.
+DHR_CONST uint kClientSoftRefineFields = 4u;
+DHR_CONST uint kClientSoftRefineScale = 254u;
+DHR_CONST uint kClientSoftRefineNone = 255u;
+DHR_CONST uint kClientSoftRefineNoneAll = 0xFFFFFFFFu;
 // ClientWarpSource::flags
 DHR_CONST uint kClientSourceHasVisibility = 1u;
 DHR_CONST uint kClientSourceHasRowValidity = 2u;
@@ -389,6 +400,7 @@ DHR_CONST uint kClientShadingBindingOutput = 7;  // rgba8 image (sRGB-encoded by
 // uint[]: with kClientShadingLightSlots, the light slots (LightSlots::gpu_words: the server's format; the origin
 // words are not read, ClientShadingPush::slot_origin_mm gives the grid's origin relative to the eye).
 DHR_CONST uint kClientShadingBindingLightSlots = 8;
+DHR_CONST uint kClientShadingBindingSoft = 9;    // r32ui image (refined soft shares; kClientShadingSoftRefined)
 
 DHR_CONST uint kClientViewShaded = 0u;         // the shading equation, exposure, tonemap, sRGB
 DHR_CONST uint kClientViewLightVisibility = 1u;  // light debug_light: white lit, black shadowed, red unknown
@@ -401,6 +413,8 @@ DHR_CONST uint kClientShadingSwapRedBlue = 1u;  // store (b, g, r): bytes for a 
 // The mask's fields are light slots (scene/light_slots.hpp): field f shades the light slot f holds in the cell of
 // the pixel's surface point (kClientShadingBindingLightSlots), light_count and soft_lights count fields.
 DHR_CONST uint kClientShadingLightSlots = 2u;
+// The warp refined soft shares (kClientWarpSoftRefine): the shading reads them (kClientShadingBindingSoft).
+DHR_CONST uint kClientShadingSoftRefined = 4u;
 
 // The surface point of pixel (i, j) with depth-buffer value d, relative to the eye in world axes:
 //   p = (near_plane / d) * (ray0 + (i + 0.5) * ray_dx + (j + 0.5) * ray_dy)
