@@ -38,6 +38,9 @@
 //                    warp, compute shading) where `--render-path auto` takes the forward pass on this device (not a
 //                    discrete GPU), the forward pass where it takes the deferred ones; keys as dhr_ms.
 //                    dhr_render_path_rule: the shipped --render-path (plan/render_path.hpp)
+//   dhr_levels_ms    (--levels) the shipped client with its soft fields shaded at their levels, without the warp's
+//                    refined shares (WarpSettings::soft_refine off); keys as dhr_ms. shadow_map_size: the maps'
+//                    texels per face side (--shadow-size, local's and the loops' alike)
 //   dhr_paper_static_ms  the paper's warp on the forward path, one eye at a fixed view with a fixed visibility
 //                    buffer (render::EyePipeline directly): the warp and shading alone, no frame loop
 //   dhr_deferred_ms  the same rule in the deferred passes (G-buffer -> warp -> shading; the client before issue 15),
@@ -122,43 +125,8 @@ struct Options {
   bool edges = false;  // --edges: `--warp edges` too (dhr_edges_ms; what --warp auto takes where every light is hard)
   std::vector<uint32_t> splat_scales;  // --warp edges-depth --traced-depth splat at these (dhr_edges_splatN_ms)
   uint32_t shadow_size = render::ShadowMapSettings{}.size;  // texels per face side: `local`'s maps and the loops'
+  bool levels = false;  // --levels: the shipped client without refined soft shares too (dhr_levels_ms)
 };
-
-std::optional<Extent> parse_size(const std::string& text) {
-  unsigned w = 0, h = 0;
-  char x = 0;
-  int used = 0;
-  if (std::sscanf(text.c_str(), "%u%c%u%n", &w, &x, &h, &used) != 3 || (x != 'x' && x != 'X') ||
-      static_cast<size_t>(used) != text.size() || text[0] == '-') {
-    return std::nullopt;
-  }
-  if (w == 0 || h == 0 || w > 8192 || h > 8192) return std::nullopt;
-  return Extent{w, h};
-}
-
-// Point lights beyond the scene's, up to `count` (at most kMaxLights): copies of its point (or spot, rect, disk) lights in
-// turn, each moved by a fixed pattern of up to 0.6 m and dimmed by the number of copies.
-void add_lights(Scene& scene, uint32_t count) {
-  std::vector<SceneLight> sources;
-  for (const SceneLight& l : scene.lights)
-    if (l.type != SceneLight::Type::kDirectional) sources.push_back(l);
-  if (sources.empty()) throw cli::InputError("--lights: the scene has no point or spot light to copy");
-  const size_t original = scene.lights.size();
-  for (size_t i = original; i < count; ++i) {
-    SceneLight l = sources[(i - original) % sources.size()];
-    // A copy of a rect or disk light is a point light of its peak intensity (nits x area candela); copies are
-    // punctual (they only add shadow-map load).
-    if (l.type == SceneLight::Type::kRect || l.type == SceneLight::Type::kDisk) l.intensity *= l.area();
-    l.type = SceneLight::Type::kPoint;
-    l.radius = l.angle = l.width = l.height = 0.0f;
-    const double a = 2.399963 * static_cast<double>(i);  // golden angle: spread around the original
-    const double r = 0.25 + 0.35 * static_cast<double>((i * 7) % 10) / 10.0;
-    l.position += glm::vec3(static_cast<float>(r * std::cos(a)), -0.1f * static_cast<float>(i % 3),
-                            static_cast<float>(r * std::sin(a)));
-    l.intensity *= static_cast<float>(original) / static_cast<float>(count);
-    scene.lights.push_back(l);
-  }
-}
 
 int run(const Options& o) {
   const std::optional<Extent> size = parse_size(o.size);
@@ -257,6 +225,11 @@ int run(const Options& o) {
     client::CoordinatorOptions alt = shipped_options(discrete_gpu, soft_scene);
     alt.eye.forward = !alt.eye.forward;
     add_loop("dhr_alt_path", alt);
+  }
+  if (o.levels) {
+    client::CoordinatorOptions levels = shipped_options(discrete_gpu, soft_scene);
+    levels.eye.warp.soft_refine = false;
+    add_loop("dhr_levels", levels);
   }
   std::vector<std::string> scale_names;
   if (o.edges) {
@@ -476,6 +449,9 @@ int main(int argc, char** argv) {
                  "also measure the shipped client with each of these --edge-band values (dhr_edge_bandN_ms)")
       ->delimiter(',')
       ->check(CLI::Range(0u, 8u));
+  app.add_flag("--levels", o.levels,
+               "also measure the shipped client with its soft fields shaded at their levels, without the warp's "
+               "refined shares (dhr_levels_ms)");
   app.add_option("--shadow-size", o.shadow_size,
                  "shadow-map texels per cube face side, for local's maps and the frame loops' (shadow_map_size)")
       ->capture_default_str()

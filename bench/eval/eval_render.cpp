@@ -61,6 +61,13 @@ EyeRender EyeRenderer::read_back(uint32_t eye) {
   r.mask = VisibilityBuffer::create(extent.width, extent.height, layout_.total_bits());
   const uint32_t bits = r.mask.light_bits();
   for (size_t p = 0; p < masks.size(); ++p) r.mask.set_mask_at(p, masks[p] & bits);
+  // The shares the soft fields were shaded with, where the warp refined them (the deferred path; the forward pass
+  // shades with the same shares and has no target for them).
+  render::WarpTargets& warp = pipeline.warp();
+  if (!pipeline.last_forward() && warp.soft_written && warp.has_soft()) {
+    r.soft.resize(masks.size());
+    vk::read_image(*context_, warp.soft, r.soft.data(), r.soft.size() * sizeof(uint32_t));
+  }
   return r;
 }
 

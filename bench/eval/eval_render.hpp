@@ -27,6 +27,9 @@ namespace dhr::eval {
 struct EyeRender {
   std::vector<uint8_t> rgba;  // display-sized, sRGB-encoded bytes
   VisibilityBuffer mask;      // display-sized predicted masks in layout() (every light lit where unknown)
+  // Per display pixel, the warp's refined soft shares (render/soft_refine.hpp) where the deferred warp wrote them;
+  // empty otherwise (the soft fields shade with their levels).
+  std::vector<uint32_t> soft;
   render::EyeStats stats;
   double host_ms = 0.0;       // record + submit + wait, host wall time
 };

@@ -384,7 +384,7 @@ void SettingSession::add_image_errors(const EyeRender& rendered, const Truth& tr
     for (uint32_t l = 0; l < shared_.light_count; ++l) totals_.bit_error_per_light[l] += bits->light_fraction(l);
   }
   const std::optional<VisibilityError> k =
-      visibility_error(rendered.mask, renderer_->layout(), truth.exact[eye]);
+      visibility_error(rendered.mask, renderer_->layout(), truth.exact[eye], rendered.soft);
   totals_.display_pixels += rendered.mask.pixel_count();
   if (k) {
     totals_.surface_pixels += k->surface_pixels;

@@ -15,7 +15,7 @@ namespace dhr::eval {
 
 namespace {
 
-constexpr std::array<std::pair<Ingredient, const char*>, 11> kIngredients = {{
+constexpr std::array<std::pair<Ingredient, const char*>, 12> kIngredients = {{
     {kIngredientBilinear, "bilinear"},
     {kIngredientDepthTest, "depth"},
     {kIngredientOtherEye, "other-eye"},
@@ -27,6 +27,7 @@ constexpr std::array<std::pair<Ingredient, const char*>, 11> kIngredients = {{
     {kIngredientOlderBuffer, "older"},
     {kIngredientNeighbour, "neighbour"},
     {kIngredientMotion, "motion"},
+    {kIngredientSoftRefine, "soft-refine"},
 }};
 
 }  // namespace
@@ -168,6 +169,7 @@ render::WarpSettings warp_settings(const MethodSpec& spec, const RunOptions& opt
   s.older_buffer = (spec.without & kIngredientOlderBuffer) == 0;
   s.neighbour_fill = (spec.without & kIngredientNeighbour) == 0;
   s.motion = (spec.without & kIngredientMotion) == 0;
+  s.soft_refine = (spec.without & kIngredientSoftRefine) == 0;
   s.depth_scale = spec.depth_scale;
   s.depth_splat = spec.depth_splat;
   s.edge_band = spec.edge_band;

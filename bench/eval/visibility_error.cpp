@@ -1,5 +1,7 @@
 #include "visibility_error.hpp"
 
+#include "render/soft_refine.hpp"
+
 #include <cmath>
 
 namespace dhr::eval {
@@ -17,9 +19,10 @@ double VisibilityError::light_mean(uint32_t light) const {
 }
 
 std::optional<VisibilityError> visibility_error(const VisibilityBuffer& shown, const VisibilityLayout& layout,
-                                                const ExactVisibility& exact) {
+                                                const ExactVisibility& exact, std::span<const uint32_t> soft) {
   if (shown.width != exact.width || shown.height != exact.height || shown.light_count != layout.total_bits() ||
-      exact.lights != layout.light_count || shown.data.size() != shown.size_bytes()) {
+      exact.lights != layout.light_count || shown.data.size() != shown.size_bytes() ||
+      (!soft.empty() && soft.size() != shown.pixel_count())) {
     return std::nullopt;
   }
   VisibilityError out;
@@ -29,8 +32,9 @@ std::optional<VisibilityError> visibility_error(const VisibilityBuffer& shown, c
     ++out.surface_pixels;
     const uint32_t mask = shown.mask_at(p);
     for (uint32_t l = 0; l < layout.light_count; ++l) {
-      out.per_light[l] += std::fabs(static_cast<double>(layout.visibility(mask, l)) -
-                                    static_cast<double>(exact.fraction[p * exact.lights + l]));
+      const double k = soft.empty() ? static_cast<double>(layout.visibility(mask, l))
+                                    : render::shaded_share(layout, mask, soft[p], l);
+      out.per_light[l] += std::fabs(k - static_cast<double>(exact.fraction[p * exact.lights + l]));
     }
   }
   return out;

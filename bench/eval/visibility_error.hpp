@@ -1,6 +1,7 @@
 // visibility_error: the mean over surface pixels and lights of |k shown - k exact|, k shown what the client shades
-// with (a hard light's bit, a soft light's level / 7, read from the displayed masks in their layout), k exact the
-// truth's fraction (a hard light's bit). With hard lights only it counts the wrong bits of surface pixels.
+// with (a hard light's bit, a soft light's level / 7, read from the displayed masks in their layout, or the warp's
+// refined share of it where there is one: render/soft_refine.hpp), k exact the truth's fraction (a hard light's
+// bit). With hard lights only it counts the wrong bits of surface pixels.
 #pragma once
 #include "eval_truth.hpp"
 #include "visibility/visibility.hpp"
@@ -8,6 +9,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace dhr::eval {
@@ -20,8 +22,9 @@ struct VisibilityError {
   double light_mean(uint32_t light) const;
 };
 
-// std::nullopt when `shown` is not display-sized in `layout` or the light counts differ.
+// std::nullopt when `shown` is not display-sized in `layout`, the light counts differ, or `soft` (the refined
+// shares per pixel; empty: none) is neither empty nor one per pixel.
 std::optional<VisibilityError> visibility_error(const VisibilityBuffer& shown, const VisibilityLayout& layout,
-                                                const ExactVisibility& exact);
+                                                const ExactVisibility& exact, std::span<const uint32_t> soft = {});
 
 }  // namespace dhr::eval

@@ -169,15 +169,51 @@ int warp_window_of_sample(int k) { return 5 + (k & 1) + 4 * (k >> 1); }
 // fraction: continuous as the lookup moves). A level is its share rounded to kClientSoftLevels levels; where a
 // smooth share crosses from one level to the next the neighbours on both sides tell how far it lies between them,
 // which the mean recovers (bands become ramps), and a jump of more than one level (a contact shadow) is kept.
-// One byte per field, the share times kClientSoftRefineScale rounded; kClientSoftRefineNone for the rest.
-uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, uint soft_lights, uint light_count) {
+// One byte per field, the share times kClientSoftRefineScale rounded; kClientSoftRefineNone for the rest: the
+// fields of edge_lights (a sun's penumbra is a pixel or two wide: nothing to refine) and every field where the
+// present pixels hold one mask in all soft fields (the level is the answer).
+// The bits of the soft fields warp_soft_refine refines: every soft light's but edge_lights'.
+uint soft_refine_bits(uint soft_lights, uint edge_lights, uint light_count) {
+  uint refined = 0u, offset = 0u;
+  for (uint i = 0u; i < light_count; ++i) {
+    const uint bits = field_bits(soft_lights, i);
+    if (bits > 1u && ((edge_lights >> i) & 1u) == 0u) refined |= ((1u << bits) - 1u) << offset;
+    offset += bits;
+  }
+  return refined;
+}
+
+// Whether the used samples' masks differ in any of `bits`: only such lookups are refined (the 4x4 is read there;
+// a 2x2 inside one level keeps it).
+bool warp_samples_differ(uint masks[4], uint used, uint bits) {
+  uint and_m = 0xFFFFFFFFu, or_m = 0u;
+  for (int k = 0; k < 4; ++k) {
+    if (((used >> uint(k)) & 1u) == 0u) continue;
+    and_m &= masks[k];
+    or_m |= masks[k];
+  }
+  return ((and_m ^ or_m) & bits) != 0u;
+}
+
+uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, uint soft_lights, uint edge_lights,
+                      uint light_count) {
+  const uint soft_bits = soft_refine_bits(soft_lights, edge_lights, light_count);
+  uint and_m = 0xFFFFFFFFu, or_m = 0u, offset = 0u;
+  for (int j = 0; j < 16; ++j) {
+    if (((present >> uint(j)) & 1u) == 0u) continue;
+    and_m &= window[j];
+    or_m |= window[j];
+  }
+  if (((and_m ^ or_m) & soft_bits) == 0u) return kClientSoftRefineNoneAll;
   const float wx[4] = float[4](1.0 - s.frac.x, 2.0 - s.frac.x, 1.0 + s.frac.x, s.frac.x);
   const float wy[4] = float[4](1.0 - s.frac.y, 2.0 - s.frac.y, 1.0 + s.frac.y, s.frac.y);
   uint packed = kClientSoftRefineNoneAll;
-  uint offset = 0u, rank = 0u;
+  uint rank = 0u;
   for (uint i = 0u; i < light_count && rank < kClientSoftRefineFields; ++i) {
     const uint bits = field_bits(soft_lights, i);
-    if (bits > 1u) {
+    const uint field = ((1u << bits) - 1u) << offset;
+    // A field the 4x4 holds at one level keeps it.
+    if (bits > 1u && ((edge_lights >> i) & 1u) == 0u && ((and_m ^ or_m) & field) != 0u) {
       const float centre = field_visibility(value, offset, bits);
       float sum = 0.0, total = 0.0;
       for (int j = 0; j < 16; ++j) {
@@ -191,8 +227,8 @@ uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, 
       const float share = total > 0.0 ? sum / total : centre;
       const uint byte = uint(floor(clamp(share, 0.0, 1.0) * float(kClientSoftRefineScale) + 0.5));
       packed = (packed & ~(0xFFu << (8u * rank))) | (byte << (8u * rank));
-      ++rank;
     }
+    if (bits > 1u) ++rank;
     offset += bits;
   }
   return packed;

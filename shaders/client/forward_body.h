@@ -161,10 +161,17 @@ void main() {
         value = vote.value;
         undecided = ~vote.agree & pc.unknown_mask;
         // warp.comp's refined soft shares (look_up), where every 2x2 sample that arrived was used.
-        if ((pc.flags & kClientWarpSoftRefine) != 0u && pc.soft_lights != 0u && used == arrived) {
+        if ((pc.flags & kClientWarpSoftRefine) != 0u && used == arrived &&
+            warp_samples_differ(masks, used, soft_refine_bits(pc.soft_lights, pc.soft_edge_lights, pc.light_count))) {
           uint window[16];
           uint present = 0u;
+          for (int k = 0; k < 4; ++k) {  // the 2x2 samples, loaded above (every one that arrived was used)
+            const int j = warp_window_of_sample(k);
+            window[j] = masks[k];
+            present |= ((arrived >> k) & 1u) << uint(j);
+          }
           for (int j = 0; j < 16; ++j) {
+            if (j == 5 || j == 6 || j == 9 || j == 10) continue;
             window[j] = 0u;
             const ivec2 c = warp_window_pixel(samples, j);
             if (!warp_sample_in_buffer(src, c)) continue;
@@ -174,7 +181,8 @@ void main() {
             window[j] = warp_sample_mask(src, vis0[bit >> 5], bit);
             present |= 1u << uint(j);
           }
-          refined = warp_soft_refine(samples, window, present, value, pc.soft_lights, pc.light_count);
+          refined = warp_soft_refine(samples, window, present, value, pc.soft_lights, pc.soft_edge_lights,
+                                     pc.light_count);
         }
       }
     }

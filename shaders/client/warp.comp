@@ -156,17 +156,25 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   r.exact = vote.exact;
   // Refined soft shares from the 4x4 around the lookup, where the depth test used every 2x2 sample that arrived
   // (a rejected one: a silhouette, whose far side the ring must not mix in).
-  if ((pc.flags & kClientWarpSoftRefine) != 0u && bilinear && pc.soft_lights != 0u && used == arrived) {
+  if ((pc.flags & kClientWarpSoftRefine) != 0u && bilinear && used == arrived &&
+      warp_samples_differ(masks, used, soft_refine_bits(pc.soft_lights, pc.soft_edge_lights, pc.light_count))) {
     uint window[16];
     uint present = 0u;
+    for (int k = 0; k < 4; ++k) {  // the 2x2 samples, loaded above (every one that arrived was used)
+      const int j = warp_window_of_sample(k);
+      window[j] = masks[k];
+      present |= ((arrived >> k) & 1u) << uint(j);
+    }
     for (int j = 0; j < 16; ++j) {
+      if (j == 5 || j == 6 || j == 9 || j == 10) continue;
       window[j] = 0u;
       const ivec2 c = warp_window_pixel(samples, j);
       if (!warp_sample_in_buffer(pc.source[s], c) || !row_ok(s, uint(c.y))) continue;
       window[j] = old_mask(s, c.x, c.y);
       present |= 1u << uint(j);
     }
-    r.refined = warp_soft_refine(samples, window, present, vote.value, pc.soft_lights, pc.light_count);
+    r.refined = warp_soft_refine(samples, window, present, vote.value, pc.soft_lights, pc.soft_edge_lights,
+                                   pc.light_count);
   }
   return r;
 }

@@ -133,6 +133,7 @@ class EyePipeline {
   // What the last record() wrote (for every slot: images are shared):
   vk::Image& output();  // R8G8B8A8_UNORM, sRGB-encoded bytes, GENERAL
   vk::Image& mask();    // R32_UINT light masks (the forward path's only with forward_mask; else a 1x1 placeholder)
+  bool last_forward() const { return last_forward_; }  // the last record() took the forward path
   // The deferred path's images (created on its first use).
   GBuffer& gbuffer() { return gbuffer_; }
   WarpTargets& warp() { return warp_; }

@@ -235,7 +235,7 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   params.soft_lights = soft_light_mask(field_layout);  // the fields the bilinear vote blends
   params.soft_edge_lights = soft_edge_light_mask(fields);
   if (mode == ForwardMode::kServerEdges && frame.soft_refine && out.visibility_used && !slotted &&
-      params.soft_lights != 0u)
+      (params.soft_lights & ~params.soft_edge_lights) != 0u)
     params.flags |= kClientWarpSoftRefine;
   slot.params.write(&params, sizeof(params));
   const ClientWarpMotion no_motion{};

@@ -24,7 +24,23 @@ SoftWindow soft_window(const VisibilityBuffer& buffer, std::span<const uint8_t> 
   return w;
 }
 
-uint32_t soft_refine(const VisibilityLayout& layout, const SoftWindow& window, double fx, double fy, uint32_t value) {
+uint32_t soft_refine_bits(const VisibilityLayout& layout, uint32_t edge_lights) {
+  uint32_t out = 0;
+  for (uint32_t i = 0; i < layout.light_count; ++i)
+    if (layout.is_soft(i) && ((edge_lights >> i) & 1u) == 0) out |= ((1u << layout.bits[i]) - 1u) << layout.offset[i];
+  return out;
+}
+
+uint32_t soft_refine(const VisibilityLayout& layout, const SoftWindow& window, double fx, double fy, uint32_t value,
+                     uint32_t edge_lights) {
+  const uint32_t soft_bits = soft_refine_bits(layout, edge_lights);
+  uint32_t and_m = 0xFFFFFFFFu, or_m = 0;
+  for (int j = 0; j < 16; ++j) {
+    if (((window.present >> j) & 1u) == 0) continue;
+    and_m &= window.masks[static_cast<size_t>(j)];
+    or_m |= window.masks[static_cast<size_t>(j)];
+  }
+  if (((and_m ^ or_m) & soft_bits) == 0) return kClientSoftRefineNoneAll;
   // The GPU computes in float: so does this, in the same order.
   const auto fxf = static_cast<float>(fx), fyf = static_cast<float>(fy);
   const float wx[4] = {1.0f - fxf, 2.0f - fxf, 1.0f + fxf, fxf};
@@ -33,6 +49,11 @@ uint32_t soft_refine(const VisibilityLayout& layout, const SoftWindow& window, d
   uint32_t packed = kClientSoftRefineNoneAll, rank = 0;
   for (uint32_t i = 0; i < layout.light_count && rank < kClientSoftRefineFields; ++i) {
     if (!layout.is_soft(i)) continue;
+    const uint32_t field = ((1u << layout.bits[i]) - 1u) << layout.offset[i];
+    if (((edge_lights >> i) & 1u) != 0 || ((and_m ^ or_m) & field) == 0) {  // a field at one level keeps it
+      ++rank;
+      continue;
+    }
     const float centre = layout.visibility(value, i);
     float sum = 0.0f, total = 0.0f;
     for (int j = 0; j < 16; ++j) {

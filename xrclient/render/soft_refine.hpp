@@ -25,9 +25,15 @@ struct SoftWindow {
 };
 SoftWindow soft_window(const VisibilityBuffer& buffer, std::span<const uint8_t> row_valid, int i0, int j0);
 
+// The bits of the soft fields soft_refine refines: every soft light's but those of `edge_lights` (bit i: light i).
+uint32_t soft_refine_bits(const VisibilityLayout& layout, uint32_t edge_lights);
+
 // The packed refined shares (fx, fy: the lookup's fractions past the first sample's centre, in [0, 1); value: the
-// vote's mask). Soft fields beyond the first kClientSoftRefineFields get none.
-uint32_t soft_refine(const VisibilityLayout& layout, const SoftWindow& window, double fx, double fy, uint32_t value);
+// vote's mask). None for soft fields beyond the first kClientSoftRefineFields, for those of `edge_lights` (bit i:
+// light i; a sun's, soft_edge_light_mask), and for a field the present pixels hold at one level (its answer).
+// The warp refines only lookups whose used 2x2 samples differ in soft_refine_bits.
+uint32_t soft_refine(const VisibilityLayout& layout, const SoftWindow& window, double fx, double fy, uint32_t value,
+                     uint32_t edge_lights = 0);
 
 // `packed` with the shares of the soft fields any of whose bits are in `bits` cleared (taken from the shadow maps).
 uint32_t soft_refine_drop(const VisibilityLayout& layout, uint32_t packed, uint32_t bits);

@@ -211,13 +211,16 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
     return r;
   }
   r.status = WarpStatus::kKnown;
-  // Refined soft shares (warp.comp's look_up): where every 2x2 sample that arrived was used.
-  const bool refine = set.soft_refine && set.bilinear && layout.any_soft() && used == arrived;
+  // Refined soft shares (warp.comp's look_up): where every 2x2 sample that arrived was used and the used ones
+  // differ in a refined field.
+  const bool refine = set.soft_refine && set.bilinear && used == arrived &&
+                      ((and_m ^ or_m) & soft_refine_bits(layout, edge_lights)) != 0;
   if (centred && ((used >> k_exact) & 1u)) {
     r.exact = true;
     r.agree = 0xFFFFFFFFu;
     r.value = masks[k_exact];
-    if (refine) r.refined = soft_refine(layout, soft_window(*src.visibility, src.row_valid, i0, j0), fx, fy, r.value);
+    if (refine) r.refined = soft_refine(layout, soft_window(*src.visibility, src.row_valid, i0, j0), fx, fy, r.value,
+                              edge_lights);
     return r;
   }
   r.agree = ~(and_m ^ or_m);
@@ -266,7 +269,8 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
   if (set.bilinear && set.edge_band > 0) {
     r.agree &= ~band_disagreement(src, hard_field_bits(layout), i0, j0, used, static_cast<int>(set.edge_band));
   }
-  if (refine) r.refined = soft_refine(layout, soft_window(*src.visibility, src.row_valid, i0, j0), fx, fy, r.value);
+  if (refine) r.refined = soft_refine(layout, soft_window(*src.visibility, src.row_valid, i0, j0), fx, fy, r.value,
+                              edge_lights);
   return r;
 }
 
