@@ -109,39 +109,24 @@ TEST(SoftRefine, MissingPixelsAreLeftOutAndFieldsFromTheMapsDropped) {
 
 using ClientSoftRefineTest = vk::test::VulkanTest;
 
-Scene area_room() {
-  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.gltf").string());
-  if (!loaded) throw std::runtime_error(loaded.error);
-  return *loaded.scene;
-}
-
 VisibilityLayout g_layout;  // the area room's, set before the frame is made
 
 // A share that rises slowly across the image, rounded to levels: bands one level apart, several pixels wide.
 VisibilityBuffer banded(const Camera& traced, uint32_t) {
-  VisibilityBuffer b = VisibilityBuffer::create(traced.extent.width, traced.extent.height, g_layout.total_bits());
-  for (uint32_t y = 0; y < b.height; ++y) {
-    for (uint32_t x = 0; x < b.width; ++x) {
-      uint32_t m = 0;
-      for (uint32_t i = 0; i < g_layout.light_count; ++i) {
-        const double share = std::fmod((x + 0.6 * y * (i + 1)) / (9.0 * (kDefaultSoftLevels - 1)), 1.0);
-        m = g_layout.with_visibility(m, i, g_layout.is_soft(i) ? static_cast<float>(share) : 1.0f);
-      }
-      b.set(x, y, m);
-    }
-  }
-  return b;
+  return buffer_of_shares(traced, g_layout, [](uint32_t x, uint32_t y, uint32_t i) {
+    const double share = std::fmod((x + 0.6 * y * (i + 1)) / (9.0 * (kDefaultSoftLevels - 1)), 1.0);
+    return g_layout.is_soft(i) ? static_cast<float>(share) : 1.0f;
+  });
 }
 
 TEST_F(ClientSoftRefineTest, WarpsRefineAsTheCpuReferenceDoes) {
-  const Scene scene = area_room();
-  g_layout = layout_for_lights(scene.lights);
+  const Scene room = default_room_area();
+  g_layout = layout_for_lights(room.lights);  // before the rig makes the frame's bits
   ASSERT_TRUE(g_layout.any_soft());
-  const ClientScene gpu_scene(ctx(), scene);
-  ShadowMaps maps(ctx(), gpu_scene);
-  std::vector<float> atlas_storage;
-  const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
-  const ForwardTestFrame warp(scene, banded, &maps);
+  SceneRig rig(ctx(), room, banded);
+  const ClientScene& gpu_scene = rig.gpu_scene;
+  ShadowMaps& maps = rig.maps;
+  const ForwardTestFrame& warp = rig.warp;
   const WarpSettings settings = WarpSettings::server_edges();
   ASSERT_TRUE(settings.soft_refine);  // what ships
 
@@ -161,7 +146,7 @@ TEST_F(ClientSoftRefineTest, WarpsRefineAsTheCpuReferenceDoes) {
   WarpInput in = warp.reference_input(fwd.depth);
   in.normals = normals;
   in.settings = settings;
-  in.shadow = &shadow;
+  in.shadow = &rig.shadow;
   const WarpResult cpu = warp_reference(in);
   ASSERT_EQ(gpu_soft.size(), cpu.soft.size());
 

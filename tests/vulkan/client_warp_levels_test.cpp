@@ -26,9 +26,7 @@ using ClientWarpLevelsTest = vk::test::VulkanTest;
 using namespace forward_test;
 
 Scene area_room() {
-  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.gltf").string());
-  if (!loaded) throw std::runtime_error(loaded.error);
-  Scene scene = *loaded.scene;
+  Scene scene = default_room_area();
   SceneLight sun;  // a disk sun, 45 degrees high: the one kind of soft light whose wide level spans are edges
   sun.type = SceneLight::Type::kDirectional;
   sun.name = "test sun";
@@ -43,30 +41,22 @@ VisibilityLayout g_layout;  // the area room's, set before the frame is made
 
 // Levels in blocks of several pixels that step by one to three levels, and a blocky hard bit.
 VisibilityBuffer levels(const Camera& traced, uint32_t) {
-  VisibilityBuffer b = VisibilityBuffer::create(traced.extent.width, traced.extent.height, g_layout.total_bits());
-  for (uint32_t y = 0; y < b.height; ++y) {
-    for (uint32_t x = 0; x < b.width; ++x) {
-      uint32_t m = 0;
-      for (uint32_t i = 0; i < g_layout.light_count; ++i) {
-        const float k = g_layout.is_soft(i) ? static_cast<float>(((x / 5) + (y / 4) * (i + 1)) % 8) / 7.0f
-                                            : static_cast<float>(((x / 8) + (y / 6)) % 2);
-        m = g_layout.with_visibility(m, i, k);
-      }
-      b.set(x, y, m);
-    }
-  }
-  return b;
+  return buffer_of_shares(traced, g_layout, [](uint32_t x, uint32_t y, uint32_t i) {
+    return g_layout.is_soft(i) ? static_cast<float>(((x / 5) + (y / 4) * (i + 1)) % 8) / 7.0f
+                               : static_cast<float>(((x / 8) + (y / 6)) % 2);
+  });
 }
 
 TEST_F(ClientWarpLevelsTest, BlendsLevelsAsTheCpuReferenceDoes) {
-  const Scene scene = area_room();
-  g_layout = layout_for_lights(scene.lights);
+  const Scene room = area_room();
+  g_layout = layout_for_lights(room.lights);  // before the rig makes the frame's bits
   ASSERT_TRUE(g_layout.any_soft());
-  const ClientScene gpu_scene(ctx(), scene);
-  ShadowMaps maps(ctx(), gpu_scene);
-  std::vector<float> atlas_storage;
-  const ShadowReference shadow = shadow_reference(ctx(), maps, atlas_storage);
-  const ForwardTestFrame warp(scene, levels, &maps);
+  SceneRig rig(ctx(), room, levels);
+  const Scene& scene = rig.scene;
+  const ClientScene& gpu_scene = rig.gpu_scene;
+  ShadowMaps& maps = rig.maps;
+  const ShadowReference& shadow = rig.shadow;
+  const ForwardTestFrame& warp = rig.warp;
   const WarpSettings settings = WarpSettings::server_edges();
   const ForwardResult fwd = run_forward(ctx(), gpu_scene, ForwardMode::kServerEdges, warp.frame);
 

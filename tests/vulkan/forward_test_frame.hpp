@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <span>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "client_test_helpers.hpp"
@@ -32,6 +33,28 @@ inline Scene default_room() {
   const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / kDefaultScenePath).string());
   if (!loaded) throw std::runtime_error(loaded.error);
   return *loaded.scene;
+}
+
+// The project's area-light room (a rect and a sphere light with soft fields, one hard light).
+inline Scene default_room_area() {
+  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.gltf").string());
+  if (!loaded) throw std::runtime_error(loaded.error);
+  return *loaded.scene;
+}
+
+// A buffer for `traced` in `layout` whose light i at pixel (x, y) has the share share(x, y, i) (a hard light's bit
+// set where it is >= 0.5, a soft light's nearest level).
+template <class Share>
+VisibilityBuffer buffer_of_shares(const Camera& traced, const VisibilityLayout& layout, Share share) {
+  VisibilityBuffer b = VisibilityBuffer::create(traced.extent.width, traced.extent.height, layout.total_bits());
+  for (uint32_t y = 0; y < b.height; ++y) {
+    for (uint32_t x = 0; x < b.width; ++x) {
+      uint32_t m = 0;
+      for (uint32_t i = 0; i < layout.light_count; ++i) m = layout.with_visibility(m, i, share(x, y, i));
+      b.set(x, y, m);
+    }
+  }
+  return b;
 }
 
 inline View traced_view() {
@@ -171,17 +194,17 @@ inline ShadowReference shadow_reference(const vk::Context& ctx, const ShadowMaps
   return ref;
 }
 
-// The depth tests' set-up: the default room on the GPU, its shadow maps and their CPU reference, and the warp
-// tests' frame over blocky bits. Neither copied nor moved (the frame and the reference point into it).
-struct DefaultRoomRig {
-  explicit DefaultRoomRig(vk::Context& ctx)
-      : scene(default_room()),
+// A scene on the GPU, its shadow maps and their CPU reference, and the warp tests' frame over `bits`. Neither
+// copied nor moved (the frame and the reference point into it).
+struct SceneRig {
+  SceneRig(vk::Context& ctx, Scene s, VisibilityBuffer (*bits)(const Camera&, uint32_t))
+      : scene(std::move(s)),
         gpu_scene(ctx, scene),
         maps(ctx, gpu_scene),
         shadow(shadow_reference(ctx, maps, atlas_storage)),
-        warp(scene, blocky, &maps) {}
-  DefaultRoomRig(const DefaultRoomRig&) = delete;
-  DefaultRoomRig& operator=(const DefaultRoomRig&) = delete;
+        warp(scene, bits, &maps) {}
+  SceneRig(const SceneRig&) = delete;
+  SceneRig& operator=(const SceneRig&) = delete;
 
   const Scene scene;
   const ClientScene gpu_scene;
@@ -189,6 +212,11 @@ struct DefaultRoomRig {
   std::vector<float> atlas_storage;  // the atlas's texels, which `shadow` reads
   const ShadowReference shadow;
   const ForwardTestFrame warp;
+};
+
+// The depth tests' set-up: the default room over blocky bits.
+struct DefaultRoomRig : SceneRig {
+  explicit DefaultRoomRig(vk::Context& ctx) : SceneRig(ctx, default_room(), blocky) {}
 };
 
 }  // namespace dhr::render::forward_test
