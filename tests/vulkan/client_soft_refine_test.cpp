@@ -79,7 +79,8 @@ TEST(SoftRefine, AStepOfOneLevelBecomesARamp) {
     last = share;
   }
   // Halfway between the two columns' centres (fx 0.5 past column 1's centre): the mean of the two levels.
-  EXPECT_NEAR(share_of(soft_refine(layout, w, 0.5, 0.5, w.masks[6])), (lo_d + hi_d) / 2.0, 1.0 / kClientSoftRefineScale);
+  EXPECT_NEAR(share_of(soft_refine(layout, w, 0.5, 0.5, w.masks[6])), (lo_d + hi_d) / 2.0,
+              1.0 / kClientSoftRefineScale);
 }
 
 TEST(SoftRefine, AJumpOfMoreThanOneLevelIsKept) {

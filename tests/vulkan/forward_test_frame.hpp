@@ -37,7 +37,8 @@ inline Scene default_room() {
 
 // The project's area-light room (a rect and a sphere light with soft fields, one hard light).
 inline Scene default_room_area() {
-  const SceneLoadResult loaded = load_scene((fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.gltf").string());
+  const SceneLoadResult loaded =
+      load_scene((fs::path(DHR_SOURCE_DIR) / "assets/scenes/default_room_area.gltf").string());
   if (!loaded) throw std::runtime_error(loaded.error);
   return *loaded.scene;
 }

@@ -165,7 +165,8 @@ void ShadingPass::record(VkCommandBuffer cmd, uint32_t slot_index, GBuffer& gbuf
   }
   push.view_mode = static_cast<uint32_t>(settings.view);
   push.debug_light = std::min(settings.debug_light, 31u);
-  push.flags = (settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u) | (light_slots_ ? kClientShadingLightSlots : 0u) |
+  push.flags = (settings.swap_red_blue ? kClientShadingSwapRedBlue : 0u) |
+               (light_slots_ ? kClientShadingLightSlots : 0u) |
                (warp.soft_written && !light_slots_ ? kClientShadingSoftRefined : 0u);
 
   core_.dispatch(cmd, slot.set, &push, sizeof(push), extent.width, extent.height, kClientWarpGroupSize);
