@@ -102,7 +102,10 @@ if b="$(exe bench/codec_bench)"; then
     echo "FAIL: codec_bench does not name --reuse without --trace"; cat "$tmp/err"; failures=$((failures + 1)); }
 fi
 if b="$(exe bench/skip_bench)"; then expect 2 "skip_bench bad scene" "$b" --scene "$bad_scene"; fi
-if b="$(exe bench/client_bench)"; then expect 2 "client_bench bad scene" "$b" --scene "$bad_scene" --quick; fi
+if b="$(exe bench/client_bench)"; then
+  expect 2 "client_bench bad scene" "$b" --scene "$bad_scene" --quick
+  for v in 0 8 5000 nan ten; do expect 2 "client_bench --shadow-size '$v'" "$b" --shadow-size "$v" --quick; done
+fi
 
 # The scene checked on both ends: a server started with --lights traces another scene than the file's.
 if [ -n "$client" ] && server="$(exe server/dhr-server)"; then
