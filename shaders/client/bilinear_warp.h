@@ -170,19 +170,8 @@ int warp_window_of_sample(int k) { return 5 + (k & 1) + 4 * (k >> 1); }
 // smooth share crosses from one level to the next the neighbours on both sides tell how far it lies between them,
 // which the mean recovers (bands become ramps), and a jump of more than one level (a contact shadow) is kept.
 // One byte per field, the share times kClientSoftRefineScale rounded; kClientSoftRefineNone for the rest: the
-// fields of edge_lights (a sun's penumbra is a pixel or two wide: nothing to refine) and every field where the
-// present pixels hold one mask in all soft fields (the level is the answer).
-// The bits of the soft fields warp_soft_refine refines: every soft light's but edge_lights'.
-uint soft_refine_bits(uint soft_lights, uint edge_lights, uint light_count) {
-  uint refined = 0u, offset = 0u;
-  for (uint i = 0u; i < light_count; ++i) {
-    const uint bits = field_bits(soft_lights, i);
-    if (bits > 1u && ((edge_lights >> i) & 1u) == 0u) refined |= ((1u << bits) - 1u) << offset;
-    offset += bits;
-  }
-  return refined;
-}
-
+// fields outside soft_bits (an edge light's: a sun's penumbra is a pixel or two wide, nothing to refine) and every
+// field the present pixels hold at one level (the level is the answer).
 // Whether the used samples' masks differ in any of `bits`: only such lookups are refined (the 4x4 is read there;
 // a 2x2 inside one level keeps it).
 bool warp_samples_differ(uint masks[4], uint used, uint bits) {
@@ -195,9 +184,9 @@ bool warp_samples_differ(uint masks[4], uint used, uint bits) {
   return ((and_m ^ or_m) & bits) != 0u;
 }
 
-uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, uint soft_lights, uint edge_lights,
+// soft_bits: the refined fields' bits (ClientWarpParams::soft_refine_bits, computed once per pass).
+uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, uint soft_lights, uint soft_bits,
                       uint light_count) {
-  const uint soft_bits = soft_refine_bits(soft_lights, edge_lights, light_count);
   uint and_m = 0xFFFFFFFFu, or_m = 0u, offset = 0u;
   for (int j = 0; j < 16; ++j) {
     if (((present >> uint(j)) & 1u) == 0u) continue;
@@ -213,7 +202,7 @@ uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, 
     const uint bits = field_bits(soft_lights, i);
     const uint field = ((1u << bits) - 1u) << offset;
     // A field the 4x4 holds at one level keeps it.
-    if (bits > 1u && ((edge_lights >> i) & 1u) == 0u && ((and_m ^ or_m) & field) != 0u) {
+    if (bits > 1u && ((and_m ^ or_m) & field & soft_bits) != 0u) {
       const float centre = field_visibility(value, offset, bits);
       float sum = 0.0, total = 0.0;
       for (int j = 0; j < 16; ++j) {
@@ -237,6 +226,7 @@ uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, 
 // Clears (to kClientSoftRefineNone) the refined shares of the soft fields any of whose bits are in `bits` (taken
 // from elsewhere than the samples: the shadow maps).
 uint soft_refine_drop(uint packed, uint bits, uint soft_lights, uint light_count) {
+  if (packed == kClientSoftRefineNoneAll || bits == 0u) return packed;  // the common case: nothing to drop
   uint offset = 0u, rank = 0u;
   for (uint i = 0u; i < light_count && rank < kClientSoftRefineFields; ++i) {
     const uint b = field_bits(soft_lights, i);

@@ -162,7 +162,7 @@ void main() {
         undecided = ~vote.agree & pc.unknown_mask;
         // warp.comp's refined soft shares (look_up), where every 2x2 sample that arrived was used.
         if ((pc.flags & kClientWarpSoftRefine) != 0u && used == arrived &&
-            warp_samples_differ(masks, used, soft_refine_bits(pc.soft_lights, pc.soft_edge_lights, pc.light_count))) {
+            warp_samples_differ(masks, used, pc.soft_refine_bits)) {
           uint window[16];
           uint present = 0u;
           for (int k = 0; k < 4; ++k) {  // the 2x2 samples, loaded above (every one that arrived was used)
@@ -181,7 +181,7 @@ void main() {
             window[j] = warp_sample_mask(src, vis0[bit >> 5], bit);
             present |= 1u << uint(j);
           }
-          refined = warp_soft_refine(samples, window, present, value, pc.soft_lights, pc.soft_edge_lights,
+          refined = warp_soft_refine(samples, window, present, value, pc.soft_lights, pc.soft_refine_bits,
                                      pc.light_count);
         }
       }

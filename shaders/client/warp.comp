@@ -157,7 +157,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   // Refined soft shares from the 4x4 around the lookup, where the depth test used every 2x2 sample that arrived
   // (a rejected one: a silhouette, whose far side the ring must not mix in).
   if ((pc.flags & kClientWarpSoftRefine) != 0u && bilinear && used == arrived &&
-      warp_samples_differ(masks, used, soft_refine_bits(pc.soft_lights, pc.soft_edge_lights, pc.light_count))) {
+      warp_samples_differ(masks, used, pc.soft_refine_bits)) {
     uint window[16];
     uint present = 0u;
     for (int k = 0; k < 4; ++k) {  // the 2x2 samples, loaded above (every one that arrived was used)
@@ -173,7 +173,7 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
       window[j] = old_mask(s, c.x, c.y);
       present |= 1u << uint(j);
     }
-    r.refined = warp_soft_refine(samples, window, present, vote.value, pc.soft_lights, pc.soft_edge_lights,
+    r.refined = warp_soft_refine(samples, window, present, vote.value, pc.soft_lights, pc.soft_refine_bits,
                                    pc.light_count);
   }
   return r;

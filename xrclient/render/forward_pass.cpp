@@ -1,4 +1,6 @@
 #include "render/forward_pass.hpp"
+
+#include "render/soft_refine.hpp"
 #include "render/warp_edges.hpp"
 
 #include <array>
@@ -234,8 +236,9 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   params.light_count = static_cast<uint32_t>(fields.size());
   params.soft_lights = soft_light_mask(field_layout);  // the fields the bilinear vote blends
   params.soft_edge_lights = soft_edge_light_mask(fields);
+  params.soft_refine_bits = soft_refine_bits(field_layout, params.soft_edge_lights);
   if (mode == ForwardMode::kServerEdges && frame.soft_refine && out.visibility_used && !slotted &&
-      (params.soft_lights & ~params.soft_edge_lights) != 0u)
+      params.soft_refine_bits != 0u)
     params.flags |= kClientWarpSoftRefine;
   slot.params.write(&params, sizeof(params));
   const ClientWarpMotion no_motion{};

@@ -1,4 +1,6 @@
 #include "render/warp_pass.hpp"
+
+#include "render/soft_refine.hpp"
 #include "render/warp_edges.hpp"
 
 #include "render/light_layout.hpp"
@@ -161,8 +163,9 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
   params.soft_lights = soft_light_mask(layout);
   params.soft_edge_lights = soft_edge_light_mask(frame.lights.first(params.light_count));
   // Refined soft shares: bilinear lookups of a layout with soft fields, into the soft target.
-  targets.soft_written = settings.soft_refine && settings.bilinear &&
-                         (params.soft_lights & ~params.soft_edge_lights) != 0u && targets.has_soft();
+  params.soft_refine_bits = soft_refine_bits(layout, params.soft_edge_lights);
+  targets.soft_written =
+      settings.soft_refine && settings.bilinear && params.soft_refine_bits != 0u && targets.has_soft();
   if (targets.soft_written) params.flags |= kClientWarpSoftRefine;
   const uint32_t edge_band = settings.bilinear ? settings.edge_band : 0u;
   for (size_t s = 0; s < usable.size(); ++s) {

@@ -352,6 +352,7 @@ struct ClientWarpParams {
   uint flags;            // kClientWarp*
   uint soft_lights;      // bit i: light i has a soft field (visibility_field.h); the bilinear vote blends its levels
   uint soft_edge_lights; // bit i: light i's soft field is an edge where its samples span > kClientWarpSoftEdgeSpread
+  uint soft_refine_bits; // kClientWarpSoftRefine: the bits of the soft fields it refines (all but edge lights')
 };
 
 // A light as the warp's shadow lookup sees it: position relative to the display eye (world axes) and the
@@ -480,7 +481,7 @@ static_assert(sizeof(ClientMotionSource) == 16 + 2 * 4 * 48, "ClientMotionSource
 static_assert(sizeof(ClientMotionLight) == 32, "ClientMotionLight must match the std430 array stride");
 static_assert(sizeof(ClientWarpMotion) == 3 * sizeof(ClientMotionSource) + 32 * 32 + 16,
               "ClientWarpMotion must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 3 * 140 + 4 * 31, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 140 + 4 * 32, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 96, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
