@@ -272,11 +272,11 @@ std::optional<std::vector<MethodSpec>> parse_method_list(const std::string& text
   for (const std::string& item : split_list(text)) {
     const std::optional<MethodSpec> m = parse_method(item);
     if (!m) {
+      std::string names;  // the ingredients, from the one table parse_method reads
+      for (const auto& [bit, name] : kIngredients) names += (names.empty() ? "" : ", ") + std::string(name);
       fail(out_error, "--method: expected default, stale, paper, paper+pred, local, full or full-no-<ingredient>... "
-                      "(bilinear, depth, other-eye, shadow-fill, shadow-edges, shadow-first, pred, adaptive-fov, "
-                      "older, neighbour, motion), then optionally -depth-scale-N (2-16), -depth-splat and "
-                      "-edge-band-N (0-8), got '" +
-                          item + "'");
+                      "(" + names + "), then optionally -depth-scale-N (2-16), -depth-splat and -edge-band-N (0-8), "
+                      "got '" + item + "'");
       return std::nullopt;
     }
     out.push_back(*m);

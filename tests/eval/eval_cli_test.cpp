@@ -298,10 +298,12 @@ TEST(EvalCliBadInputTest, RejectsBadInputWithOneLineErrors) {
                           "full-no-depth-depth-scale-2", "full-depth-scale-1", "full-depth-scale-", "full-depth-scale-99",
                           "full-edge-band-9", "full-edge-band-", "full-edge-band-12", "full-edge-band-1-depth-scale-2",
                           "local-edge-band-1", "full-no-depth-depth-splat", "full-depth-splat-depth-scale-2",
-                          "full-depth-splat-depth-splat", "local-depth-splat"}) {
+                          "full-depth-splat-depth-splat", "local-depth-splat", "full-no-soft-refin",
+                          "full-no-soft-refine-no-soft-refine"}) {
     r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() + " --method " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_NE(r.output.find("full-no-<ingredient>"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("motion, soft-refine)"), std::string::npos) << r.output;  // every ingredient named
   }
   r = run_cli("run --scene " + kScene + " --trace " + kTrace + " --out " + out.string() +
               " --frames 4 --eye-size 32x24 --rtt-ms 0 --method full --snapshot-frame 4 --no-progress");
