@@ -157,65 +157,51 @@ WarpVote warp_vote_fields(WarpSamples s, uint masks[4], uint used, uint soft_lig
   return v;
 }
 
-// Old pixel j (0-15, row-major) of the 4x4 around a bilinear lookup: s.first + (j % 4 - 1, j / 4 - 1); the 2x2
-// samples are j = 5, 6, 9, 10 (sample k: 5 + (k & 1) + 4 * (k >> 1)).
-ivec2 warp_window_pixel(WarpSamples s, int j) { return s.first + ivec2(j % 4 - 1, j / 4 - 1); }
-int warp_window_of_sample(int k) { return 5 + (k & 1) + 4 * (k >> 1); }
+// Word `word` of source `source`'s buffer: the includer defines it (GLSL cannot pass buffers), for the band shares'
+// table (kClientSourceHasShares; render/soft_bands.hpp's SoftBandTable).
+uint warp_share_load(uint source, uint word);
 
-// Refined soft shares (kClientWarpSoftRefine) at a bilinear lookup whose vote gave `value`: for each of the first
-// kClientSoftRefineFields soft fields, the mean of the levels of the 4x4 old pixels around the lookup (window[j]
-// where bit j of `present` is set) that lie within one level of the vote's level for the field, weighted by a
-// tent of radius 2 old pixels centred on the lookup (weights (1 - f, 2 - f, 1 + f, f) per axis, f the lookup's
-// fraction: continuous as the lookup moves). A level is its share rounded to kClientSoftLevels levels; where a
-// smooth share crosses from one level to the next the neighbours on both sides tell how far it lies between them,
-// which the mean recovers (bands become ramps), and a jump of more than one level (a contact shadow) is kept.
-// One byte per field, the share times kClientSoftRefineScale rounded; kClientSoftRefineNone for the rest: the
-// fields outside soft_bits (an edge light's: a sun's penumbra is a pixel or two wide, nothing to refine) and every
-// field the present pixels hold at one level (the level is the answer).
-// Whether the used samples' masks differ in any of `bits`: only such lookups are refined (the 4x4 is read there;
-// a 2x2 inside one level keeps it).
-bool warp_samples_differ(uint masks[4], uint used, uint bits) {
-  uint and_m = 0xFFFFFFFFu, or_m = 0u;
-  for (int k = 0; k < 4; ++k) {
-    if (((used >> uint(k)) & 1u) == 0u) continue;
-    and_m &= masks[k];
-    or_m |= masks[k];
-  }
-  return ((and_m ^ or_m) & bits) != 0u;
+// The first word of old pixel c's cell in the band shares' table.
+uint warp_share_cell_word(ClientWarpSource src, ivec2 c) {
+  const uint cell = (uint(c.y) / src.share_cell) * src.share_columns + uint(c.x) / src.share_cell;
+  return src.share_word + cell * kClientSoftBandCellWords;
 }
 
-// soft_bits: the refined fields' bits (ClientWarpParams::soft_refine_bits, computed once per pass).
-uint warp_soft_refine(WarpSamples s, uint window[16], uint present, uint value, uint soft_lights, uint soft_bits,
-                      uint light_count) {
-  uint and_m = 0xFFFFFFFFu, or_m = 0u, offset = 0u;
-  for (int j = 0; j < 16; ++j) {
-    if (((present >> uint(j)) & 1u) == 0u) continue;
-    and_m &= window[j];
-    or_m |= window[j];
-  }
-  if (((and_m ^ or_m) & soft_bits) == 0u) return kClientSoftRefineNoneAll;
-  const float wx[4] = float[4](1.0 - s.frac.x, 2.0 - s.frac.x, 1.0 + s.frac.x, s.frac.x);
-  const float wy[4] = float[4](1.0 - s.frac.y, 2.0 - s.frac.y, 1.0 + s.frac.y, s.frac.y);
+// Refined soft shares (kClientWarpSoftRefine) at a bilinear lookup into source `source` (src) whose vote gave
+// `value`: for each of the first kClientSoftRefineFields soft fields with a bit in soft_bits
+// (ClientWarpParams::soft_refine_bits: not an edge light's, a sun's penumbra is a pixel or two wide), the bilinear
+// blend of the used samples' band shares (their level's byte in their cell of the table, reconstructed once per
+// source: render/soft_bands.hpp; a none byte: the sample's level) over the samples whose level lies within one level
+// of the vote's (a jump of more, a contact shadow, is kept); an exact vote takes its sample's share alone. One byte
+// per field, the share times kClientSoftRefineScale rounded; kClientSoftRefineNone where no such sample weighs
+// anything (the vote's level holds). The CPU twin is render/soft_refine.cpp's soft_blend.
+uint warp_soft_blend(WarpSamples s, uint source, ClientWarpSource src, uint masks[4], uint used, uint value,
+                     bool exact, uint soft_lights, uint soft_bits, uint light_count) {
+  uint cells[4];
+  for (int k = 0; k < 4; ++k) cells[k] = warp_share_cell_word(src, warp_sample_pixel(s, k));
   uint packed = kClientSoftRefineNoneAll;
-  uint rank = 0u;
+  uint rank = 0u, offset = 0u;
   for (uint i = 0u; i < light_count && rank < kClientSoftRefineFields; ++i) {
     const uint bits = field_bits(soft_lights, i);
     const uint field = ((1u << bits) - 1u) << offset;
-    // A field the 4x4 holds at one level keeps it.
-    if (bits > 1u && ((and_m ^ or_m) & field & soft_bits) != 0u) {
+    if (bits > 1u && (field & soft_bits) != 0u) {
       const float centre = field_visibility(value, offset, bits);
       float sum = 0.0, total = 0.0;
-      for (int j = 0; j < 16; ++j) {
-        if (((present >> uint(j)) & 1u) == 0u) continue;
-        const float f = field_visibility(window[j], offset, bits);
+      for (int k = 0; k < s.count; ++k) {
+        if (((used >> uint(k)) & 1u) == 0u || (exact && k != s.exact)) continue;
+        const float f = field_visibility(masks[k], offset, bits);
         if (abs(f - centre) * float(kClientSoftLevels - 1u) > 1.5) continue;
-        const float w = wx[j % 4] * wy[j / 4];
-        sum += w * f;
+        const uint n = uint(round(f * float(kClientSoftLevels - 1u)));
+        const uint byte = (warp_share_load(source, cells[k] + 2u * rank + n / 4u) >> (8u * (n % 4u))) & 0xFFu;
+        const float share = byte == kClientSoftRefineNone ? f : float(byte) / float(kClientSoftRefineScale);
+        const float w = exact ? 1.0 : warp_sample_weight(s, k);
+        sum += w * share;
         total += w;
       }
-      const float share = total > 0.0 ? sum / total : centre;
-      const uint byte = uint(floor(clamp(share, 0.0, 1.0) * float(kClientSoftRefineScale) + 0.5));
-      packed = (packed & ~(0xFFu << (8u * rank))) | (byte << (8u * rank));
+      if (total > 0.0) {
+        const uint byte = uint(floor(clamp(sum / total, 0.0, 1.0) * float(kClientSoftRefineScale) + 0.5));
+        packed = (packed & ~(0xFFu << (8u * rank))) | (byte << (8u * rank));
+      }
     }
     if (bits > 1u) ++rank;
     offset += bits;

@@ -24,6 +24,7 @@
 layout(set = 0, binding = kClientGBufferBindingBaseColor) uniform sampler2D base_color_texture;
 layout(set = 1, binding = kClientForwardBindingParams, std430) restrict readonly buffer Params { ClientWarpParams pc; };
 layout(set = 1, binding = kClientForwardBindingVisibility0, std430) readonly buffer Visibility0 { uint vis0[]; };
+uint warp_share_load(uint, uint word) { return vis0[word]; }  // bilinear_warp.h's band shares (source 0)
 layout(set = 1, binding = kClientForwardBindingRowValid0, std430) readonly buffer RowValid0 { uint rows0[]; };
 layout(set = 1, binding = kClientForwardBindingShadowMap) uniform sampler2D shadow_atlas;
 layout(set = 1, binding = kClientForwardBindingTracedDepth0) uniform sampler2D traced_depth0;
@@ -162,27 +163,9 @@ void main() {
         undecided = ~vote.agree & pc.unknown_mask;
         // warp.comp's refined soft shares (look_up), where every 2x2 sample that arrived was used.
         if ((pc.flags & kClientWarpSoftRefine) != 0u && used == arrived &&
-            warp_samples_differ(masks, used, pc.soft_refine_bits)) {
-          uint window[16];
-          uint present = 0u;
-          for (int k = 0; k < 4; ++k) {  // the 2x2 samples, loaded above (every one that arrived was used)
-            const int j = warp_window_of_sample(k);
-            window[j] = masks[k];
-            present |= ((arrived >> k) & 1u) << uint(j);
-          }
-          for (int j = 0; j < 16; ++j) {
-            if (j == 5 || j == 6 || j == 9 || j == 10) continue;
-            window[j] = 0u;
-            const ivec2 c = warp_window_pixel(samples, j);
-            if (!warp_sample_in_buffer(src, c)) continue;
-            const uint row_word = paper_warp_reads_rows(pc) ? rows0[uint(c.y) >> 5] : 0u;
-            if (!warp_row_arrived(src, row_word, uint(c.y))) continue;
-            const uint bit = warp_sample_mask_bit(src, c);
-            window[j] = warp_sample_mask(src, vis0[bit >> 5], bit);
-            present |= 1u << uint(j);
-          }
-          refined = warp_soft_refine(samples, window, present, value, pc.soft_lights, pc.soft_refine_bits,
-                                     pc.light_count);
+            (src.flags & kClientSourceHasShares) != 0u) {
+          refined = warp_soft_blend(samples, 0u, src, masks, used, value, vote.exact, pc.soft_lights,
+                                    pc.soft_refine_bits, pc.light_count);
         }
       }
     }

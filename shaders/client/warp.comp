@@ -52,6 +52,7 @@ layout(set = 0, binding = kClientWarpBindingShadowMap) uniform sampler2D shadow_
 
 // Source s is dynamically uniform: these selections do not diverge.
 uint vis_word(uint s, uint index) { return s == 0u ? vis0[index] : s == 1u ? vis1[index] : vis2[index]; }
+uint warp_share_load(uint source, uint word) { return vis_word(source, word); }  // bilinear_warp.h's band shares
 bool row_ok(uint s, uint row) {
   if ((pc.source[s].flags & kClientSourceHasRowValidity) == 0u) return true;
   const uint word = s == 0u ? rows0[row >> 5] : s == 1u ? rows1[row >> 5] : rows2[row >> 5];
@@ -73,7 +74,7 @@ struct Lookup {
   uint value;   // agreed bits: their value; other bits: the bilinear vote
   bool exact;   // bilinear: the lookup is at an old pixel centre whose sample is used: value is its mask
   vec2 pixel;   // continuous lookup coordinate
-  uint refined; // kClientWarpSoftRefine: the soft fields' refined shares (warp_soft_refine), else none
+  uint refined; // kClientWarpSoftRefine: the soft fields' refined shares (warp_soft_blend), else none
 };
 
 Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
@@ -154,27 +155,12 @@ Lookup look_up(uint s, float d, vec2 centre, vec3 n_world) {
   r.agree = vote.agree;
   r.value = vote.value;
   r.exact = vote.exact;
-  // Refined soft shares from the 4x4 around the lookup, where the depth test used every 2x2 sample that arrived
-  // (a rejected one: a silhouette, whose far side the ring must not mix in).
+  // Refined soft shares from the used samples' band shares, where the depth test used every 2x2 sample that arrived
+  // (a rejected one: a silhouette, whose far side must not be mixed in).
   if ((pc.flags & kClientWarpSoftRefine) != 0u && bilinear && used == arrived &&
-      warp_samples_differ(masks, used, pc.soft_refine_bits)) {
-    uint window[16];
-    uint present = 0u;
-    for (int k = 0; k < 4; ++k) {  // the 2x2 samples, loaded above (every one that arrived was used)
-      const int j = warp_window_of_sample(k);
-      window[j] = masks[k];
-      present |= ((arrived >> k) & 1u) << uint(j);
-    }
-    for (int j = 0; j < 16; ++j) {
-      if (j == 5 || j == 6 || j == 9 || j == 10) continue;
-      window[j] = 0u;
-      const ivec2 c = warp_window_pixel(samples, j);
-      if (!warp_sample_in_buffer(pc.source[s], c) || !row_ok(s, uint(c.y))) continue;
-      window[j] = old_mask(s, c.x, c.y);
-      present |= 1u << uint(j);
-    }
-    r.refined = warp_soft_refine(samples, window, present, vote.value, pc.soft_lights, pc.soft_refine_bits,
-                                   pc.light_count);
+      (pc.source[s].flags & kClientSourceHasShares) != 0u) {
+    r.refined = warp_soft_blend(samples, s, pc.source[s], masks, used, vote.value, vote.exact, pc.soft_lights,
+                                pc.soft_refine_bits, pc.light_count);
   }
   return r;
 }

@@ -1,19 +1,21 @@
-// Refined soft shares (WarpSettings::soft_refine; render/soft_refine.hpp, bilinear_warp.h's warp_soft_refine): the
-// function on windows whose answer is known, then the deferred warp against its CPU reference on the area room
-// with levels that step by one level every few old pixels (a smooth share, banded), and the forward pass shading
-// with the same shares as the deferred one.
+// Refined soft shares (WarpSettings::soft_refine): the band reconstruction (render/soft_bands.hpp) and the blend at
+// a lookup (render/soft_refine.hpp, bilinear_warp.h's warp_soft_blend) on levels whose answer is known, then the
+// deferred warp against its CPU reference on the area room with levels that step by one level every few old pixels
+// (a smooth share, banded), and the forward pass shading with the same shares as the deferred one.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <random>
 #include <vector>
 
 #include "forward_test_frame.hpp"
 #include "render/eye_pipeline.hpp"
 #include "render/light_layout.hpp"
 #include "render/shadow_maps.hpp"
+#include "render/soft_bands.hpp"
 #include "render/soft_refine.hpp"
 #include "shaders/shader_interface.h"
 #include "vulkan_test_fixture.hpp"
@@ -31,81 +33,205 @@ VisibilityLayout one_soft() {
   return VisibilityLayout::for_lights(std::span<const bool>(soft, 2));
 }
 
-// A window whose columns 0-1 hold level `left` and columns 2-3 level `right` (the hard bit set everywhere).
-SoftWindow columns(const VisibilityLayout& layout, float left, float right) {
-  SoftWindow w;
-  for (int j = 0; j < 16; ++j) {
-    uint32_t m = layout.with_visibility(0, 1, 1.0f);
-    m = layout.with_visibility(m, 0, (j % 4) < 2 ? left : right);
-    w.masks[static_cast<size_t>(j)] = m;
-    w.present |= 1u << j;
+constexpr double kTop = kDefaultSoftLevels - 1;  // the top level
+constexpr double kByte = 1.0 / kClientSoftRefineScale;
+constexpr uint32_t kRadius = 6;  // soft_band_radius of a 300-pixel buffer
+
+// A w x h buffer of one_soft()'s layout: the soft light's share share(x, y) rounded to its level, the hard bit set.
+template <typename Share>
+VisibilityBuffer soft_buffer(const VisibilityLayout& layout, uint32_t w, uint32_t h, Share share) {
+  VisibilityBuffer b = VisibilityBuffer::create(w, h, layout.total_bits());
+  for (uint32_t y = 0; y < h; ++y) {
+    for (uint32_t x = 0; x < w; ++x) b.set(x, y, layout.with_visibility(layout.with_visibility(0, 1, 1.0f), 0, share(x, y)));
   }
-  return w;
+  return b;
 }
 
 double share_of(uint32_t packed) { return refined_share(packed, 0); }
 
-TEST(SoftRefine, FlatLevelsKeepTheirLevel) {
+// Every pixel's packed band shares (rows that did not arrive: none).
+std::vector<uint32_t> band_shares(const VisibilityLayout& layout, const VisibilityBuffer& b,
+                                  std::span<const uint8_t> rows, uint32_t bits, uint32_t radius) {
+  const SoftBandTable table = soft_band_table(layout, b, rows, bits, radius);
+  std::vector<uint32_t> out(b.pixel_count(), kClientSoftRefineNoneAll);
+  for (uint32_t y = 0; y < b.height; ++y) {
+    if (!rows.empty() && rows[y] == 0) continue;
+    for (uint32_t x = 0; x < b.width; ++x) out[size_t{y} * b.width + x] = soft_band_shares_at(table, layout, x, y, b.get(x, y));
+  }
+  return out;
+}
+
+uint32_t soft_bits_of(const VisibilityLayout& layout) { return soft_refine_bits(layout, 0); }
+
+// A share rising linearly across 64 pixels, along x (rows) or y (columns): its levels are bands about 9 pixels wide.
+void expect_ramp_reconstructed(bool along_x) {
+  const VisibilityLayout layout = one_soft();
+  const auto truth = [&](uint32_t x, uint32_t y) { return static_cast<float>(((along_x ? x : y) + 0.5) / 64.0); };
+  const VisibilityBuffer b = soft_buffer(layout, along_x ? 64 : 8, along_x ? 8 : 64, truth);
+  const std::vector<uint32_t> shares = band_shares(layout, b, {}, soft_bits_of(layout), kRadius);
+  double level_error = 0.0, band_error = 0.0, worst = 0.0, last = -1.0;
+  for (uint32_t t = 0; t < 64; ++t) {
+    const uint32_t x = along_x ? t : 3, y = along_x ? 3 : t;
+    const size_t p = size_t{y} * b.width + x;
+    const double share = share_of(shares[p]), level = layout.visibility(b.get(x, y), 0), want = truth(x, y);
+    ASSERT_GE(share, 0.0) << t;
+    EXPECT_LE(std::abs(share - level), 0.5 / kTop + kByte) << t;  // never beyond the interval the level stands for
+    EXPECT_GE(share, last - kByte) << t;                          // the ramp rises
+    last = share;
+    if (t < kRadius || t >= 64 - kRadius) continue;  // the statistics: where the window is not cut by the edge
+    level_error += std::abs(level - want);
+    band_error += std::abs(share - want);
+    worst = std::max(worst, std::abs(share - want));
+  }
+  std::printf("ramp along %s, away from the edges: mean |level - share| %.5f, reconstructed %.5f (worst %.5f)\n",
+              along_x ? "x" : "y", level_error / (64 - 2 * kRadius), band_error / (64 - 2 * kRadius), worst);
+  EXPECT_LT(band_error, level_error / 4);  // the bands become the ramp
+  EXPECT_LT(worst, 0.2 / kTop);
+}
+
+TEST(SoftBands, ARampOfLevelsIsReconstructedAlongRowsAndColumns) {
+  expect_ramp_reconstructed(true);
+  expect_ramp_reconstructed(false);
+}
+
+TEST(SoftBands, CellsShareTheirWindow) {
+  const VisibilityLayout layout = one_soft();
+  // Radius 24: cells of 6 x 6 pixels, a window of 9 x 9 cells. A ramp along x over 240 pixels (bands of 34).
+  const auto truth = [](uint32_t x, uint32_t) { return (x + 0.5) / 240.0; };
+  const VisibilityBuffer b = soft_buffer(layout, 240, 40, [&](uint32_t x, uint32_t y) { return static_cast<float>(truth(x, y)); });
+  const SoftBandTable table = soft_band_table(layout, b, {}, soft_bits_of(layout), 24);
+  ASSERT_EQ(table.cell, 6u);
+  ASSERT_EQ(table.columns, 40u);
+  ASSERT_EQ(table.rows, 7u);  // 40 rows: the last cell row holds 4
+  ASSERT_EQ(table.words.size(), size_t{40} * 7 * shader::kClientSoftBandCellWords);
+  double level_error = 0.0, band_error = 0.0;
+  for (uint32_t x = 0; x < 240; ++x) {
+    const uint32_t mask = b.get(x, 20);
+    const double share = share_of(soft_band_shares_at(table, layout, x, 20, mask));
+    const double level = layout.visibility(mask, 0);
+    EXPECT_LE(std::abs(share - level), 0.5 / kTop + kByte) << x;
+    // Pixels of a cell at one level share a byte.
+    if (x % 6 != 0 && b.get(x - 1, 20) == mask) {
+      EXPECT_EQ(soft_band_shares_at(table, layout, x, 20, mask), soft_band_shares_at(table, layout, x - 1, 20, mask));
+    }
+    if (x < 30 || x >= 210) continue;
+    level_error += std::abs(level - truth(x, 20));
+    band_error += std::abs(share - truth(x, 20));
+  }
+  EXPECT_LT(band_error, level_error / 3);
+}
+
+TEST(SoftBands, FlatLevelsAndJumpsKeepTheirLevels) {
   const VisibilityLayout layout = one_soft();
   for (int level = 0; level < 8; ++level) {
-    const float k = static_cast<float>(level) / 7.0f;
-    const SoftWindow w = columns(layout, k, k);
-    // One level over the window: nothing to refine, the level holds.
-    const uint32_t packed = soft_refine(layout, w, 0.3, 0.7, w.masks[5]);
-    EXPECT_EQ(packed, kClientSoftRefineNoneAll) << "level " << level;
-    EXPECT_EQ(shaded_share(layout, w.masks[5], packed, 0), static_cast<double>(k));
+    const float k = static_cast<float>(level / kTop);
+    const VisibilityBuffer b = soft_buffer(layout, 12, 6, [&](uint32_t, uint32_t) { return k; });
+    const std::vector<uint32_t> shares = band_shares(layout, b, {}, soft_bits_of(layout), kRadius);
+    for (const uint32_t packed : shares) {
+      EXPECT_NEAR(share_of(packed), level / kTop, kByte) << "level " << level;
+      EXPECT_LT(refined_share(packed, 1), 0.0);  // no second soft field
+    }
   }
-  // A step in the window: the fields get their bytes; a second soft field would get the next byte, none here.
-  const SoftWindow step = columns(layout, 0.0f, 1.0f / 7.0f);
-  EXPECT_GE(refined_share(soft_refine(layout, step, 0.5, 0.5, step.masks[5]), 0), 0.0);
-  EXPECT_LT(refined_share(soft_refine(layout, step, 0.5, 0.5, step.masks[5]), 1), 0.0);
-  // The soft light an edge light (a sun's): never refined.
-  EXPECT_EQ(soft_refine(layout, step, 0.5, 0.5, step.masks[5], 1u), kClientSoftRefineNoneAll);
+  // Levels 1 and 5 side by side: a contact shadow or another surface, not a penumbra: both keep their levels.
+  const VisibilityBuffer jump = soft_buffer(layout, 12, 6, [](uint32_t x, uint32_t) {
+    return static_cast<float>((x < 6 ? 1 : 5) / kTop);
+  });
+  const std::vector<uint32_t> shares = band_shares(layout, jump, {}, soft_bits_of(layout), kRadius);
+  for (uint32_t x = 0; x < 12; ++x) EXPECT_NEAR(share_of(shares[2 * 12 + x]), (x < 6 ? 1 : 5) / kTop, kByte) << x;
+  // A field outside the bits (an edge light's): none.
+  for (const uint32_t packed : band_shares(layout, jump, {}, 0u, kRadius)) EXPECT_EQ(packed, kClientSoftRefineNoneAll);
 }
 
-TEST(SoftRefine, AStepOfOneLevelBecomesARamp) {
+TEST(SoftBands, DitheredLevelsGiveTheirMeanAndMissingRowsCountForNothing) {
   const VisibilityLayout layout = one_soft();
-  const float lo = 3.0f / 7.0f, hi = 4.0f / 7.0f;
-  const double lo_d = lo, hi_d = hi;
-  const SoftWindow w = columns(layout, lo, hi);
-  double last = -1.0;
-  for (int i = 0; i <= 10; ++i) {
-    const double fx = i / 10.0 * 0.999;
-    const uint32_t value = layout.with_visibility(w.masks[5], 0, fx < 0.5 ? lo : hi);  // the vote's level
-    const double share = share_of(soft_refine(layout, w, fx, 0.5, value));
-    EXPECT_GT(share, lo_d) << fx;
-    EXPECT_LT(share, hi_d) << fx;
-    EXPECT_GE(share, last - 1e-9) << fx;  // the ramp rises as the lookup moves toward the higher level
-    last = share;
+  // Level 4 at a quarter of the pixels (every fourth along a row, shifted each row), 3 elsewhere: the share lies a
+  // quarter of the way from 3 to 4. Level 3's pixels show it; level 4's keep the nearest they may (3.5).
+  const auto dither = [](uint32_t x, uint32_t y) { return static_cast<float>(((x + y) % 4 == 0 ? 4 : 3) / kTop); };
+  const VisibilityBuffer b = soft_buffer(layout, 40, 30, dither);
+  std::vector<uint8_t> rows(30, 1);
+  rows[12] = 0;
+  const std::vector<uint32_t> shares = band_shares(layout, b, rows, soft_bits_of(layout), kRadius);
+  for (uint32_t y = 8; y < 22; ++y) {
+    for (uint32_t x = 8; x < 32; ++x) {
+      const uint32_t packed = shares[size_t{y} * 40 + x];
+      if (y == 12) {
+        EXPECT_EQ(packed, kClientSoftRefineNoneAll) << x;  // its row did not arrive
+        continue;
+      }
+      // The window holds 13 x 13 pixels less the missing row's: a quarter of them at level 4, within a pixel.
+      EXPECT_NEAR(share_of(packed), ((x + y) % 4 == 0 ? 3.5 : 3.25) / kTop, 14.0 / 156.0 / kTop + kByte) << x << "," << y;
+    }
   }
-  // Halfway between the two columns' centres (fx 0.5 past column 1's centre): the mean of the two levels.
-  EXPECT_NEAR(share_of(soft_refine(layout, w, 0.5, 0.5, w.masks[6])), (lo_d + hi_d) / 2.0,
-              1.0 / kClientSoftRefineScale);
+  EXPECT_THROW(soft_band_table(layout, b, std::vector<uint8_t>(4, 1), soft_bits_of(layout), kRadius),
+               std::invalid_argument);
+  EXPECT_THROW(soft_band_table(layout, b, {}, soft_bits_of(layout), 0), std::invalid_argument);
+  EXPECT_THROW(soft_band_table(layout, b, {}, soft_bits_of(layout), kMaxSoftBandRadius + 1), std::invalid_argument);
+  // The radius is a share of the width: a 320-pixel eye's buffer with its guard band, the server's 1984.
+  EXPECT_EQ(soft_band_radius(384), 8u);
+  EXPECT_EQ(soft_band_radius(1984), 40u);
+  EXPECT_EQ(soft_band_radius(8), 1u);
+  EXPECT_EQ(soft_band_radius(kSoftBandRadiusDivisor * (kMaxSoftBandRadius + 10)), kMaxSoftBandRadius);
 }
 
-TEST(SoftRefine, AJumpOfMoreThanOneLevelIsKept) {
+TEST(SoftBands, NeverLeaveTheIntervalTheLevelStandsFor) {
   const VisibilityLayout layout = one_soft();
-  const SoftWindow w = columns(layout, 0.0f, 5.0f / 7.0f);
-  // The vote says level 5: the level-0 pixels are another surface's or a contact shadow's, not mixed in.
-  EXPECT_NEAR(share_of(soft_refine(layout, w, 0.9, 0.5, w.masks[6])), 5.0 / 7.0, 0.5 / kClientSoftRefineScale);
-  EXPECT_NEAR(share_of(soft_refine(layout, w, 0.1, 0.5, w.masks[5])), 0.0, 0.5 / kClientSoftRefineScale);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> step(-1, 1);
+  // A random walk of levels along each row (steps of one level and jumps), rows shifted against each other.
+  std::vector<int> walk(40 * 30);
+  for (uint32_t y = 0; y < 30; ++y) {
+    int level = static_cast<int>(rng() % 8);
+    for (uint32_t x = 0; x < 40; ++x) {
+      level = std::clamp(level + (rng() % 7 == 0 ? step(rng) * 3 : step(rng)), 0, 7);
+      walk[y * 40 + x] = level;
+    }
+  }
+  const VisibilityBuffer b = soft_buffer(layout, 40, 30, [&](uint32_t x, uint32_t y) {
+    return static_cast<float>(walk[y * 40 + x] / kTop);
+  });
+  const std::vector<uint32_t> shares = band_shares(layout, b, {}, soft_bits_of(layout), kRadius);
+  for (size_t p = 0; p < shares.size(); ++p) {
+    const double share = share_of(shares[p]), level = walk[p] / kTop;
+    ASSERT_GE(share, 0.0);
+    EXPECT_LE(std::abs(share - level), 0.5 / kTop + kByte) << p;
+  }
 }
 
-TEST(SoftRefine, MissingPixelsAreLeftOutAndFieldsFromTheMapsDropped) {
+TEST(SoftRefine, BlendsTheSamplesBandSharesWithinOneLevel) {
   const VisibilityLayout layout = one_soft();
-  SoftWindow w = columns(layout, 2.0f / 7.0f, 3.0f / 7.0f);
-  w.present = 0x3333u;  // only columns 0-1: one level, which holds
-  EXPECT_EQ(soft_refine(layout, w, 0.5, 0.5, w.masks[5]), kClientSoftRefineNoneAll);
-  w.present = 0x7777u;  // columns 0-2: a third of the tent's weight at the higher level at fx = 0.5 ...
-  const double share = share_of(soft_refine(layout, w, 0.5, 0.5, w.masks[5]));
-  EXPECT_NEAR(share, (2.0 * (0.5 + 1.5) + 3.0 * 1.5) / 3.5 / 7.0, 1.0 / kClientSoftRefineScale);
-  const uint32_t packed = soft_refine(layout, columns(layout, 3.0f / 7.0f, 4.0f / 7.0f), 0.5, 0.5, w.masks[5]);
+  const uint32_t bits = soft_bits_of(layout);
+  const auto mask = [&](int level) { return layout.with_visibility(layout.with_visibility(0, 1, 1.0f), 0, level / 7.0f); };
+  const auto packed = [](double share) { return 0xFFFFFF00u | static_cast<uint32_t>(std::lround(share * 254)); };
+  const std::array<uint32_t, 4> masks{mask(3), mask(4), mask(3), mask(4)};
+  const std::array<uint32_t, 4> shares{packed(3.2 / 7), packed(3.7 / 7), packed(3.2 / 7), packed(3.7 / 7)};
+  // Halfway in x: the mean of the two columns' shares.
+  EXPECT_NEAR(share_of(soft_blend(layout, masks, shares, 0xFu, 0.5, 0.5, mask(3), -1, bits)), 3.45 / 7, 1.5 * kByte);
+  // Near the left column: its share.
+  EXPECT_NEAR(share_of(soft_blend(layout, masks, shares, 0xFu, 0.0, 0.3, mask(3), -1, bits)), 3.2 / 7, 1.5 * kByte);
+  // An exact lookup: its sample's share alone.
+  EXPECT_NEAR(share_of(soft_blend(layout, masks, shares, 0xFu, 0.99, 0.0, mask(4), 1, bits)), 3.7 / 7, 1.5 * kByte);
+  // Unused samples are left out; a none byte stands for its level.
+  EXPECT_NEAR(share_of(soft_blend(layout, masks, shares, 0x5u, 0.5, 0.5, mask(3), -1, bits)), 3.2 / 7, 1.5 * kByte);
+  const std::array<uint32_t, 4> none{kClientSoftRefineNoneAll, shares[1], kClientSoftRefineNoneAll, shares[3]};
+  EXPECT_NEAR(share_of(soft_blend(layout, masks, none, 0xFu, 0.5, 0.5, mask(3), -1, bits)), 3.35 / 7, 1.5 * kByte);
+  // A sample more than a level from the vote's (a contact shadow): left out.
+  const std::array<uint32_t, 4> jump{mask(0), mask(4), mask(0), mask(4)};
+  EXPECT_NEAR(share_of(soft_blend(layout, jump, shares, 0xFu, 0.4, 0.5, mask(4), -1, bits)), 3.7 / 7, 1.5 * kByte);
+  // Outside the refined bits (an edge light's field): none.
+  EXPECT_EQ(soft_blend(layout, masks, shares, 0xFu, 0.5, 0.5, mask(3), -1, 0u), kClientSoftRefineNoneAll);
+}
+
+TEST(SoftRefine, FieldsFromTheMapsAreDropped) {
+  const VisibilityLayout layout = one_soft();
+  const uint32_t m = layout.with_visibility(layout.with_visibility(0, 1, 1.0f), 0, 3.0f / 7.0f);
+  const uint32_t packed = 0xFFFFFF00u | 100u;
   const uint32_t soft_field = ((1u << layout.bits[0]) - 1u) << layout.offset[0];
   EXPECT_EQ(soft_refine_drop(layout, packed, soft_field), kClientSoftRefineNoneAll);
   EXPECT_EQ(soft_refine_drop(layout, packed, 1u << layout.offset[1]), packed);  // the hard bit: kept
-  // shaded_share: the refined share of a soft light, the bit of a hard one.
-  EXPECT_NEAR(shaded_share(layout, w.masks[5], packed, 0), share_of(packed), 1e-12);
-  EXPECT_EQ(shaded_share(layout, w.masks[5], packed, 1), 1.0);
+  // shaded_share: the refined share of a soft light, the bit of a hard one, the level without a share.
+  EXPECT_NEAR(shaded_share(layout, m, packed, 0), 100.0 / 254.0, 1e-12);
+  EXPECT_EQ(shaded_share(layout, m, packed, 1), 1.0);
+  EXPECT_NEAR(shaded_share(layout, m, kClientSoftRefineNoneAll, 0), 3.0 / 7.0, 1e-6);
 }
 
 using ClientSoftRefineTest = vk::test::VulkanTest;

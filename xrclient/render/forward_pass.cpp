@@ -204,7 +204,11 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   const VisibilityLayout field_layout = layout_for_lights(fields);
   if (out.visibility_used) {
     const uint32_t edge_band = mode == ForwardMode::kServerEdges ? frame.edge_band : 0u;
-    slot.source.upload(*context_, display, *in, params.source[0], edge_band, hard_field_bits(field_layout));
+    // Refined soft shares: the band shares of the refined fields follow the masks.
+    const uint32_t refine_bits = soft_refine_bits(field_layout, soft_edge_light_mask(fields));
+    const bool refine = mode == ForwardMode::kServerEdges && frame.soft_refine && !slotted && refine_bits != 0u;
+    slot.source.upload(*context_, display, *in, params.source[0], edge_band, hard_field_bits(field_layout),
+                       refine ? &field_layout : nullptr, refine ? refine_bits : 0u);
     if (mode == ForwardMode::kServerEdges && frame.traced_depth != nullptr) {
       const WarpSettings& test = frame.depth_test;
       const Extent depth_extent = depth_camera(in->traced, test.depth_scale).extent;

@@ -12,18 +12,6 @@ using shader::kClientSoftRefineNone;
 using shader::kClientSoftRefineNoneAll;
 using shader::kClientSoftRefineScale;
 
-SoftWindow soft_window(const VisibilityBuffer& buffer, std::span<const uint8_t> row_valid, int i0, int j0) {
-  SoftWindow w;
-  for (int j = 0; j < 16; ++j) {
-    const int a = i0 + j % 4 - 1, b = j0 + j / 4 - 1;
-    if (a < 0 || b < 0 || a >= static_cast<int>(buffer.width) || b >= static_cast<int>(buffer.height)) continue;
-    if (!row_valid.empty() && row_valid[static_cast<size_t>(b)] == 0) continue;
-    w.masks[static_cast<size_t>(j)] = buffer.get(static_cast<uint32_t>(a), static_cast<uint32_t>(b));
-    w.present |= 1u << j;
-  }
-  return w;
-}
-
 uint32_t soft_refine_bits(const VisibilityLayout& layout, uint32_t edge_lights) {
   uint32_t out = 0;
   for (uint32_t i = 0; i < layout.light_count; ++i)
@@ -31,44 +19,34 @@ uint32_t soft_refine_bits(const VisibilityLayout& layout, uint32_t edge_lights) 
   return out;
 }
 
-uint32_t soft_refine(const VisibilityLayout& layout, const SoftWindow& window, double fx, double fy, uint32_t value,
-                     uint32_t edge_lights) {
-  const uint32_t soft_bits = soft_refine_bits(layout, edge_lights);
-  uint32_t and_m = 0xFFFFFFFFu, or_m = 0;
-  for (int j = 0; j < 16; ++j) {
-    if (((window.present >> j) & 1u) == 0) continue;
-    and_m &= window.masks[static_cast<size_t>(j)];
-    or_m |= window.masks[static_cast<size_t>(j)];
-  }
-  if (((and_m ^ or_m) & soft_bits) == 0) return kClientSoftRefineNoneAll;
+uint32_t soft_blend(const VisibilityLayout& layout, const std::array<uint32_t, 4>& masks,
+                    const std::array<uint32_t, 4>& shares, uint32_t used, double fx, double fy, uint32_t value,
+                    int exact, uint32_t refine_bits) {
   // The GPU computes in float: so does this, in the same order.
   const auto fxf = static_cast<float>(fx), fyf = static_cast<float>(fy);
-  const float wx[4] = {1.0f - fxf, 2.0f - fxf, 1.0f + fxf, fxf};
-  const float wy[4] = {1.0f - fyf, 2.0f - fyf, 1.0f + fyf, fyf};
   const auto steps = static_cast<float>(kDefaultSoftLevels - 1);
   uint32_t packed = kClientSoftRefineNoneAll, rank = 0;
   for (uint32_t i = 0; i < layout.light_count && rank < kClientSoftRefineFields; ++i) {
     if (!layout.is_soft(i)) continue;
+    const uint32_t shift = 8 * rank++;
     const uint32_t field = ((1u << layout.bits[i]) - 1u) << layout.offset[i];
-    if (((edge_lights >> i) & 1u) != 0 || ((and_m ^ or_m) & field) == 0) {  // a field at one level keeps it
-      ++rank;
-      continue;
-    }
+    if ((field & refine_bits) == 0) continue;
     const float centre = layout.visibility(value, i);
     float sum = 0.0f, total = 0.0f;
-    for (int j = 0; j < 16; ++j) {
-      if (((window.present >> j) & 1u) == 0) continue;
-      const float f = layout.visibility(window.masks[static_cast<size_t>(j)], i);
+    for (int k = 0; k < 4; ++k) {
+      if (((used >> k) & 1u) == 0 || (exact >= 0 && k != exact)) continue;
+      const float f = layout.visibility(masks[static_cast<size_t>(k)], i);
       if (std::abs(f - centre) * steps > 1.5f) continue;
-      const float w = wx[j % 4] * wy[j / 4];
-      sum += w * f;
+      const uint32_t byte = (shares[static_cast<size_t>(k)] >> shift) & 0xFFu;
+      const float share = byte == kClientSoftRefineNone ? f : static_cast<float>(byte) / kClientSoftRefineScale;
+      const float w = exact >= 0 ? 1.0f : ((k & 1) != 0 ? fxf : 1.0f - fxf) * ((k >> 1) != 0 ? fyf : 1.0f - fyf);
+      sum += w * share;
       total += w;
     }
-    const float share = total > 0.0f ? sum / total : centre;
-    const auto byte = static_cast<uint32_t>(std::floor(std::clamp(share, 0.0f, 1.0f) *
+    if (!(total > 0.0f)) continue;
+    const auto byte = static_cast<uint32_t>(std::floor(std::clamp(sum / total, 0.0f, 1.0f) *
                                                        static_cast<float>(kClientSoftRefineScale) + 0.5f));
-    packed = (packed & ~(0xFFu << (8 * rank))) | (byte << (8 * rank));
-    ++rank;
+    packed = (packed & ~(0xFFu << shift)) | (byte << shift);
   }
   return packed;
 }

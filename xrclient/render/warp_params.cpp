@@ -1,4 +1,6 @@
 #include "render/warp_params.hpp"
+
+#include "render/soft_bands.hpp"
 #include "render/warp_edges.hpp"
 
 #include <algorithm>
@@ -160,26 +162,41 @@ WarpSourceBuffers::WarpSourceBuffers(const vk::Context& context)
       rows(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost) {}
 
 void WarpSourceBuffers::upload(const vk::Context& context, const Camera& display, const VisibilityInput& input,
-                               ClientWarpSource& src, uint32_t band, uint32_t bits) {
+                               ClientWarpSource& src, uint32_t band, uint32_t bits, const VisibilityLayout* layout,
+                               uint32_t refine_bits) {
   const VisibilityBuffer& buffer = *input.buffer;
   const bool edges = band > 0 && bits != 0;
   if (!edges) band = bits = 0;
+  const bool shares = layout != nullptr && refine_bits != 0;
+  if (!shares) refine_bits = 0;
   const VkDeviceSize mask_bytes = (buffer.size_bytes() + 3) / 4 * 4;
-  if (input.key == 0 || input.key != key || band != edge_band || bits != edge_bits) {
-    const VkDeviceSize bytes = edges ? 2 * mask_bytes : mask_bytes;
+  const VkDeviceSize share_offset = edges ? 2 * mask_bytes : mask_bytes;
+  if (input.key == 0 || input.key != key || band != edge_band || bits != edge_bits || refine_bits != share_bits) {
+    if (shares) {
+      share_table = soft_band_table(*layout, buffer, input.row_valid, refine_bits, soft_band_radius(buffer.width));
+    }
+    const VkDeviceSize bytes = share_offset + (shares ? share_table.words.size() * 4 : 0);
     if (bytes > visibility.size()) visibility = vk::Buffer(context, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     visibility.write(buffer.data.data(), buffer.data.size());
     if (edges) {
       const VisibilityBuffer marks = edge_band_marks(buffer, input.row_valid, band, bits);
       visibility.write(marks.data.data(), marks.data.size(), mask_bytes);
     }
+    if (shares) visibility.write(share_table.words.data(), share_table.words.size() * 4, share_offset);
     key = input.key;
     edge_band = band;
     edge_bits = bits;
+    share_bits = refine_bits;
   }
   if (edges) {
     src.edge_word = static_cast<uint32_t>(mask_bytes / 4);
     src.flags |= kClientSourceHasEdges;
+  }
+  if (shares) {
+    src.share_word = static_cast<uint32_t>(share_offset / 4);
+    src.share_cell = share_table.cell;
+    src.share_columns = share_table.columns;
+    src.flags |= kClientSourceHasShares;
   }
   src.mask_bits = static_cast<uint32_t>(buffer.mask_bits);
   src.flags |= kClientSourceHasVisibility;

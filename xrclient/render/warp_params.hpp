@@ -8,10 +8,12 @@
 
 #include "math/projection.hpp"
 #include "plan/visibility_input.hpp"
+#include "render/soft_bands.hpp"
 #include "render/warp_reference.hpp"
 #include "scene/scene.hpp"
 #include "shaders/shader_interface.h"
 #include "visibility/visibility.hpp"
+#include "visibility/visibility_layout.hpp"
 #include "vk/buffer.hpp"
 
 namespace dhr::vk {
@@ -48,14 +50,18 @@ struct WarpSourceBuffers {
   uint64_t key = 0;       // VisibilityInput::key of what `visibility` holds (0: always upload)
   uint32_t edge_band = 0;  // the edge band and bits the held marks were computed with
   uint32_t edge_bits = 0;
+  uint32_t share_bits = 0;  // the refined fields the held band shares were computed for
+  SoftBandTable share_table;  // the held band shares (its words are uploaded after the masks)
 
   explicit WarpSourceBuffers(const vk::Context& context);
   // Uploads a validated input (skipping it when its key, band and bits are the ones held) and fills `src`: mask
   // width, kClientSourceHasVisibility, kClientSourceSameEye, kClientSourceHasRowValidity with the rows uploaded.
   // edge_band > 0 and edge_bits != 0: the edge band's marks of those bits (render/warp_edges.hpp) follow the masks,
-  // from src.edge_word on, with kClientSourceHasEdges.
+  // from src.edge_word on, with kClientSourceHasEdges. A layout and refine_bits != 0 (soft_refine_bits): the band
+  // shares of those fields (render/soft_bands.hpp) follow, from src.share_word on, with kClientSourceHasShares.
   void upload(const vk::Context& context, const Camera& display, const VisibilityInput& input,
-              shader::ClientWarpSource& src, uint32_t edge_band = 0, uint32_t edge_bits = 0);
+              shader::ClientWarpSource& src, uint32_t edge_band = 0, uint32_t edge_bits = 0,
+              const VisibilityLayout* layout = nullptr, uint32_t refine_bits = 0);
 };
 
 }  // namespace dhr::render

@@ -172,7 +172,8 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     const VisibilityInput* in = frame.sources[s].visibility;
     params.source[s] = make_warp_source(display, usable[s] ? &in->traced : nullptr);
     if (!usable[s]) continue;
-    slot.sources[s].upload(*context_, display, *in, params.source[s], edge_band, hard_field_bits(layout));
+    slot.sources[s].upload(*context_, display, *in, params.source[s], edge_band, hard_field_bits(layout),
+                           targets.soft_written ? &layout : nullptr, params.soft_refine_bits);
     vk::Image* traced_depth = frame.sources[s].traced_depth;
     if (traced_depth != nullptr) {
       const Extent depth_extent = depth_camera(in->traced, settings.depth_scale).extent;

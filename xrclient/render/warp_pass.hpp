@@ -46,7 +46,7 @@ struct WarpTargets {
   vk::Image mask;    // STORAGE | SAMPLED | TRANSFER_SRC
   vk::Image status;  // display-sized with status on, else a 1x1 placeholder
   vk::Image motion;  // display-sized with motion vectors on, else a 1x1 placeholder
-  vk::Image soft;    // display-sized with soft on, else a 1x1 placeholder: R32_UINT, warp_soft_refine's bytes
+  vk::Image soft;    // display-sized with soft on, else a 1x1 placeholder: R32_UINT, warp_soft_blend's bytes
   bool soft_written = false;  // the last recorded warp wrote `soft` (the shading pass reads it then)
 
   static WarpTargets create(const vk::Context& context, Extent extent, WarpOutputs outputs);

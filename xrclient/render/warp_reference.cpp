@@ -1,5 +1,6 @@
 #include "render/warp_reference.hpp"
 
+#include "render/soft_bands.hpp"
 #include "render/soft_refine.hpp"
 #include "render/warp_motion.hpp"
 
@@ -139,8 +140,10 @@ uint32_t band_disagreement(const WarpSource& src, uint32_t bits, int i0, int j0,
 }
 
 // edge_lights: soft_edge_light_mask of the input's lights (the soft fields an edge sends to the shadow maps).
+// shares: the source's band shares (soft_band_table of the refined fields) when the warp refines soft shares.
 SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uint32_t edge_lights,
-                     const WarpSource& src, const glm::dvec3& p_world, const glm::dvec3& n_world) {
+                     const WarpSource& src, const SoftBandTable* shares, const glm::dvec3& p_world,
+                     const glm::dvec3& n_world) {
   SourceLookup r;
   if (src.visibility == nullptr) return r;
   const Reprojection rep = reproject(src.traced, p_world, input.min_depth);
@@ -211,16 +214,23 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
     return r;
   }
   r.status = WarpStatus::kKnown;
-  // Refined soft shares (warp.comp's look_up): where every 2x2 sample that arrived was used and the used ones
-  // differ in a refined field.
-  const bool refine = set.soft_refine && set.bilinear && used == arrived &&
-                      ((and_m ^ or_m) & soft_refine_bits(layout, edge_lights)) != 0;
+  // Refined soft shares (warp.comp's look_up): where every 2x2 sample that arrived was used.
+  const bool refine = shares != nullptr && set.bilinear && used == arrived;
+  std::array<uint32_t, 4> sample_shares{};
+  sample_shares.fill(shader::kClientSoftRefineNoneAll);
+  if (refine) {
+    for (int k = 0; k < n; ++k) {
+      if (((used >> k) & 1u) == 0) continue;
+      sample_shares[k] = soft_band_shares_at(*shares, layout, static_cast<uint32_t>(i0 + (k & 1)),
+                                             static_cast<uint32_t>(j0 + (k >> 1)), masks[k]);
+    }
+  }
+  const uint32_t refine_bits = soft_refine_bits(layout, edge_lights);
   if (centred && ((used >> k_exact) & 1u)) {
     r.exact = true;
     r.agree = 0xFFFFFFFFu;
     r.value = masks[k_exact];
-    if (refine) r.refined = soft_refine(layout, soft_window(*src.visibility, src.row_valid, i0, j0), fx, fy, r.value,
-                              edge_lights);
+    if (refine) r.refined = soft_blend(layout, masks, sample_shares, used, fx, fy, r.value, k_exact, refine_bits);
     return r;
   }
   r.agree = ~(and_m ^ or_m);
@@ -269,8 +279,7 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
   if (set.bilinear && set.edge_band > 0) {
     r.agree &= ~band_disagreement(src, hard_field_bits(layout), i0, j0, used, static_cast<int>(set.edge_band));
   }
-  if (refine) r.refined = soft_refine(layout, soft_window(*src.visibility, src.row_valid, i0, j0), fx, fy, r.value,
-                              edge_lights);
+  if (refine) r.refined = soft_blend(layout, masks, sample_shares, used, fx, fy, r.value, -1, refine_bits);
   return r;
 }
 
@@ -369,6 +378,17 @@ WarpResult warp_reference(const WarpInput& input) {
   const std::span<const SceneLight> lights = input.lights.first(std::min<size_t>(input.lights.size(), kMaxLights));
   const VisibilityLayout layout = layout_for_lights(lights);
   const uint32_t edge_lights = soft_edge_light_mask(lights);
+  // Refined soft shares: each source's band shares, once per warp (the GPU passes: once per upload).
+  const uint32_t refine_bits = set.soft_refine && set.bilinear ? soft_refine_bits(layout, edge_lights) : 0u;
+  std::array<SoftBandTable, 3> tables;
+  std::array<const SoftBandTable*, 3> shares{};
+  for (size_t s = 0; s < sources.size(); ++s) {
+    if (refine_bits != 0 && sources[s].visibility != nullptr) {
+      const VisibilityBuffer& buffer = *sources[s].visibility;
+      tables[s] = soft_band_table(layout, buffer, sources[s].row_valid, refine_bits, soft_band_radius(buffer.width));
+      shares[s] = &tables[s];
+    }
+  }
   WarpResult out;
   out.extent = extent;
   out.masks.assign(n, unknown);
@@ -389,14 +409,14 @@ WarpResult warp_reference(const WarpInput& input) {
       }
       const glm::dvec3 p = world_point_from_depth(input.display, input.near_plane, x + 0.5, y + 0.5, d);
       const glm::dvec3 nrm = needs_normals ? glm::normalize(glm::dvec3(input.normals[i])) : glm::dvec3(0.0);
-      const SourceLookup own = look_up(input, layout, edge_lights, sources[0], p, nrm);
+      const SourceLookup own = look_up(input, layout, edge_lights, sources[0], shares[0], p, nrm);
       double margin = own.margin;
       out.status[i] = own.status;
       out.lookup[i] = own.pixel;
       SourceLookup chosen = own;
       uint32_t chosen_source = 0;
       if (own.status != WarpStatus::kKnown && sources[1].visibility != nullptr) {
-        const SourceLookup other = look_up(input, layout, edge_lights, sources[1], p, nrm);
+        const SourceLookup other = look_up(input, layout, edge_lights, sources[1], shares[1], p, nrm);
         margin = std::min(margin, other.margin);
         if (other.status == WarpStatus::kKnown) {
           chosen = other;
@@ -405,7 +425,7 @@ WarpResult warp_reference(const WarpInput& input) {
         }
       }
       if (own.status != WarpStatus::kKnown && out.fill[i] == WarpFill::kNone && sources[2].visibility != nullptr) {
-        const SourceLookup older = look_up(input, layout, edge_lights, sources[2], p, nrm);
+        const SourceLookup older = look_up(input, layout, edge_lights, sources[2], shares[2], p, nrm);
         margin = std::min(margin, older.margin);
         if (older.status == WarpStatus::kKnown) {
           chosen = older;

@@ -115,9 +115,9 @@ struct WarpSettings {
   // sample disagrees on is undecided, as if the samples disagreed (render/warp_edges.hpp); 0: the 2x2 samples
   // alone. Exact lookups keep their pixel's mask. At most kMaxEdgeBand.
   uint32_t edge_band = 0;
-  // With bilinear, soft fields shade with their share refined from the 4x4 old pixels around the lookup
-  // (shaders/client/bilinear_warp.h's warp_soft_refine: the levels within one of the vote's, tent-weighted)
-  // instead of their level; the masks are unchanged.
+  // With bilinear, soft fields shade with their share blended from the used samples' band shares (each source's
+  // levels reconstructed once: render/soft_bands.hpp; shaders/client/bilinear_warp.h's warp_soft_blend) instead of
+  // their level; the masks are unchanged.
   bool soft_refine = false;
   static WarpSettings full();  // every ingredient on
   // Server bits first: 2x2 bilinear samples, bits they all agree on from the server, the others and pixels

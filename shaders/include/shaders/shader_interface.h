@@ -225,7 +225,7 @@ DHR_CONST uint kClientWarpShadowFirst = 256u;    // bits the shadow maps are con
 DHR_CONST uint kClientWarpOlderBuffer = 512u;    // pixels without a source so far try source 2
 DHR_CONST uint kClientWarpNeighbourFill = 1024u; // ... then the nearest source-0 pixel on their tangent plane
 DHR_CONST uint kClientWarpMotion = 2048u;        // bits that motion since a source's scene time may change: unknown
-DHR_CONST uint kClientWarpSoftRefine = 4096u;    // soft fields' shares refined from the 4x4 around the lookup
+DHR_CONST uint kClientWarpSoftRefine = 4096u;    // soft fields' shares blended from the samples' band shares
 // The neighbour fill searches the old pixels within this many pixels (Chebyshev) of the lookup's pixel.
 DHR_CONST int kClientWarpNeighbourRadius = 2;
 // Bilinear lookups within this many old pixels of an old pixel centre (in x and y) take that pixel's mask
@@ -236,21 +236,25 @@ DHR_CONST float kClientWarpExactLookup = 0.02f;
 // wrong as a hard bit's vote, so the field counts as undecided (bilinear_warp.h's warp_vote_fields). Only for the
 // lights in ClientWarpParams::soft_edge_lights: a sun's (render/light_layout.hpp, soft_edge_light_mask).
 DHR_CONST uint kClientWarpSoftEdgeSpread = 4u;
-// Refined soft shares (kClientWarpSoftRefine; bilinear_warp.h's warp_soft_refine): the levels a soft field shows
-// are its share rounded to kClientSoftLevels levels, which bands a smooth penumbra into contours. The warp refines
-// the share of the first kClientSoftRefineFields soft fields from the old pixels of the 4x4 around the lookup whose
-// level is within one of the vote's (tent weights of radius 2 old pixels), one byte each (share x
-// kClientSoftRefineScale, rounded) in a uint; kClientSoftRefineNone in a byte: none, the mask's level holds.
+// Refined soft shares (kClientWarpSoftRefine; bilinear_warp.h's warp_soft_blend): the levels a soft field shows
+// are its share rounded to kClientSoftLevels levels, which bands a smooth penumbra into contours. Each source's
+// levels are reconstructed into band shares once (render/soft_bands.hpp, kClientSourceHasShares), and the warp
+// blends the used samples' band shares whose level is within one of the vote's, for the first
+// kClientSoftRefineFields soft fields, one byte each (share x kClientSoftRefineScale, rounded) in a uint;
+// kClientSoftRefineNone in a byte: none, the mask's level holds.
 DHR_CONST uint kClientSoftRefineFields = 4u;
 DHR_CONST uint kClientSoftRefineScale = 254u;
 DHR_CONST uint kClientSoftRefineNone = 255u;
 DHR_CONST uint kClientSoftRefineNoneAll = 0xFFFFFFFFu;
+// The band shares' table: two words per refined field per cell (the bytes of levels 0-3, 4-7).
+DHR_CONST uint kClientSoftBandCellWords = 2u * kClientSoftRefineFields;
 // ClientWarpSource::flags
 DHR_CONST uint kClientSourceHasVisibility = 1u;
 DHR_CONST uint kClientSourceHasRowValidity = 2u;
 DHR_CONST uint kClientSourceHasDepth = 4u;
 DHR_CONST uint kClientSourceSameEye = 8u;  // traced from the display eye's position (rotation at most)
 DHR_CONST uint kClientSourceHasEdges = 16u;  // edge band marks after the masks (ClientWarpSource::edge_word)
+DHR_CONST uint kClientSourceHasShares = 32u;  // band shares after them (ClientWarpSource::share_word)
 // Status counts are gathered per bucket of this many horizontally adjacent workgroups (8 x 64 pixels fit
 // the 10-bit fields); field f is in the bucket's word f / 3, bits 10 * (f % 3).
 DHR_CONST uint kClientCountBucketGroups = 8u;
@@ -285,6 +289,11 @@ struct ClientWarpSource {
   uint depth_scale;      // kClientSourceHasDepth: one traced-depth texel per depth_scale x depth_scale old pixels
   uint edge_word;        // kClientSourceHasEdges: the edge band's marks (render/warp_edges.hpp) follow the masks in
                          // the source's buffer from this word on, packed as the masks are
+  uint share_word;       // kClientSourceHasShares: the band shares' table (render/soft_bands.hpp's SoftBandTable:
+                         // kClientSoftBandCellWords words per cell of share_cell x share_cell old pixels, share_columns
+                         // cells per row) from this word on
+  uint share_cell;
+  uint share_columns;
 };
 
 // Motion (kClientWarpMotion; DESIGN 5b): visibility traced at a source's scene time is trusted at the display's only
@@ -476,12 +485,12 @@ struct ClientForwardShading {
 
 #ifdef __cplusplus
 static_assert(sizeof(ClientGBufferPush) == 128, "push constants must match the GLSL layout and fit the Vulkan minimum (128 bytes)");
-static_assert(sizeof(ClientWarpSource) == 140, "ClientWarpSource must match the std430 layout");
+static_assert(sizeof(ClientWarpSource) == 152, "ClientWarpSource must match the std430 layout");
 static_assert(sizeof(ClientMotionSource) == 16 + 2 * 4 * 48, "ClientMotionSource must match the std430 layout");
 static_assert(sizeof(ClientMotionLight) == 32, "ClientMotionLight must match the std430 array stride");
 static_assert(sizeof(ClientWarpMotion) == 3 * sizeof(ClientMotionSource) + 32 * 32 + 16,
               "ClientWarpMotion must match the std430 layout");
-static_assert(sizeof(ClientWarpParams) == 3 * 140 + 4 * 32, "ClientWarpParams must match the std430 layout");
+static_assert(sizeof(ClientWarpParams) == 3 * 152 + 4 * 32, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 96, "push constants must match the GLSL layout");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
