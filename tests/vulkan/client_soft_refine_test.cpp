@@ -42,7 +42,9 @@ template <typename Share>
 VisibilityBuffer soft_buffer(const VisibilityLayout& layout, uint32_t w, uint32_t h, Share share) {
   VisibilityBuffer b = VisibilityBuffer::create(w, h, layout.total_bits());
   for (uint32_t y = 0; y < h; ++y) {
-    for (uint32_t x = 0; x < w; ++x) b.set(x, y, layout.with_visibility(layout.with_visibility(0, 1, 1.0f), 0, share(x, y)));
+    for (uint32_t x = 0; x < w; ++x) {
+      b.set(x, y, layout.with_visibility(layout.with_visibility(0, 1, 1.0f), 0, share(x, y)));
+    }
   }
   return b;
 }
@@ -56,7 +58,9 @@ std::vector<uint32_t> band_shares(const VisibilityLayout& layout, const Visibili
   std::vector<uint32_t> out(b.pixel_count(), kClientSoftRefineNoneAll);
   for (uint32_t y = 0; y < b.height; ++y) {
     if (!rows.empty() && rows[y] == 0) continue;
-    for (uint32_t x = 0; x < b.width; ++x) out[size_t{y} * b.width + x] = soft_band_shares_at(table, layout, x, y, b.get(x, y));
+    for (uint32_t x = 0; x < b.width; ++x) {
+      out[size_t{y} * b.width + x] = soft_band_shares_at(table, layout, x, y, b.get(x, y));
+    }
   }
   return out;
 }
@@ -73,8 +77,11 @@ void expect_ramp_reconstructed(bool along_x) {
   for (uint32_t t = 0; t < 64; ++t) {
     const uint32_t x = along_x ? t : 3, y = along_x ? 3 : t;
     const size_t p = size_t{y} * b.width + x;
-    const double share = share_of(shares[p]), level = layout.visibility(b.get(x, y), 0), want = truth(x, y);
-    ASSERT_GE(share, 0.0) << t;
+    const uint32_t mask = b.get(x, y);
+    const double share = shaded_share(layout, mask, shares[p], 0), level = layout.visibility(mask, 0);
+    const double want = truth(x, y);
+    // The bottom and top levels keep theirs (none); the others have a share.
+    EXPECT_EQ(share_of(shares[p]) < 0.0, level == 0.0 || level == 1.0) << t;
     EXPECT_LE(std::abs(share - level), 0.5 / kTop + kByte) << t;  // never beyond the interval the level stands for
     EXPECT_GE(share, last - kByte) << t;                          // the ramp rises
     last = share;
@@ -98,7 +105,8 @@ TEST(SoftBands, CellsShareTheirWindow) {
   const VisibilityLayout layout = one_soft();
   // Radius 24: cells of 6 x 6 pixels, a window of 9 x 9 cells. A ramp along x over 240 pixels (bands of 34).
   const auto truth = [](uint32_t x, uint32_t) { return (x + 0.5) / 240.0; };
-  const VisibilityBuffer b = soft_buffer(layout, 240, 40, [&](uint32_t x, uint32_t y) { return static_cast<float>(truth(x, y)); });
+  const VisibilityBuffer b =
+      soft_buffer(layout, 240, 40, [&](uint32_t x, uint32_t y) { return static_cast<float>(truth(x, y)); });
   const SoftBandTable table = soft_band_table(layout, b, {}, soft_bits_of(layout), 24);
   ASSERT_EQ(table.cell, 6u);
   ASSERT_EQ(table.columns, 40u);
@@ -107,7 +115,7 @@ TEST(SoftBands, CellsShareTheirWindow) {
   double level_error = 0.0, band_error = 0.0;
   for (uint32_t x = 0; x < 240; ++x) {
     const uint32_t mask = b.get(x, 20);
-    const double share = share_of(soft_band_shares_at(table, layout, x, 20, mask));
+    const double share = shaded_share(layout, mask, soft_band_shares_at(table, layout, x, 20, mask), 0);
     const double level = layout.visibility(mask, 0);
     EXPECT_LE(std::abs(share - level), 0.5 / kTop + kByte) << x;
     // Pixels of a cell at one level share a byte.
@@ -128,7 +136,11 @@ TEST(SoftBands, FlatLevelsAndJumpsKeepTheirLevels) {
     const VisibilityBuffer b = soft_buffer(layout, 12, 6, [&](uint32_t, uint32_t) { return k; });
     const std::vector<uint32_t> shares = band_shares(layout, b, {}, soft_bits_of(layout), kRadius);
     for (const uint32_t packed : shares) {
-      EXPECT_NEAR(share_of(packed), level / kTop, kByte) << "level " << level;
+      if (level == 0 || level == 7) {
+        EXPECT_EQ(packed, kClientSoftRefineNoneAll) << "level " << level;  // fully hidden or lit: the level holds
+      } else {
+        EXPECT_NEAR(share_of(packed), level / kTop, kByte) << "level " << level;
+      }
       EXPECT_LT(refined_share(packed, 1), 0.0);  // no second soft field
     }
   }
@@ -159,7 +171,8 @@ TEST(SoftBands, DitheredLevelsGiveTheirMeanAndMissingRowsCountForNothing) {
         continue;
       }
       // The window holds 13 x 13 pixels less the missing row's: a quarter of them at level 4, within a pixel.
-      EXPECT_NEAR(share_of(packed), ((x + y) % 4 == 0 ? 3.5 : 3.25) / kTop, 14.0 / 156.0 / kTop + kByte) << x << "," << y;
+      EXPECT_NEAR(share_of(packed), ((x + y) % 4 == 0 ? 3.5 : 3.25) / kTop, 14.0 / 156.0 / kTop + kByte)
+          << x << "," << y;
     }
   }
   EXPECT_THROW(soft_band_table(layout, b, std::vector<uint8_t>(4, 1), soft_bits_of(layout), kRadius),
@@ -191,8 +204,7 @@ TEST(SoftBands, NeverLeaveTheIntervalTheLevelStandsFor) {
   });
   const std::vector<uint32_t> shares = band_shares(layout, b, {}, soft_bits_of(layout), kRadius);
   for (size_t p = 0; p < shares.size(); ++p) {
-    const double share = share_of(shares[p]), level = walk[p] / kTop;
-    ASSERT_GE(share, 0.0);
+    const double share = shaded_share(layout, b.mask_at(p), shares[p], 0), level = walk[p] / kTop;
     EXPECT_LE(std::abs(share - level), 0.5 / kTop + kByte) << p;
   }
 }
@@ -200,7 +212,9 @@ TEST(SoftBands, NeverLeaveTheIntervalTheLevelStandsFor) {
 TEST(SoftRefine, BlendsTheSamplesBandSharesWithinOneLevel) {
   const VisibilityLayout layout = one_soft();
   const uint32_t bits = soft_bits_of(layout);
-  const auto mask = [&](int level) { return layout.with_visibility(layout.with_visibility(0, 1, 1.0f), 0, level / 7.0f); };
+  const auto mask = [&](int level) {
+    return layout.with_visibility(layout.with_visibility(0, 1, 1.0f), 0, static_cast<float>(level) / 7.0f);
+  };
   const auto packed = [](double share) { return 0xFFFFFF00u | static_cast<uint32_t>(std::lround(share * 254)); };
   const std::array<uint32_t, 4> masks{mask(3), mask(4), mask(3), mask(4)};
   const std::array<uint32_t, 4> shares{packed(3.2 / 7), packed(3.7 / 7), packed(3.2 / 7), packed(3.7 / 7)};

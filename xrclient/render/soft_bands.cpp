@@ -169,7 +169,10 @@ SoftBandTable soft_band_table(const VisibilityLayout& layout, const VisibilityBu
       for (uint32_t cx = 0; cx < cw; ++cx) {
         const size_t cell = static_cast<size_t>(cy) * cw + cx;
         uint32_t* words = t.words.data() + cell * kClientSoftBandCellWords + 2 * field_rank;
-        for (uint32_t levels = present[cell]; levels != 0; levels &= levels - 1) {
+        // The top and bottom levels keep theirs (none: the sample's level): most of their pixels are fully lit or
+        // fully hidden, exactly 1 or 0, where any pull is an error.
+        constexpr uint32_t kMiddle = ((1u << kDefaultSoftLevels) - 1u) & ~1u & ~(1u << (kDefaultSoftLevels - 1));
+        for (uint32_t levels = present[cell] & kMiddle; levels != 0; levels &= levels - 1) {
           const auto n = static_cast<uint32_t>(std::countr_zero(levels));
           const uint32_t shift = 8 * (n % 4);
           words[n / 4] = (words[n / 4] & ~(0xFFu << shift)) | (uint32_t{share_byte(window[cx], n)} << shift);

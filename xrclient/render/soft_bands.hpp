@@ -38,10 +38,10 @@ uint32_t soft_band_radius(uint32_t width);
 inline constexpr uint32_t kSoftBandCellsPerRadius = 4;
 uint32_t soft_band_cell(uint32_t radius);
 
-// The band shares of a buffer: per cell (row-major, `columns` per row) shader::kClientSoftBandCellWords words, two per refined
-// field rank r (the first kClientSoftRefineFields soft fields): word 2 r + n / 4, byte n % 4 holds the share of a
-// pixel at level n, x kClientSoftRefineScale rounded; kClientSoftRefineNone for a level no arrived pixel of the cell
-// holds and for fields without a share.
+// The band shares of a buffer: per cell (row-major, `columns` per row) kClientSoftBandCellWords words, two per
+// refined field rank r (the first kClientSoftRefineFields soft fields): word 2 r + n / 4, byte n % 4 holds the share
+// of a pixel at level n, x kClientSoftRefineScale rounded; kClientSoftRefineNone for a level no arrived pixel of the
+// cell holds and for fields without a share.
 struct SoftBandTable {
   uint32_t cell = 1;     // pixels per cell side
   uint32_t columns = 0;  // cells per row
