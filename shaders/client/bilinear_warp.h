@@ -163,7 +163,7 @@ uint warp_share_load(uint source, uint word);
 
 // The first word of old pixel c's cell in the band shares' table.
 uint warp_share_cell_word(ClientWarpSource src, ivec2 c) {
-  const uint cell = (uint(c.y) / src.share_cell) * src.share_columns + uint(c.x) / src.share_cell;
+  const uint cell = (uint(c.y) >> src.share_cell_shift) * src.share_columns + (uint(c.x) >> src.share_cell_shift);
   return src.share_word + cell * kClientSoftBandCellWords;
 }
 
@@ -192,7 +192,10 @@ uint warp_soft_blend(WarpSamples s, uint source, ClientWarpSource src, uint mask
         const float f = field_visibility(masks[k], offset, bits);
         if (abs(f - centre) * float(kClientSoftLevels - 1u) > 1.5) continue;
         const uint n = uint(round(f * float(kClientSoftLevels - 1u)));
-        const uint byte = (warp_share_load(source, cells[k] + 2u * rank + n / 4u) >> (8u * (n % 4u))) & 0xFFu;
+        // The bottom and top levels have no band share (render/soft_bands.hpp): no load.
+        const uint byte = n == 0u || n == kClientSoftLevels - 1u
+                              ? kClientSoftRefineNone
+                              : (warp_share_load(source, cells[k] + 2u * rank + n / 4u) >> (8u * (n % 4u))) & 0xFFu;
         const float share = byte == kClientSoftRefineNone ? f : float(byte) / float(kClientSoftRefineScale);
         const float w = exact ? 1.0 : warp_sample_weight(s, k);
         sum += w * share;

@@ -62,7 +62,9 @@ uint32_t soft_band_radius(uint32_t width) {
   return std::clamp((width + kSoftBandRadiusDivisor / 2) / kSoftBandRadiusDivisor, 1u, kMaxSoftBandRadius);
 }
 
-uint32_t soft_band_cell(uint32_t radius) { return std::max(1u, radius / kSoftBandCellsPerRadius); }
+uint32_t soft_band_cell(uint32_t radius) {
+  return std::bit_floor(std::max(kMinSoftBandCell, radius / kSoftBandCellsPerRadius));
+}
 
 SoftBandTable soft_band_table(const VisibilityLayout& layout, const VisibilityBuffer& buffer,
                               std::span<const uint8_t> row_valid, uint32_t bits, uint32_t radius) {
@@ -79,6 +81,8 @@ SoftBandTable soft_band_table(const VisibilityLayout& layout, const VisibilityBu
   // Cells of c x c pixels; the window is (2 rc + 1)^2 cells around the pixel's cell, at most 255^2 pixels.
   const uint32_t c = soft_band_cell(radius);
   const uint32_t rc = std::max(1u, (radius + c / 2) / c);
+  static_assert(2 * kMaxSoftBandRadius + 2 * (kMaxSoftBandRadius / kSoftBandCellsPerRadius) <= 255,
+                "the window's counts fit the 16-bit lanes");
   t.cell = c;
   t.columns = (w + c - 1) / c;
   t.rows = (h + c - 1) / c;

@@ -7,11 +7,11 @@
 // levels: a pixel of level n among pixels of n - 1 and n + 1 in proportion lies as far between. The band share of a
 // pixel of level n is the mean of the levels n - 1, n and n + 1 over the arrived pixels of the window around it
 // (pixels further than one level, a contact shadow or another surface, are left out), clamped to n +- 1/2 (the
-// interval its level stands for) and to [0, levels - 1]: the reconstruction never leaves what the server sent. The
-// counts come from box sums of eight indicator images (arrived; level at least k, k = 1..7), a running sum along
-// the rows, then along the columns, so the cost does not grow with the radius. The radius is a fixed share of the
-// buffer's width (soft_band_radius: the bands are a fixed angle of the view, whatever the resolution). The CPU
-// computes the table once per received buffer; the GPU passes read it (kClientSourceHasShares).
+// interval its level stands for): the reconstruction never leaves what the server sent. The bottom and top levels
+// keep theirs (below). The counts come from box sums of eight indicator images (arrived; level at least k, k = 1..7),
+// a running sum along the rows, then along the columns, so the cost does not grow with the radius. The radius is a
+// fixed share of the buffer's width (soft_band_radius: the bands are a fixed angle of the view, whatever the
+// resolution). The CPU computes the table once per received buffer; the GPU passes read it (kClientSourceHasShares).
 #pragma once
 #include <cstdint>
 #include <span>
@@ -24,26 +24,30 @@
 namespace dhr::render {
 
 // The window's radius for a buffer `width` pixels wide: width / kSoftBandRadiusDivisor, rounded, at least 1 and at
-// most kMaxSoftBandRadius (8 pixels at 384: a 320-pixel eye's buffer with its guard band; 40 at 1984).
+// most kMaxSoftBandRadius (7 pixels at 340: a 320-pixel eye's buffer with dhr-eval's guard band; 40 at 1984).
 inline constexpr uint32_t kSoftBandRadiusDivisor = 50;
-inline constexpr uint32_t kMaxSoftBandRadius = 127;  // the window's counts fit 16 bits
+// The window's pixel counts fit 16 bits: its side (2 rc + 1) c is at most 2 radius + 2 c <= 2.5 radius <= 255.
+inline constexpr uint32_t kMaxSoftBandRadius = 100;
 uint32_t soft_band_radius(uint32_t width);
 
-// The window counts cells of c x c pixels, c = radius / kSoftBandCellsPerRadius (at least 1): it is the (2 rc + 1)^2
-// cells around the pixel's cell, rc = radius / c rounded. At radius 8 (a 320-pixel eye) cells are 2 x 2 pixels, at 40
-// (1984) 10 x 10. Every pixel of a cell at the same level has the same band share, so the table holds one byte per
-// cell and level: the cost per pixel is one counter update, and the GPU reads a sample's share from its cell. (On
-// the area room, 6 frames of User1 at 320x240, cells of 1, 2 and 4 pixels gave visibility_error 0.01075, 0.01075 and
+// The window counts cells of c x c pixels, c the largest power of two at most radius / kSoftBandCellsPerRadius and at
+// least kMinSoftBandCell (a power of two: the GPU finds a sample's cell by shifts): the window is the (2 rc + 1)^2
+// cells around the pixel's cell, rc = radius / c rounded. At radius 7 (a 320-pixel eye) cells are 2 x 2 pixels, at 40
+// (1984) 8 x 8. Every pixel of a cell at the same level has the same band share, so the table holds one byte per cell
+// and level: the cost per pixel is one counter update, and the GPU reads a sample's share from its cell. (On the
+// area room, 6 frames of User1 at 320x240, cells of 1 and 3 pixels at radius 7 gave visibility_error 0.01075 and
 // 0.01082.)
 inline constexpr uint32_t kSoftBandCellsPerRadius = 4;
+inline constexpr uint32_t kMinSoftBandCell = 2;
 uint32_t soft_band_cell(uint32_t radius);
 
 // The band shares of a buffer: per cell (row-major, `columns` per row) kClientSoftBandCellWords words, two per
 // refined field rank r (the first kClientSoftRefineFields soft fields): word 2 r + n / 4, byte n % 4 holds the share
-// of a pixel at level n, x kClientSoftRefineScale rounded; kClientSoftRefineNone for a level no arrived pixel of the
-// cell holds and for fields without a share.
+// of a pixel at level n, x kClientSoftRefineScale rounded; kClientSoftRefineNone for the bottom and top levels (most
+// of their pixels are fully hidden or fully lit, exactly 0 or 1: they keep their level), for a level no arrived pixel
+// of the cell holds and for fields without a share.
 struct SoftBandTable {
-  uint32_t cell = 1;     // pixels per cell side
+  uint32_t cell = 1;     // pixels per cell side (a power of two)
   uint32_t columns = 0;  // cells per row
   uint32_t rows = 0;
   std::vector<uint32_t> words;

@@ -4,6 +4,7 @@
 #include "render/warp_edges.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 #include <vector>
 
@@ -194,7 +195,7 @@ void WarpSourceBuffers::upload(const vk::Context& context, const Camera& display
   }
   if (shares) {
     src.share_word = static_cast<uint32_t>(share_offset / 4);
-    src.share_cell = share_table.cell;
+    src.share_cell_shift = static_cast<uint32_t>(std::countr_zero(share_table.cell));
     src.share_columns = share_table.columns;
     src.flags |= kClientSourceHasShares;
   }

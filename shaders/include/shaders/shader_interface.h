@@ -290,9 +290,9 @@ struct ClientWarpSource {
   uint edge_word;        // kClientSourceHasEdges: the edge band's marks (render/warp_edges.hpp) follow the masks in
                          // the source's buffer from this word on, packed as the masks are
   uint share_word;       // kClientSourceHasShares: the band shares' table (render/soft_bands.hpp's SoftBandTable:
-                         // kClientSoftBandCellWords words per cell of share_cell x share_cell old pixels, share_columns
-                         // cells per row) from this word on
-  uint share_cell;
+                         // kClientSoftBandCellWords words per cell of 2^share_cell_shift old pixels square,
+                         // share_columns cells per row) from this word on
+  uint share_cell_shift;
   uint share_columns;
 };
 
