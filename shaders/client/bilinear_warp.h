@@ -173,8 +173,8 @@ uint warp_share_cell_word(ClientWarpSource src, ivec2 c) {
 // blend of the used samples' band shares (their level's byte in their cell of the table, reconstructed once per
 // source: render/soft_bands.hpp; a none byte: the sample's level) over the samples whose level lies within one level
 // of the vote's (a jump of more, a contact shadow, is kept); an exact vote takes its sample's share alone. One byte
-// per field, the share times kClientSoftRefineScale rounded; kClientSoftRefineNone where no such sample weighs
-// anything (the vote's level holds). The CPU twin is render/soft_refine.cpp's soft_blend.
+// per field, the share times kClientSoftRefineScale rounded; kClientSoftRefineNone where no such sample has a band
+// share or weighs anything (the vote's level holds). The CPU twin is render/soft_refine.cpp's soft_blend.
 uint warp_soft_blend(WarpSamples s, uint source, ClientWarpSource src, uint masks[4], uint used, uint value,
                      bool exact, uint soft_lights, uint soft_bits, uint light_count) {
   uint cells[4];
@@ -184,9 +184,19 @@ uint warp_soft_blend(WarpSamples s, uint source, ClientWarpSource src, uint mask
   for (uint i = 0u; i < light_count && rank < kClientSoftRefineFields; ++i) {
     const uint bits = field_bits(soft_lights, i);
     const uint field = ((1u << bits) - 1u) << offset;
+    // Only a sample at a middle level has a band share: a field whose used samples all lie at the bottom or the top
+    // level (Gray codes 0 and 4) keeps the vote's level without the blend.
+    bool middle = false;
     if (bits > 1u && (field & soft_bits) != 0u) {
+      for (int k = 0; k < s.count; ++k) {
+        const uint g = (masks[k] >> offset) & 7u;
+        middle = middle || (((used >> uint(k)) & 1u) != 0u && g != 0u && g != 4u);
+      }
+    }
+    if (middle) {
       const float centre = field_visibility(value, offset, bits);
       float sum = 0.0, total = 0.0;
+      bool has_share = false;
       for (int k = 0; k < s.count; ++k) {
         if (((used >> uint(k)) & 1u) == 0u || (exact && k != s.exact)) continue;
         const float f = field_visibility(masks[k], offset, bits);
@@ -200,8 +210,9 @@ uint warp_soft_blend(WarpSamples s, uint source, ClientWarpSource src, uint mask
         const float w = exact ? 1.0 : warp_sample_weight(s, k);
         sum += w * share;
         total += w;
+        has_share = has_share || byte != kClientSoftRefineNone;
       }
-      if (total > 0.0) {
+      if (has_share && total > 0.0) {
         const uint byte = uint(floor(clamp(sum / total, 0.0, 1.0) * float(kClientSoftRefineScale) + 0.5));
         packed = (packed & ~(0xFFu << (8u * rank))) | (byte << (8u * rank));
       }

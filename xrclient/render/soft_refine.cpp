@@ -33,6 +33,7 @@ uint32_t soft_blend(const VisibilityLayout& layout, const std::array<uint32_t, 4
     if ((field & refine_bits) == 0) continue;
     const float centre = layout.visibility(value, i);
     float sum = 0.0f, total = 0.0f;
+    bool shared = false;
     for (int k = 0; k < 4; ++k) {
       if (((used >> k) & 1u) == 0 || (exact >= 0 && k != exact)) continue;
       const float f = layout.visibility(masks[static_cast<size_t>(k)], i);
@@ -42,8 +43,9 @@ uint32_t soft_blend(const VisibilityLayout& layout, const std::array<uint32_t, 4
       const float w = exact >= 0 ? 1.0f : ((k & 1) != 0 ? fxf : 1.0f - fxf) * ((k >> 1) != 0 ? fyf : 1.0f - fyf);
       sum += w * share;
       total += w;
+      shared = shared || byte != kClientSoftRefineNone;
     }
-    if (!(total > 0.0f)) continue;
+    if (!shared || !(total > 0.0f)) continue;  // no used sample has a band share: the vote's level holds
     const auto byte = static_cast<uint32_t>(std::floor(std::clamp(sum / total, 0.0f, 1.0f) *
                                                        static_cast<float>(kClientSoftRefineScale) + 0.5f));
     packed = (packed & ~(0xFFu << shift)) | (byte << shift);

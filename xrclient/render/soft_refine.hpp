@@ -24,7 +24,8 @@ uint32_t soft_refine_bits(const VisibilityLayout& layout, uint32_t edge_lights);
 // (the bilinear weights, computed in float as the GPU does), `value` the vote's mask, `exact` the sample whose mask
 // the vote took (an exact lookup: its share alone) or -1. Per soft field among the first kClientSoftRefineFields
 // with a bit in `refine_bits` (soft_refine_bits): the weighted mean of the used samples' shares whose level lies
-// within one level of the vote's (a sample's none byte: its level); none where no such sample weighs anything.
+// within one level of the vote's (a sample's none byte: its level); none where no such sample has a band share or
+// weighs anything.
 uint32_t soft_blend(const VisibilityLayout& layout, const std::array<uint32_t, 4>& masks,
                     const std::array<uint32_t, 4>& shares, uint32_t used, double fx, double fy, uint32_t value,
                     int exact, uint32_t refine_bits);
