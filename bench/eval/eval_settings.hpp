@@ -36,7 +36,7 @@ enum Ingredient : uint32_t {
   kIngredientOlderBuffer = 256u, // "older": fill from this eye's previous buffer
   kIngredientNeighbour = 512u,   // "neighbour": fill from the nearest old pixel on the pixel's tangent plane
   kIngredientMotion = 1024u,     // "motion": bits motion since the traced scene time may change are unknown
-  kIngredientSoftRefine = 2048u, // "soft-refine": soft fields shade with shares refined from the 4x4 around the lookup
+  kIngredientSoftRefine = 2048u, // "soft-refine": soft fields shade with the used samples' band shares (soft_bands)
 };
 
 // A method and, for kFull, the ingredients switched off. `shipped`: the method "default", exactly what dhr-server
