@@ -202,13 +202,17 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   params.unknown_mask = unknown_mask(out.visibility_used ? in->buffer : nullptr, fields);
   const vk::Image* traced_depth = &placeholder_atlas_;
   const VisibilityLayout field_layout = layout_for_lights(fields);
+  params.soft_lights = soft_light_mask(field_layout);  // the fields the bilinear vote blends
+  params.soft_edge_lights = soft_edge_light_mask(fields);
+  params.soft_refine_bits = soft_refine_bits(field_layout, params.soft_edge_lights);
+  // Refined soft shares: the band shares of the refined fields follow the masks (and the edge band's marks).
+  const bool refine = mode == ForwardMode::kServerEdges && frame.soft_refine && out.visibility_used && !slotted &&
+                      params.soft_refine_bits != 0u;
+  if (refine) params.flags |= kClientWarpSoftRefine;
   if (out.visibility_used) {
     const uint32_t edge_band = mode == ForwardMode::kServerEdges ? frame.edge_band : 0u;
-    // Refined soft shares: the band shares of the refined fields follow the masks.
-    const uint32_t refine_bits = soft_refine_bits(field_layout, soft_edge_light_mask(fields));
-    const bool refine = mode == ForwardMode::kServerEdges && frame.soft_refine && !slotted && refine_bits != 0u;
     slot.source.upload(*context_, display, *in, params.source[0], edge_band, hard_field_bits(field_layout),
-                       refine ? &field_layout : nullptr, refine ? refine_bits : 0u);
+                       refine ? &field_layout : nullptr, refine ? params.soft_refine_bits : 0u);
     if (mode == ForwardMode::kServerEdges && frame.traced_depth != nullptr) {
       const WarpSettings& test = frame.depth_test;
       const Extent depth_extent = depth_camera(in->traced, test.depth_scale).extent;
@@ -238,12 +242,6 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   const std::vector<PackedLight> packed = pack_lights(frame.lights, display.T_world_eye.position);
   if (!packed.empty()) slot.lights.write(packed.data(), packed.size() * sizeof(PackedLight));
   params.light_count = static_cast<uint32_t>(fields.size());
-  params.soft_lights = soft_light_mask(field_layout);  // the fields the bilinear vote blends
-  params.soft_edge_lights = soft_edge_light_mask(fields);
-  params.soft_refine_bits = soft_refine_bits(field_layout, params.soft_edge_lights);
-  if (mode == ForwardMode::kServerEdges && frame.soft_refine && out.visibility_used && !slotted &&
-      params.soft_refine_bits != 0u)
-    params.flags |= kClientWarpSoftRefine;
   slot.params.write(&params, sizeof(params));
   const ClientWarpMotion no_motion{};
   slot.moved.write((params.flags & kClientWarpMotion) != 0u ? frame.motion : &no_motion, sizeof(ClientWarpMotion));

@@ -3,7 +3,7 @@
 //
 // A soft field holds its share rounded to kDefaultSoftLevels levels, which bands a smooth penumbra into contours (a
 // 6 cm bulb's penumbra covers the area room's ceiling in bands 10-30 pixels wide at 320x240, their boundaries
-// jagged by the sampling). Where the share varies slowly, the levels around a pixel say where it lies between two
+// jagged). Where the share varies slowly, the levels around a pixel say where it lies between two
 // levels: a pixel of level n among pixels of n - 1 and n + 1 in proportion lies as far between. The band share of a
 // pixel of level n is the mean of the levels n - 1, n and n + 1 over the arrived pixels of the window around it
 // (pixels further than one level, a contact shadow or another surface, are left out), clamped to n +- 1/2 (the

@@ -140,10 +140,11 @@ uint32_t band_disagreement(const WarpSource& src, uint32_t bits, int i0, int j0,
 }
 
 // edge_lights: soft_edge_light_mask of the input's lights (the soft fields an edge sends to the shadow maps).
-// shares: the source's band shares (soft_band_table of the refined fields) when the warp refines soft shares.
+// shares: the source's band shares (soft_band_table of refine_bits, soft_refine_bits of the layout) when the warp
+// refines soft shares.
 SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uint32_t edge_lights,
-                     const WarpSource& src, const SoftBandTable* shares, const glm::dvec3& p_world,
-                     const glm::dvec3& n_world) {
+                     const WarpSource& src, const SoftBandTable* shares, uint32_t refine_bits,
+                     const glm::dvec3& p_world, const glm::dvec3& n_world) {
   SourceLookup r;
   if (src.visibility == nullptr) return r;
   const Reprojection rep = reproject(src.traced, p_world, input.min_depth);
@@ -225,7 +226,6 @@ SourceLookup look_up(const WarpInput& input, const VisibilityLayout& layout, uin
                                              static_cast<uint32_t>(j0 + (k >> 1)), masks[k]);
     }
   }
-  const uint32_t refine_bits = soft_refine_bits(layout, edge_lights);
   if (centred && ((used >> k_exact) & 1u)) {
     r.exact = true;
     r.agree = 0xFFFFFFFFu;
@@ -409,14 +409,14 @@ WarpResult warp_reference(const WarpInput& input) {
       }
       const glm::dvec3 p = world_point_from_depth(input.display, input.near_plane, x + 0.5, y + 0.5, d);
       const glm::dvec3 nrm = needs_normals ? glm::normalize(glm::dvec3(input.normals[i])) : glm::dvec3(0.0);
-      const SourceLookup own = look_up(input, layout, edge_lights, sources[0], shares[0], p, nrm);
+      const SourceLookup own = look_up(input, layout, edge_lights, sources[0], shares[0], refine_bits, p, nrm);
       double margin = own.margin;
       out.status[i] = own.status;
       out.lookup[i] = own.pixel;
       SourceLookup chosen = own;
       uint32_t chosen_source = 0;
       if (own.status != WarpStatus::kKnown && sources[1].visibility != nullptr) {
-        const SourceLookup other = look_up(input, layout, edge_lights, sources[1], shares[1], p, nrm);
+        const SourceLookup other = look_up(input, layout, edge_lights, sources[1], shares[1], refine_bits, p, nrm);
         margin = std::min(margin, other.margin);
         if (other.status == WarpStatus::kKnown) {
           chosen = other;
@@ -425,7 +425,7 @@ WarpResult warp_reference(const WarpInput& input) {
         }
       }
       if (own.status != WarpStatus::kKnown && out.fill[i] == WarpFill::kNone && sources[2].visibility != nullptr) {
-        const SourceLookup older = look_up(input, layout, edge_lights, sources[2], shares[2], p, nrm);
+        const SourceLookup older = look_up(input, layout, edge_lights, sources[2], shares[2], refine_bits, p, nrm);
         margin = std::min(margin, older.margin);
         if (older.status == WarpStatus::kKnown) {
           chosen = older;
