@@ -5,9 +5,6 @@
 #ifndef DHR_SHADER_INTERFACE_H
 #define DHR_SHADER_INTERFACE_H
 
-// The server visibility tracer's part (bindings, VisPushConstants, VisSoftLight, VisMesh).
-#include "shaders/vis_interface.h"
-
 #ifdef __cplusplus
 #include <cstdint>
 #define DHR_CONST constexpr
@@ -16,6 +13,9 @@ using uint = std::uint32_t;
 #else
 #define DHR_CONST const
 #endif
+
+// The server visibility tracer's part (bindings, VisPushConstants, VisSoftLight, VisMesh).
+#include "shaders/vis_interface.h"
 
 // ---- client (xrclient/render): G-buffer, warp and shading passes ----
 // G-buffer (graphics): one combined image sampler per material (base colour, sRGB texels -> linear).

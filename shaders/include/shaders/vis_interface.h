@@ -1,80 +1,74 @@
-// The server visibility tracer's interface (server/vulkan_tracer*.cpp, shaders/server/), shared by GLSL and C++ as
-// shader_interface.h is (which includes it; the same conventions: 4-byte scalars, namespace dhr::shader in C++).
+// The server visibility tracer's part of shaders/shader_interface.h (server/vulkan_tracer*.cpp, shaders/server/):
+// included by it, inside its conventions (DHR_CONST, namespace dhr::shader in C++); include that header instead.
+#ifndef DHR_SHADER_INTERFACE_H
+#error "include shaders/shader_interface.h, which includes this part"
+#endif
 #ifndef DHR_VIS_INTERFACE_H
 #define DHR_VIS_INTERFACE_H
 
-#ifdef __cplusplus
-#include <cstdint>
-namespace dhr::shader {
-using uint = std::uint32_t;
-#define DHR_VIS_CONST constexpr
-#else
-#define DHR_VIS_CONST const
-#endif
-
 // ---- server visibility tracer (server/vulkan_tracer*.cpp, shaders/server/) ----
 // Everything is in the scene-relative frame (world minus the scene's bounding-box centre, in double).
-DHR_VIS_CONST uint kVisBindingTlas = 0;         // accelerationStructureEXT
-DHR_VIS_CONST uint kVisBindingLights = 1;       // PackedLight[] (light_eval.h), scene-relative
-DHR_VIS_CONST uint kVisBindingMeshes = 2;       // VisMesh[], indexed by gl_InstanceCustomIndexEXT
-DHR_VIS_CONST uint kVisBindingPositions = 3;    // float[] x, y, z per vertex, all meshes (VisMesh::vertex_offset)
-DHR_VIS_CONST uint kVisBindingNormals = 4;      // float[] x, y, z per vertex (unit or zero)
-DHR_VIS_CONST uint kVisBindingIndices = 5;      // uint[] 3 per triangle in the scene's order, mesh-local vertices
-DHR_VIS_CONST uint kVisBindingPermutation = 6;  // uint[] BLAS primitive -> original triangle (spatial sort)
-DHR_VIS_CONST uint kVisBindingMasks = 7;        // uint[width * height]: one 32-bit light mask per pixel
-DHR_VIS_CONST uint kVisBindingCounters = 8;     // uint[kVisCounterSlots * kVisCounterStride]
-DHR_VIS_CONST uint kVisBindingSoftLights = 9;   // VisSoftLight[], one per scene light (its extent), scene-relative
+DHR_CONST uint kVisBindingTlas = 0;         // accelerationStructureEXT
+DHR_CONST uint kVisBindingLights = 1;       // PackedLight[] (light_eval.h), scene-relative
+DHR_CONST uint kVisBindingMeshes = 2;       // VisMesh[], indexed by gl_InstanceCustomIndexEXT
+DHR_CONST uint kVisBindingPositions = 3;    // float[] x, y, z per vertex, all meshes (VisMesh::vertex_offset)
+DHR_CONST uint kVisBindingNormals = 4;      // float[] x, y, z per vertex (unit or zero)
+DHR_CONST uint kVisBindingIndices = 5;      // uint[] 3 per triangle in the scene's order, mesh-local vertices
+DHR_CONST uint kVisBindingPermutation = 6;  // uint[] BLAS primitive -> original triangle (spatial sort)
+DHR_CONST uint kVisBindingMasks = 7;        // uint[width * height]: one 32-bit light mask per pixel
+DHR_CONST uint kVisBindingCounters = 8;     // uint[kVisCounterSlots * kVisCounterStride]
+DHR_CONST uint kVisBindingSoftLights = 9;   // VisSoftLight[], one per scene light (its extent), scene-relative
 // uint[]: with kVisLightSlots, the light slots (scene/light_slots.hpp): kVisSlotHeaderWords of header (the grid's
 // origin, scene-relative, and cell edge in mm as float bits; its cells per axis; the fields per row), then per cell
 // (x fastest) and one row for outside the grid, the light of each field (kVisNoSlotLight: none).
-DHR_VIS_CONST uint kVisBindingLightSlots = 10;
-DHR_VIS_CONST uint kVisSlotHeaderWords = 8u;
-DHR_VIS_CONST uint kVisNoSlotLight = 0xFFFFu;
+DHR_CONST uint kVisBindingLightSlots = 10;
+DHR_CONST uint kVisSlotHeaderWords = 8u;
+DHR_CONST uint kVisNoSlotLight = 0xFFFFu;
 
 // Statistics counters; each pixel adds to slot (x % kVisCounterSlots) so atomics rarely collide.
-DHR_VIS_CONST uint kVisCounterPrimary = 0;
-DHR_VIS_CONST uint kVisCounterBackground = 1;
-DHR_VIS_CONST uint kVisCounterShadow = 2;
-DHR_VIS_CONST uint kVisCounterSkippedBackfacing = 3;
-DHR_VIS_CONST uint kVisCounterSkippedOutOfRange = 4;
-DHR_VIS_CONST uint kVisCounterSoftPairs = 5;        // TraceStats::soft_pairs
-DHR_VIS_CONST uint kVisCounterSoftContributing = 6; // TraceStats::soft_contributing_pairs
-DHR_VIS_CONST uint kVisCounterSoftRefined = 7;      // TraceStats::soft_refined_pairs
-DHR_VIS_CONST uint kVisCounterSoftShadow = 8;       // TraceStats::soft_shadow_rays (also in kVisCounterShadow)
-DHR_VIS_CONST uint kVisCounterStride = 16;  // counters per slot (9 used)
-DHR_VIS_CONST uint kVisCounterSlots = 64;
+DHR_CONST uint kVisCounterPrimary = 0;
+DHR_CONST uint kVisCounterBackground = 1;
+DHR_CONST uint kVisCounterShadow = 2;
+DHR_CONST uint kVisCounterSkippedBackfacing = 3;
+DHR_CONST uint kVisCounterSkippedOutOfRange = 4;
+DHR_CONST uint kVisCounterSoftPairs = 5;        // TraceStats::soft_pairs
+DHR_CONST uint kVisCounterSoftContributing = 6; // TraceStats::soft_contributing_pairs
+DHR_CONST uint kVisCounterSoftRefined = 7;      // TraceStats::soft_refined_pairs
+DHR_CONST uint kVisCounterSoftShadow = 8;       // TraceStats::soft_shadow_rays (also in kVisCounterShadow)
+DHR_CONST uint kVisCounterStride = 16;  // counters per slot (9 used)
+DHR_CONST uint kVisCounterSlots = 64;
 
 // Shadow rays (same numbers as server/trace/include/trace/ray_offset.hpp and the Embree backend; vulkan_tracer.cpp checks them):
 // origins move off the surface by kVisRayOffsetIntScale ULPs per unit normal, or by
 // kVisRayOffsetFloatScale per unit normal where |coordinate| < kVisRayOffsetOriginThreshold (both of these
 // times VisPushConstants::ray_offset_scale, a power of two for the scene's size); point and
 // spot shadow rays stop at kVisShadowTfarScale of the distance so geometry at the light does not occlude it.
-DHR_VIS_CONST float kVisRayOffsetOriginThreshold = 1.0f / 32.0f;
-DHR_VIS_CONST float kVisRayOffsetFloatScale = 1.0f / 65536.0f;
-DHR_VIS_CONST float kVisRayOffsetIntScale = 256.0f;
-DHR_VIS_CONST float kVisShadowTfarScale = 1.0f - 1e-5f;
+DHR_CONST float kVisRayOffsetOriginThreshold = 1.0f / 32.0f;
+DHR_CONST float kVisRayOffsetFloatScale = 1.0f / 65536.0f;
+DHR_CONST float kVisRayOffsetIntScale = 256.0f;
+DHR_CONST float kVisShadowTfarScale = 1.0f - 1e-5f;
 
 // VisPushConstants::flags
-DHR_VIS_CONST uint kVisSkipBackfacing = 1u;
-DHR_VIS_CONST uint kVisSkipOutOfRange = 2u;
+DHR_CONST uint kVisSkipBackfacing = 1u;
+DHR_CONST uint kVisSkipOutOfRange = 2u;
 // Fields are light slots: field f of a pixel holds the light its cell gives slot f, and a hard field is 1 where
 // that light cannot contribute (or there is none), 0 only where it contributes and its ray is occluded.
-DHR_VIS_CONST uint kVisLightSlots = 4u;
+DHR_CONST uint kVisLightSlots = 4u;
 // VisMesh::flags
-DHR_VIS_CONST uint kVisMeshDoubleSided = 1u;
+DHR_CONST uint kVisMeshDoubleSided = 1u;
 
 // Soft lights (VisibilityTracer::trace_layout with level fields; server/trace/include/trace/soft/): a light whose bit
 // is set in VisPushConstants::soft_lights has a field of kVisSoftFieldBits bits, the Gray code of its sampled
 // visibility quantized to kVisSoftLevels levels. Fields follow the lights' order without gaps (VisibilityLayout), so
 // light i's field starts at i + (kVisSoftFieldBits - 1) * (soft lights before i).
-DHR_VIS_CONST uint kVisSoftFieldBits = 3u;
-DHR_VIS_CONST uint kVisSoftLevels = 8u;
+DHR_CONST uint kVisSoftFieldBits = 3u;
+DHR_CONST uint kVisSoftLevels = 8u;
 // VisSoftLight::shape (SampledLight::Shape in trace/soft/light_sampler.hpp)
-DHR_VIS_CONST uint kVisSoftPunctual = 0u;  // no extent: the hard tracer's one ray
-DHR_VIS_CONST uint kVisSoftSphere = 1u;    // cone sampling of the cap the sphere covers
-DHR_VIS_CONST uint kVisSoftSunDisk = 2u;   // cone of half-angle angle / 2 around the direction toward the sun
-DHR_VIS_CONST uint kVisSoftRect = 3u;      // uniform over its area, one-sided
-DHR_VIS_CONST uint kVisSoftDisk = 4u;      // uniform over its area (concentric map), one-sided
+DHR_CONST uint kVisSoftPunctual = 0u;  // no extent: the hard tracer's one ray
+DHR_CONST uint kVisSoftSphere = 1u;    // cone sampling of the cap the sphere covers
+DHR_CONST uint kVisSoftSunDisk = 2u;   // cone of half-angle angle / 2 around the direction toward the sun
+DHR_CONST uint kVisSoftRect = 3u;      // uniform over its area, one-sided
+DHR_CONST uint kVisSoftDisk = 4u;      // uniform over its area (concentric map), one-sided
 
 // A light prepared for sampling (make_sampled_light), in the scene-relative frame.
 struct VisSoftLight {
@@ -138,8 +132,6 @@ struct VisPushConstants {
 static_assert(sizeof(VisMesh) == 16, "VisMesh must match the std430 array stride");
 static_assert(sizeof(VisSoftLight) == 64, "VisSoftLight must match the std430 array stride");
 static_assert(sizeof(VisPushConstants) == 104, "push constants must match the GLSL layout");
-}  // namespace dhr::shader
 #endif
 
-#undef DHR_VIS_CONST
 #endif  // DHR_VIS_INTERFACE_H
