@@ -3,6 +3,7 @@
 #include "render/soft_refine.hpp"
 #include "render/warp_edges.hpp"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <string>
@@ -90,7 +91,7 @@ ForwardPass::Slot::Slot(const vk::Context& context, size_t max_lights)
       counters(context, 4, kCounterUsage, kHost) {}
 
 ForwardPass::ForwardPass(const vk::Context& context, const ClientScene& scene, const ForwardOptions& options)
-    : context_(&context), scene_(&scene), options_(options) {
+    : context_(&context), scene_(&scene), options_(options), bands_(context, std::max(1u, options.slots)) {
   if (options.slots == 0) throw std::invalid_argument("ForwardPass needs at least one slot");
   require_subgroup_arithmetic(context, "forward pass");  // its count pass
   const VkDevice device = context.device();
@@ -211,8 +212,9 @@ ForwardPass::Recorded ForwardPass::record(VkCommandBuffer cmd, uint32_t slot_ind
   if (refine) params.flags |= kClientWarpSoftRefine;
   if (out.visibility_used) {
     const uint32_t edge_band = mode == ForwardMode::kServerEdges ? frame.edge_band : 0u;
-    slot.source.upload(*context_, display, *in, params.source[0], edge_band, hard_field_bits(field_layout),
-                       refine ? &field_layout : nullptr, refine ? params.soft_refine_bits : 0u);
+    const SoftBandRequest shares{refine ? &field_layout : nullptr, refine ? params.soft_refine_bits : 0u, &bands_,
+                                 slot_index, cmd};
+    slot.source.upload(*context_, display, *in, params.source[0], edge_band, hard_field_bits(field_layout), &shares);
     if (mode == ForwardMode::kServerEdges && frame.traced_depth != nullptr) {
       const WarpSettings& test = frame.depth_test;
       const Extent depth_extent = depth_camera(in->traced, test.depth_scale).extent;

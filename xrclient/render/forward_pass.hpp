@@ -145,6 +145,7 @@ class ForwardPass {
   vk::Pipeline cull_none_;
   vk::Sampler sampler_;
   ComputePassCore count_;
+  SoftBandPass bands_;  // the source's band shares (use: the slot)
   vk::Image placeholder_atlas_;  // 1x1 D32 bound without shadow maps, and as the traced depth without one
   vk::Buffer light_slot_table_;  // LightSlots::gpu_words of the scene (a header alone without slots)
   std::vector<Slot> slots_;

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -41,19 +40,23 @@ uint32_t lane(const Lanes& l, uint32_t k) {
 }
 
 // The band share of a pixel at level n whose window holds `win`: the mean of the levels n - 1, n and n + 1 over the
-// window's arrived pixels (at level k: lane k less lane k + 1), within n +- 1/2, as a byte.
+// window's arrived pixels (at level k: lane k less lane k + 1), within n +- 1/2, as a byte. In integers (twice the
+// mean, over the pixels within one level), as soft_bands.comp computes it: the GPU's table has the same bytes.
 uint8_t share_byte(const Lanes& win, uint32_t n) {
-  constexpr auto kTop = static_cast<float>(kDefaultSoftLevels - 1);
+  constexpr uint32_t kTop = kDefaultSoftLevels - 1;
   const uint32_t from_below = lane(win, n > 0 ? n - 1 : 0), at_n = lane(win, n);
   const uint32_t above = lane(win, n + 1), beyond = lane(win, n + 2);
   const uint32_t below = n > 0 ? from_below - at_n : 0u;
   const uint32_t near = from_below - beyond;  // 0: no pixel of the window within one level (none of level n)
-  const auto level = static_cast<float>(n);
-  const float mean =
-      near > 0 ? level + (static_cast<float>(above - beyond) - static_cast<float>(below)) / static_cast<float>(near)
-               : level;
-  const float v = std::clamp(mean, std::max(0.0f, level - 0.5f), std::min(kTop, level + 0.5f));
-  return static_cast<uint8_t>(std::floor(v / kTop * static_cast<float>(kClientSoftRefineScale) + 0.5f));
+  uint32_t twice = 2 * n, d = 1;              // the level itself
+  if (near > 0) {
+    const auto nn = static_cast<int64_t>(near);
+    const int64_t s = 2 * (static_cast<int64_t>(n) * nn + static_cast<int64_t>(above - beyond) - below);
+    twice = static_cast<uint32_t>(std::clamp(s, std::max<int64_t>(0, (2 * n - int64_t{1}) * nn),
+                                             std::min<int64_t>(2 * kTop * nn, (2 * n + int64_t{1}) * nn)));
+    d = near;
+  }
+  return static_cast<uint8_t>((twice * kClientSoftRefineScale + kTop * d) / (2 * kTop * d));
 }
 
 }  // namespace
@@ -66,26 +69,35 @@ uint32_t soft_band_cell(uint32_t radius) {
   return std::bit_floor(std::max(kMinSoftBandCell, radius / kSoftBandCellsPerRadius));
 }
 
+SoftBandShape soft_band_shape(uint32_t width, uint32_t height, uint32_t radius) {
+  if (radius < 1 || radius > kMaxSoftBandRadius) {
+    throw std::invalid_argument("soft_band_table: radius " + std::to_string(radius) + " outside 1.." +
+                                std::to_string(kMaxSoftBandRadius));
+  }
+  // Cells of c x c pixels; the window is (2 rc + 1)^2 cells around the pixel's cell, at most 255^2 pixels.
+  static_assert(2 * kMaxSoftBandRadius + 2 * (kMaxSoftBandRadius / kSoftBandCellsPerRadius) <= 255,
+                "the window's counts fit the 16-bit lanes");
+  SoftBandShape shape;
+  shape.cell = soft_band_cell(radius);
+  shape.reach = std::max(1u, (radius + shape.cell / 2) / shape.cell);
+  shape.columns = (width + shape.cell - 1) / shape.cell;
+  shape.rows = (height + shape.cell - 1) / shape.cell;
+  return shape;
+}
+
 SoftBandTable soft_band_table(const VisibilityLayout& layout, const VisibilityBuffer& buffer,
                               std::span<const uint8_t> row_valid, uint32_t bits, uint32_t radius) {
   if (!row_valid.empty() && row_valid.size() != buffer.height) {
     throw std::invalid_argument("soft_band_table: row_valid holds " + std::to_string(row_valid.size()) +
                                 " rows, the buffer " + std::to_string(buffer.height));
   }
-  if (radius < 1 || radius > kMaxSoftBandRadius) {
-    throw std::invalid_argument("soft_band_table: radius " + std::to_string(radius) + " outside 1.." +
-                                std::to_string(kMaxSoftBandRadius));
-  }
   const uint32_t w = buffer.width, h = buffer.height;
   SoftBandTable t;
-  // Cells of c x c pixels; the window is (2 rc + 1)^2 cells around the pixel's cell, at most 255^2 pixels.
-  const uint32_t c = soft_band_cell(radius);
-  const uint32_t rc = std::max(1u, (radius + c / 2) / c);
-  static_assert(2 * kMaxSoftBandRadius + 2 * (kMaxSoftBandRadius / kSoftBandCellsPerRadius) <= 255,
-                "the window's counts fit the 16-bit lanes");
+  const SoftBandShape shape = soft_band_shape(w, h, radius);
+  const uint32_t c = shape.cell, rc = shape.reach;
   t.cell = c;
-  t.columns = (w + c - 1) / c;
-  t.rows = (h + c - 1) / c;
+  t.columns = shape.columns;
+  t.rows = shape.rows;
   const uint32_t cw = t.columns, ch = t.rows;
   t.words.assign(size_t{cw} * ch * kClientSoftBandCellWords, kClientSoftRefineNoneAll);
   std::array<Lanes, kNoLevel + 1> table{};

@@ -11,7 +11,8 @@
 // keep theirs (below). The counts come from box sums of eight indicator images (arrived; level at least k, k = 1..7),
 // a running sum along the rows, then along the columns, so the cost does not grow with the radius. The radius is a
 // fixed share of the buffer's width (soft_band_radius: the bands are a fixed angle of the view, whatever the
-// resolution). The CPU computes the table once per received buffer; the GPU passes read it (kClientSourceHasShares).
+// resolution). The table is made once per received buffer: on the GPU by render/soft_band_pass.hpp for the warp passes
+// (kClientSourceHasShares), by soft_band_table here for the warp's CPU reference and the tests; both give the same bytes.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -40,6 +41,17 @@ uint32_t soft_band_radius(uint32_t width);
 inline constexpr uint32_t kSoftBandCellsPerRadius = 4;
 inline constexpr uint32_t kMinSoftBandCell = 2;
 uint32_t soft_band_cell(uint32_t radius);
+
+// The cells of a buffer's table at a window radius: their side (soft_band_cell), cells per row and column, and the
+// window's reach: the cells within `reach` cells of a pixel's cell along each axis (radius / cell, rounded, at least
+// 1). Throws std::invalid_argument for a radius outside 1..kMaxSoftBandRadius.
+struct SoftBandShape {
+  uint32_t cell = 1;
+  uint32_t columns = 0;
+  uint32_t rows = 0;
+  uint32_t reach = 1;
+};
+SoftBandShape soft_band_shape(uint32_t width, uint32_t height, uint32_t radius);
 
 // The band shares of a buffer: per cell (row-major, `columns` per row) kClientSoftBandCellWords words, two per
 // refined field rank r (the first kClientSoftRefineFields soft fields): word 2 r + n / 4, byte n % 4 holds the share

@@ -163,27 +163,36 @@ WarpSourceBuffers::WarpSourceBuffers(const vk::Context& context)
       rows(context, kRowWords * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost) {}
 
 void WarpSourceBuffers::upload(const vk::Context& context, const Camera& display, const VisibilityInput& input,
-                               ClientWarpSource& src, uint32_t band, uint32_t bits, const VisibilityLayout* layout,
-                               uint32_t refine_bits) {
+                               ClientWarpSource& src, uint32_t band, uint32_t bits, const SoftBandRequest* request) {
   const VisibilityBuffer& buffer = *input.buffer;
   const bool edges = band > 0 && bits != 0;
   if (!edges) band = bits = 0;
-  const bool shares = layout != nullptr && refine_bits != 0;
-  if (!shares) refine_bits = 0;
+  const bool shares = request != nullptr && request->layout != nullptr && request->bits != 0;
+  if (shares && request->pass == nullptr) throw std::invalid_argument("WarpSourceBuffers::upload: shares without a pass");
+  const uint32_t refine_bits = shares ? request->bits : 0u;
   const VkDeviceSize mask_bytes = (buffer.size_bytes() + 3) / 4 * 4;
   const VkDeviceSize share_offset = edges ? 2 * mask_bytes : mask_bytes;
   if (input.key == 0 || input.key != key || band != edge_band || bits != edge_bits || refine_bits != share_bits) {
-    if (shares) {
-      share_table = soft_band_table(*layout, buffer, input.row_valid, refine_bits, soft_band_radius(buffer.width));
-    }
-    const VkDeviceSize bytes = share_offset + (shares ? share_table.words.size() * 4 : 0);
+    if (shares) share_shape = soft_band_shape(buffer.width, buffer.height, soft_band_radius(buffer.width));
+    const VkDeviceSize bytes = share_offset + (shares ? SoftBandPass::table_words(share_shape) * 4 : 0);
     if (bytes > visibility.size()) visibility = vk::Buffer(context, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
     visibility.write(buffer.data.data(), buffer.data.size());
     if (edges) {
       const VisibilityBuffer marks = edge_band_marks(buffer, input.row_valid, band, bits);
       visibility.write(marks.data.data(), marks.data.size(), mask_bytes);
     }
-    if (shares) visibility.write(share_table.words.data(), share_table.words.size() * 4, share_offset);
+    if (shares) {
+      SoftBandSource source;
+      source.visibility = &visibility;
+      source.rows = &rows;
+      source.has_rows = !input.row_valid.empty();
+      source.width = buffer.width;
+      source.height = buffer.height;
+      source.mask_bits = static_cast<uint32_t>(buffer.mask_bits);
+      source.share_word = static_cast<uint32_t>(share_offset / 4);
+      request->pass->record(request->cmd, request->use, source, *request->layout, refine_bits,
+                            soft_band_radius(buffer.width));
+    }
     key = input.key;
     edge_band = band;
     edge_bits = bits;
@@ -195,8 +204,8 @@ void WarpSourceBuffers::upload(const vk::Context& context, const Camera& display
   }
   if (shares) {
     src.share_word = static_cast<uint32_t>(share_offset / 4);
-    src.share_cell_shift = static_cast<uint32_t>(std::countr_zero(share_table.cell));
-    src.share_columns = share_table.columns;
+    src.share_cell_shift = static_cast<uint32_t>(std::countr_zero(share_shape.cell));
+    src.share_columns = share_shape.columns;
     src.flags |= kClientSourceHasShares;
   }
   src.mask_bits = static_cast<uint32_t>(buffer.mask_bits);

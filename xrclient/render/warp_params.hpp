@@ -8,7 +8,7 @@
 
 #include "math/projection.hpp"
 #include "plan/visibility_input.hpp"
-#include "render/soft_bands.hpp"
+#include "render/soft_band_pass.hpp"
 #include "render/warp_reference.hpp"
 #include "scene/scene.hpp"
 #include "shaders/shader_interface.h"
@@ -50,18 +50,20 @@ struct WarpSourceBuffers {
   uint64_t key = 0;       // VisibilityInput::key of what `visibility` holds (0: always upload)
   uint32_t edge_band = 0;  // the edge band and bits the held marks were computed with
   uint32_t edge_bits = 0;
-  uint32_t share_bits = 0;  // the refined fields the held band shares were computed for
-  SoftBandTable share_table;  // the held band shares (its words are uploaded after the masks)
+  uint32_t share_bits = 0;  // the refined fields the held band shares were made for
+  SoftBandShape share_shape;  // the held band shares' cells (the table follows the masks)
 
   explicit WarpSourceBuffers(const vk::Context& context);
   // Uploads a validated input (skipping it when its key, band and bits are the ones held) and fills `src`: mask
   // width, kClientSourceHasVisibility, kClientSourceSameEye, kClientSourceHasRowValidity with the rows uploaded.
   // edge_band > 0 and edge_bits != 0: the edge band's marks of those bits (render/warp_edges.hpp) follow the masks,
-  // from src.edge_word on, with kClientSourceHasEdges. A layout and refine_bits != 0 (soft_refine_bits): the band
-  // shares of those fields (render/soft_bands.hpp) follow, from src.share_word on, with kClientSourceHasShares.
+  // from src.edge_word on, with kClientSourceHasEdges. `shares` with a layout and bits != 0: the band shares of
+  // those fields (render/soft_bands.hpp) follow, from src.share_word on, with kClientSourceHasShares; the pass that
+  // makes them is recorded into shares->cmd when the upload changed what the buffer holds (so a command buffer
+  // recorded with an upload must be submitted before the next upload of these buffers relies on it).
   void upload(const vk::Context& context, const Camera& display, const VisibilityInput& input,
               shader::ClientWarpSource& src, uint32_t edge_band = 0, uint32_t edge_bits = 0,
-              const VisibilityLayout* layout = nullptr, uint32_t refine_bits = 0);
+              const SoftBandRequest* shares = nullptr);
 };
 
 }  // namespace dhr::render

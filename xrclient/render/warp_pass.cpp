@@ -53,7 +53,8 @@ WarpTargets WarpTargets::create(const vk::Context& context, Extent extent, WarpO
   return t;
 }
 
-WarpPass::WarpPass(const vk::Context& context, uint32_t slots) : context_(&context) {
+WarpPass::WarpPass(const vk::Context& context, uint32_t slots)
+    : context_(&context), bands_(context, std::max(1u, slots) * kClientWarpSourceCount) {
   if (slots == 0) throw std::invalid_argument("WarpPass needs at least one slot");
   require_subgroup_arithmetic(context, "warp pass");
   const VkDevice device = context.device();
@@ -172,8 +173,9 @@ bool WarpPass::record(VkCommandBuffer cmd, uint32_t slot_index, const WarpFrame&
     const VisibilityInput* in = frame.sources[s].visibility;
     params.source[s] = make_warp_source(display, usable[s] ? &in->traced : nullptr);
     if (!usable[s]) continue;
-    slot.sources[s].upload(*context_, display, *in, params.source[s], edge_band, hard_field_bits(layout),
-                           targets.soft_written ? &layout : nullptr, params.soft_refine_bits);
+    const SoftBandRequest shares{targets.soft_written ? &layout : nullptr, params.soft_refine_bits, &bands_,
+                                 slot_index * kClientWarpSourceCount + static_cast<uint32_t>(s), cmd};
+    slot.sources[s].upload(*context_, display, *in, params.source[s], edge_band, hard_field_bits(layout), &shares);
     vk::Image* traced_depth = frame.sources[s].traced_depth;
     if (traced_depth != nullptr) {
       const Extent depth_extent = depth_camera(in->traced, settings.depth_scale).extent;

@@ -109,6 +109,7 @@ class WarpPass {
 
   const vk::Context* context_;
   ComputePassCore core_;
+  SoftBandPass bands_;  // the sources' band shares (use: slot x kClientWarpSourceCount + source)
   vk::Image placeholder_depth_;   // 1x1 D32 for absent traced depths and shadow maps
   vk::Image placeholder_normal_;  // 1x1 RGBA16F for an absent normal image
   std::vector<Slot> slots_;

@@ -129,6 +129,32 @@ DHR_CONST uint kClientSoftRefineNone = 255u;
 DHR_CONST uint kClientSoftRefineNoneAll = 0xFFFFFFFFu;
 // The band shares' table: two words per refined field per cell (the bytes of levels 0-3, 4-7).
 DHR_CONST uint kClientSoftBandCellWords = 2u * kClientSoftRefineFields;
+// The table made on the GPU (render/soft_band_pass.hpp, soft_bands.comp): three dispatches over the cells. Per cell
+// and refined field the counts are eight 16-bit lanes, two to a word (kClientSoftBandLaneWords words per cell).
+DHR_CONST uint kClientSoftBandBindingVisibility = 0;  // storage buffer uint[]: the masks; the table at share_word
+DHR_CONST uint kClientSoftBandBindingRows = 1;        // storage buffer uint[]: bit r%32 of word r/32 = row r arrived
+DHR_CONST uint kClientSoftBandBindingScratch = 2;     // storage buffer uint[]: per cell its counts and its levels,
+                                                      // then from sum_word on the counts' row sums
+DHR_CONST uint kClientSoftBandCount = 0u;   // ClientSoftBandPush::stage: each cell's counts and levels held
+DHR_CONST uint kClientSoftBandRowSum = 1u;  // the counts summed over the row's cells within reach
+DHR_CONST uint kClientSoftBandShares = 2u;  // those summed over the column's, and the table's bytes
+DHR_CONST uint kClientSoftBandLaneWords = 4u * kClientSoftRefineFields;
+DHR_CONST uint kClientSoftBandCountWords = kClientSoftBandLaneWords + 1u;  // + the levels held, a byte per field
+struct ClientSoftBandPush {
+  uint stage;       // kClientSoftBand*
+  uint width;       // the buffer's pixels
+  uint height;
+  uint mask_bits;   // 8, 16 or 32
+  uint cell_shift;  // cells of 2^cell_shift pixels square
+  uint columns;     // cells per row
+  uint rows;        // cell rows
+  uint reach;       // the window: the cells within `reach` cells of a pixel's cell along each axis
+  uint refined;     // bit r: field rank r has shares (its field offset in field_offset[r])
+  uint has_rows;    // 1: rows not set in the row bits did not arrive (their pixels count for nothing)
+  uint share_word;  // where the table starts in the visibility buffer
+  uint sum_word;    // where the row sums start in the scratch buffer
+  uint field_offset[4];  // kClientSoftRefineFields
+};
 // ClientWarpSource::flags
 DHR_CONST uint kClientSourceHasVisibility = 1u;
 DHR_CONST uint kClientSourceHasRowValidity = 2u;
@@ -374,6 +400,8 @@ static_assert(sizeof(ClientWarpMotion) == 3 * sizeof(ClientMotionSource) + 32 * 
 static_assert(sizeof(ClientWarpParams) == 3 * 152 + 4 * 32, "ClientWarpParams must match the std430 layout");
 static_assert(sizeof(ClientShadowLight) == 64, "ClientShadowLight must match the std430 array stride");
 static_assert(sizeof(ClientShadingPush) == 96, "push constants must match the GLSL layout");
+static_assert(sizeof(ClientSoftBandPush) == 64 && kClientSoftRefineFields == 4,
+              "push constants must match the GLSL layout, one field offset per refined field");
 static_assert(sizeof(ClientForwardShading) == 32, "ClientForwardShading must match the std430 layout");
 }  // namespace dhr::shader
 #endif

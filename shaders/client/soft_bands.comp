@@ -1,0 +1,114 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "shaders/shader_interface.h"
+
+// Band shares on the GPU (render/soft_band_pass.hpp): render/soft_bands.hpp's table of a received buffer, the same
+// definition and the same bytes as its CPU soft_band_table (integer arithmetic throughout). One invocation per cell,
+// three stages (ClientSoftBandPush::stage), a barrier between them:
+//  - kClientSoftBandCount: per refined field, the cell's histogram of levels over its arrived pixels, as eight
+//    lanes (lane 0 the pixels, lane k those at level k or above) and a byte of the levels held;
+//  - kClientSoftBandRowSum: the lanes summed over the cells of its row within `reach`;
+//  - kClientSoftBandShares: those summed over the cells of its column within `reach` (the window), and per level the
+//    cell holds, the band share's byte (kClientSoftRefineNone for the bottom and top levels and fields without).
+// A window holds at most 255^2 pixels (soft_bands.hpp), so lanes packed two to a word never carry into each other.
+layout(local_size_x = kClientWarpGroupSize, local_size_y = kClientWarpGroupSize) in;
+layout(set = 0, binding = kClientSoftBandBindingVisibility, std430) buffer Visibility { uint vis[]; };
+layout(set = 0, binding = kClientSoftBandBindingRows, std430) readonly buffer Rows { uint rows[]; };
+layout(set = 0, binding = kClientSoftBandBindingScratch, std430) buffer Scratch { uint scratch[]; };
+layout(push_constant, std430) uniform Push { ClientSoftBandPush pc; };
+
+uint lane(uint words[kClientSoftBandLaneWords], uint rank, uint k) {
+  if (k > 7u) return 0u;
+  return (words[4u * rank + k / 2u] >> (16u * (k & 1u))) & 0xFFFFu;
+}
+
+// The band share's byte of a pixel at level n whose window's lanes (of field rank `rank`) are `win`:
+// soft_bands.cpp's share_byte.
+uint share_byte(uint win[kClientSoftBandLaneWords], uint rank, uint n) {
+  const uint from_below = lane(win, rank, n > 0u ? n - 1u : 0u), at_n = lane(win, rank, n);
+  const uint above = lane(win, rank, n + 1u), beyond = lane(win, rank, n + 2u);
+  const uint below = n > 0u ? from_below - at_n : 0u;
+  const uint near = from_below - beyond;
+  const uint top = kClientSoftLevels - 1u;
+  uint twice = 2u * n, d = 1u;  // twice the mean, over d: the level itself when no pixel is within one level
+  if (near > 0u) {
+    const int s = 2 * (int(n * near) + int(above - beyond) - int(below));
+    const int lo = max(0, int((2u * n) * near) - int(near)), hi = min(int(2u * top * near), int((2u * n + 1u) * near));
+    twice = uint(clamp(s, lo, hi));
+    d = near;
+  }
+  return (twice * kClientSoftRefineScale + top * d) / (2u * top * d);
+}
+
+void main() {
+  const uvec2 cell = gl_GlobalInvocationID.xy;
+  if (cell.x >= pc.columns || cell.y >= pc.rows) return;
+  const uint index = cell.y * pc.columns + cell.x;
+  uint sums[kClientSoftBandLaneWords];
+  for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) sums[j] = 0u;
+
+  if (pc.stage == kClientSoftBandCount) {
+    uint hist[kClientSoftRefineFields * kClientSoftLevels];
+    for (uint j = 0u; j < kClientSoftRefineFields * kClientSoftLevels; ++j) hist[j] = 0u;
+    const uint c = 1u << pc.cell_shift;
+    const uint x0 = cell.x * c, y0 = cell.y * c;
+    const uint width_mask = pc.mask_bits >= 32u ? 0xFFFFFFFFu : (1u << pc.mask_bits) - 1u;
+    for (uint y = y0; y < min(pc.height, y0 + c); ++y) {
+      if (pc.has_rows != 0u && ((rows[y >> 5u] >> (y & 31u)) & 1u) == 0u) continue;
+      for (uint x = x0; x < min(pc.width, x0 + c); ++x) {
+        const uint bit = (y * pc.width + x) * pc.mask_bits;
+        const uint mask = (vis[bit >> 5u] >> (bit & 31u)) & width_mask;
+        for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+          if (((pc.refined >> r) & 1u) == 0u) continue;
+          const uint g = (mask >> pc.field_offset[r]) & 7u;
+          ++hist[r * kClientSoftLevels + (g ^ (g >> 1u) ^ (g >> 2u))];  // Gray decode (3 bits)
+        }
+      }
+    }
+    uint held = 0u;
+    for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+      uint at_least = 0u;  // pixels at level k or above, k from the top down
+      for (uint k = kClientSoftLevels; k-- > 0u;) {
+        const uint h = hist[r * kClientSoftLevels + k];
+        at_least += h;
+        if (h > 0u) held |= 1u << (8u * r + k);
+        sums[4u * r + k / 2u] |= at_least << (16u * (k & 1u));
+      }
+    }
+    for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) scratch[index * kClientSoftBandCountWords + j] = sums[j];
+    scratch[index * kClientSoftBandCountWords + kClientSoftBandLaneWords] = held;
+    return;
+  }
+
+  if (pc.stage == kClientSoftBandRowSum) {
+    const uint first = cell.x >= pc.reach ? cell.x - pc.reach : 0u, last = min(pc.columns - 1u, cell.x + pc.reach);
+    for (uint x = first; x <= last; ++x) {
+      const uint from = (cell.y * pc.columns + x) * kClientSoftBandCountWords;
+      for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) sums[j] += scratch[from + j];
+    }
+    for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) {
+      scratch[pc.sum_word + index * kClientSoftBandLaneWords + j] = sums[j];
+    }
+    return;
+  }
+
+  const uint first = cell.y >= pc.reach ? cell.y - pc.reach : 0u, last = min(pc.rows - 1u, cell.y + pc.reach);
+  for (uint y = first; y <= last; ++y) {
+    const uint from = pc.sum_word + (y * pc.columns + cell.x) * kClientSoftBandLaneWords;
+    for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) sums[j] += scratch[from + j];
+  }
+  const uint held = scratch[index * kClientSoftBandCountWords + kClientSoftBandLaneWords];
+  for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+    uint words[2] = uint[2](kClientSoftRefineNoneAll, kClientSoftRefineNoneAll);
+    if (((pc.refined >> r) & 1u) != 0u) {
+      // The top and bottom levels keep theirs (soft_bands.cpp).
+      for (uint n = 1u; n + 1u < kClientSoftLevels; ++n) {
+        if (((held >> (8u * r + n)) & 1u) == 0u) continue;
+        const uint shift = 8u * (n % 4u);
+        words[n / 4u] = (words[n / 4u] & ~(0xFFu << shift)) | (share_byte(sums, r, n) << shift);
+      }
+    }
+    vis[pc.share_word + index * kClientSoftBandCellWords + 2u * r] = words[0];
+    vis[pc.share_word + index * kClientSoftBandCellWords + 2u * r + 1u] = words[1];
+  }
+}
