@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "shaders/shader_interface.h"
 
 // Band shares on the GPU (render/soft_band_pass.hpp): render/soft_bands.hpp's table of a received buffer, the same
@@ -17,16 +18,13 @@ layout(set = 0, binding = kClientSoftBandBindingRows, std430) readonly buffer Ro
 layout(set = 0, binding = kClientSoftBandBindingScratch, std430) buffer Scratch { uint scratch[]; };
 layout(push_constant, std430) uniform Push { ClientSoftBandPush pc; };
 
-uint lane(uint words[kClientSoftBandLaneWords], uint rank, uint k) {
-  if (k > 7u) return 0u;
-  return (words[4u * rank + k / 2u] >> (16u * (k & 1u))) & 0xFFFFu;
-}
+// Lane k of a field's counts (0 beyond the top level).
+uint lane(uvec4 counts, uint k) { return k > 7u ? 0u : (counts[k >> 1u] >> (16u * (k & 1u))) & 0xFFFFu; }
 
-// The band share's byte of a pixel at level n whose window's lanes (of field rank `rank`) are `win`:
-// soft_bands.cpp's share_byte.
-uint share_byte(uint win[kClientSoftBandLaneWords], uint rank, uint n) {
-  const uint from_below = lane(win, rank, n > 0u ? n - 1u : 0u), at_n = lane(win, rank, n);
-  const uint above = lane(win, rank, n + 1u), beyond = lane(win, rank, n + 2u);
+// The band share's byte of a pixel at level n whose window's lanes are `win`: soft_bands.cpp's share_byte.
+uint share_byte(uvec4 win, uint n) {
+  const uint from_below = lane(win, n > 0u ? n - 1u : 0u), at_n = lane(win, n);
+  const uint above = lane(win, n + 1u), beyond = lane(win, n + 2u);
   const uint below = n > 0u ? from_below - at_n : 0u;
   const uint near = from_below - beyond;
   const uint top = kClientSoftLevels - 1u;
@@ -37,45 +35,47 @@ uint share_byte(uint win[kClientSoftBandLaneWords], uint rank, uint n) {
     twice = uint(clamp(s, lo, hi));
     d = near;
   }
-  return (twice * kClientSoftRefineScale + top * d) / (2u * top * d);
+  // The integer quotient through a float one (no vector integer division on many devices), corrected to exact: the
+  // float's error is far below one at these magnitudes (quotients up to 254).
+  const uint num = twice * kClientSoftRefineScale + top * d, den = 2u * top * d;
+  uint q = uint(float(num) / float(den));
+  if (q * den > num) --q;
+  if ((q + 1u) * den <= num) ++q;
+  return q;
 }
 
 void main() {
   const uvec2 cell = gl_GlobalInvocationID.xy;
   if (cell.x >= pc.columns || cell.y >= pc.rows) return;
   const uint index = cell.y * pc.columns + cell.x;
-  uint sums[kClientSoftBandLaneWords];
-  for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) sums[j] = 0u;
+  // Per refined field its lanes, two to a component (loops over the fields unrolled: no array in memory).
+  uvec4 sums[kClientSoftRefineFields];
+  [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) sums[r] = uvec4(0u);
 
   if (pc.stage == kClientSoftBandCount) {
-    uint hist[kClientSoftRefineFields * kClientSoftLevels];
-    for (uint j = 0u; j < kClientSoftRefineFields * kClientSoftLevels; ++j) hist[j] = 0u;
     const uint c = 1u << pc.cell_shift;
     const uint x0 = cell.x * c, y0 = cell.y * c;
     const uint width_mask = pc.mask_bits >= 32u ? 0xFFFFFFFFu : (1u << pc.mask_bits) - 1u;
+    uint held = 0u;
     for (uint y = y0; y < min(pc.height, y0 + c); ++y) {
       if (pc.has_rows != 0u && ((rows[y >> 5u] >> (y & 31u)) & 1u) == 0u) continue;
       for (uint x = x0; x < min(pc.width, x0 + c); ++x) {
         const uint bit = (y * pc.width + x) * pc.mask_bits;
         const uint mask = (vis[bit >> 5u] >> (bit & 31u)) & width_mask;
-        for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+        [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
           if (((pc.refined >> r) & 1u) == 0u) continue;
           const uint g = (mask >> pc.field_offset[r]) & 7u;
-          ++hist[r * kClientSoftLevels + (g ^ (g >> 1u) ^ (g >> 2u))];  // Gray decode (3 bits)
+          const uint n = g ^ (g >> 1u) ^ (g >> 2u);  // Gray decode (3 bits)
+          // Lane k counts the pixels at level k or above (lane 0: all arrived pixels).
+          sums[r] += uvec4(lessThanEqual(uvec4(0u, 2u, 4u, 6u), uvec4(n))) +
+                     (uvec4(lessThanEqual(uvec4(1u, 3u, 5u, 7u), uvec4(n))) << 16u);
+          held |= 1u << (8u * r + n);
         }
       }
     }
-    uint held = 0u;
-    for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
-      uint at_least = 0u;  // pixels at level k or above, k from the top down
-      for (uint k = kClientSoftLevels; k-- > 0u;) {
-        const uint h = hist[r * kClientSoftLevels + k];
-        at_least += h;
-        if (h > 0u) held |= 1u << (8u * r + k);
-        sums[4u * r + k / 2u] |= at_least << (16u * (k & 1u));
-      }
+    [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+      [[unroll]] for (uint j = 0u; j < 4u; ++j) scratch[index * kClientSoftBandCountWords + 4u * r + j] = sums[r][j];
     }
-    for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) scratch[index * kClientSoftBandCountWords + j] = sums[j];
     scratch[index * kClientSoftBandCountWords + kClientSoftBandLaneWords] = held;
     return;
   }
@@ -84,10 +84,16 @@ void main() {
     const uint first = cell.x >= pc.reach ? cell.x - pc.reach : 0u, last = min(pc.columns - 1u, cell.x + pc.reach);
     for (uint x = first; x <= last; ++x) {
       const uint from = (cell.y * pc.columns + x) * kClientSoftBandCountWords;
-      for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) sums[j] += scratch[from + j];
+      [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+        if (((pc.refined >> r) & 1u) == 0u) continue;
+        sums[r] += uvec4(scratch[from + 4u * r], scratch[from + 4u * r + 1u], scratch[from + 4u * r + 2u],
+                         scratch[from + 4u * r + 3u]);
+      }
     }
-    for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) {
-      scratch[pc.sum_word + index * kClientSoftBandLaneWords + j] = sums[j];
+    [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+      [[unroll]] for (uint j = 0u; j < 4u; ++j) {
+        scratch[pc.sum_word + index * kClientSoftBandLaneWords + 4u * r + j] = sums[r][j];
+      }
     }
     return;
   }
@@ -95,20 +101,24 @@ void main() {
   const uint first = cell.y >= pc.reach ? cell.y - pc.reach : 0u, last = min(pc.rows - 1u, cell.y + pc.reach);
   for (uint y = first; y <= last; ++y) {
     const uint from = pc.sum_word + (y * pc.columns + cell.x) * kClientSoftBandLaneWords;
-    for (uint j = 0u; j < kClientSoftBandLaneWords; ++j) sums[j] += scratch[from + j];
+    [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+      if (((pc.refined >> r) & 1u) == 0u) continue;
+      sums[r] += uvec4(scratch[from + 4u * r], scratch[from + 4u * r + 1u], scratch[from + 4u * r + 2u],
+                       scratch[from + 4u * r + 3u]);
+    }
   }
   const uint held = scratch[index * kClientSoftBandCountWords + kClientSoftBandLaneWords];
-  for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
-    uint words[2] = uint[2](kClientSoftRefineNoneAll, kClientSoftRefineNoneAll);
+  [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+    uvec2 words = uvec2(kClientSoftRefineNoneAll);
     if (((pc.refined >> r) & 1u) != 0u) {
       // The top and bottom levels keep theirs (soft_bands.cpp).
       for (uint n = 1u; n + 1u < kClientSoftLevels; ++n) {
         if (((held >> (8u * r + n)) & 1u) == 0u) continue;
         const uint shift = 8u * (n % 4u);
-        words[n / 4u] = (words[n / 4u] & ~(0xFFu << shift)) | (share_byte(sums, r, n) << shift);
+        words[n / 4u] = (words[n / 4u] & ~(0xFFu << shift)) | (share_byte(sums[r], n) << shift);
       }
     }
-    vis[pc.share_word + index * kClientSoftBandCellWords + 2u * r] = words[0];
-    vis[pc.share_word + index * kClientSoftBandCellWords + 2u * r + 1u] = words[1];
+    vis[pc.share_word + index * kClientSoftBandCellWords + 2u * r] = words.x;
+    vis[pc.share_word + index * kClientSoftBandCellWords + 2u * r + 1u] = words.y;
   }
 }
