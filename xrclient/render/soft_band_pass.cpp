@@ -77,10 +77,11 @@ void SoftBandPass::record(VkCommandBuffer cmd, uint32_t use, const SoftBandSourc
 
   constexpr VkPipelineStageFlags2 kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
   constexpr VkAccessFlags2 kReadWrite = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  // The masks are host writes made before the submission; earlier uses of this scratch are done (the slot contract).
   for (const uint32_t stage : {shader::kClientSoftBandCount, shader::kClientSoftBandRowSum,
                                shader::kClientSoftBandShares}) {
-    // Each stage reads what the one before wrote (and the first overwrites what an earlier use read).
-    vk::memory_barrier(cmd, kCompute, kReadWrite, kCompute, kReadWrite);
+    // Each stage reads what the one before wrote.
+    if (stage != shader::kClientSoftBandCount) vk::memory_barrier(cmd, kCompute, kReadWrite, kCompute, kReadWrite);
     push.stage = stage;
     core_.dispatch(cmd, u.set, &push, sizeof(push), shape.columns, shape.rows, shader::kClientWarpGroupSize);
   }
