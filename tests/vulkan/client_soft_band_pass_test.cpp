@@ -1,6 +1,7 @@
 // Band shares on the GPU (render/soft_band_pass.hpp) against the CPU's soft_band_table: the same bytes, word for
 // word, for cells of 2, 4, 8 and 16 pixels, masks of 8, 16 and 32 bits, missing rows, fields left out, more soft
-// fields than are refined, and the widest window (whose counts fill most of the 16-bit lanes).
+// fields than are refined, and the widest window (whose counts fill most of the 16-bit lanes); and an upload that
+// makes the table again where an earlier one's command buffer was never submitted.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,11 +9,13 @@
 #include <cstdint>
 #include <cstdio>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "render/soft_band_pass.hpp"
 #include "render/soft_bands.hpp"
 #include "render/soft_refine.hpp"
+#include "render/warp_params.hpp"
 #include "shaders/shader_interface.h"
 #include "vk/buffer.hpp"
 #include "vulkan_test_fixture.hpp"
@@ -134,6 +137,36 @@ TEST_F(SoftBandPassTest, MoreSoftFieldsThanRefinedAndTheWidestWindowAsTheCpuTabl
   // Six soft lights and two hard ones (32-bit masks): the first four soft fields have shares. Radius 100: cells of
   // 16, the window 13 cells across (43,264 pixels a lane can count).
   expect_same_table(ctx(), {600, 420, {1, 1, 0, 1, 1, 1, 0, 1}, kMaxSoftBandRadius, 0, true});
+}
+
+// A buffer's upload whose command buffer was abandoned (an error later in the frame, never submitted), then the same
+// buffer (same key) uploaded again: the second upload makes the table again instead of trusting the first.
+TEST_F(SoftBandPassTest, AnUploadAgainAfterAnAbandonedOneMakesTheTable) {
+  const Case c{340, 256, {1, 0}, soft_band_radius(340), 0, false};
+  const VisibilityLayout layout = layout_of(c.soft);
+  const VisibilityBuffer b = make_buffer(c, layout);
+  const uint32_t bits = soft_refine_bits(layout, 0);
+  VisibilityInput input;
+  input.buffer = &b;
+  input.key = 42;
+  WarpSourceBuffers buffers(ctx());
+  SoftBandPass pass(ctx(), 1);
+  shader::ClientWarpSource src{};
+  EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    const SoftBandRequest request{&layout, bits, &pass, 0, cmd};
+    buffers.upload(ctx(), Camera{}, input, src, 0, 0, &request);
+    throw std::runtime_error("the frame is abandoned");
+  }), std::runtime_error);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    const SoftBandRequest request{&layout, bits, &pass, 0, cmd};
+    buffers.upload(ctx(), Camera{}, input, src, 0, 0, &request);
+  });
+  ASSERT_NE(src.flags & shader::kClientSourceHasShares, 0u);
+  const SoftBandTable cpu = soft_band_table(layout, b, {}, bits, c.radius);
+  std::vector<uint32_t> gpu(cpu.words.size());
+  buffers.visibility.read(gpu.data(), gpu.size() * 4, VkDeviceSize{src.share_word} * 4);
+  EXPECT_EQ(src.share_columns, cpu.columns);
+  EXPECT_TRUE(gpu == cpu.words);
 }
 
 TEST_F(SoftBandPassTest, RefusesATableBeyondItsBufferAndAUseOutOfRange) {

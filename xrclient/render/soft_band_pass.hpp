@@ -1,5 +1,5 @@
 // Band shares on the GPU (render/soft_bands.hpp): the table of a received buffer's refined soft fields, made by a
-// compute pass (shaders/client/soft_bands.comp) instead of the CPU, once per received buffer, in place after its
+// compute pass (shaders/client/soft_bands.comp) instead of the CPU, with each upload of the buffer, in place after its
 // masks. On the CPU the table cost 8.8 ms per 1984x1116 buffer (one core; docs/client.md, "Refined soft shares"); the
 // pass is three dispatches over the table's cells: each cell's histogram of levels, its row's sums, its column's.
 // Same definition and the same bytes as soft_band_table (tests/vulkan/client_soft_band_pass_test.cpp).

@@ -11,8 +11,8 @@
 // keep theirs (below). The counts come from box sums of eight indicator images (arrived; level at least k, k = 1..7),
 // a running sum along the rows, then along the columns, so the cost does not grow with the radius. The radius is a
 // fixed share of the buffer's width (soft_band_radius: the bands are a fixed angle of the view, whatever the
-// resolution). The table is made once per received buffer: on the GPU by render/soft_band_pass.hpp for the warp passes
-// (kClientSourceHasShares), by soft_band_table here for the warp's CPU reference and the tests; both give the same bytes.
+// resolution). The table is made on the GPU by render/soft_band_pass.hpp for the warp passes (kClientSourceHasShares),
+// by soft_band_table here for the warp's CPU reference and the tests; both give the same bytes.
 #pragma once
 #include <cstdint>
 #include <span>

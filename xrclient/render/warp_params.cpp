@@ -181,32 +181,32 @@ void WarpSourceBuffers::upload(const vk::Context& context, const Camera& display
       const VisibilityBuffer marks = edge_band_marks(buffer, input.row_valid, band, bits);
       visibility.write(marks.data.data(), marks.data.size(), mask_bytes);
     }
-    if (shares) {
-      SoftBandSource source;
-      source.visibility = &visibility;
-      source.rows = &rows;
-      source.has_rows = !input.row_valid.empty();
-      source.width = buffer.width;
-      source.height = buffer.height;
-      source.mask_bits = static_cast<uint32_t>(buffer.mask_bits);
-      source.share_word = static_cast<uint32_t>(share_offset / 4);
-      request->pass->record(request->cmd, request->use, source, *request->layout, refine_bits,
-                            soft_band_radius(buffer.width));
-    }
     key = input.key;
     edge_band = band;
     edge_bits = bits;
     share_bits = refine_bits;
   }
-  if (edges) {
-    src.edge_word = static_cast<uint32_t>(mask_bytes / 4);
-    src.flags |= kClientSourceHasEdges;
-  }
   if (shares) {
+    // Recorded with every upload, also of a buffer held already: a table whose command buffer was recorded but not
+    // submitted (an error later in the frame) is never relied on.
+    SoftBandSource source;
+    source.visibility = &visibility;
+    source.rows = &rows;
+    source.has_rows = !input.row_valid.empty();
+    source.width = buffer.width;
+    source.height = buffer.height;
+    source.mask_bits = static_cast<uint32_t>(buffer.mask_bits);
+    source.share_word = static_cast<uint32_t>(share_offset / 4);
+    request->pass->record(request->cmd, request->use, source, *request->layout, refine_bits,
+                          soft_band_radius(buffer.width));
     src.share_word = static_cast<uint32_t>(share_offset / 4);
     src.share_cell_shift = static_cast<uint32_t>(std::countr_zero(share_shape.cell));
     src.share_columns = share_shape.columns;
     src.flags |= kClientSourceHasShares;
+  }
+  if (edges) {
+    src.edge_word = static_cast<uint32_t>(mask_bytes / 4);
+    src.flags |= kClientSourceHasEdges;
   }
   src.mask_bits = static_cast<uint32_t>(buffer.mask_bits);
   src.flags |= kClientSourceHasVisibility;

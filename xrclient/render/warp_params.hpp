@@ -58,9 +58,8 @@ struct WarpSourceBuffers {
   // width, kClientSourceHasVisibility, kClientSourceSameEye, kClientSourceHasRowValidity with the rows uploaded.
   // edge_band > 0 and edge_bits != 0: the edge band's marks of those bits (render/warp_edges.hpp) follow the masks,
   // from src.edge_word on, with kClientSourceHasEdges. `shares` with a layout and bits != 0: the band shares of
-  // those fields (render/soft_bands.hpp) follow, from src.share_word on, with kClientSourceHasShares; the pass that
-  // makes them is recorded into shares->cmd when the upload changed what the buffer holds (so a command buffer
-  // recorded with an upload must be submitted before the next upload of these buffers relies on it).
+  // those fields (render/soft_bands.hpp) follow, from src.share_word on, with kClientSourceHasShares: the pass that
+  // makes them is recorded into shares->cmd with every upload (the rows are read when it runs).
   void upload(const vk::Context& context, const Camera& display, const VisibilityInput& input,
               shader::ClientWarpSource& src, uint32_t edge_band = 0, uint32_t edge_bits = 0,
               const SoftBandRequest* shares = nullptr);
