@@ -169,22 +169,43 @@ TEST_F(SoftBandPassTest, AnUploadAgainAfterAnAbandonedOneMakesTheTable) {
   EXPECT_TRUE(gpu == cpu.words);
 }
 
-TEST_F(SoftBandPassTest, RefusesATableBeyondItsBufferAndAUseOutOfRange) {
+TEST_F(SoftBandPassTest, RefusesBadSizesAndAUseOutOfRange) {
   const VisibilityLayout layout = layout_of({1});
   vk::Buffer small(ctx(), 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+  vk::Buffer large(ctx(), 1024, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+  vk::Buffer rows(ctx(), 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, kHost);
+  const std::vector<uint8_t> zeros(1024, 0);
+  large.write(zeros.data(), zeros.size());
+  rows.write(zeros.data(), 4);
   SoftBandPass pass(ctx(), 1);
-  SoftBandSource source;
+  SoftBandSource source;  // 4x4 8-bit masks (16 bytes), the table from byte 16 on: 2x2 cells of 8 words (128 bytes)
   source.visibility = &small;
-  source.rows = &small;
-  source.width = 64;
-  source.height = 64;
+  source.rows = &rows;
+  source.width = 4;
+  source.height = 4;
   source.mask_bits = 8;
-  source.share_word = 0;
+  source.share_word = 4;
   ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    EXPECT_THROW(pass.record(cmd, 0, source, layout, 7u, 2), std::invalid_argument);  // the table beyond the buffer
+    source.visibility = &large;
+    EXPECT_THROW(pass.record(cmd, 1, source, layout, 7u, 2), std::invalid_argument);  // no use 1
+    EXPECT_THROW(pass.record(cmd, 0, source, layout, 7u, 0), std::invalid_argument);  // radius 0
+    source.share_word = 2;  // the masks would overlap the table
     EXPECT_THROW(pass.record(cmd, 0, source, layout, 7u, 2), std::invalid_argument);
-    EXPECT_THROW(pass.record(cmd, 1, source, layout, 7u, 2), std::invalid_argument);
-    EXPECT_THROW(pass.record(cmd, 0, source, layout, 7u, 0), std::invalid_argument);
+    source.share_word = 4;
+    source.mask_bits = 12;
+    EXPECT_THROW(pass.record(cmd, 0, source, layout, 7u, 2), std::invalid_argument);
+    source.mask_bits = 8;
+    source.has_rows = true;
+    source.height = 40;  // 40 rows, 32 row bits
+    EXPECT_THROW(pass.record(cmd, 0, source, layout, 7u, 2), std::invalid_argument);
+    source.height = 4;
+    EXPECT_NO_THROW(pass.record(cmd, 0, source, layout, 7u, 2));  // what fits is recorded
   });
+  std::vector<uint32_t> table(32);
+  large.read(table.data(), table.size() * 4, 16);
+  // Every pixel at level 0 (all masks zero): the bottom level keeps its own, so every byte says none.
+  EXPECT_TRUE(std::all_of(table.begin(), table.end(), [](uint32_t w) { return w == shader::kClientSoftRefineNoneAll; }));
 }
 
 }  // namespace

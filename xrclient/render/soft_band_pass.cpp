@@ -33,6 +33,13 @@ void SoftBandPass::record(VkCommandBuffer cmd, uint32_t use, const SoftBandSourc
                           const VisibilityLayout& layout, uint32_t bits, uint32_t radius) {
   if (use >= uses_.size()) throw std::invalid_argument("SoftBandPass: use out of range");
   if (source.visibility == nullptr || source.rows == nullptr) throw std::invalid_argument("SoftBandPass: no buffer");
+  if (source.mask_bits != 8 && source.mask_bits != 16 && source.mask_bits != 32) {
+    throw std::invalid_argument("SoftBandPass: masks of " + std::to_string(source.mask_bits) + " bits");
+  }
+  if (uint64_t{source.width} * source.height * source.mask_bits / 8 > uint64_t{source.share_word} * 4 ||
+      (source.has_rows && uint64_t{source.rows->size()} * 8 < source.height)) {
+    throw std::invalid_argument("SoftBandPass: the masks or the rows do not fit their buffers before the table");
+  }
   const SoftBandShape shape = soft_band_shape(source.width, source.height, radius);
   const uint64_t cells = uint64_t{shape.columns} * shape.rows;
   if ((uint64_t{source.share_word} + table_words(shape)) * 4 > source.visibility->size()) {

@@ -46,7 +46,8 @@ struct SoftBandRequest {
 
 class SoftBandPass {
  public:
-  // Up to `uses` tables recorded per frame slot set (each use its own descriptor set and scratch buffer).
+  // `uses` independent uses, each with its own descriptor set and scratch buffer (the caller maps its frame slots and
+  // sources onto them).
   SoftBandPass(const vk::Context& context, uint32_t uses);
 
   // The table's words for a shape (kClientSoftBandCellWords per cell).

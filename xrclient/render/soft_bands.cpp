@@ -71,7 +71,7 @@ uint32_t soft_band_cell(uint32_t radius) {
 
 SoftBandShape soft_band_shape(uint32_t width, uint32_t height, uint32_t radius) {
   if (radius < 1 || radius > kMaxSoftBandRadius) {
-    throw std::invalid_argument("soft_band_table: radius " + std::to_string(radius) + " outside 1.." +
+    throw std::invalid_argument("band shares: window radius " + std::to_string(radius) + " outside 1.." +
                                 std::to_string(kMaxSoftBandRadius));
   }
   // Cells of c x c pixels; the window is (2 rc + 1)^2 cells around the pixel's cell, at most 255^2 pixels.
