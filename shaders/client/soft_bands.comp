@@ -98,20 +98,26 @@ void main() {
     return;
   }
 
+  // Only the fields with a middle level in this cell have shares (the top and bottom levels keep theirs,
+  // soft_bands.cpp): their window sums alone are read.
+  const uint held = scratch[index * kClientSoftBandCountWords + kClientSoftBandLaneWords];
+  uint with_shares = 0u;
+  [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
+    const uint middle = ((1u << (kClientSoftLevels - 1u)) - 2u) << (8u * r);  // levels 1 .. top - 1
+    if (((pc.refined >> r) & 1u) != 0u && (held & middle) != 0u) with_shares |= 1u << r;
+  }
   const uint first = cell.y >= pc.reach ? cell.y - pc.reach : 0u, last = min(pc.rows - 1u, cell.y + pc.reach);
-  for (uint y = first; y <= last; ++y) {
+  for (uint y = first; y <= last && with_shares != 0u; ++y) {
     const uint from = pc.sum_word + (y * pc.columns + cell.x) * kClientSoftBandLaneWords;
     [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
-      if (((pc.refined >> r) & 1u) == 0u) continue;
+      if (((with_shares >> r) & 1u) == 0u) continue;
       sums[r] += uvec4(scratch[from + 4u * r], scratch[from + 4u * r + 1u], scratch[from + 4u * r + 2u],
                        scratch[from + 4u * r + 3u]);
     }
   }
-  const uint held = scratch[index * kClientSoftBandCountWords + kClientSoftBandLaneWords];
   [[unroll]] for (uint r = 0u; r < kClientSoftRefineFields; ++r) {
     uvec2 words = uvec2(kClientSoftRefineNoneAll);
-    if (((pc.refined >> r) & 1u) != 0u) {
-      // The top and bottom levels keep theirs (soft_bands.cpp).
+    if (((with_shares >> r) & 1u) != 0u) {
       for (uint n = 1u; n + 1u < kClientSoftLevels; ++n) {
         if (((held >> (8u * r + n)) & 1u) == 0u) continue;
         const uint shift = 8u * (n % 4u);
