@@ -5,8 +5,7 @@
 
 // Band shares on the GPU (render/soft_band_pass.hpp): render/soft_bands.hpp's table of a received buffer, the same
 // definition and the same bytes as its CPU soft_band_table (integers; the one quotient through a float, corrected to
-// exact). One invocation per cell,
-// three stages (ClientSoftBandPush::stage), a barrier between them:
+// exact). One invocation per cell, three stages (ClientSoftBandPush::stage), a barrier between them:
 //  - kClientSoftBandCount: per refined field, the cell's histogram of levels over its arrived pixels, as eight
 //    lanes (lane 0 the pixels, lane k those at level k or above) and a byte of the levels held;
 //  - kClientSoftBandRowSum: the lanes summed over the cells of its row within `reach`;
