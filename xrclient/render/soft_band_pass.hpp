@@ -56,7 +56,8 @@ class SoftBandPass {
   // Records the table of `source`'s soft fields with a bit in `bits` (soft_refine_bits of `layout`) at window radius
   // `radius` into source.visibility, use `use`; the writes are visible to later compute and fragment shader reads.
   // Earlier uses of `use` are done by the caller's slot contract. Throws std::invalid_argument for a use out of
-  // range, a radius outside 1..kMaxSoftBandRadius, a table beyond the visibility buffer or a missing buffer.
+  // range, a missing buffer, masks not 8, 16 or 32 bits wide, masks reaching past share_word, rows beyond the row
+  // buffer's bits, a radius outside 1..kMaxSoftBandRadius or a table beyond the visibility buffer.
   void record(VkCommandBuffer cmd, uint32_t use, const SoftBandSource& source, const VisibilityLayout& layout,
               uint32_t bits, uint32_t radius);
 
