@@ -218,7 +218,8 @@ int run_eval(const RunOptions& options, const std::string& command_line) {
 
     std::vector<std::unique_ptr<SettingSession>> sessions;
     for (const Setting& s : settings) {
-      sessions.push_back(std::make_unique<SettingSession>(s, options, shared));
+      const auto index = static_cast<uint32_t>(sessions.size());
+      sessions.push_back(std::make_unique<SettingSession>(s, options, shared, index));
       if (options.snapshot_frame) sessions.back()->snapshot_at(warmup + *options.snapshot_frame);
     }
 

@@ -167,7 +167,8 @@ bool CountingSender::send_to(std::span<const uint8_t> datagram, const net::PeerA
   return true;
 }
 
-SettingSession::SettingSession(const Setting& setting, const RunOptions& options, const SessionShared& shared)
+SettingSession::SettingSession(const Setting& setting, const RunOptions& options, const SessionShared& shared,
+                               uint32_t index)
     : setting_(setting), shared_(shared), format_{shared.eye, setting.guard_band}, clock_(0), server_clock_(clock_),
       uplink_(link_params(setting, options, options.seed * 2 + 0), clock_),
       downlink_(link_params(setting, options, options.seed * 2 + 1), server_clock_), server_out_(downlink_),
@@ -191,6 +192,7 @@ SettingSession::SettingSession(const Setting& setting, const RunOptions& options
   client::CoordinatorOptions frame_options;
   frame_options.plan = planner_settings(setting, shared);
   frame_options.upload_keys = false;  // the eye pipelines may be shared with the other settings
+  frame_options.shadow_owner = index + 1;
   frame_options.gpu_wait_timeout_ns = std::numeric_limits<uint64_t>::max();  // however long a slow device takes
   frames_ = std::make_unique<client::FrameCoordinator>(renderer_->context(), renderer_->pipeline(),
                                                        *source_, frame_options);

@@ -194,8 +194,10 @@ class SessionVisibilitySource final : public client::VisibilitySource {
 class SettingSession {
  public:
   // Runs the connection phase (handshake and a heartbeat round trip, see connect()); throws
-  // std::runtime_error when the client cannot connect.
-  SettingSession(const Setting& setting, const RunOptions& options, const SessionShared& shared);
+  // std::runtime_error when the client cannot connect. index: the setting's place in the run; in a moving scene
+  // its frames re-render their own shadow maps on the shared pipeline (owner index + 1; the truth's are owner 0's),
+  // as one client's would: which faces, and when, depends on what its frames show.
+  SettingSession(const Setting& setting, const RunOptions& options, const SessionShared& shared, uint32_t index);
   ~SettingSession();
 
   // Frame sample.frame: delivers everything due before its display time, ticks both sides, sends its

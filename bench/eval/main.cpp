@@ -15,8 +15,11 @@
 #include <CLI/CLI.hpp>
 #include "cli/finite_range.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <string>
+
+#include "plan/shipped_defaults.hpp"
 
 int main(int argc, char** argv) {
   using namespace dhr::eval;
@@ -79,6 +82,12 @@ int main(int argc, char** argv) {
   run->add_option("--shadow-size", options.shadow_maps.size, "local, full: shadow-map texels per cube face side")
       ->capture_default_str()
       ->check(dhr::cli::FiniteRange(1u, 16384u));
+  double fill_period_ms = static_cast<double>(dhr::client::shipped::kShadowFillPeriodNs) * 1e-6;
+  run->add_option("--shadow-fill-period-ms", fill_period_ms,
+                  "moving scenes, settings with server visibility: while the shadow maps only fill, each light's map "
+                  "is re-rendered once per this much scene time, in turns (0: every frame, as local)")
+      ->capture_default_str()
+      ->check(dhr::cli::FiniteRange(0.0, 10000.0));
   run->add_option("--shadow-bias-rel", options.shadow_maps.bias_rel,
                   "local, full: shadow-map depth bias per metre of distance")
       ->capture_default_str()
@@ -188,6 +197,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     options.codec_v2 = codec == "v2";
+    options.shadow_maps.fill_period_ns = static_cast<int64_t>(std::llround(fill_period_ms * 1e6));
     options.shipped_path = render_path == "shipped";
     if (!(options.jitter_ms >= 0.0 && options.jitter_ms <= 1000.0) || !(options.loss >= 0.0 && options.loss < 1.0)) {
       std::fprintf(stderr, "dhr-eval: --jitter-ms must be in [0, 1000] and --loss in [0, 1)\n");

@@ -135,6 +135,12 @@ ParseOutcome parse_client_options(int argc, char** argv, ClientOptions& out, int
                  "its bit the shadow maps' (hard lights; 0: only where the 2x2 samples disagree)")
       ->capture_default_str()
       ->check(CLI::Range(0u, 8u));
+  app.add_option("--shadow-fill-period-ms", out.shadow_fill_period_ms,
+                 "moving scenes: while the client's shadow maps only fill (both eyes show visibility traced for the "
+                 "scene time shown), each light's map is re-rendered once per this much scene time, in turns "
+                 "(0: every frame)")
+      ->capture_default_str()
+      ->check(dhr::cli::FiniteRange(0.0, 10000.0));
   app.add_option("--start-at", out.start_at,
                  "OpenXR: start the head here (the world space offset by poseInReferenceSpace, heading only): "
                  "bookmark (the scene's first camera bookmark), bookmark:N (its N-th or the one named N) or "

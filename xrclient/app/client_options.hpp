@@ -36,6 +36,7 @@ struct ClientOptions {
   WarpChoice warp = shipped::kWarp;  // --warp
   uint32_t depth_scale = shipped::kDepthScale;  // --depth-scale
   uint32_t edge_band = shipped::kEdgeBand;      // --edge-band
+  double shadow_fill_period_ms = static_cast<double>(shipped::kShadowFillPeriodNs) * 1e-6;  // --shadow-fill-period-ms
   TracedDepth traced_depth = shipped::kTracedDepth;  // --traced-depth
   std::string record_trace;  // --record-trace FILE (OpenXR path)
   std::string node_script;   // --node-script FILE: app-moved nodes (link/node_script.hpp)

@@ -3,6 +3,7 @@
 #include "render/light_layout.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -182,6 +183,7 @@ CoordinatorOptions coordinator_options(const ClientOptions& options, bool discre
                                            options.edge_band, options.traced_depth);
   out.eye.forward = forward_pass_for(options.render_path, discrete_gpu);
   out.eye.motion_vectors = needed.motion;
+  out.shadow_maps.fill_period_ns = static_cast<int64_t>(std::llround(options.shadow_fill_period_ms * 1e6));
   return out;
 }
 

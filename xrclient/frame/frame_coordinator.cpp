@@ -15,6 +15,7 @@ FrameStepOptions step_options(const CoordinatorOptions& options) {
   FrameStepOptions out;
   out.plan = options.plan;
   out.upload_keys = options.upload_keys;
+  out.shadow_owner = options.shadow_owner;
   return out;
 }
 

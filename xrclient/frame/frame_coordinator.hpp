@@ -38,6 +38,7 @@ struct CoordinatorOptions {
   render::ShadowMapSettings shadow_maps;  // used when eye.warp needs shadow maps
   uint64_t gpu_wait_timeout_ns = 5'000'000'000;  // a slot's fence; beyond it the frame fails
   bool upload_keys = true;  // FrameStepOptions::upload_keys
+  uint32_t shadow_owner = 0;  // FrameStepOptions::shadow_owner
 };
 
 class FrameCoordinator {

@@ -30,6 +30,7 @@ FrameRecord FrameStep::record(VkCommandBuffer cmd, uint32_t slot, const FrameInp
   StereoInputs inputs;
   inputs.scene_time_ns = pose.scene_time_ns;
   inputs.node_overrides = input.node_overrides;
+  inputs.shadow_owner = options_.shadow_owner;
   for (uint32_t e = 0; e < 2; ++e) {
     const EyePlan& p = plan.eyes[e];
     inputs.views[e] = p.view;

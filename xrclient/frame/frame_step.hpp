@@ -29,6 +29,8 @@ struct FrameStepOptions {
   // Name complete buffers by (frame, eye) so that a slot already holding one skips its upload. Off where several
   // clients' steps share one StereoPipeline (dhr-eval's settings): their frame numbers name different buffers.
   bool upload_keys = true;
+  // Whose shadow maps on a shared StereoPipeline (StereoInputs::shadow_owner): dhr-eval's settings each their own.
+  uint32_t shadow_owner = 0;
 };
 
 class FrameStep {

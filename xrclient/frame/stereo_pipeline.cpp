@@ -22,16 +22,22 @@ StereoPipeline::StereoPipeline(const vk::Context& context, const render::ClientS
     shadow_slots_.resize(options.frames_in_flight);
     for (ShadowSlot& s : shadow_slots_) s.timestamps = vk::TimestampQueries(context, 2);
   }
-  ensure_shadow_maps();
+  ensure_shadow_maps(0);
 }
 
 StereoPipeline::~StereoPipeline() = default;
 
-void StereoPipeline::ensure_shadow_maps() {
-  if (shadow_maps_ || !eyes_[0]->warp_settings().uses_shadow_maps()) return;
-  shadow_maps_ = std::make_unique<render::ShadowMaps>(*context_, *scene_, shadow_settings_);
-  log::info("shadow maps: %zu lights, %u texels per face, rendered in %.1f ms", shadow_maps_->tiles().size(),
-            shadow_maps_->face_size(), shadow_maps_->render_ms());
+render::ShadowMaps* StereoPipeline::ensure_shadow_maps(uint32_t owner) {
+  if (!eyes_[0]->warp_settings().uses_shadow_maps()) return nullptr;
+  if (!scene_->motion().animated()) owner = 0;
+  if (owner >= shadow_maps_.size()) shadow_maps_.resize(size_t{owner} + 1);
+  std::unique_ptr<render::ShadowMaps>& maps = shadow_maps_[owner];
+  if (!maps) {
+    maps = std::make_unique<render::ShadowMaps>(*context_, *scene_, shadow_settings_);
+    log::info("shadow maps: %zu lights, %u texels per face, rendered in %.1f ms", maps->tiles().size(),
+              maps->face_size(), maps->render_ms());
+  }
+  return maps.get();
 }
 
 void StereoPipeline::set_warp_settings(const render::WarpSettings& settings) {
@@ -40,7 +46,7 @@ void StereoPipeline::set_warp_settings(const render::WarpSettings& settings) {
 }
 
 void StereoPipeline::record(VkCommandBuffer cmd, uint32_t slot, const StereoInputs& inputs) {
-  ensure_shadow_maps();
+  render::ShadowMaps* maps = ensure_shadow_maps(inputs.shadow_owner);
   const render::MovedScene* moved = nullptr;
   if (scene_->motion().animated()) {
     scene_->motion().sample(render::scene_seconds(inputs.scene_time_ns), scene_->meshes(), moved_,
@@ -48,10 +54,17 @@ void StereoPipeline::record(VkCommandBuffer cmd, uint32_t slot, const StereoInpu
     moved = &moved_;
     ShadowSlot& s = shadow_slots_.at(slot);
     s.update = {};
-    if (shadow_maps_) {
+    if (maps) {
+      // The maps only fill while both eyes show visibility traced for the scene time shown; otherwise they shade
+      // whatever moved since (the warp's motion rule), or everything (no visibility): every stale face now.
+      bool fills_only = true;
+      for (const VisibilityInput& v : inputs.visibility) {
+        fills_only = fills_only && v.buffer != nullptr && v.scene_time_ns == inputs.scene_time_ns;
+      }
+      const render::ShadowRefresh refresh{inputs.scene_time_ns, fills_only ? shadow_settings_.fill_period_ns : 0};
       s.timestamps.reset(cmd);
       s.timestamps.write(cmd, 0);
-      s.update = shadow_maps_->update(cmd, moved_);
+      s.update = maps->update(cmd, moved_, refresh);
       s.timestamps.write(cmd, 1);
       s.stamped = s.timestamps.supported();
     }
@@ -63,14 +76,14 @@ void StereoPipeline::record(VkCommandBuffer cmd, uint32_t slot, const StereoInpu
     render::WarpSourceInput other_source;
     other_source.visibility = &other;
     if (other.buffer != nullptr) other_source.traced_depth = eyes_[1 - e]->traced_depth(other.traced);
-    eyes_[e]->record(cmd, slot, inputs.views[e], inputs.visibility[e], other_source, shadow_maps_.get(),
+    eyes_[e]->record(cmd, slot, inputs.views[e], inputs.visibility[e], other_source, maps,
                      &inputs.older[e], moved);
   }
 }
 
 std::array<render::EyeStats, 2> StereoPipeline::read_stats(uint32_t slot) const {
   std::array<render::EyeStats, 2> stats = {eyes_[0]->read_stats(slot), eyes_[1]->read_stats(slot)};
-  if (slot < shadow_slots_.size() && shadow_maps_ && stats[0].gpu.valid) {
+  if (slot < shadow_slots_.size() && !shadow_maps_.empty() && stats[0].gpu.valid) {
     const ShadowSlot& s = shadow_slots_[slot];
     stats[0].shadow_update = s.update;
     const std::vector<double> ns = s.stamped ? s.timestamps.read_ns() : std::vector<double>{};

@@ -37,6 +37,10 @@ struct StereoInputs {
   std::array<VisibilityInput, 2> older;       // per eye, its previous one (buffer null: none)
   int64_t scene_time_ns = 0;                  // the scene time of the frame's display (FramePose::scene_time_ns)
   const NodeOverrides* node_overrides = nullptr;  // app-moved nodes (scene/node_overrides.hpp); null: none
+  // Whose shadow maps: in a moving scene each owner's maps are re-rendered by its own frames (which faces, and
+  // when, depend on what its frames show: record()). dhr-eval's settings each pass their own; a client has one.
+  // A static scene's maps never change: every owner shares one.
+  uint32_t shadow_owner = 0;
 };
 
 class StereoPipeline {
@@ -52,7 +56,9 @@ class StereoPipeline {
   // Uploads and prepares both eyes (EyePipeline::prepare), then records each eye's passes (EyePipeline::record).
   // The shadow maps, when the warp settings need them and none were rendered yet, are rendered first (their
   // own submission, waited for; `cmd` may be recording meanwhile). In a moving scene, the scene is sampled at
-  // inputs.scene_time_ns and the shadow maps' stale faces are re-rendered into `cmd` before the eyes.
+  // inputs.scene_time_ns and the shadow maps' stale faces are re-rendered into `cmd` before the eyes: all of them
+  // when an eye has no visibility or shows it at another scene time than it was traced for (the maps then shade
+  // what moved), else each light's in its turn (ShadowMapSettings::fill_period_ns: the maps only fill).
   void record(VkCommandBuffer cmd, uint32_t slot, const StereoInputs& inputs);
   // Stats of both eyes' frame last recorded with `slot`; call after its submission completed. Eye 0 carries the
   // frame's shadow-map re-render (EyeStats::shadow_update, EyePassTimes::shadow_update_ms).
@@ -64,18 +70,21 @@ class StereoPipeline {
   const render::EyePipeline& eye(uint32_t index) const { return *eyes_[index]; }
   Extent extent() const { return eyes_[0]->extent(); }
   uint32_t frames_in_flight() const { return eyes_[0]->frames_in_flight(); }
-  const render::ShadowMaps* shadow_maps() const { return shadow_maps_.get(); }
+  // Owner 0's (StereoInputs::shadow_owner); null until a warp setting needs them.
+  const render::ShadowMaps* shadow_maps() const { return shadow_maps_.empty() ? nullptr : shadow_maps_[0].get(); }
   // The scene as the last record() drew it (unsampled for a static scene).
   const render::MovedScene& moved_scene() const { return moved_; }
 
  private:
-  void ensure_shadow_maps();
+  // The maps `owner`'s frames use (every owner's are owner 0's in a static scene); made when first needed, null
+  // while the warp settings need none.
+  render::ShadowMaps* ensure_shadow_maps(uint32_t owner);
 
   const vk::Context* context_;
   const render::ClientScene* scene_;
   std::array<std::unique_ptr<render::EyePipeline>, 2> eyes_;
   render::ShadowMapSettings shadow_settings_;
-  std::unique_ptr<render::ShadowMaps> shadow_maps_;
+  std::vector<std::unique_ptr<render::ShadowMaps>> shadow_maps_;  // per owner
   render::MovedScene moved_;
   struct ShadowSlot {
     vk::TimestampQueries timestamps;  // around the frame's shadow-map re-render

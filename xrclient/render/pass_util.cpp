@@ -25,9 +25,14 @@ VkRenderingAttachmentInfo cleared_attachment(VkImageView view, VkImageLayout lay
 
 void begin_rendering(VkCommandBuffer cmd, uint32_t width, uint32_t height,
                      std::span<const VkRenderingAttachmentInfo> colour, const VkRenderingAttachmentInfo* depth) {
+  begin_rendering(cmd, VkRect2D{{0, 0}, {width, height}}, colour, depth);
+}
+
+void begin_rendering(VkCommandBuffer cmd, const VkRect2D& area, std::span<const VkRenderingAttachmentInfo> colour,
+                     const VkRenderingAttachmentInfo* depth) {
   VkRenderingInfo rendering{};
   rendering.sType = VK_STRUCTURE_TYPE_RENDERING_INFO;
-  rendering.renderArea = {{0, 0}, {width, height}};
+  rendering.renderArea = area;
   rendering.layerCount = 1;
   rendering.colorAttachmentCount = static_cast<uint32_t>(colour.size());
   rendering.pColorAttachments = colour.data();

@@ -24,6 +24,9 @@ VkRenderingAttachmentInfo cleared_attachment(VkImageView view, VkImageLayout lay
 // Begins dynamic rendering over (0, 0, width, height), one layer; `depth` may be null.
 void begin_rendering(VkCommandBuffer cmd, uint32_t width, uint32_t height,
                      std::span<const VkRenderingAttachmentInfo> colour, const VkRenderingAttachmentInfo* depth);
+// The same over `area` (what a tiling rasterizer loads and stores: a pass drawing into part of an atlas names it).
+void begin_rendering(VkCommandBuffer cmd, const VkRect2D& area, std::span<const VkRenderingAttachmentInfo> colour,
+                     const VkRenderingAttachmentInfo* depth);
 
 // Throws std::runtime_error naming `pass` unless the device has subgroup arithmetic in compute shaders (the
 // warp's and the forward pass's counts sum per subgroup).

@@ -196,6 +196,8 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
   held_.assign(tiles_.size(), 0);
   stale_.assign(tiles_.size(), 0);
   split_faces_.assign(tiles_.size(), 0);
+  pending_.assign(tiles_.size(), 0);
+  turn_.assign(tiles_.size(), std::numeric_limits<int64_t>::min());
   if (scene.motion().animated() && lights.size() == scene.lights().size()) {
     std::vector<glm::dvec3> centre;
     std::vector<double> radius;
@@ -210,20 +212,44 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
   render_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved) {
+// Whether light l's map takes its turn now: the period of scene time (at the light's phase) it falls in differs
+// from the one it was last rendered in. Every time, without a period.
+bool ShadowMaps::takes_turn(size_t l, const ShadowRefresh& refresh) {
+  if (refresh.period_ns <= 0) {
+    turn_[l] = std::numeric_limits<int64_t>::min();  // the next staggered update re-renders what is pending
+    return true;
+  }
+  const int64_t phase = refresh.period_ns / static_cast<int64_t>(tiles_.size()) * static_cast<int64_t>(l);
+  const int64_t t = refresh.scene_time_ns + phase;
+  const int64_t turn = t / refresh.period_ns - (t % refresh.period_ns < 0 ? 1 : 0);  // floor
+  if (turn == turn_[l]) return false;
+  turn_[l] = turn;
+  return true;
+}
+
+ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved, const ShadowRefresh& refresh) {
   ShadowUpdate out;
   const ClientScene& scene = *scene_;
   const ClientMotion& motion = scene.motion();
   if (!motion.animated() || !moved.sampled || !scene.indices() || moved.lights.size() != tiles_.size()) return out;
   const MeshSpheres spheres{moved.centre, moved.radius};
   for (size_t l = 0; l < tiles_.size(); ++l) {
+    stale_[l] = 0;
+    split_faces_[l] = 0;
+    if (!tiles_[l].row) continue;
     const bool light_moves = motion.light_moves(static_cast<uint32_t>(l));
-    if (light_moves) tiles_[l] = tile_for(moved.lights[l], tiles_[l].row);
+    const bool turn = takes_turn(l, refresh);
+    // A moving light's map moves with it when re-rendered; until then it stays where it was rendered.
+    if (light_moves && turn) tiles_[l] = tile_for(moved.lights[l], tiles_[l].row);
     const uint8_t seeing = faces_seeing_motion(tiles_[l], moved.lights[l], motion, spheres, size_);
-    stale_[l] = stale_faces(tiles_[l], light_moves, seeing, held_[l]);
+    pending_[l] |= stale_faces(tiles_[l], light_moves, seeing, held_[l]);
+    if (!turn) continue;
+    stale_[l] = pending_[l];
+    pending_[l] = 0;
     // A light that stays put: its static casters are where they were, so the static atlas holds them.
     split_faces_[l] = static_atlas_ && !light_moves ? stale_[l] : uint8_t{0};
-    held_[l] = seeing;
+    // What the faces hold now: those re-rendered, what they see; the others, what they held.
+    held_[l] = static_cast<uint8_t>((seeing & stale_[l]) | (held_[l] & ~stale_[l]));
     if (stale_[l] == 0) continue;
     ++out.lights;
     for (uint32_t face = 0; face < 6; ++face) out.faces += (stale_[l] >> face) & 1u;
@@ -243,7 +269,7 @@ ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved) {
   depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
   depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
   depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  begin_rendering(cmd, atlas_.width(), atlas_.height(), {}, &depth);
+  begin_rendering(cmd, stale_area(), {}, &depth);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
   scene.bind_geometry(cmd);
   VkClearAttachment clear{};
@@ -266,6 +292,23 @@ ShadowUpdate ShadowMaps::update(VkCommandBuffer cmd, const MovedScene& moved) {
   vkCmdEndRendering(cmd);
   atlas_.transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   return out;
+}
+
+VkRect2D ShadowMaps::stale_area() const {
+  uint32_t x0 = 6, x1 = 0, y0 = std::numeric_limits<uint32_t>::max(), y1 = 0;  // in faces
+  for (size_t l = 0; l < tiles_.size(); ++l) {
+    if (stale_[l] == 0) continue;
+    for (uint32_t face = 0; face < 6; ++face) {
+      if (((stale_[l] >> face) & 1u) == 0) continue;
+      x0 = std::min(x0, face);
+      x1 = std::max(x1, face + 1);
+    }
+    y0 = std::min(y0, *tiles_[l].row);
+    y1 = std::max(y1, *tiles_[l].row + 1);
+  }
+  if (x1 <= x0 || y1 <= y0) return VkRect2D{{0, 0}, {0, 0}};
+  return VkRect2D{{static_cast<int32_t>(x0 * size_), static_cast<int32_t>(y0 * size_)},
+                  {(x1 - x0) * size_, (y1 - y0) * size_}};
 }
 
 bool ShadowMaps::drawn(uint32_t mesh, Casters casters) const {

@@ -3,7 +3,8 @@
 // light l, faces 0-5 in columns (face conventions: shaders/client/cube_face.h). A sun (a directional light with
 // an angle) gets an orthographic tile fitted to the scene's bounds in column 0 of its row (sun_map.hpp); other
 // directional lights get none. When the scene moves, update() re-renders, inside the frame's command buffer, the
-// faces that moving casters or a moving light made stale (the rule: shadow_refresh.hpp); the others stay.
+// faces that moving casters or a moving light made stale (the rule: shadow_refresh.hpp), all of them or each
+// light's in its turn (ShadowRefresh); the others stay.
 // The warp pass looks them up for pixels no visibility buffer fills (and, with kClientWarpShadowEdges, for
 // bits the buffer's samples disagree on); without any server they shade the whole frame (offline, `local`).
 //
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "math/projection.hpp"
+#include "plan/shipped_defaults.hpp"
 #include "scene/lighting.hpp"
 #include "vk/handle.hpp"
 #include "vk/image.hpp"
@@ -42,6 +44,10 @@ struct ShadowMapSettings {
   // A moving scene keeps a second atlas of the static casters alone, rendered once: a stale face of a light that
   // does not move is then that copy plus the moving meshes (the same depths as drawing them all), not a re-render.
   bool split_static = true;
+  // In a moving scene, where the maps only fill (DHR's frames showing visibility traced for the scene time they
+  // show: client::StereoPipeline), each light's map is re-rendered once per this much scene time, in turns
+  // (ShadowRefresh); 0: every stale face every frame, as `local` does.
+  int64_t fill_period_ns = client::shipped::kShadowFillPeriodNs;
 };
 
 // One direction from a light on its cube (the C++ twin of cube_face.h's cube_lookup, in double).
@@ -74,6 +80,16 @@ struct ShadowTile {
   std::optional<SunMap> sun;  // a sun (directional with an angle): one orthographic tile in column 0
 };
 
+// Which of the stale faces one update() re-renders.
+struct ShadowRefresh {
+  int64_t scene_time_ns = 0;  // the frame's scene time (the MovedScene's), in integer nanoseconds
+  // 0: every stale face now (`local`'s maps, and DHR's wherever they shade whole fields). Otherwise a light's map
+  // is re-rendered once per period of scene time, light l at its own phase (l / lights of a period later than
+  // light 0), with every face that went stale since it was last rendered; in between its map stays as it was
+  // rendered, origin included (tiles()): older, and consistent with itself.
+  int64_t period_ns = 0;
+};
+
 // What one update() re-rendered.
 struct ShadowUpdate {
   uint32_t lights = 0;  // lights with at least one face re-rendered
@@ -92,7 +108,8 @@ class ShadowMaps {
   // static scene: never). The lights are moved.lights (the scene's, as the maps were rendered for). The atlas is
   // SHADER_READ_ONLY_OPTIMAL again afterwards, its writes visible to later shader reads; earlier readers of the
   // atlas (previous frames) are waited for.
-  ShadowUpdate update(VkCommandBuffer cmd, const MovedScene& moved);
+  // refresh: which stale faces (ShadowRefresh; the default: all of them).
+  ShadowUpdate update(VkCommandBuffer cmd, const MovedScene& moved, const ShadowRefresh& refresh = {});
 
   const ShadowMapSettings& settings() const { return settings_; }
   uint32_t face_size() const { return size_; }
@@ -102,6 +119,9 @@ class ShadowMaps {
   double render_ms() const { return render_ms_; }  // host time of the last render
   // Per light: the faces (bit f; a sun: bit 0) the last update() re-rendered (0 after render()).
   const std::vector<uint8_t>& updated_faces() const { return stale_; }
+  // Per light: the faces older than the last update()'s scene time that something moved in since (waiting for the
+  // light's turn: ShadowRefresh); 0 after render() and wherever every stale face was re-rendered.
+  const std::vector<uint8_t>& waiting_faces() const { return pending_; }
 
  private:
   ShadowTile tile_for(const SceneLight& light, std::optional<uint32_t> row) const;
@@ -112,6 +132,9 @@ class ShadowMaps {
                  Casters casters = Casters::kAll) const;
   void render_sun(VkCommandBuffer cmd, const ShadowTile& tile, const MovedScene* moved, Casters casters) const;
   bool drawn(uint32_t mesh, Casters casters) const;
+  bool takes_turn(size_t light, const ShadowRefresh& refresh);
+  // The atlas's rectangle that holds every face update() re-renders (stale_).
+  VkRect2D stale_area() const;
   // Copies the static atlas's faces that update() completes with the moving meshes (split_faces_) into the atlas,
   // leaving the atlas in DEPTH_ATTACHMENT_OPTIMAL. False when there are none.
   bool copy_static_faces(VkCommandBuffer cmd);
@@ -129,6 +152,8 @@ class ShadowMaps {
   std::vector<VkImageCopy> copies_;   // their regions (kept: no allocation per frame)
   std::vector<uint8_t> held_;   // per light: faces that held a moving mesh when last rendered (shadow_refresh.hpp)
   std::vector<uint8_t> stale_;  // per light: faces update() re-renders (kept: no allocation per frame)
+  std::vector<uint8_t> pending_;  // per light: faces gone stale since its map was last rendered (waiting its turn)
+  std::vector<int64_t> turn_;     // per light: the refresh period its map was last rendered in (ShadowRefresh)
   double render_ms_ = 0.0;
 };
 

@@ -22,6 +22,9 @@ inline constexpr TracedDepth kTracedDepth = TracedDepth::kSplat;
 // --edge-band (edges, edges-depth, full): a hard light's bit any traced pixel within 3 pixels of a used sample
 // disagrees on takes the shadow maps (render::WarpSettings::edge_band; docs/client.md "Warp rule").
 inline constexpr uint32_t kEdgeBand = 3;
+// --shadow-fill-period-ms: in a moving scene, while the client's shadow maps only fill the warp's unknown bits,
+// each light's map is re-rendered every 2 frames at 90 Hz, in turns (render::ShadowRefresh; docs/motion.md "Cost").
+inline constexpr int64_t kShadowFillPeriodNs = 22'222'222;
 inline constexpr RenderPath kRenderPath = RenderPath::kAuto;  // --render-path (forward_pass_for: the device decides)
 // --guard: the paper's +64x36 at 1920x1080, scaled to the eye size.
 inline GuardBand guard_band(Extent eye) { return paper_guard_band(eye); }
