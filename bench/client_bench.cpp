@@ -59,7 +59,9 @@
 // shadowmap_update_ms (GPU, per frame: both eyes share the maps), shadowmap_update_lights / _faces (medians per
 // frame), shadowmap_moving_ms = shadowmap_ms + shadowmap_update_ms / 2 (local per eye with its share of the
 // re-render); the frame loops report the same as dhr_shadow_update_ms / dhr_shadow_update_lights (their maps fill
-// the warp's undecided bits). All 0 for a static scene. dhr_paper_static_ms and dhr_deferred_ms draw it at rest.
+// the warp's undecided bits; where they only fill, the lights take turns, --shadow-fill-period-ms, so the loops also
+// give dhr_shadow_update_mean_ms / _max_ms / _mean_lights, and local shadowmap_update_mean_ms / _max_ms).
+// All 0 for a static scene. dhr_paper_static_ms and dhr_deferred_ms draw it at rest.
 // Against the cost goal: dhr_vs_forward (<= 1.3) and dhr_added_vs_shadowmap_added = (dhr_ms - forward_ms) /
 // (shadowmap_ms - forward_ms) (<= 0.5). The fixed view is the scene's first bookmark; the fixed visibility buffer
 // is the server's Embree trace for the pose one 90 Hz frame earlier (turning 60 deg/s). --lights N above the
