@@ -172,6 +172,14 @@ std::span<const VkVertexInputBindingDescription> ClientScene::vertex_bindings() 
 
 std::span<const VkVertexInputAttributeDescription> ClientScene::vertex_attributes() { return kVertexAttributes; }
 
+std::span<const VkVertexInputBindingDescription> ClientScene::position_bindings() {
+  return std::span(kVertexBindings).first(1);
+}
+
+std::span<const VkVertexInputAttributeDescription> ClientScene::position_attributes() {
+  return std::span(kVertexAttributes).first(1);
+}
+
 void ClientScene::bind_geometry(VkCommandBuffer cmd) const {
   const std::array<VkBuffer, 3> buffers = {positions_.handle(), normals_.handle(), texcoords_.handle()};
   const std::array<VkDeviceSize, 3> offsets = {0, 0, 0};

@@ -64,6 +64,9 @@ class ClientScene {
   // and binding them with the index buffer (scenes with triangles only).
   static std::span<const VkVertexInputBindingDescription> vertex_bindings();
   static std::span<const VkVertexInputAttributeDescription> vertex_attributes();
+  // The positions' stream alone (binding 0, location 0): depth-only passes (the shadow maps).
+  static std::span<const VkVertexInputBindingDescription> position_bindings();
+  static std::span<const VkVertexInputAttributeDescription> position_attributes();
   void bind_geometry(VkCommandBuffer cmd) const;
 
   const std::vector<ClientMesh>& meshes() const { return meshes_; }

@@ -109,9 +109,9 @@ ShadowMaps::ShadowMaps(const vk::Context& context, const ClientScene& scene, con
   const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::ClientGBufferPush)};
   layout_ = vk::create_pipeline_layout(device, {}, std::span(&push, 1));
   vk::GraphicsPipelineDesc desc;
-  desc.vertex = &vk::find_spirv(dhr_shaders_client_modules(), "gbuffer.vert");
-  desc.vertex_bindings = ClientScene::vertex_bindings();
-  desc.vertex_attributes = ClientScene::vertex_attributes();
+  desc.vertex = &vk::find_spirv(dhr_shaders_client_modules(), "shadow_depth.vert");
+  desc.vertex_bindings = ClientScene::position_bindings();
+  desc.vertex_attributes = ClientScene::position_attributes();
   desc.depth_format = VK_FORMAT_D32_SFLOAT;
   desc.depth_compare = VK_COMPARE_OP_GREATER;
   desc.cull_mode = VK_CULL_MODE_NONE;  // shadow rays hit either side
