@@ -99,6 +99,17 @@ set -e
 [ "$rc" -eq 2 ] || { cat "$tmp/badband.err"; echo "FAIL: --edge-band 9 exit $rc, expected 2"; exit 1; }
 grep -q -- "--edge-band" "$tmp/badband.err" || { cat "$tmp/badband.err"; echo "FAIL: no --edge-band message"; exit 1; }
 run_client noband --warp edges --edge-band 0 || { tail -n 20 "$tmp/noband.err"; echo "FAIL: --edge-band 0 run"; exit 1; }
+# --shadow-fill-period-ms: negative or not a number is a usage error naming the option, exit 2.
+for bad in -1 nan; do
+  set +e
+  "$client_exe" --scene "$scene" --server "127.0.0.1:$port" --key-file "$key_file" --shadow-fill-period-ms "$bad" \
+    >/dev/null 2>"$tmp/badperiod.err"
+  rc=$?
+  set -e
+  [ "$rc" -eq 2 ] || { cat "$tmp/badperiod.err"; echo "FAIL: --shadow-fill-period-ms $bad exit $rc, expected 2"; exit 1; }
+  grep -q -- "--shadow-fill-period-ms" "$tmp/badperiod.err" ||
+    { cat "$tmp/badperiod.err"; echo "FAIL: no --shadow-fill-period-ms message"; exit 1; }
+done
 # --traced-depth: raster or splat only (exit 2 naming the option); splat makes the depth test's traced depth from
 # the previous frame (from the second frame with a buffer on), without a raster pass.
 set +e
