@@ -35,7 +35,7 @@ ShadowUpdate update_at(vk::Context& ctx, const ClientScene& gpu, ShadowMaps& map
   MovedScene moved;
   gpu.motion().sample(scene_seconds(t), gpu.meshes(), moved);
   ShadowUpdate out;
-  ctx.submit_and_wait([&](VkCommandBuffer cmd) { out = maps.update(cmd, moved, ShadowRefresh{t, period}); });
+  ctx.submit_and_wait([&](VkCommandBuffer cmd) { out = maps.update(cmd, moved, ShadowRefresh{t, period, false}); });
   return out;
 }
 
@@ -110,7 +110,7 @@ TEST_F(ClientShadowTurnsTest, AtItsTurnALightsMapIsTheEveryFrameMap) {
 
 // The pipeline takes turns while both eyes show visibility traced for the scene time shown (a second frame within
 // C's period re-renders nothing of it); an eye without visibility, or with visibility traced for another scene time,
-// makes it re-render every stale face (the maps then shade what moved).
+// makes it re-render every stale face (the maps then shade what moved), and the turns go on from there.
 TEST_F(ClientShadowTurnsTest, StereoPipelineTakesTurnsOnlyWhileTheMapsOnlyFill) {
   const Scene scene = moving_scene();
   const ClientScene gpu(ctx(), scene);
@@ -140,6 +140,8 @@ TEST_F(ClientShadowTurnsTest, StereoPipelineTakesTurnsOnlyWhileTheMapsOnlyFill) 
   EXPECT_EQ(frame(6 * kMs, {6 * kMs, 6 * kMs}, true).lights, 0u) << "no light's turn yet";
   EXPECT_EQ(frame(7 * kMs, {7 * kMs, 6 * kMs}, true).lights, 2u) << "eye 1 shows visibility of another time";
   EXPECT_EQ(frame(8 * kMs, {8 * kMs, 8 * kMs}, false).lights, 2u) << "no visibility: the maps shade everything";
+  EXPECT_EQ(frame(9 * kMs, {9 * kMs, 9 * kMs}, true).lights, 0u) << "the turns go on from the last frame's";
+  EXPECT_EQ(frame(10 * kMs, {10 * kMs, 10 * kMs}, true).lights, 1u) << "C's turn (phase 20 ms of 30)";
 }
 
 }  // namespace

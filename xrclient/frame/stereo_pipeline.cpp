@@ -61,7 +61,7 @@ void StereoPipeline::record(VkCommandBuffer cmd, uint32_t slot, const StereoInpu
       for (const VisibilityInput& v : inputs.visibility) {
         fills_only = fills_only && v.buffer != nullptr && v.scene_time_ns == inputs.scene_time_ns;
       }
-      const render::ShadowRefresh refresh{inputs.scene_time_ns, fills_only ? shadow_settings_.fill_period_ns : 0};
+      const render::ShadowRefresh refresh{inputs.scene_time_ns, shadow_settings_.fill_period_ns, !fills_only};
       s.timestamps.reset(cmd);
       s.timestamps.write(cmd, 0);
       s.update = maps->update(cmd, moved_, refresh);

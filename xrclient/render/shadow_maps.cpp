@@ -213,7 +213,7 @@ void ShadowMaps::render(std::span<const SceneLight> lights) {
 }
 
 // Whether light l's map takes its turn now: the period of scene time (at the light's phase) it falls in differs
-// from the one it was last rendered in. Every time, without a period.
+// from the one it was last rendered in. Every time without a period, and when told to (all_now).
 bool ShadowMaps::takes_turn(size_t l, const ShadowRefresh& refresh) {
   if (refresh.period_ns <= 0) {
     turn_[l] = std::numeric_limits<int64_t>::min();  // the next staggered update re-renders what is pending
@@ -222,7 +222,7 @@ bool ShadowMaps::takes_turn(size_t l, const ShadowRefresh& refresh) {
   const int64_t phase = refresh.period_ns / static_cast<int64_t>(tiles_.size()) * static_cast<int64_t>(l);
   const int64_t t = refresh.scene_time_ns + phase;
   const int64_t turn = t / refresh.period_ns - (t % refresh.period_ns < 0 ? 1 : 0);  // floor
-  if (turn == turn_[l]) return false;
+  if (turn == turn_[l] && !refresh.all_now) return false;
   turn_[l] = turn;
   return true;
 }

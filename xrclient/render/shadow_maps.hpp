@@ -88,6 +88,9 @@ struct ShadowRefresh {
   // light 0), with every face that went stale since it was last rendered; in between its map stays as it was
   // rendered, origin included (tiles()): older, and consistent with itself.
   int64_t period_ns = 0;
+  // Every stale face now, whatever the period (the maps shade more than fills this frame); the lights' turns go on
+  // from this time as if each had just taken its turn.
+  bool all_now = false;
 };
 
 // What one update() re-rendered.
