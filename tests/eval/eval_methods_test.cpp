@@ -117,6 +117,29 @@ TEST(EvalCliMethodsTest, DefaultIsWhatShips) {
   fs::remove_all(out);
 }
 
+// In a moving scene each setting re-renders its own shadow maps (which faces, and when, depend on what its frames
+// show: DHR's take turns where they only fill, `local`'s re-render every stale face each frame): `default` gives the
+// same row beside `local` as alone, as a client's would.
+TEST(EvalCliMethodsTest, EachSettingHasItsOwnShadowMapsInAMovingScene) {
+  const std::string scene = std::string(DHR_SHARED_DATA_DIR) + "/scenes/living_room_moving.glb";
+  if (!fs::exists(scene)) GTEST_SKIP() << scene << " is absent (../shared/data)";
+  const fs::path alone = temp_dir("moving_alone"), beside = temp_dir("moving_beside");
+  const CliRun a = run_small(alone, " --frames 8 --rtt-ms 100 --method default", scene);
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const CliRun b = run_small(beside, " --frames 8 --rtt-ms 100 --method local,default", scene);
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  json x = by_setting(read_results(alone)).at("default@100"), y = by_setting(read_results(beside)).at("default@100");
+  for (const char* host : {"client_ms", "server_ms", "encode_ms", "decode_ms", "client_gpu_timed", "warp_ms",
+                           "traced_depth_ms", "connect_ms"}) {
+    x.erase(host);
+    y.erase(host);
+  }
+  EXPECT_GT(x["bit_error"].get<double>(), 0.0);
+  EXPECT_EQ(x, y);
+  fs::remove_all(alone);
+  fs::remove_all(beside);
+}
+
 // --warp auto (what ships) in a scene with a light that has an extent: the depth test against the splatted traced
 // depth, as `--warp edges-depth --traced-depth splat` (its traced depth is timed); in the hard-lit room above, none.
 TEST(EvalCliMethodsTest, DefaultTestsDepthWhereLightsHaveAnExtent) {
