@@ -160,7 +160,7 @@ class ShadowMaps {
   double render_ms_ = 0.0;
 };
 
-// CPU reference of the warp's shadow lookup (double, on a read-back atlas).
+// CPU reference of the warp's shadow lookup (double, on a read-back atlas; render/shadow_lookup_reference.cpp).
 struct ShadowReference {
   std::span<const float> atlas;  // (6 * face_size) x (rows * face_size), row-major
   uint32_t face_size = 0;
