@@ -74,7 +74,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <numeric>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -385,9 +384,8 @@ int run(const Options& o) {
     out["shadowmap_update_ms"] = kept(update_ms);
     const std::vector<double> kept_ms(update_ms.begin() + std::min<size_t>(update_ms.size(), o.warmup),
                                       update_ms.end());
-    const double sum_ms = std::accumulate(kept_ms.begin(), kept_ms.end(), 0.0);
-    out["shadowmap_update_mean_ms"] = kept_ms.empty() ? 0.0 : sum_ms / static_cast<double>(kept_ms.size());
-    out["shadowmap_update_max_ms"] = kept_ms.empty() ? 0.0 : *std::max_element(kept_ms.begin(), kept_ms.end());
+    out["shadowmap_update_mean_ms"] = mean(kept_ms, 0.0);
+    out["shadowmap_update_max_ms"] = largest(kept_ms, 0.0);
     out["shadowmap_update_lights"] = kept(update_lights);
     out["shadowmap_update_faces"] = kept(update_faces);
     out["shadowmap_moving_ms"] = out["shadowmap_ms"].get<double>() + kept(update_ms) / 2.0;

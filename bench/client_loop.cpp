@@ -9,10 +9,8 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 
 namespace dhr::bench {
@@ -117,13 +115,9 @@ void ClientLoop::report(nlohmann::ordered_json& out) const {
   out[name_ + "_shadow_update_ms"] = median(shadow_update_ms_, std::nan(""));
   out[name_ + "_shadow_update_lights"] = median(shadow_update_lights_, std::nan(""));
   // Mean and largest: where the maps only fill, the lights take turns (render::ShadowRefresh), so frames differ.
-  const auto mean = [](const std::vector<double>& v) {
-    return v.empty() ? std::nan("") : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-  };
-  out[name_ + "_shadow_update_mean_ms"] = mean(shadow_update_ms_);
-  out[name_ + "_shadow_update_max_ms"] =
-      shadow_update_ms_.empty() ? std::nan("") : *std::max_element(shadow_update_ms_.begin(), shadow_update_ms_.end());
-  out[name_ + "_shadow_update_mean_lights"] = mean(shadow_update_lights_);
+  out[name_ + "_shadow_update_mean_ms"] = mean(shadow_update_ms_, std::nan(""));
+  out[name_ + "_shadow_update_max_ms"] = largest(shadow_update_ms_, std::nan(""));
+  out[name_ + "_shadow_update_mean_lights"] = mean(shadow_update_lights_, std::nan(""));
   // Where the maps are looked up only for those pixels (with shadow_first they are looked up nearly everywhere).
   if (warp_.is_server_edges()) out[name_ + "_shadow_frac"] = median(shadow_frac_, std::nan(""));
 }
