@@ -8,6 +8,9 @@
 #include <glm/mat3x3.hpp>
 
 #include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -69,12 +72,26 @@ float frustum_corner(const Camera& camera) {
       std::sqrt(std::max(t.left * t.left, t.right * t.right) + std::max(t.up * t.up, t.down * t.down) + 1.0));
 }
 
+// The region `frame` sees: its frustum's four sides through the eye and its near plane (dot((x, 1)) >= 0 inside).
+std::vector<glm::vec4> frustum_now(const FrameSetup& frame) {
+  const Tangents& t = frame.camera->tangents;
+  const glm::dmat3 R = frame.world_from_eye;
+  auto through_eye = [&](const glm::dvec3& n) {
+    const glm::vec3 nf(n);
+    return glm::vec4(nf, -glm::dot(nf, frame.eye));
+  };
+  // x = eye + d, c = R^T d, w = -c.z: tx = c.x / w between left and right, ty = c.y / w between down and up.
+  const glm::vec3 w(frame.ray_forward);
+  return {through_eye(R[0] + t.left * R[2]), through_eye(-R[0] - t.right * R[2]), through_eye(-R[1] - t.up * R[2]),
+          through_eye(R[1] + t.down * R[2]),
+          glm::vec4(w, -glm::dot(w, frame.eye) - static_cast<float>(frame.primary_near))};
+}
+
 // Whether some triangle lies beyond `frame`'s near plane inside its frustum but was nearer than the near plane in
 // `previous`. Such a point has depth_now < (near + eye move) / (1 - turn x corner) (turn: the angle between the view
 // axes, corner: the frustum's corner ray length at unit depth), which bounds the point query; a turn that large
 // (turn x corner >= 1/2) counts as crossing.
 bool near_plane_crossing(const EmbreeScene& scene, const FrameSetup& frame, const ReuseFrame& previous) {
-  const Tangents& t = frame.camera->tangents;
   const float corner = frustum_corner(*frame.camera);
   const glm::vec3 w_now = glm::vec3(frame.ray_forward), w_then = previous.projection.w;
   const float turn = std::acos(std::clamp(glm::dot(w_now, w_then), -1.0f, 1.0f));
@@ -83,18 +100,36 @@ bool near_plane_crossing(const EmbreeScene& scene, const FrameSetup& frame, cons
   const glm::vec3 eye_then = previous.projection.eye;
   const float moved = glm::length(frame.eye - eye_then);
   const float radius = corner * (near + moved) / (1.0f - turn * corner);
-  // x = eye + d: the frustum's sides (tx between left and right, ty between down and up, with c = R^T d, w = -c.z),
-  // beyond the near plane now, at or nearer than it then.
-  const glm::dmat3 R = frame.world_from_eye;
-  auto through_eye = [&](const glm::dvec3& n) {
-    const glm::vec3 nf(n);
-    return glm::vec4(nf, -glm::dot(nf, frame.eye));
-  };
-  const std::vector<glm::vec4> planes{
-      through_eye(R[0] + t.left * R[2]), through_eye(-R[0] - t.right * R[2]), through_eye(-R[1] - t.up * R[2]),
-      through_eye(R[1] + t.down * R[2]), glm::vec4(w_now, -glm::dot(w_now, frame.eye) - near),
-      glm::vec4(-w_then, glm::dot(w_then, eye_then) + near)};
+  // Beyond the near plane now, inside this frustum, at or nearer than the near plane then.
+  std::vector<glm::vec4> planes = frustum_now(frame);
+  planes.push_back(glm::vec4(-w_then, glm::dot(w_then, eye_then) + near));
   return scene.geometry_within(frame.eye, radius, planes);
+}
+
+// Per side of `previous`'s image (ReuseSide), the distance from either eye to the nearest geometry that this
+// frame sees (frustum_now) and that lies beyond that side of `previous`'s frustum (outside the plane through its
+// eye and that side's corner rays), at most kUnseenSearch. Only such geometry enters this image from beyond that
+// side: what `previous` saw is in its pixels, what lay nearer than its near plane is near_plane_crossing's.
+std::array<float, 4> unseen_distances(const EmbreeScene& scene, const FrameSetup& frame, const ReuseFrame& previous) {
+  const glm::vec3 eyes[2] = {frame.eye, previous.projection.eye};
+  std::vector<glm::vec4> region = frustum_now(frame);
+  region.emplace_back();
+  const Camera& cam = previous.camera;
+  const double W = cam.extent.width, H = cam.extent.height;
+  const glm::dvec3 centre = cam.world_ray(W / 2.0, H / 2.0);
+  const glm::dvec2 corners[4][2] = {{{0, 0}, {0, H}}, {{W, 0}, {W, H}}, {{0, 0}, {W, 0}}, {{0, H}, {W, H}}};
+  std::array<float, 4> out{};
+  for (uint32_t side = 0; side < 4; ++side) {
+    glm::dvec3 n = glm::normalize(glm::cross(cam.world_ray(corners[side][0].x, corners[side][0].y),
+                                             cam.world_ray(corners[side][1].x, corners[side][1].y)));
+    if (glm::dot(n, centre) > 0.0) n = -n;  // toward the outside of the frustum
+    const glm::vec3 nf(n);
+    region.back() = glm::vec4(nf, -glm::dot(nf, eyes[1]));
+    float d = kUnseenSearch;
+    for (const glm::vec3& eye : eyes) d = std::min(d, scene.nearest_distance(eye, d, region));
+    out[side] = d;
+  }
+  return out;
 }
 
 }  // namespace
@@ -172,11 +207,15 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
       setup.columns.assign(frame.ray_columns.begin(), frame.ray_columns.end());
       setup.rows.assign(frame.ray_rows.begin(), frame.ray_rows.end());
       setup.forward = glm::vec3(frame.ray_forward);
-      // Geometry no pixel saw is at least as far from the eyes as the nearest triangle: what enters from beyond
-      // the border is at that depth or deeper (over the corner ray's length), not at the near plane.
-      const float nearest = std::min(scene.nearest_distance(frame.eye, kUnseenSearch),
-                                     scene.nearest_distance(setup.previous->projection.eye, kUnseenSearch));
-      setup.eye_motion.unseen_depth = std::max(setup.eye_motion.unseen_depth, nearest / frustum_corner(*frame.camera));
+      // Geometry no pixel saw enters from beyond a side of the previous frustum: it is at least as far from the
+      // eyes as the nearest triangle beyond that side, so at that depth or deeper (over the corner ray's length).
+      auto t0 = std::chrono::steady_clock::now();
+      const std::array<float, 4> beyond = unseen_distances(scene, frame, *setup.previous);
+      static double acc = 0; static int cnt = 0; acc += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(); ++cnt;
+      if (cnt % 20 == 0) fprintf(stderr, "unseen ms %.3f  %.3f %.3f %.3f %.3f\n", acc / cnt, double(beyond[0]), double(beyond[1]), double(beyond[2]), double(beyond[3]));
+      for (uint32_t side = 0; side < 4; ++side)
+        setup.eye_motion.unseen_depth[side] =
+            std::max(setup.eye_motion.unseen_depth[side], beyond[side] / frustum_corner(*frame.camera));
       if (near_plane_crossing(scene, frame, *setup.previous)) {        setup.previous = nullptr;
         setup.near_geometry = true;
       }

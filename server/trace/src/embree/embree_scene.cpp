@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -16,6 +17,23 @@
 
 namespace dhr::server {
 namespace {
+
+// EmbreeMesh::chunk_bounds from its positions and indices.
+void update_chunk_bounds(EmbreeMesh& mesh) {
+  const size_t triangles = mesh.indices.size() / 3;
+  const size_t chunks = (triangles + kEmbreeChunkTriangles - 1) / kEmbreeChunkTriangles;
+  mesh.chunk_bounds.resize(2 * chunks);
+  for (size_t c = 0; c < chunks; ++c) {
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    const size_t end = std::min(triangles, (c + 1) * kEmbreeChunkTriangles) * 3;
+    for (size_t i = c * kEmbreeChunkTriangles * 3; i < end; ++i) {
+      lo = glm::min(lo, mesh.positions[mesh.indices[i]]);
+      hi = glm::max(hi, mesh.positions[mesh.indices[i]]);
+    }
+    mesh.chunk_bounds[2 * c] = lo;
+    mesh.chunk_bounds[2 * c + 1] = hi;
+  }
+}
 
 void on_embree_error(void* /*user*/, RTCError code, const char* message) {
   log::error("embree: error %d: %s", static_cast<int>(code), message ? message : "");
@@ -112,6 +130,7 @@ std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const Embre
     dst.normals = src.normals;
     if (dst.normals.size() != src.positions.size()) dst.normals.assign(src.positions.size(), glm::vec3(0.0f));
     dst.indices.assign(src.indices.begin(), src.indices.begin() + static_cast<std::ptrdiff_t>(tri_count * 3));
+    update_chunk_bounds(dst);
 
     RTCGeometry geom = rtcNewGeometry(es->device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, dst.positions.data(), 0,
@@ -184,22 +203,32 @@ float triangle_distance2(const glm::vec3& p, const glm::vec3& a, const glm::vec3
   return std::min({segment_distance2(p, a, b), segment_distance2(p, b, c), segment_distance2(p, c, a)});
 }
 
-// Whether triangle (a, b, c) keeps a point after clipping by every plane (Sutherland-Hodgman).
-bool triangle_meets(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const std::vector<glm::vec4>& planes) {
-  std::vector<glm::vec3> poly{a, b, c}, next;
+// Triangle (a, b, c) clipped by the convex region where every plane's dot((x, 1)) >= 0 (Sutherland-Hodgman): the
+// polygon's vertices in `out` (each plane adds at most one), their count returned (0: nothing of it there; a
+// triangle touching the region keeps a point).
+constexpr size_t kMaxClipPlanes = 6;
+using ClippedPolygon = std::array<glm::vec3, 3 + kMaxClipPlanes>;
+size_t clip_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const std::vector<glm::vec4>& planes,
+                     ClippedPolygon& out) {
+  ClippedPolygon next;
+  out[0] = a;
+  out[1] = b;
+  out[2] = c;
+  size_t n = 3;
   for (const glm::vec4& plane : planes) {
-    next.clear();
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const glm::vec3& p = poly[i];
-      const glm::vec3& q = poly[(i + 1) % poly.size()];
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const glm::vec3& p = out[i];
+      const glm::vec3& q = out[(i + 1) % n];
       const float dp = glm::dot(glm::vec3(plane), p) + plane.w, dq = glm::dot(glm::vec3(plane), q) + plane.w;
-      if (dp >= 0.0f) next.push_back(p);
-      if ((dp >= 0.0f) != (dq >= 0.0f)) next.push_back(p + (q - p) * (dp / (dp - dq)));
+      if (dp >= 0.0f) next[m++] = p;
+      if ((dp >= 0.0f) != (dq >= 0.0f)) next[m++] = p + (q - p) * (dp / (dp - dq));
     }
-    poly.swap(next);
-    if (poly.empty()) return false;
+    n = m;
+    std::copy_n(next.begin(), n, out.begin());
+    if (n == 0) return 0;
   }
-  return true;
+  return n;
 }
 
 // One point query over `scene`: `visit` is called with the query and each candidate triangle's vertices (it may
@@ -231,21 +260,75 @@ float run_point_query(RTCScene scene, const glm::vec3& center, float radius, con
 
 }  // namespace
 
-float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius) const {
-  const PointVisit visit{&meshes_, [&](RTCPointQuery& q, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
-                           const float d = std::sqrt(triangle_distance2(center, a, b, c));
-                           if (!(d < q.radius)) return false;
-                           q.radius = d;  // shrinks the search to what is nearer
-                           return true;
-                         }};
-  return run_point_query(scene_, center, max_radius, visit);
+float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius,
+                                    const std::vector<glm::vec4>& planes) const {
+  if (planes.size() > kMaxClipPlanes) throw std::invalid_argument("nearest_distance: more than 6 planes");
+  if (planes.empty()) {
+    const PointVisit visit{&meshes_, [&](RTCPointQuery& q, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+                             const float d = std::sqrt(triangle_distance2(center, a, b, c));
+                             if (!(d < q.radius)) return false;
+                             q.radius = d;  // shrinks the search to what is nearer
+                             return true;
+                           }};
+    return run_point_query(scene_, center, max_radius, visit);
+  }
+  // Embree's query cannot skip what lies outside the planes (it would visit every triangle within the radius
+  // there): the chunks' boxes instead, nearest first, each box's distance a bound on its triangles'.
+  struct Candidate {
+    float distance2;
+    uint32_t mesh;
+    uint32_t chunk;
+  };
+  std::vector<Candidate> candidates;
+  for (uint32_t m = 0; m < meshes_.size(); ++m) {
+    const std::vector<glm::vec3>& bounds = meshes_[m].chunk_bounds;
+    for (uint32_t c = 0; 2 * c < bounds.size(); ++c) {
+      const glm::vec3& lo = bounds[2 * c];
+      const glm::vec3& hi = bounds[2 * c + 1];
+      bool outside = false;  // wholly on the negative side of a plane: its corner furthest along the normal is
+      for (const glm::vec4& plane : planes) {
+        const glm::vec3 corner(plane.x >= 0.0f ? hi.x : lo.x, plane.y >= 0.0f ? hi.y : lo.y,
+                               plane.z >= 0.0f ? hi.z : lo.z);
+        if (glm::dot(glm::vec3(plane), corner) + plane.w < 0.0f) {
+          outside = true;
+          break;
+        }
+      }
+      if (outside) continue;
+      const glm::vec3 d = glm::max(glm::max(lo - center, center - hi), glm::vec3(0.0f));
+      const float d2 = glm::dot(d, d);
+      if (d2 < max_radius * max_radius) candidates.push_back({d2, m, c});
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.distance2 < b.distance2; });
+  float best2 = max_radius * max_radius;
+  for (const Candidate& cand : candidates) {
+    if (!(cand.distance2 < best2)) break;
+    const EmbreeMesh& mesh = meshes_[cand.mesh];
+    const size_t end = std::min(mesh.indices.size(), (cand.chunk + 1) * kEmbreeChunkTriangles * 3);
+    for (size_t i = cand.chunk * kEmbreeChunkTriangles * 3; i < end; i += 3) {
+      const glm::vec3& a = mesh.positions[mesh.indices[i]];
+      const glm::vec3& b = mesh.positions[mesh.indices[i + 1]];
+      const glm::vec3& c = mesh.positions[mesh.indices[i + 2]];
+      if (!(triangle_distance2(center, a, b, c) < best2)) continue;  // the clipped part is no nearer
+      ClippedPolygon poly;
+      const size_t n = clip_triangle(a, b, c, planes, poly);
+      // A fan over the polygon, and its outline (a degenerate polygon has no fan).
+      for (size_t k = 1; k + 1 < n; ++k) best2 = std::min(best2, triangle_distance2(center, poly[0], poly[k], poly[k + 1]));
+      for (size_t k = 0; k < n; ++k) best2 = std::min(best2, segment_distance2(center, poly[k], poly[(k + 1) % n]));
+    }
+  }
+  return std::sqrt(best2);
 }
 
 bool EmbreeScene::geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes) const {
+  if (planes.size() > kMaxClipPlanes) throw std::invalid_argument("geometry_within: more than 6 planes");
   bool found = false;
   const PointVisit visit{&meshes_, [&](RTCPointQuery& q, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+                           ClippedPolygon poly;
                            if (!(triangle_distance2(center, a, b, c) <= q.radius * q.radius) ||
-                               !triangle_meets(a, b, c, planes))
+                               clip_triangle(a, b, c, planes, poly) == 0)
                              return false;
                            found = true;
                            q.radius = 0.0f;  // found: nothing more to look for
@@ -283,6 +366,7 @@ void EmbreeScene::set_scene_time(const Scene& scene, double t, const NodeOverrid
       dst.positions[i] = glm::vec3(glm::dvec3(moved_position(motion, mm->rest_positions[i])) - origin_);
       dst.normals[i] = moved_normal(nm, mm->rest_normals[i]);
     }
+    update_chunk_bounds(dst);
     rtcUpdateGeometryBuffer(mm->geometry, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcCommitGeometry(mm->geometry);
     ++moved;

@@ -54,8 +54,8 @@ bool find_traced_pixel(const ReuseFrame& frame, const ReuseProjection& now, cons
 }
 
 // Whether traced pixel (x, y) is clear of every discontinuity by `pixels` plus how far anything in front of it can
-// slide over it (ReuseFrame::near and reuse_motion), and of the image border by `pixels` plus what unseen geometry
-// (at ReuseMotion::unseen_depth) could move.
+// slide over it (ReuseFrame::near and reuse_motion), and of each side of the image by `pixels` plus what unseen
+// geometry beyond that side (at ReuseMotion::unseen_depth) could move.
 bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const ReuseMotion& motion) {
   const size_t i = static_cast<size_t>(y) * frame.camera.extent.width + static_cast<size_t>(x);
   const float depth = glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
@@ -68,9 +68,12 @@ bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const R
     if (!(nd > 1e-4f)) return std::numeric_limits<float>::max();
     return motion.scale * std::max(0.0f, 1.0f / nd - far_inverse) + 1.0f;
   };
-  const float border = static_cast<float>(std::min(std::min(x, y), std::min(static_cast<int>(frame.camera.extent.width) - 1 - x,
-                                                                         static_cast<int>(frame.camera.extent.height) - 1 - y)));
-  if (!(border >= pixels + parallax(motion.unseen_depth))) return false;
+  // Each side of the image against what lies beyond it (a point beyond one side of the frame's frustum was at
+  // least this far from the pixel in the frame's image).
+  const int W = static_cast<int>(frame.camera.extent.width), H = static_cast<int>(frame.camera.extent.height);
+  const int border[4] = {x, W - 1 - x, y, H - 1 - y};
+  for (uint32_t side = 0; side < 4; ++side)
+    if (!(static_cast<float>(border[side]) >= pixels + parallax(motion.unseen_depth[side]))) return false;
   float within = 0.0f;  // pixels: what lies beyond one radius must not reach the one below
   for (uint32_t k = 0; k < kNearLevels; ++k) {
     const uint32_t r = kNearRadius[k];

@@ -50,8 +50,12 @@ struct EmbreeMesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;    // world space unit normals, one per vertex (a moving mesh: at the scene time)
   std::vector<uint32_t> indices;
+  // Per run of kEmbreeChunkTriangles consecutive triangles, the box of their vertices (lo, then hi; a moving mesh:
+  // at the scene time): what nearest_distance with planes looks through instead of the BVH.
+  std::vector<glm::vec3> chunk_bounds;
   bool double_sided = false;
 };
+inline constexpr size_t kEmbreeChunkTriangles = 32;
 
 // What the last scene-time update did (EmbreeScene::set_scene_time).
 struct MotionStats {
@@ -106,10 +110,13 @@ class EmbreeScene {
   bool occluded(const glm::vec3& origin, const glm::vec3& dir, float tfar) const;
   // Whether any triangle comes within `radius` of `center` (relative frame) and, with `planes`, meets the convex
   // region where every plane's dot((x, 1)) >= 0: an Embree point query with the exact point-triangle distance,
-  // then each such triangle clipped by the planes (touching counts as meeting).
+  // then each such triangle clipped by the planes (touching counts as meeting; at most 6 planes, more throw
+  // std::invalid_argument).
   bool geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes = {}) const;
-  // The distance from `center` to the nearest triangle, or `max_radius` when none is nearer.
-  float nearest_distance(const glm::vec3& center, float max_radius) const;
+  // The distance from `center` to the nearest triangle, or `max_radius` when none is nearer; with `planes`, to the
+  // nearest part of a triangle in the convex region where every plane's dot((x, 1)) >= 0 (each triangle clipped
+  // by them; at most 6 planes, more throw std::invalid_argument).
+  float nearest_distance(const glm::vec3& center, float max_radius, const std::vector<glm::vec4>& planes = {}) const;
 
  private:
   EmbreeScene() = default;

@@ -29,6 +29,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -228,10 +229,14 @@ ReuseAnswer reuse_answer(const ReuseFrame& frame, const ReuseCorners& corners, u
 struct ReuseMotion {
   float scale = 0.0f;  // pixel-metres
   float shift = 0.0f;  // metres
-  // The nearest depth at which geometry no pixel of the frame saw can enter the image from beyond its border:
-  // the near plane, or more when the caller knows nothing is that near the eyes (the tracer's point query).
-  float unseen_depth = static_cast<float>(kClipNearPlane);
+  // Per side of the frame's image (kReuseLeft, kReuseRight, kReuseTop, kReuseBottom: pixel column 0, column
+  // width, row 0, row height), the nearest depth at which geometry no pixel of the frame saw can enter the image
+  // from beyond that side: the near plane, or more when the caller knows nothing beyond that side of the frame's
+  // frustum is that near the eyes (the tracer's point queries).
+  std::array<float, 4> unseen_depth{static_cast<float>(kClipNearPlane), static_cast<float>(kClipNearPlane),
+                                    static_cast<float>(kClipNearPlane), static_cast<float>(kClipNearPlane)};
 };
+enum ReuseSide : uint32_t { kReuseLeft = 0, kReuseRight = 1, kReuseTop = 2, kReuseBottom = 3 };
 ReuseMotion reuse_motion(const ReuseFrame& frame, const ReuseProjection& now);
 
 // A pixel taken whole (rule 1).
