@@ -9,8 +9,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
-#include <cstdio>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -209,10 +207,7 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
       setup.forward = glm::vec3(frame.ray_forward);
       // Geometry no pixel saw enters from beyond a side of the previous frustum: it is at least as far from the
       // eyes as the nearest triangle beyond that side, so at that depth or deeper (over the corner ray's length).
-      auto t0 = std::chrono::steady_clock::now();
       const std::array<float, 4> beyond = unseen_distances(scene, frame, *setup.previous);
-      static double acc = 0; static int cnt = 0; acc += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(); ++cnt;
-      if (cnt % 20 == 0) fprintf(stderr, "unseen ms %.3f  %.3f %.3f %.3f %.3f\n", acc / cnt, double(beyond[0]), double(beyond[1]), double(beyond[2]), double(beyond[3]));
       for (uint32_t side = 0; side < 4; ++side)
         setup.eye_motion.unseen_depth[side] =
             std::max(setup.eye_motion.unseen_depth[side], beyond[side] / frustum_corner(*frame.camera));

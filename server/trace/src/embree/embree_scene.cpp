@@ -18,7 +18,7 @@
 namespace dhr::server {
 namespace {
 
-// EmbreeMesh::chunk_bounds from its positions and indices.
+// EmbreeMesh::chunk_bounds and bounds from its positions and indices.
 void update_chunk_bounds(EmbreeMesh& mesh) {
   const size_t triangles = mesh.indices.size() / 3;
   const size_t chunks = (triangles + kEmbreeChunkTriangles - 1) / kEmbreeChunkTriangles;
@@ -32,6 +32,8 @@ void update_chunk_bounds(EmbreeMesh& mesh) {
     }
     mesh.chunk_bounds[2 * c] = lo;
     mesh.chunk_bounds[2 * c + 1] = hi;
+    mesh.bounds[0] = c == 0 ? lo : glm::min(mesh.bounds[0], lo);
+    mesh.bounds[1] = c == 0 ? hi : glm::max(mesh.bounds[1], hi);
   }
 }
 
@@ -279,25 +281,23 @@ float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius,
     uint32_t mesh;
     uint32_t chunk;
   };
+  // A box that may hold part of the region within the radius: its squared distance, else -1.
+  auto box_distance2 = [&](const glm::vec3& lo, const glm::vec3& hi) {
+    for (const glm::vec4& plane : planes) {  // wholly outside a plane: even its corner furthest along the normal
+      const glm::vec3 corner(plane.x >= 0.0f ? hi.x : lo.x, plane.y >= 0.0f ? hi.y : lo.y, plane.z >= 0.0f ? hi.z : lo.z);
+      if (glm::dot(glm::vec3(plane), corner) + plane.w < 0.0f) return -1.0f;
+    }
+    const glm::vec3 d = glm::max(glm::max(lo - center, center - hi), glm::vec3(0.0f));
+    const float d2 = glm::dot(d, d);
+    return d2 < max_radius * max_radius ? d2 : -1.0f;
+  };
   std::vector<Candidate> candidates;
   for (uint32_t m = 0; m < meshes_.size(); ++m) {
     const std::vector<glm::vec3>& bounds = meshes_[m].chunk_bounds;
+    if (bounds.empty() || box_distance2(meshes_[m].bounds[0], meshes_[m].bounds[1]) < 0.0f) continue;
     for (uint32_t c = 0; 2 * c < bounds.size(); ++c) {
-      const glm::vec3& lo = bounds[2 * c];
-      const glm::vec3& hi = bounds[2 * c + 1];
-      bool outside = false;  // wholly on the negative side of a plane: its corner furthest along the normal is
-      for (const glm::vec4& plane : planes) {
-        const glm::vec3 corner(plane.x >= 0.0f ? hi.x : lo.x, plane.y >= 0.0f ? hi.y : lo.y,
-                               plane.z >= 0.0f ? hi.z : lo.z);
-        if (glm::dot(glm::vec3(plane), corner) + plane.w < 0.0f) {
-          outside = true;
-          break;
-        }
-      }
-      if (outside) continue;
-      const glm::vec3 d = glm::max(glm::max(lo - center, center - hi), glm::vec3(0.0f));
-      const float d2 = glm::dot(d, d);
-      if (d2 < max_radius * max_radius) candidates.push_back({d2, m, c});
+      const float d2 = box_distance2(bounds[2 * c], bounds[2 * c + 1]);
+      if (d2 >= 0.0f) candidates.push_back({d2, m, c});
     }
   }
   std::sort(candidates.begin(), candidates.end(),

@@ -53,6 +53,7 @@ struct EmbreeMesh {
   // Per run of kEmbreeChunkTriangles consecutive triangles, the box of their vertices (lo, then hi; a moving mesh:
   // at the scene time): what nearest_distance with planes looks through instead of the BVH.
   std::vector<glm::vec3> chunk_bounds;
+  glm::vec3 bounds[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};  // the chunks' box (lo, hi)
   bool double_sided = false;
 };
 inline constexpr size_t kEmbreeChunkTriangles = 32;
