@@ -68,6 +68,7 @@ void ReuseFrame::reset(const Camera& cam, const glm::vec3& eye, uint32_t light_c
   edge_distance.clear();
   cell_mesh.resize(static_cast<size_t>(cells_x) * cells_y);
   cell_depth.resize(static_cast<size_t>(cells_x) * cells_y);
+  cell_surface_depth.resize(static_cast<size_t>(cells_x) * cells_y);
   light_state.clear();
   moving_boxes.clear();
   region.clear();  // the tracer sizes it when its scene has light slots

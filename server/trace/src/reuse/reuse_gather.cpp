@@ -74,6 +74,8 @@ bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const R
   const int border[4] = {x, W - 1 - x, y, H - 1 - y};
   for (uint32_t side = 0; side < 4; ++side)
     if (!(static_cast<float>(border[side]) >= pixels + parallax(motion.unseen_depth[side]))) return false;
+  // Contours form only where the frame saw a surface nearly edge-on while no view direction turned further.
+  if (!(motion.shift < kReuseGrazing * (frame.nearest_surface - motion.shift))) return false;
   float within = 0.0f;  // pixels: what lies beyond one radius must not reach the one below
   for (uint32_t k = 0; k < kNearLevels; ++k) {
     const uint32_t r = kNearRadius[k];
@@ -133,11 +135,23 @@ bool reuse_gather_block(const ReuseFrame& frame, const ReuseProjection& now, uin
   return true;
 }
 
+namespace {
+
+// Whether surface pixels i and j lie within each one's tolerance of the other's tangent plane.
+bool same_plane(const ReuseFrame& frame, size_t i, size_t j, float tolerance_i, const ReuseOptions& options) {
+  const glm::vec3 d = frame.position[j] - frame.position[i];
+  const float depth_j = glm::dot(frame.projection.w, frame.position[j] - frame.projection.eye);
+  const float tolerance_j = options.plane_tolerance * depth_j / frame.projection.focal;
+  return std::fabs(glm::dot(d, frame.normal[i])) <= tolerance_i && std::fabs(glm::dot(d, frame.normal[j])) <= tolerance_j;
+}
+
+}  // namespace
+
 void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, const ReuseOptions& options) {
   const uint32_t W = frame.camera.extent.width, H = frame.camera.extent.height;
   for (uint32_t cy = cell_y0; cy < cell_y1; ++cy)
     for (uint32_t cx = 0; cx < frame.cells_x; ++cx) {
-      float nearest = std::numeric_limits<float>::max();
+      float nearest = std::numeric_limits<float>::max(), occluding = nearest;
       const size_t cell = static_cast<size_t>(cy) * frame.cells_x + cx;
       const size_t first = static_cast<size_t>(cy) * kReuseCell * W + cx * kReuseCell;
       bool edge = false, uniform = frame.mesh[first] != kNoReuseSurface;
@@ -163,10 +177,26 @@ void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, c
                  !(std::fabs(glm::dot(frame.position[j] - frame.position[i], frame.normal[i])) <= tolerance)))
               edge = true;
           }
+          // A surface pixel occludes on either side of a discontinuity with any of its four neighbours (off either
+          // one's tangent plane: both sides find it), and where a contour may form: seen nearly edge-on, with a
+          // neighbour of another normal (a plane seen edge-on hides nothing; its edges are discontinuities).
+          if (surface && occluding > depth) {
+            const glm::vec3 to_eye = frame.projection.eye - frame.position[i];
+            const bool grazing = !(std::fabs(glm::dot(frame.normal[i], to_eye)) > kReuseGrazing * glm::length(to_eye));
+            for (const size_t j : {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i, x > 0 ? i - 1 : i, y > 0 ? i - W : i}) {
+              if (j == i) continue;
+              if (frame.mesh[j] != frame.mesh[i] || !same_plane(frame, i, j, tolerance, options) ||
+                  (grazing && !(glm::dot(frame.normal[i], frame.normal[j]) >= kReuseFlat))) {
+                occluding = depth;
+                break;
+              }
+            }
+          }
         }
       if (edge) frame.edge_distance[cell] = 0;
       frame.cell_mesh[cell] = uniform ? frame.mesh[first] : kNoReuseSurface;
-      frame.cell_depth[cell] = nearest;
+      frame.cell_depth[cell] = occluding;
+      frame.cell_surface_depth[cell] = nearest;
     }
 }
 
@@ -179,6 +209,8 @@ void finish_reuse_distances(ReuseFrame& frame) {
   // neighbourhood (which covers at least the radius around any point of the centre cell).
   frame.nearest = std::numeric_limits<float>::max();
   for (float v : frame.cell_depth) frame.nearest = std::min(frame.nearest, v);
+  frame.nearest_surface = std::numeric_limits<float>::max();
+  for (float v : frame.cell_surface_depth) frame.nearest_surface = std::min(frame.nearest_surface, v);
   for (uint32_t k = 0; k < kNearLevels; ++k) {
     const uint32_t per = kNearRadius[k] / kReuseCell;
     const int nx = (cx + static_cast<int>(per) - 1) / static_cast<int>(per), ny = (cy + static_cast<int>(per) - 1) / static_cast<int>(per);

@@ -49,12 +49,19 @@ inline constexpr uint32_t kRefreshPeriod = 16;
 
 // Discontinuities are kept per cell of this many pixels square (ReuseFrame::edge_distance).
 inline constexpr uint32_t kReuseCell = 4;
-// ReuseFrame::near: the nearest depth within kNearRadius[k] pixels, k = 0, 1, 2 (on cells of that size, each
-// with its 8 neighbours), and over the whole frame. A surface that can slide over a point by p pixels must lie
-// within p pixels of it; the rule takes a point only when the nearest surfaces within each radius cannot move
-// farther than the radius below (parallax within 16 pixels: the discontinuity clearance).
+// ReuseFrame::near: the nearest depth of an occluding pixel within kNearRadius[k] pixels, k = 0, 1, 2 (on cells of
+// that size, each with its 8 neighbours), and over the whole frame. What slides over a point comes over an
+// occluding pixel's place: across a discontinuity (both its sides occlude), or across a contour that forms where a
+// curved surface (a neighbour's normal differs: dot below kReuseFlat) was seen nearly edge-on (|n . view| <=
+// kReuseGrazing: a surface point's view direction turns by less than that while the eye moves less than
+// kReuseGrazing times its distance, and a contour forms only where the view is edge-on); so within p pixels of the
+// point when it moves p pixels. The rule takes a point only when the nearest occluding pixels within each radius
+// cannot move farther than the radius below (parallax within 16 pixels: the discontinuity clearance), and only while
+// the eye moved less than kReuseGrazing times the nearest surface depth.
 inline constexpr uint32_t kNearLevels = 3;
 inline constexpr uint32_t kNearRadius[kNearLevels] = {16, 64, 256};
+inline constexpr float kReuseGrazing = 0.35f;
+inline constexpr float kReuseFlat = 0.99999f;
 
 struct ReuseOptions {
   bool enabled = true;
@@ -129,14 +136,17 @@ struct ReuseFrame {
   // pixels of the query's cell, rule 1 only pixels whose point lies in the found pixel's cell.
   std::vector<uint32_t> region;
   // Per kReuseCell x kReuseCell cell: Chebyshev distance in cells to the nearest cell with a discontinuity
-  // (0: this one has one; capped at 255), and its nearest surface depth (metres).
+  // (0: this one has one; capped at 255), and the nearest depth of its occluding pixels (metres; kNearLevels).
   uint32_t cells_x = 0, cells_y = 0;
   std::vector<uint8_t> edge_distance;
   std::vector<float> cell_depth;
-  // The nearest depth within kNearRadius[k] pixels, per cell of that size (near_x[k] per row), and of the frame.
+  // The nearest occluding depth within kNearRadius[k] pixels, per cell of that size (near_x[k] per row), and of
+  // the frame; the nearest surface depth of the frame.
   std::vector<float> near[kNearLevels];
   uint32_t near_x[kNearLevels] = {};
   float nearest = 0.0f;
+  float nearest_surface = 0.0f;
+  std::vector<float> cell_surface_depth;  // per cell, its pixels' nearest depth (finish_reuse_distances' input)
   // Per cell: the mesh all its pixels share with identical mask, known and reached lights (those of its first
   // pixel), or kNoReuseSurface.
   std::vector<uint32_t> cell_mesh;
