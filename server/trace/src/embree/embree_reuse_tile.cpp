@@ -108,14 +108,23 @@ bool near_plane_crossing(const EmbreeScene& scene, const FrameSetup& frame, cons
 // frame sees (frustum_now) and that lies beyond that side of `previous`'s frustum (outside the plane through its
 // eye and that side's corner rays), at most kUnseenSearch. Only such geometry enters this image from beyond that
 // side: what `previous` saw is in its pixels, what lay nearer than its near plane is near_plane_crossing's.
-std::array<float, 4> unseen_distances(const EmbreeScene& scene, const FrameSetup& frame, const ReuseFrame& previous) {
+std::array<float, 4> unseen_distances(const EmbreeScene& scene, const FrameSetup& frame,
+                                      const ReuseFrame& previous) {
   const glm::vec3 eyes[2] = {frame.eye, previous.projection.eye};
   std::vector<glm::vec4> region = frustum_now(frame);
   region.emplace_back();
   const Camera& cam = previous.camera;
   const double W = cam.extent.width, H = cam.extent.height;
   const glm::dvec3 centre = cam.world_ray(W / 2.0, H / 2.0);
-  const glm::dvec2 corners[4][2] = {{{0, 0}, {0, H}}, {{W, 0}, {W, H}}, {{0, 0}, {W, 0}}, {{0, H}, {W, H}}};
+  glm::dvec2 corners[4][2];  // each side's two corners, in pixels
+  corners[kReuseLeft][0] = {0, 0};
+  corners[kReuseLeft][1] = {0, H};
+  corners[kReuseRight][0] = {W, 0};
+  corners[kReuseRight][1] = {W, H};
+  corners[kReuseTop][0] = {0, 0};
+  corners[kReuseTop][1] = {W, 0};
+  corners[kReuseBottom][0] = {0, H};
+  corners[kReuseBottom][1] = {W, H};
   std::array<float, 4> out{};
   for (uint32_t side = 0; side < 4; ++side) {
     glm::dvec3 n = glm::normalize(glm::cross(cam.world_ray(corners[side][0].x, corners[side][0].y),
@@ -211,7 +220,8 @@ ReuseSetup make_reuse_setup(const EmbreeScene& scene, const FrameSetup& frame, c
       for (uint32_t side = 0; side < 4; ++side)
         setup.eye_motion.unseen_depth[side] =
             std::max(setup.eye_motion.unseen_depth[side], beyond[side] / frustum_corner(*frame.camera));
-      if (near_plane_crossing(scene, frame, *setup.previous)) {        setup.previous = nullptr;
+      if (near_plane_crossing(scene, frame, *setup.previous)) {
+        setup.previous = nullptr;
         setup.near_geometry = true;
       }
     }

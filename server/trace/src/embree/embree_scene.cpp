@@ -284,7 +284,8 @@ float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius,
   // A box that may hold part of the region within the radius: its squared distance, else -1.
   auto box_distance2 = [&](const glm::vec3& lo, const glm::vec3& hi) {
     for (const glm::vec4& plane : planes) {  // wholly outside a plane: even its corner furthest along the normal
-      const glm::vec3 corner(plane.x >= 0.0f ? hi.x : lo.x, plane.y >= 0.0f ? hi.y : lo.y, plane.z >= 0.0f ? hi.z : lo.z);
+      const glm::vec3 corner(plane.x >= 0.0f ? hi.x : lo.x, plane.y >= 0.0f ? hi.y : lo.y,
+                             plane.z >= 0.0f ? hi.z : lo.z);
       if (glm::dot(glm::vec3(plane), corner) + plane.w < 0.0f) return -1.0f;
     }
     const glm::vec3 d = glm::max(glm::max(lo - center, center - hi), glm::vec3(0.0f));
@@ -315,7 +316,8 @@ float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius,
       ClippedPolygon poly;
       const size_t n = clip_triangle(a, b, c, planes, poly);
       // A fan over the polygon, and its outline (a degenerate polygon has no fan).
-      for (size_t k = 1; k + 1 < n; ++k) best2 = std::min(best2, triangle_distance2(center, poly[0], poly[k], poly[k + 1]));
+      for (size_t k = 1; k + 1 < n; ++k)
+        best2 = std::min(best2, triangle_distance2(center, poly[0], poly[k], poly[k + 1]));
       for (size_t k = 0; k < n; ++k) best2 = std::min(best2, segment_distance2(center, poly[k], poly[(k + 1) % n]));
     }
   }

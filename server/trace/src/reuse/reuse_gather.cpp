@@ -71,7 +71,11 @@ bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const R
   // Each side of the image against what lies beyond it (a point beyond one side of the frame's frustum was at
   // least this far from the pixel in the frame's image).
   const int W = static_cast<int>(frame.camera.extent.width), H = static_cast<int>(frame.camera.extent.height);
-  const int border[4] = {x, W - 1 - x, y, H - 1 - y};
+  int border[4];
+  border[kReuseLeft] = x;
+  border[kReuseRight] = W - 1 - x;
+  border[kReuseTop] = y;
+  border[kReuseBottom] = H - 1 - y;
   for (uint32_t side = 0; side < 4; ++side)
     if (!(static_cast<float>(border[side]) >= pixels + parallax(motion.unseen_depth[side]))) return false;
   // Contours form only where the frame saw a surface nearly edge-on while no view direction turned further.
@@ -142,7 +146,8 @@ bool same_plane(const ReuseFrame& frame, size_t i, size_t j, float tolerance_i, 
   const glm::vec3 d = frame.position[j] - frame.position[i];
   const float depth_j = glm::dot(frame.projection.w, frame.position[j] - frame.projection.eye);
   const float tolerance_j = options.plane_tolerance * depth_j / frame.projection.focal;
-  return std::fabs(glm::dot(d, frame.normal[i])) <= tolerance_i && std::fabs(glm::dot(d, frame.normal[j])) <= tolerance_j;
+  return std::fabs(glm::dot(d, frame.normal[i])) <= tolerance_i &&
+         std::fabs(glm::dot(d, frame.normal[j])) <= tolerance_j;
 }
 
 }  // namespace
@@ -182,8 +187,10 @@ void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, c
           // neighbour of another normal (a plane seen edge-on hides nothing; its edges are discontinuities).
           if (surface && occluding > depth) {
             const glm::vec3 to_eye = frame.projection.eye - frame.position[i];
-            const bool grazing = !(std::fabs(glm::dot(frame.normal[i], to_eye)) > kReuseGrazing * glm::length(to_eye));
-            for (const size_t j : {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i, x > 0 ? i - 1 : i, y > 0 ? i - W : i}) {
+            const bool grazing =
+                !(std::fabs(glm::dot(frame.normal[i], to_eye)) > kReuseGrazing * glm::length(to_eye));
+            for (const size_t j :
+                 {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i, x > 0 ? i - 1 : i, y > 0 ? i - W : i}) {
               if (j == i) continue;
               if (frame.mesh[j] != frame.mesh[i] || !same_plane(frame, i, j, tolerance, options) ||
                   (grazing && !(glm::dot(frame.normal[i], frame.normal[j]) >= kReuseFlat))) {
