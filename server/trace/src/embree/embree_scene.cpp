@@ -37,6 +37,27 @@ void update_chunk_bounds(EmbreeMesh& mesh) {
   }
 }
 
+// A moving mesh's boxes at `motion` from its boxes at rest (`rest`, world space, as chunk_bounds): each the box of
+// the moved corners (it holds the moved triangles; cheaper than the vertices again), relative to `origin`.
+void move_chunk_bounds(EmbreeMesh& mesh, const std::vector<glm::vec3>& rest, const glm::dmat4& motion,
+                       const glm::dvec3& origin) {
+  mesh.chunk_bounds.resize(rest.size());
+  for (size_t c = 0; 2 * c < rest.size(); ++c) {
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (uint32_t k = 0; k < 8; ++k) {
+      const glm::vec3 corner((k & 1u) ? rest[2 * c + 1].x : rest[2 * c].x, (k & 2u) ? rest[2 * c + 1].y : rest[2 * c].y,
+                             (k & 4u) ? rest[2 * c + 1].z : rest[2 * c].z);
+      const glm::vec3 moved(glm::dvec3(moved_position(motion, corner)) - origin);
+      lo = glm::min(lo, moved);
+      hi = glm::max(hi, moved);
+    }
+    mesh.chunk_bounds[2 * c] = lo;
+    mesh.chunk_bounds[2 * c + 1] = hi;
+    mesh.bounds[0] = c == 0 ? lo : glm::min(mesh.bounds[0], lo);
+    mesh.bounds[1] = c == 0 ? hi : glm::max(mesh.bounds[1], hi);
+  }
+}
+
 void on_embree_error(void* /*user*/, RTCError code, const char* message) {
   log::error("embree: error %d: %s", static_cast<int>(code), message ? message : "");
 }
@@ -155,6 +176,11 @@ std::unique_ptr<EmbreeScene> EmbreeScene::create(const Scene& scene, const Embre
       mm->mesh = static_cast<uint32_t>(m);
       mm->geometry = geom;  // keeps the reference rtcNewGeometry gave (released in the destructor)
       mm->rest_positions = src.positions;
+      EmbreeMesh rest;  // the boxes at rest, in world space (move_chunk_bounds)
+      rest.positions = src.positions;
+      rest.indices = dst.indices;
+      update_chunk_bounds(rest);
+      mm->rest_chunk_bounds = std::move(rest.chunk_bounds);
       mm->rest_normals = dst.normals;
       es->motion_stats_.moving_vertices += src.positions.size();
       es->moving_.push_back(std::move(mm));
@@ -368,7 +394,7 @@ void EmbreeScene::set_scene_time(const Scene& scene, double t, const NodeOverrid
       dst.positions[i] = glm::vec3(glm::dvec3(moved_position(motion, mm->rest_positions[i])) - origin_);
       dst.normals[i] = moved_normal(nm, mm->rest_normals[i]);
     }
-    update_chunk_bounds(dst);
+    move_chunk_bounds(dst, mm->rest_chunk_bounds, motion, origin_);
     rtcUpdateGeometryBuffer(mm->geometry, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcCommitGeometry(mm->geometry);
     ++moved;

@@ -51,7 +51,8 @@ struct EmbreeMesh {
   std::vector<glm::vec3> normals;    // world space unit normals, one per vertex (a moving mesh: at the scene time)
   std::vector<uint32_t> indices;
   // Per run of kEmbreeChunkTriangles consecutive triangles, the box of their vertices (lo, then hi; a moving mesh:
-  // at the scene time): what nearest_distance with planes looks through instead of the BVH.
+  // the box of its box at rest moved to the scene time): what nearest_distance with planes looks through instead of
+  // the BVH.
   std::vector<glm::vec3> chunk_bounds;
   glm::vec3 bounds[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};  // the chunks' box (lo, hi)
   bool double_sided = false;
@@ -133,6 +134,7 @@ class EmbreeScene {
     RTCGeometry geometry = nullptr;         // retained until the destructor
     std::vector<glm::vec3> rest_positions;  // world space, as the Scene stores them
     std::vector<glm::vec3> rest_normals;
+    std::vector<glm::vec3> rest_chunk_bounds;  // EmbreeMesh::chunk_bounds at rest, world space
     glm::dmat4 motion{1.0};                 // the motion its vertices are at (identity: at rest)
   };
   std::vector<std::unique_ptr<MovingMesh>> moving_;
