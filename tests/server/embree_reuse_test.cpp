@@ -4,16 +4,16 @@
 // the hit pixel-light bits; a sphere light's levels are taken where neighbours agree (identical
 // for a still camera), and its samples accumulate over frames (nearer a converged truth, fewer rays); a box that
 // moves over a still camera's floor, and a light that moves, are traced again, never kept (identical bits); pixels
-// near an eye-close wall that crosses the near plane are not taken; near geometry that cannot enter the image takes
-// no block away, and geometry that enters across a side is not covered by blocks; the same inputs give the same
-// bits on 1 and 2 threads. Plus the rule's pieces: the float projection against reproject(), the segment-box test,
-// the refresh dither, the point-triangle query (within planes too), the soft tally's sum and blend, the level
-// hysteresis.
+// near an eye-close wall that crosses the near plane are not taken; the same inputs give the same bits on 1 and 2
+// threads. Plus the rule's pieces: the float projection against reproject(), the segment-box test, the refresh
+// dither, the point-triangle query, the soft tally's sum and blend, the level hysteresis. Rule 1's borders and
+// occluders: embree_reuse_rule1_test.cpp.
 #include "trace/embree/embree_tracer.hpp"
 #include "trace/soft/soft_image.hpp"
 #include "trace/reuse/reuse_frame.hpp"
 #include "test_animated_scene.hpp"
 #include "reuse_pair.hpp"
+#include "reuse_room.hpp"
 #include "test_scenes.hpp"
 
 #include <gtest/gtest.h>
@@ -27,42 +27,10 @@
 namespace dhr::server {
 namespace {
 
-constexpr double kMaxDifferingShare = 1e-4;  // the bound on differing pixel-light bits
-constexpr uint32_t kMovingNode = 5;
-
-TracerOptions threads(uint32_t n) {
-  TracerOptions o;
-  o.threads = n;
-  return o;
-}
-
-// A floor, a back wall, a static box (shadow caster) and two point lights; optionally a box on an animated node
-// (slides 2 m along +x in 2 s) and a light on it.
-Scene room(bool moving_box, bool moving_light) {
-  Scene s = test::make_empty_scene();
-  test::add_grid(s, glm::vec3(-4, 0, -4), glm::vec3(0, 0, 8), glm::vec3(8, 0, 0), 8, test::kSingleSided);
-  test::add_grid(s, glm::vec3(-4, 0, -4), glm::vec3(8, 0, 0), glm::vec3(0, 4, 0), 8, test::kSingleSided);
-  test::add_box(s, glm::vec3(-0.5f, 0.0f, -1.5f), glm::vec3(0.5f, 1.0f, -0.5f), test::kSingleSided);
-  s.lights.push_back(test::point_light(glm::vec3(1.0f, 3.0f, 1.0f), 50.0f));
-  s.lights.push_back(test::point_light(glm::vec3(-2.0f, 2.5f, 0.0f), 30.0f));
-  if (moving_box) {
-    const size_t first = s.meshes.size();
-    test::add_box(s, glm::vec3(-2.0f, 0.3f, 0.5f), glm::vec3(-1.6f, 0.9f, 0.9f), test::kSingleSided);
-    for (size_t m = first; m < s.meshes.size(); ++m) s.meshes[m].node = kMovingNode;
-  }
-  if (moving_light) {
-    SceneLight carried = test::point_light(glm::vec3(-1.8f, 1.4f, 0.7f), 20.0f);
-    carried.node = kMovingNode;
-    s.lights.push_back(carried);
-  }
-  test::finalize(s);
-  if (moving_box || moving_light) test::animate_translation(s, kMovingNode, glm::vec3(0.0f), glm::vec3(2, 0, 0), 2.0);
-  return s;
-}
-
-Camera camera_at(double x, double y, double z, uint32_t w = 384, uint32_t h = 256) {
-  return test::look_camera(glm::dvec3(x, y, z), glm::dvec3(0.0, 0.3, -1.5), w, h, 80.0);
-}
+using reuse_test::camera_at;
+using reuse_test::kMaxDifferingShare;
+using reuse_test::room;
+using reuse_test::threads;
 
 TEST(ReuseRule, FloatProjectionAgreesWithReproject) {
   const Camera camera = camera_at(0.3, 1.6, 3.0);
@@ -118,32 +86,6 @@ TEST(ReuseRule, PointQueryFindsTrianglesWithinRadiusAndRegion) {
   const float floor_y = scene.to_relative(glm::dvec3(0.0, 0.1, 0.0)).y;
   EXPECT_FALSE(scene.geometry_within(above_floor, 0.06f, {glm::vec4(0, 1, 0, -floor_y)}));
   EXPECT_TRUE(scene.geometry_within(above_floor, 0.06f, {glm::vec4(0, -1, 0, floor_y)}));
-}
-
-// The nearest part of the triangles inside a region of planes, against the floor's and the box's analytic distances
-// (room: floor y = 0 over x, z in [-4, 4]; the sliding box from x in [-2, -1.6] at t = 0, 0.5 m further at 0.5 s).
-TEST(ReuseRule, NearestDistanceWithinPlanesIsThatOfTheClippedTriangles) {
-  EmbreeTracer tracer(room(true, false), threads(1));
-  const EmbreeScene& scene = tracer.embree_scene();
-  auto rel = [&](double x, double y, double z) { return scene.to_relative(glm::dvec3(x, y, z)); };
-  // The plane through `at` facing `n` (the region is on n's side).
-  auto plane = [&](const glm::vec3& n, double x, double y, double z) { return glm::vec4(n, -glm::dot(n, rel(x, y, z))); };
-  const glm::vec3 above_floor = rel(0.0, 0.05, 2.0);
-  EXPECT_NEAR(scene.nearest_distance(above_floor, 10.0f), 0.05f, 1e-5f);
-  EXPECT_NEAR(scene.nearest_distance(above_floor, 10.0f, {plane({1, 0, 0}, 1.0, 0.0, 0.0)}), std::sqrt(1.0025f),
-              1e-5f);
-  EXPECT_NEAR(scene.nearest_distance(above_floor, 10.0f, {plane({1, 0, 0}, 1.0, 0, 0), plane({0, 0, -1}, 0, 0, 1.0)}),
-              std::sqrt(2.0025f), 1e-5f);
-  EXPECT_EQ(scene.nearest_distance(above_floor, 10.0f, {plane({0, 1, 0}, 0.0, 10.0, 0.0)}), 10.0f);  // nothing there
-  EXPECT_EQ(scene.nearest_distance(above_floor, 0.5f, {plane({1, 0, 0}, 1.0, 0.0, 0.0)}), 0.5f);     // beyond the radius
-  // Above the floor and in front of the wall and the static box: the sliding box alone, where it is now.
-  const std::vector<glm::vec4> beside{plane({0, 1, 0}, 0.0, 0.2, 0.0), plane({0, 0, 1}, 0.0, 0.0, 0.1)};
-  const glm::vec3 from = rel(0.0, 0.6, 0.7);
-  EXPECT_NEAR(scene.nearest_distance(from, 10.0f, beside), 1.6f, 1e-4f);
-  tracer.set_scene_time(0.5);
-  EXPECT_NEAR(scene.nearest_distance(from, 10.0f, beside), 1.1f, 1e-4f);
-  EXPECT_THROW(scene.nearest_distance(from, 10.0f, std::vector<glm::vec4>(7, glm::vec4(0, 1, 0, 0))),
-               std::invalid_argument);
 }
 
 TEST(EmbreeReuse, StillCameraGivesIdenticalBitsMostlyWithoutRays) {
@@ -216,97 +158,6 @@ TEST(EmbreeReuse, GeometryAtTheNearPlaneTurnsBlocksOff) {
       EXPECT_EQ(p.reused_stats.reused_pixels, 0u) << "frame " << i;
     }
   }
-}
-
-// A small box 0.2 m to the left of an eye that drifts right, outside the frustum: geometry no pixel saw, 0.2 m from
-// the eye, but in no part of the next frustum that lies beyond a side of the previous one, so it cannot enter the
-// image. Blocks are taken as without it (bounding by the nearest geometry anywhere took 16 % fewer pixels here);
-// the bits stay within the bound.
-TEST(EmbreeReuse, NearGeometryThatCannotEnterTheImageTakesNothingAway) {
-  uint64_t reused[2] = {0, 0};
-  for (const bool near_box : {false, true}) {
-    Scene scene = room(false, false);
-    if (near_box) {
-      test::add_box(scene, glm::vec3(0.0f, 1.55f, 2.95f), glm::vec3(0.1f, 1.65f, 3.05f), test::kSingleSided);
-      test::finalize(scene);
-    }
-    EmbreeTracer tracer(scene, threads(2));
-    std::array<ReuseFrame, 2> frames;
-    uint64_t bits = 0, differing = 0;
-    for (int i = 0; i < 6; ++i) {
-      const Camera camera = camera_at(0.3 + 0.006 * i, 1.6, 3.0);
-      ReusePair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
-      bits += (p.exact_stats.pixels - p.exact_stats.background_pixels) * tracer.light_count();
-      differing += differing_bits(p.exact, p.reused);
-      reused[near_box] += p.reused_stats.reused_pixels;
-    }
-    EXPECT_LE(static_cast<double>(differing), kMaxDifferingShare * static_cast<double>(bits));
-  }
-  EXPECT_GT(reused[0], 0u);
-  EXPECT_GT(reused[1], reused[0] * 9 / 10) << "without the box " << reused[0] << ", with it " << reused[1];
-}
-
-// A 2 cm pole, 20 cm tall, 0.5 m ahead, just beyond the right side of the frustum, and an eye drifting right 3 cm a
-// frame: the pole enters the image across that side, 14 pixels a frame. Rule 1 alone (no pairs) still gives the
-// exhaustive trace's bits in every frame (without the margin for what lies beyond that side, frame 1 differs).
-TEST(EmbreeReuse, GeometryEnteringAcrossASideIsNotCoveredByBlocks) {
-  const Camera first = camera_at(0.3, 1.6, 3.0);
-  const glm::dmat3 R = glm::mat3_cast(first.T_world_eye.orientation);
-  const glm::dvec3 centre = first.T_world_eye.position + R * glm::dvec3(first.tangents.right * 0.5 + 0.05, 0.0, -0.5);
-  Scene scene = room(false, false);
-  const uint32_t pole = static_cast<uint32_t>(scene.meshes.size());
-  test::add_box(scene, glm::vec3(centre - glm::dvec3(0.01, 0.1, 0.01)), glm::vec3(centre + glm::dvec3(0.01, 0.1, 0.01)),
-                test::kSingleSided);
-  test::finalize(scene);
-  EmbreeTracer tracer(scene, threads(2));
-  const EmbreeScene& embree = tracer.embree_scene();
-  auto pole_pixels = [&](const Camera& camera) {  // pixels whose primary ray meets the pole first
-    uint32_t n = 0;
-    for (uint32_t y = 0; y < camera.extent.height; ++y)
-      for (uint32_t x = 0; x < camera.extent.width; ++x) {
-        const auto hit = embree.intersect(embree.to_relative(camera.T_world_eye.position),
-                                          glm::vec3(camera.world_ray(x + 0.5, y + 0.5)));
-        n += hit && hit->mesh >= pole ? 1u : 0u;
-      }
-    return n;
-  };
-  ReuseOptions options;
-  options.pairs = false;
-  std::array<ReuseFrame, 2> frames;
-  uint64_t reused = 0;
-  Camera camera = first;
-  for (int i = 0; i < 8; ++i) {
-    camera = camera_at(0.3 + 0.03 * i, 1.6, 3.0);
-    ReusePair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2], options);
-    EXPECT_EQ(differing_bits(p.exact, p.reused), 0u) << "frame " << i;
-    reused += p.reused_stats.reused_pixels;
-  }
-  EXPECT_EQ(pole_pixels(first), 0u);
-  EXPECT_GT(pole_pixels(camera), 100u);  // in the image by the last frame
-  EXPECT_GT(reused, 0u);
-}
-
-// The eye 5 cm from the back wall, looking along it and drifting along it 1 cm a frame: the wall fills the image's
-// left side at depths down to centimetres, but a plane cannot slide over itself, so it does not narrow what is taken
-// beside it: 52 % of the hit pixels taken whole (25 % while every surface pixel counted as a possible occluder);
-// the bits stay within the bound.
-TEST(EmbreeReuse, APlaneBesideTheEyeDoesNotNarrowTheBlocks) {
-  EmbreeTracer tracer(room(false, false), threads(2));
-  std::array<ReuseFrame, 2> frames;
-  uint64_t bits = 0, differing = 0, reused = 0, hits = 0;
-  for (int i = 0; i < 6; ++i) {
-    const glm::dvec3 eye(-2.0 + 0.01 * i, 1.5, -3.95);
-    const Camera camera = test::look_camera(eye, eye + glm::dvec3(1.0, -0.3, 0.25), 256, 160, 80.0);
-    ReusePair p = trace_both(tracer, camera, i ? &frames[(i + 1) % 2] : nullptr, frames[i % 2]);
-    bits += (p.exact_stats.pixels - p.exact_stats.background_pixels) * tracer.light_count();
-    differing += differing_bits(p.exact, p.reused);
-    if (i > 0) {
-      reused += p.reused_stats.reused_pixels;
-      hits += p.exact_stats.pixels - p.exact_stats.background_pixels;
-    }
-  }
-  EXPECT_LE(static_cast<double>(differing), kMaxDifferingShare * static_cast<double>(bits));
-  EXPECT_GT(reused, hits * 2 / 5) << reused << " of " << hits;
 }
 
 // A sphere light (soft levels): a still camera's levels are taken where the neighbours hold one level, and they
