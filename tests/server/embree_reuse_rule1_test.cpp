@@ -18,10 +18,7 @@
 namespace dhr::server {
 namespace {
 
-using reuse_test::camera_at;
-using reuse_test::kMaxDifferingShare;
-using reuse_test::room;
-using reuse_test::threads;
+using namespace reuse_test;  // the room, its cameras, the bound
 
 // The nearest part of the triangles inside a region of planes, against the floor's and the box's analytic distances
 // (room: floor y = 0 over x, z in [-4, 4]; the sliding box from x in [-2, -1.6] at t = 0, 0.5 m further at 0.5 s).

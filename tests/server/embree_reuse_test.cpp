@@ -27,10 +27,7 @@
 namespace dhr::server {
 namespace {
 
-using reuse_test::camera_at;
-using reuse_test::kMaxDifferingShare;
-using reuse_test::room;
-using reuse_test::threads;
+using namespace reuse_test;  // the room, its cameras, the bound
 
 TEST(ReuseRule, FloatProjectionAgreesWithReproject) {
   const Camera camera = camera_at(0.3, 1.6, 3.0);
