@@ -44,6 +44,11 @@ TEST(ReuseRule, NearestDistanceWithinPlanesIsThatOfTheClippedTriangles) {
   EXPECT_NEAR(scene.nearest_distance(from, 10.0f, beside), 1.1f, 1e-4f);
   EXPECT_THROW(scene.nearest_distance(from, 10.0f, std::vector<glm::vec4>(7, glm::vec4(0, 1, 0, 0))),
                std::invalid_argument);
+  // A NaN point or plane knows nothing: as near as can be, and something within.
+  const float nan = std::nanf("");
+  EXPECT_EQ(scene.nearest_distance(glm::vec3(nan, 0, 0), 10.0f), 0.0f);
+  EXPECT_EQ(scene.nearest_distance(from, 10.0f, {glm::vec4(nan, 1, 0, 0)}), 0.0f);
+  EXPECT_TRUE(scene.geometry_within(glm::vec3(0, nan, 0), 0.01f));
 }
 
 // A small box 0.2 m to the left of an eye that drifts right, outside the frustum: geometry no pixel saw, 0.2 m from

@@ -288,9 +288,22 @@ float run_point_query(RTCScene scene, const glm::vec3& center, float radius, con
 
 }  // namespace
 
+namespace {
+
+// Whether a query's point and planes are finite numbers (a NaN would make every comparison false: "nothing near").
+bool finite_query(const glm::vec3& center, const std::vector<glm::vec4>& planes) {
+  bool finite = std::isfinite(center.x) && std::isfinite(center.y) && std::isfinite(center.z);
+  for (const glm::vec4& p : planes)
+    finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
+  return finite;
+}
+
+}  // namespace
+
 float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius,
                                     const std::vector<glm::vec4>& planes) const {
   if (planes.size() > kMaxClipPlanes) throw std::invalid_argument("nearest_distance: more than 6 planes");
+  if (!finite_query(center, planes)) return 0.0f;  // unknown: as near as can be
   if (planes.empty()) {
     const PointVisit visit{&meshes_, [&](RTCPointQuery& q, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
                              const float d = std::sqrt(triangle_distance2(center, a, b, c));
@@ -352,6 +365,7 @@ float EmbreeScene::nearest_distance(const glm::vec3& center, float max_radius,
 
 bool EmbreeScene::geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes) const {
   if (planes.size() > kMaxClipPlanes) throw std::invalid_argument("geometry_within: more than 6 planes");
+  if (!finite_query(center, planes)) return true;  // unknown: something may be there
   bool found = false;
   const PointVisit visit{&meshes_, [&](RTCPointQuery& q, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
                            ClippedPolygon poly;

@@ -113,11 +113,11 @@ class EmbreeScene {
   // Whether any triangle comes within `radius` of `center` (relative frame) and, with `planes`, meets the convex
   // region where every plane's dot((x, 1)) >= 0: an Embree point query with the exact point-triangle distance,
   // then each such triangle clipped by the planes (touching counts as meeting; at most 6 planes, more throw
-  // std::invalid_argument).
+  // std::invalid_argument; a non-finite point or plane: true).
   bool geometry_within(const glm::vec3& center, float radius, const std::vector<glm::vec4>& planes = {}) const;
   // The distance from `center` to the nearest triangle, or `max_radius` when none is nearer; with `planes`, to the
   // nearest part of a triangle in the convex region where every plane's dot((x, 1)) >= 0 (each triangle clipped
-  // by them; at most 6 planes, more throw std::invalid_argument).
+  // by them; at most 6 planes, more throw std::invalid_argument). A non-finite point or plane: 0.
   float nearest_distance(const glm::vec3& center, float max_radius, const std::vector<glm::vec4>& planes = {}) const;
 
  private:
