@@ -14,6 +14,11 @@ namespace {
 
 constexpr uint32_t kBlock = 4;  // primary packets cover 4x4 pixels
 constexpr uint32_t kBlockPixels = kBlock * kBlock;
+// A block with at most this many pixels to trace (reuse took the others, or the image's edge cuts it) traces them
+// one ray at a time: a packet costs about as much however few of its lanes are on, and with reuse most blocks
+// have only their one refreshed pixel left (docs/performance.md, "Sparse blocks"). Same bits either way
+// (EmbreeProperties.SingleRaysAndPacketsGiveTheSameBits).
+constexpr uint32_t kMaxSingleRays = kBlockPixels / 2;
 // Appends a primary hit of pixel (x, y) (tile slot `slot`) to the scratch lists.
 void add_hit(TileScratch& scratch, const SurfaceHit& hit, uint32_t slot, uint32_t x, uint32_t y) {
   scratch.hits.push_back(hit);
@@ -38,7 +43,7 @@ void trace_primary_block(const FrameSetup& frame, uint32_t bx, uint32_t by, uint
   if (inside == 0) return;
   stats.primary_rays += inside;
   const size_t hits_before = scratch.hits.size();
-  if (!frame.primary_packets) {
+  if (!frame.primary_packets || inside <= kMaxSingleRays) {
     for (uint32_t lane = 0; lane < kBlockPixels; ++lane) {
       const uint32_t x = bx + lane % kBlock, y = by + lane / kBlock;
       if (!valid[lane]) continue;

@@ -16,9 +16,6 @@ namespace {
 // or a corner between two walls does not, and a contact shadow lives there.
 constexpr float kMinNormalCos = 0.9f;
 
-// The 4x4 ordered-dither matrix: consecutive generations refresh pixels spread over the block.
-constexpr uint32_t kBayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
-
 }  // namespace
 
 ReuseProjection ReuseProjection::of(const Camera& camera, const glm::vec3& eye) {
@@ -72,10 +69,6 @@ void ReuseFrame::reset(const Camera& cam, const glm::vec3& eye, uint32_t light_c
   light_state.clear();
   moving_boxes.clear();
   region.clear();  // the tracer sizes it when its scene has light slots
-}
-
-bool reuse_refresh_pixel(uint32_t x, uint32_t y, uint32_t generation) {
-  return kBayer4[(y & 3u) * 4u + (x & 3u)] == generation % kRefreshPeriod;
 }
 
 bool reuse_same_surface(const glm::vec3& pa, const glm::vec3& na, const glm::vec3& pb, const glm::vec3& nb,

@@ -141,19 +141,69 @@ bool reuse_gather_block(const ReuseFrame& frame, const ReuseProjection& now, uin
 
 namespace {
 
-// Whether surface pixels i and j lie within each one's tolerance of the other's tangent plane.
-bool same_plane(const ReuseFrame& frame, size_t i, size_t j, float tolerance_i, const ReuseOptions& options) {
-  const glm::vec3 d = frame.position[j] - frame.position[i];
-  const float depth_j = glm::dot(frame.projection.w, frame.position[j] - frame.projection.eye);
+// What finish_reuse_cells learns of a pixel and its right or lower neighbour (one byte per pixel: the right pair's
+// flags, then the lower pair's shifted by kLowerPair).
+enum : uint8_t {
+  kPairEdge = 1,    // a discontinuity as the edge distances see it: surface against none, another mesh, or the
+                    // neighbour off this pixel's tangent plane
+  kPairBreak = 2,   // either one occludes: another mesh or none, or either off the other's tangent plane
+  kPairCurved = 4,  // their normals differ (dot below kReuseFlat)
+};
+constexpr uint32_t kLowerPair = 3;
+
+// The depth of pixel i's surface along the view axis (0 without a surface).
+inline float pixel_depth(const ReuseFrame& frame, size_t i) {
+  if (frame.mesh[i] == kNoReuseSurface) return 0.0f;
+  return glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
+}
+
+// The flags of pixels i and j (j right of or below i), whose depths are depth_i and depth_j. Symmetric but for
+// kPairEdge, which is i's view.
+uint8_t pair_flags(const ReuseFrame& frame, size_t i, size_t j, float depth_i, float depth_j,
+                   const ReuseOptions& options) {
+  const bool surface = frame.mesh[i] != kNoReuseSurface, other = frame.mesh[j] != kNoReuseSurface;
+  if (surface != other) return kPairEdge | kPairBreak;
+  if (!surface) return 0;
+  if (frame.mesh[j] != frame.mesh[i]) return kPairEdge | kPairBreak;
+  const float tolerance_i = options.plane_tolerance * depth_i / frame.projection.focal;
   const float tolerance_j = options.plane_tolerance * depth_j / frame.projection.focal;
-  return std::fabs(glm::dot(d, frame.normal[i])) <= tolerance_i &&
-         std::fabs(glm::dot(d, frame.normal[j])) <= tolerance_j;
+  const glm::vec3 d = frame.position[j] - frame.position[i];
+  uint8_t flags = 0;
+  if (!(std::fabs(glm::dot(d, frame.normal[i])) <= tolerance_i))
+    flags = kPairEdge | kPairBreak;
+  else if (!(std::fabs(glm::dot(d, frame.normal[j])) <= tolerance_j))
+    flags = kPairBreak;
+  if (!(glm::dot(frame.normal[i], frame.normal[j]) >= kReuseFlat)) flags |= kPairCurved;
+  return flags;
 }
 
 }  // namespace
 
 void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, const ReuseOptions& options) {
   const uint32_t W = frame.camera.extent.width, H = frame.camera.extent.height;
+  const uint32_t y0 = cell_y0 * kReuseCell, y1 = std::min(H, cell_y1 * kReuseCell);
+  if (y0 >= y1) return;
+  // Each pixel's depth is found once and each pair of neighbours looked at once: rows [y0 - 1, y1) of pair flags
+  // (the row above for the first row's upper pairs), depths of rows [y0 - 1, y1 + 1).
+  const uint32_t top = y0 > 0 ? y0 - 1 : y0, bottom = std::min(H, y1 + 1);
+  thread_local std::vector<uint8_t> pair_scratch;
+  thread_local std::vector<float> depth_scratch;
+  pair_scratch.assign(static_cast<size_t>(y1 - top) * W, 0);
+  depth_scratch.resize(static_cast<size_t>(bottom - top) * W);
+  uint8_t* const pairs = pair_scratch.data();
+  float* const depths = depth_scratch.data();
+  const size_t offset = static_cast<size_t>(top) * W;  // pixel index of pairs[0] and depths[0]
+  for (size_t i = offset; i < static_cast<size_t>(bottom) * W; ++i) depths[i - offset] = pixel_depth(frame, i);
+  for (uint32_t y = top; y < y1; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      const size_t i = static_cast<size_t>(y) * W + x, at = i - offset;
+      uint8_t f = 0;
+      if (x + 1 < W) f = pair_flags(frame, i, i + 1, depths[at], depths[at + 1], options);
+      if (y + 1 < H)
+        f = static_cast<uint8_t>(f | pair_flags(frame, i, i + W, depths[at], depths[at + W], options) << kLowerPair);
+      pairs[at] = f;
+    }
+  constexpr uint8_t kEdges = kPairEdge | kPairEdge << kLowerPair;
   for (uint32_t cy = cell_y0; cy < cell_y1; ++cy)
     for (uint32_t cx = 0; cx < frame.cells_x; ++cx) {
       float nearest = std::numeric_limits<float>::max(), occluding = nearest;
@@ -163,42 +213,26 @@ void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, c
       for (uint32_t y = cy * kReuseCell; y < std::min(H, (cy + 1) * kReuseCell); ++y)
         for (uint32_t x = cx * kReuseCell; x < std::min(W, (cx + 1) * kReuseCell); ++x) {
           const size_t i = static_cast<size_t>(y) * W + x;
-          const bool surface = frame.mesh[i] != kNoReuseSurface;
+          const size_t at = i - offset;
           uniform = uniform && frame.mesh[i] == frame.mesh[first] && frame.mask[i] == frame.mask[first] &&
                     frame.known[i] == frame.known[first] && frame.reached[i] == frame.reached[first];
-          float depth = 0.0f;
-          if (surface) {
-            depth = glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
-            nearest = std::min(nearest, depth);
-          }
-          // A discontinuity between this pixel and its right or lower neighbour: surface against none, another
-          // mesh, or off this pixel's tangent plane.
-          const float tolerance = options.plane_tolerance * depth / frame.projection.focal;
-          for (const size_t j : {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i}) {
-            if (j == i) continue;
-            const bool other = frame.mesh[j] != kNoReuseSurface;
-            if (surface != other || (surface && frame.mesh[j] != frame.mesh[i]) ||
-                (surface &&
-                 !(std::fabs(glm::dot(frame.position[j] - frame.position[i], frame.normal[i])) <= tolerance)))
-              edge = true;
-          }
+          edge = edge || (pairs[at] & kEdges) != 0;
+          if (frame.mesh[i] == kNoReuseSurface) continue;
+          const float depth = depths[at];
+          nearest = std::min(nearest, depth);
+          if (!(occluding > depth)) continue;
           // A surface pixel occludes on either side of a discontinuity with any of its four neighbours (off either
           // one's tangent plane: both sides find it), and where a contour may form: seen nearly edge-on, with a
           // neighbour of another normal (a plane seen edge-on hides nothing; its edges are discontinuities).
-          if (surface && occluding > depth) {
+          uint8_t around = static_cast<uint8_t>((pairs[at] | pairs[at] >> kLowerPair) & (kPairBreak | kPairCurved));
+          if (x > 0) around |= pairs[at - 1] & (kPairBreak | kPairCurved);
+          if (y > top) around |= (pairs[at - W] >> kLowerPair) & (kPairBreak | kPairCurved);
+          bool occludes = (around & kPairBreak) != 0;
+          if (!occludes && (around & kPairCurved)) {
             const glm::vec3 to_eye = frame.projection.eye - frame.position[i];
-            const bool grazing =
-                !(std::fabs(glm::dot(frame.normal[i], to_eye)) > kReuseGrazing * glm::length(to_eye));
-            for (const size_t j :
-                 {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i, x > 0 ? i - 1 : i, y > 0 ? i - W : i}) {
-              if (j == i) continue;
-              if (frame.mesh[j] != frame.mesh[i] || !same_plane(frame, i, j, tolerance, options) ||
-                  (grazing && !(glm::dot(frame.normal[i], frame.normal[j]) >= kReuseFlat))) {
-                occluding = depth;
-                break;
-              }
-            }
+            occludes = !(std::fabs(glm::dot(frame.normal[i], to_eye)) > kReuseGrazing * glm::length(to_eye));
           }
+          if (occludes) occluding = depth;
         }
       if (edge) frame.edge_distance[cell] = 0;
       frame.cell_mesh[cell] = uniform ? frame.mesh[first] : kNoReuseSurface;

@@ -271,8 +271,12 @@ bool reuse_gather_block(const ReuseFrame& frame, const ReuseProjection& now, uin
 void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, const ReuseOptions& options);
 void finish_reuse_distances(ReuseFrame& frame);
 
-// Whether pixel (x, y) is in this generation's dithered refresh share (traced in full).
-bool reuse_refresh_pixel(uint32_t x, uint32_t y, uint32_t generation);
+// The 4x4 ordered-dither matrix: consecutive generations refresh pixels spread over the block.
+inline constexpr uint32_t kRefreshDither[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
+// Whether pixel (x, y) is in this generation's dithered refresh share (traced in full). Inline: asked per pixel.
+inline bool reuse_refresh_pixel(uint32_t x, uint32_t y, uint32_t generation) {
+  return kRefreshDither[(y & 3u) * 4u + (x & 3u)] == generation % kRefreshPeriod;
+}
 
 // Whether the segment from `from` to `to` misses every box (each widened by `margin`).
 bool segment_misses_boxes(const glm::vec3& from, const glm::vec3& to, const std::vector<ReuseBox>& boxes,
