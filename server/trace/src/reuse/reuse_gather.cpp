@@ -84,10 +84,10 @@ bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const R
   for (uint32_t k = 0; k < kNearLevels; ++k) {
     const uint32_t r = kNearRadius[k];
     const float p = parallax(frame.near[k][(static_cast<uint32_t>(y) / r) * frame.near_x[k] + static_cast<uint32_t>(x) / r]);
-    if (!(p <= (k == 0 ? static_cast<float>(r) : static_cast<float>(kNearRadius[k - 1])))) return false;
+    if (!(p <= (k == 0 ? static_cast<float>(r) : static_cast<float>(kNearRadius[k - 1]) - pixels))) return false;
     if (k == 0) within = p;
   }
-  if (!(parallax(frame.nearest) <= static_cast<float>(kNearRadius[kNearLevels - 1]))) return false;
+  if (!(parallax(frame.nearest) <= static_cast<float>(kNearRadius[kNearLevels - 1]) - pixels)) return false;
   const uint32_t cell = (static_cast<uint32_t>(y) / kReuseCell) * frame.cells_x + static_cast<uint32_t>(x) / kReuseCell;
   return (static_cast<float>(frame.edge_distance[cell]) - 1.0f) * kReuseCell >= pixels + within;
 }

@@ -49,17 +49,19 @@ inline constexpr uint32_t kRefreshPeriod = 16;
 
 // Discontinuities are kept per cell of this many pixels square (ReuseFrame::edge_distance).
 inline constexpr uint32_t kReuseCell = 4;
-// ReuseFrame::near: the nearest depth of an occluding pixel within kNearRadius[k] pixels, k = 0, 1, 2 (on cells of
-// that size, each with its 8 neighbours), and over the whole frame. What slides over a point comes over an
+// ReuseFrame::near: the nearest depth of an occluding pixel within kNearRadius[k] pixels, k = 0 .. kNearLevels - 1
+// (on cells of that size, each with its 8 neighbours), and over the whole frame. What slides over a point comes over an
 // occluding pixel's place: across a discontinuity (both its sides occlude), or across a contour that forms where a
 // curved surface (a neighbour's normal differs: dot below kReuseFlat) was seen nearly edge-on (|n . view| <=
 // kReuseGrazing: a surface point's view direction turns by less than that while the eye moves less than
 // kReuseGrazing times its distance, and a contour forms only where the view is edge-on); so within p pixels of the
-// point when it moves p pixels. The rule takes a point only when the nearest occluding pixels within each radius
-// cannot move farther than the radius below (parallax within 16 pixels: the discontinuity clearance), and only while
-// the eye moved less than kReuseGrazing times the nearest surface depth.
-inline constexpr uint32_t kNearLevels = 3;
-inline constexpr uint32_t kNearRadius[kNearLevels] = {16, 64, 256};
+// point when it moves p pixels. The rule takes a block only when the nearest occluding pixels within each radius
+// cannot move farther than the radius below less the block's own reach (what lies within a radius but not the one
+// below lies beyond that one; parallax within 16 pixels: the discontinuity clearance), and only while the eye moved
+// less than kReuseGrazing times the nearest surface depth. The radii grow by 1.5 and 4/3 in turn: the closer they
+// lie, the less the 3x3 cells' slack refuses (docs/performance.md, "Finer nearby-depth levels").
+inline constexpr uint32_t kNearLevels = 9;
+inline constexpr uint32_t kNearRadius[kNearLevels] = {16, 24, 32, 48, 64, 96, 128, 192, 256};
 inline constexpr float kReuseGrazing = 0.35f;
 inline constexpr float kReuseFlat = 0.99999f;
 
