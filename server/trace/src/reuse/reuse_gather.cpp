@@ -15,6 +15,11 @@ constexpr int kGatherIterations = 4;
 // A whole block is taken only where neighbouring traced pixels land at least this many new pixels apart along
 // both image axes.
 constexpr float kMinBlockSpacing = 0.75f;
+// The search stops at a traced pixel whose point lands within this many new pixels of the block's centre along each
+// axis: half the widest spacing a block accepts (ReuseOptions::max_magnification 1.5), so that where the eye came
+// closer and the traced points land more than a pixel apart the nearest of them is found (within half a pixel, 4.5 %
+// of User1's blocks found none and were traced).
+constexpr float kMaxMiss = 0.75f;
 
 }  // namespace
 
@@ -30,7 +35,7 @@ ReuseMotion reuse_motion(const ReuseFrame& frame, const ReuseProjection& now) {
 
 namespace {
 
-// The traced pixel (ix, iy) whose surface point lands within half a pixel of `target` in `now` (p: where it lands):
+// The traced pixel (ix, iy) whose surface point lands within kMaxMiss of `target` in `now` (p: where it lands):
 // start at the guess, move by the miss (1 new pixel ~ 1 traced pixel for the small moves between frames).
 bool find_traced_pixel(const ReuseFrame& frame, const ReuseProjection& now, const glm::vec2& target, glm::vec2& guess,
                        int& ix, int& iy, glm::vec2& p) {
@@ -45,7 +50,7 @@ bool find_traced_pixel(const ReuseFrame& frame, const ReuseProjection& now, cons
     if (frame.mesh[i] == kNoReuseSurface || !now.project(frame.position[i], p, depth)) return false;
     const glm::vec2 miss = target - p;
     u = glm::vec2(static_cast<float>(ix) + 0.5f, static_cast<float>(iy) + 0.5f) + miss;
-    if (std::fabs(miss.x) <= 0.5f && std::fabs(miss.y) <= 0.5f) {
+    if (std::fabs(miss.x) <= kMaxMiss && std::fabs(miss.y) <= kMaxMiss) {
       guess = u;
       return true;
     }
@@ -102,9 +107,10 @@ bool reuse_gather_block(const ReuseFrame& frame, const ReuseProjection& now, uin
   glm::vec2 p;
   if (!find_traced_pixel(frame, now, target, guess, ix, iy, p)) return false;
   if (ix + 1 >= W || iy + 1 >= H) return false;
-  // The block's pixels lie within 2 new pixels of its centre, so within `reach` traced pixels of (ix, iy) when
-  // those are at least kMinBlockSpacing new pixels apart (and no sparser than max_magnification).
-  const float reach = std::ceil(2.5f / kMinBlockSpacing);
+  // The block's pixels lie within 2 new pixels of its centre, so within 2 + kMaxMiss of p: within `reach` traced
+  // pixels of (ix, iy) when those are at least kMinBlockSpacing new pixels apart (and no sparser than
+  // max_magnification).
+  const float reach = std::ceil((2.0f + kMaxMiss) / kMinBlockSpacing);
   if (!clear_of_edges(frame, ix, iy, reach + 2.0f, motion)) return false;
   const size_t i = static_cast<size_t>(iy) * W + ix;
   glm::vec2 px, py;
