@@ -71,7 +71,8 @@ TEST(EmbreeProperties, SkippingChangesNoBitOnTheLivingRoom) {
 // at a time instead of as a packet: both must give the same bits. Here every block is traced each way (the
 // configuration's single rays) at a size whose edge blocks hold 1 to 3 lanes.
 TEST(EmbreeProperties, SingleRaysAndPacketsGiveTheSameBits) {
-  for (const std::string& path : {test::source_path(kDefaultScenePath), test::shared_data_path("scenes/living_room.glb")}) {
+  const std::string paths[] = {test::source_path(kDefaultScenePath), test::shared_data_path("scenes/living_room.glb")};
+  for (const std::string& path : paths) {
     if (path.empty()) continue;  // ../shared/data not present: the default room alone
     SCOPED_TRACE(path);
     SceneLoadResult loaded = load_scene(path);
