@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -166,6 +167,40 @@ TEST(EmbreeReuse, AnEyeComingCloserFindsItsBlocks) {
   }
   EXPECT_EQ(differing, 0u) << "of " << bits;
   EXPECT_GT(reused, hits * 87 / 100) << reused << " of " << hits;
+}
+
+// The nearby-depth levels against their definition: per level, the minimum cell depth over the 3x3 neighbourhood of
+// cells of kNearRadius[k] pixels around each one, computed here cell by cell (finish_reuse_distances pools coarser
+// levels from finer ones). An odd grid, so the last cells of each level are partial.
+TEST(ReuseRule, NearbyDepthLevelsAreTheirNeighbourhoodsMinimum) {
+  ReuseFrame frame;
+  frame.cells_x = 157;
+  frame.cells_y = 93;
+  const size_t cells = static_cast<size_t>(frame.cells_x) * frame.cells_y;
+  frame.cell_depth.resize(cells);
+  frame.cell_surface_depth.assign(cells, 3.0f);
+  frame.edge_distance.assign(cells, 255);
+  uint32_t state = 12345u;
+  for (float& d : frame.cell_depth) {
+    state = state * 1664525u + 1013904223u;
+    d = (state >> 8) % 7 == 0 ? 0.05f + static_cast<float>(state >> 20) * 1e-3f : 1e30f;  // sparse occluders
+  }
+  finish_reuse_distances(frame);
+  for (uint32_t k = 0; k < kNearLevels; ++k) {
+    const uint32_t per = kNearRadius[k] / kReuseCell;
+    const uint32_t nx = (frame.cells_x + per - 1) / per, ny = (frame.cells_y + per - 1) / per;
+    ASSERT_EQ(frame.near_x[k], nx) << k;
+    ASSERT_EQ(frame.near[k].size(), static_cast<size_t>(nx) * ny) << k;
+    for (uint32_t py = 0; py < ny; ++py)
+      for (uint32_t px = 0; px < nx; ++px) {
+        float want = std::numeric_limits<float>::max();
+        for (uint32_t y = 0; y < frame.cells_y; ++y)
+          for (uint32_t x = 0; x < frame.cells_x; ++x)
+            if (x / per + 1 >= px && x / per <= px + 1 && y / per + 1 >= py && y / per <= py + 1)
+              want = std::min(want, frame.cell_depth[static_cast<size_t>(y) * frame.cells_x + x]);
+        ASSERT_EQ(frame.near[k][static_cast<size_t>(py) * nx + px], want) << "level " << k << " at " << px << "," << py;
+      }
+  }
 }
 
 }  // namespace

@@ -21,6 +21,12 @@ constexpr float kMinBlockSpacing = 0.75f;
 // of User1's blocks found none and were traced).
 constexpr float kMaxMiss = 0.75f;
 
+// The depth of pixel i's surface along the view axis (0 without a surface).
+inline float pixel_depth(const ReuseFrame& frame, size_t i) {
+  if (frame.mesh[i] == kNoReuseSurface) return 0.0f;
+  return glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
+}
+
 }  // namespace
 
 ReuseMotion reuse_motion(const ReuseFrame& frame, const ReuseProjection& now) {
@@ -62,8 +68,7 @@ bool find_traced_pixel(const ReuseFrame& frame, const ReuseProjection& now, cons
 // slide over it (ReuseFrame::near and reuse_motion), and of each side of the image by `pixels` plus what unseen
 // geometry beyond that side (at ReuseMotion::unseen_depth) could move.
 bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const ReuseMotion& motion) {
-  const size_t i = static_cast<size_t>(y) * frame.camera.extent.width + static_cast<size_t>(x);
-  const float depth = glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
+  const float depth = pixel_depth(frame, static_cast<size_t>(y) * frame.camera.extent.width + static_cast<size_t>(x));
   const float far_inverse = 1.0f / (std::max(depth, 1e-3f) + motion.shift);
   // A surface at depth `near_depth` moves at most scale / (near_depth - shift) pixels relative to the eye's view of
   // a point at infinity, so relative to this pixel's surface at most scale x (1 / (near - shift) - 1 / (depth +
@@ -88,7 +93,8 @@ bool clear_of_edges(const ReuseFrame& frame, int x, int y, float pixels, const R
   float within = 0.0f;  // pixels: what lies beyond one radius must not reach the one below
   for (uint32_t k = 0; k < kNearLevels; ++k) {
     const uint32_t r = kNearRadius[k];
-    const float p = parallax(frame.near[k][(static_cast<uint32_t>(y) / r) * frame.near_x[k] + static_cast<uint32_t>(x) / r]);
+    const uint32_t at = (static_cast<uint32_t>(y) / r) * frame.near_x[k] + static_cast<uint32_t>(x) / r;
+    const float p = parallax(frame.near[k][at]);
     if (!(p <= (k == 0 ? static_cast<float>(r) : static_cast<float>(kNearRadius[k - 1]) - pixels))) return false;
     if (k == 0) within = p;
   }
@@ -157,12 +163,6 @@ enum : uint8_t {
 };
 constexpr uint32_t kLowerPair = 3;
 
-// The depth of pixel i's surface along the view axis (0 without a surface).
-inline float pixel_depth(const ReuseFrame& frame, size_t i) {
-  if (frame.mesh[i] == kNoReuseSurface) return 0.0f;
-  return glm::dot(frame.projection.w, frame.position[i] - frame.projection.eye);
-}
-
 // The flags of pixels i and j (j right of or below i), whose depths are depth_i and depth_j. Symmetric but for
 // kPairEdge, which is i's view.
 uint8_t pair_flags(const ReuseFrame& frame, size_t i, size_t j, float depth_i, float depth_j,
@@ -194,7 +194,7 @@ void finish_reuse_cells(ReuseFrame& frame, uint32_t cell_y0, uint32_t cell_y1, c
   const uint32_t top = y0 > 0 ? y0 - 1 : y0, bottom = std::min(H, y1 + 1);
   thread_local std::vector<uint8_t> pair_scratch;
   thread_local std::vector<float> depth_scratch;
-  pair_scratch.assign(static_cast<size_t>(y1 - top) * W, 0);
+  pair_scratch.resize(static_cast<size_t>(y1 - top) * W);  // every entry is written below
   depth_scratch.resize(static_cast<size_t>(bottom - top) * W);
   uint8_t* const pairs = pair_scratch.data();
   float* const depths = depth_scratch.data();
@@ -258,22 +258,58 @@ void finish_reuse_distances(ReuseFrame& frame) {
   for (float v : frame.cell_depth) frame.nearest = std::min(frame.nearest, v);
   frame.nearest_surface = std::numeric_limits<float>::max();
   for (float v : frame.cell_surface_depth) frame.nearest_surface = std::min(frame.nearest_surface, v);
+  // A level whose cells are whole multiples of a finer level's is pooled from that level's (min is exact: the same
+  // values as from the cells themselves).
+  std::vector<float> pooled[kNearLevels];
+  int pooled_x[kNearLevels] = {}, pooled_y[kNearLevels] = {};
   for (uint32_t k = 0; k < kNearLevels; ++k) {
-    const uint32_t per = kNearRadius[k] / kReuseCell;
-    const int nx = (cx + static_cast<int>(per) - 1) / static_cast<int>(per), ny = (cy + static_cast<int>(per) - 1) / static_cast<int>(per);
-    std::vector<float> pooled(static_cast<size_t>(nx) * ny, std::numeric_limits<float>::max());
-    for (int y = 0; y < cy; ++y)
-      for (int x = 0; x < cx; ++x) {
-        float& m = pooled[static_cast<size_t>(y / static_cast<int>(per)) * nx + x / static_cast<int>(per)];
-        m = std::min(m, frame.cell_depth[static_cast<size_t>(y) * cx + x]);
+    const int per = static_cast<int>(kNearRadius[k] / kReuseCell);
+    const std::vector<float>* src = &frame.cell_depth;
+    int sw = cx, sh = cy, f = per;
+    for (uint32_t j = 0; j < k; ++j) {
+      const int per_j = static_cast<int>(kNearRadius[j] / kReuseCell);
+      if (per % per_j == 0 && per / per_j < f) {
+        src = &pooled[j];
+        sw = pooled_x[j];
+        sh = pooled_y[j];
+        f = per / per_j;
+      }
+    }
+    const int nx = (sw + f - 1) / f, ny = (sh + f - 1) / f;
+    std::vector<float>& pool = pooled[k];
+    pool.assign(static_cast<size_t>(nx) * ny, std::numeric_limits<float>::max());
+    for (int sy = 0, py = 0, in_row = 0; sy < sh; ++sy) {
+      const float* from = src->data() + static_cast<size_t>(sy) * sw;
+      float* to = pool.data() + static_cast<size_t>(py) * nx;
+      for (int px = 0; px < nx; ++px)
+        for (int sx = px * f; sx < std::min(sw, (px + 1) * f); ++sx) to[px] = std::min(to[px], from[sx]);
+      if (++in_row == f) {
+        in_row = 0;
+        ++py;
+      }
+    }
+    pooled_x[k] = nx;
+    pooled_y[k] = ny;
+    // The minimum over each pooled cell's 3x3 neighbourhood: along rows, then along columns.
+    std::vector<float> across(pool.size());
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const size_t i = static_cast<size_t>(y) * nx + x;
+        float m = pool[i];
+        if (x > 0) m = std::min(m, pool[i - 1]);
+        if (x + 1 < nx) m = std::min(m, pool[i + 1]);
+        across[i] = m;
       }
     std::vector<float>& near = frame.near[k];
-    near.assign(pooled.size(), std::numeric_limits<float>::max());
+    near.resize(pool.size());
     for (int y = 0; y < ny; ++y)
-      for (int x = 0; x < nx; ++x)
-        for (int v = std::max(0, y - 1); v <= std::min(ny - 1, y + 1); ++v)
-          for (int u = std::max(0, x - 1); u <= std::min(nx - 1, x + 1); ++u)
-            near[static_cast<size_t>(y) * nx + x] = std::min(near[static_cast<size_t>(y) * nx + x], pooled[static_cast<size_t>(v) * nx + u]);
+      for (int x = 0; x < nx; ++x) {
+        const size_t i = static_cast<size_t>(y) * nx + x;
+        float m = across[i];
+        if (y > 0) m = std::min(m, across[i - nx]);
+        if (y + 1 < ny) m = std::min(m, across[i + nx]);
+        near[i] = m;
+      }
     frame.near_x[k] = static_cast<uint32_t>(nx);
   }
   for (int y = 0; y < cy; ++y)
