@@ -28,7 +28,9 @@ TEST(ReuseRule, NearestDistanceWithinPlanesIsThatOfTheClippedTriangles) {
   const EmbreeScene& scene = tracer.embree_scene();
   auto rel = [&](double x, double y, double z) { return scene.to_relative(glm::dvec3(x, y, z)); };
   // The plane through `at` facing `n` (the region is on n's side).
-  auto plane = [&](const glm::vec3& n, double x, double y, double z) { return glm::vec4(n, -glm::dot(n, rel(x, y, z))); };
+  auto plane = [&](const glm::vec3& n, double x, double y, double z) {
+    return glm::vec4(n, -glm::dot(n, rel(x, y, z)));
+  };
   const glm::vec3 above_floor = rel(0.0, 0.05, 2.0);
   EXPECT_NEAR(scene.nearest_distance(above_floor, 10.0f), 0.05f, 1e-5f);
   EXPECT_NEAR(scene.nearest_distance(above_floor, 10.0f, {plane({1, 0, 0}, 1.0, 0.0, 0.0)}), std::sqrt(1.0025f),
@@ -36,7 +38,8 @@ TEST(ReuseRule, NearestDistanceWithinPlanesIsThatOfTheClippedTriangles) {
   EXPECT_NEAR(scene.nearest_distance(above_floor, 10.0f, {plane({1, 0, 0}, 1.0, 0, 0), plane({0, 0, -1}, 0, 0, 1.0)}),
               std::sqrt(2.0025f), 1e-5f);
   EXPECT_EQ(scene.nearest_distance(above_floor, 10.0f, {plane({0, 1, 0}, 0.0, 10.0, 0.0)}), 10.0f);  // nothing there
-  EXPECT_EQ(scene.nearest_distance(above_floor, 0.5f, {plane({1, 0, 0}, 1.0, 0.0, 0.0)}), 0.5f);     // beyond the radius
+  // beyond the radius
+  EXPECT_EQ(scene.nearest_distance(above_floor, 0.5f, {plane({1, 0, 0}, 1.0, 0.0, 0.0)}), 0.5f);
   // Above the floor and in front of the wall and the static box: the sliding box alone, where it is now.
   const std::vector<glm::vec4> beside{plane({0, 1, 0}, 0.0, 0.2, 0.0), plane({0, 0, 1}, 0.0, 0.0, 0.1)};
   const glm::vec3 from = rel(0.0, 0.6, 0.7);
